@@ -1,1 +1,10 @@
+//! probelab: a research harness for compact diffuse-lighting encodings.
+//! See ARCHITECTURE.md for the module map.
+
+pub mod cap;
 pub mod envmap;
+pub mod moments;
+pub mod projection;
+pub mod quadrature;
+pub mod reference;
+pub mod sh;
