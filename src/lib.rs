@@ -2,9 +2,14 @@
 //! See ARCHITECTURE.md for the module map.
 
 pub mod cap;
+pub mod domain;
+pub mod encoder;
+pub mod encoders;
 pub mod envmap;
+pub mod metrics;
 pub mod moments;
 pub mod projection;
 pub mod quadrature;
 pub mod reference;
+pub mod scenes;
 pub mod sh;

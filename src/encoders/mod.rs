@@ -1,0 +1,100 @@
+//! The encoder registry: one line per encoder kind. Adding an encoder means adding its file
+//! and one entry here; nothing else in the program names an encoder.
+
+pub mod sh;
+
+use crate::encoder::{Encoder, Params};
+use anyhow::{bail, Context, Result};
+
+/// A kind of encoder: its id, a one-line summary, and its factory from TOML settings.
+pub struct EncoderKind {
+    pub id: &'static str,
+    pub summary: &'static str,
+    pub build: fn(&mut Params) -> Result<Box<dyn Encoder>>,
+}
+
+/// Every encoder kind, in the order tables list them.
+pub const REGISTRY: &[EncoderKind] = &[
+    EncoderKind {
+        id: "sh0",
+        summary: "SH band 0 only (constant)",
+        build: sh::build_sh0,
+    },
+    EncoderKind {
+        id: "sh1",
+        summary: "SH L1 irradiance (bands 0-1)",
+        build: sh::build_sh1,
+    },
+    EncoderKind {
+        id: "sh2",
+        summary: "SH L2 irradiance (bands 0-2)",
+        build: sh::build_sh2,
+    },
+];
+
+/// The ids of every registered encoder, comma-separated (for error messages).
+pub fn known_ids() -> String {
+    REGISTRY.iter().map(|k| k.id).collect::<Vec<_>>().join(", ")
+}
+
+/// A configured encoder with the name it appears under in tables.
+pub struct NamedEncoder {
+    pub name: String,
+    pub encoder: Box<dyn Encoder>,
+}
+
+/// Builds an encoder of `kind` with settings `params`, shown as `name` (default: the kind).
+pub fn build(kind: &str, name: Option<&str>, params: toml::Table) -> Result<NamedEncoder> {
+    let Some(k) = REGISTRY.iter().find(|k| k.id == kind) else {
+        bail!("unknown encoder '{kind}'; valid encoders: {}", known_ids());
+    };
+    let mut p = Params::new(params);
+    let encoder = (k.build)(&mut p).with_context(|| format!("configuring encoder '{kind}'"))?;
+    Ok(NamedEncoder {
+        name: name.unwrap_or(kind).to_string(),
+        encoder,
+    })
+}
+
+/// Builds encoders from a comma-separated list of kinds (the `--encoders` option).
+pub fn build_list(list: &str) -> Result<Vec<NamedEncoder>> {
+    list.split(',')
+        .map(str::trim)
+        .filter(|s| !s.is_empty())
+        .map(|k| build(k, None, toml::Table::new()))
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ids_are_unique_and_match_the_built_encoder() {
+        for (i, k) in REGISTRY.iter().enumerate() {
+            assert!(
+                REGISTRY[i + 1..].iter().all(|o| o.id != k.id),
+                "duplicate {}",
+                k.id
+            );
+            let e = build(k.id, None, toml::Table::new()).unwrap();
+            assert_eq!(e.encoder.id(), k.id);
+        }
+    }
+
+    #[test]
+    fn unknown_encoder_lists_valid_ones() {
+        let e = build("sh9", None, toml::Table::new())
+            .err()
+            .unwrap()
+            .to_string();
+        assert!(
+            e.contains("unknown encoder 'sh9'") && e.contains("sh1"),
+            "{e}"
+        );
+        let mut t = toml::Table::new();
+        t.insert("bogus".into(), toml::Value::Integer(1));
+        let e = format!("{:#}", build("sh1", None, t).err().unwrap());
+        assert!(e.contains("bogus"), "{e}");
+    }
+}

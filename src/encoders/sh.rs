@@ -1,0 +1,104 @@
+//! SH L0, L1 and L2 irradiance: least-squares projection with texel solid angles (exact cell
+//! integrals, `projection.rs`), then the cosine band scales Â = (1, 2/3, 1/4) (FORMULAS §2–3).
+//!
+//! | id    | bands | stored scalars |
+//! |-------|-------|----------------|
+//! | `sh0` | 0     | 3  (the constant, DC-only encoder) |
+//! | `sh1` | 0–1   | 12 |
+//! | `sh2` | 0–2   | 27 |
+//!
+//! TOML keys: none. The fit uses the visible radiance (the map under the declared effects).
+//! SH irradiance is not clamped: it can go negative, which the `neg_frac` column reports.
+
+use crate::encoder::{Encoder, FitInput, Fitted, Params};
+use crate::sh::{Rgb, Sh9};
+use anyhow::Result;
+use glam::DVec3;
+
+/// SH irradiance truncated after band `max_band`.
+pub struct ShEncoder {
+    id: &'static str,
+    max_band: usize,
+}
+
+impl ShEncoder {
+    pub fn new(max_band: usize) -> Self {
+        let id = ["sh0", "sh1", "sh2"][max_band.min(2)];
+        ShEncoder {
+            id,
+            max_band: max_band.min(2),
+        }
+    }
+}
+
+/// The fitted E/π SH.
+pub struct ShIrradiance(pub Sh9);
+
+impl Fitted for ShIrradiance {
+    fn irradiance(&self, n: DVec3) -> Rgb {
+        self.0.eval(n)
+    }
+}
+
+impl Encoder for ShEncoder {
+    fn id(&self) -> &str {
+        self.id
+    }
+    fn stored_scalars(&self) -> usize {
+        3 * (self.max_band + 1) * (self.max_band + 1)
+    }
+    fn fit(&self, input: &FitInput) -> Box<dyn Fitted> {
+        Box::new(ShIrradiance(
+            input.visible_sh.truncate(self.max_band).convolve_cosine(),
+        ))
+    }
+}
+
+pub fn build_sh0(p: &mut Params) -> Result<Box<dyn Encoder>> {
+    p.finish("sh0")?;
+    Ok(Box::new(ShEncoder::new(0)))
+}
+pub fn build_sh1(p: &mut Params) -> Result<Box<dyn Encoder>> {
+    p.finish("sh1")?;
+    Ok(Box::new(ShEncoder::new(1)))
+}
+pub fn build_sh2(p: &mut Params) -> Result<Box<dyn Encoder>> {
+    p.finish("sh2")?;
+    Ok(Box::new(ShEncoder::new(2)))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sh::{constant, delta_light};
+    use std::f64::consts::PI;
+
+    /// For a delta light of unit intensity along d, SH irradiance at n = d is the truncated
+    /// Legendre expansion Σ_l Â_l (2l+1)/(4π) P_l(1): (1 + 2)/(4π) = 3/(4π) for L1 and
+    /// (1 + 2 + 5/4)/(4π) = 17/(16π) for L2.
+    #[test]
+    fn delta_light_peak_matches_legendre_expansion() {
+        let d = DVec3::new(0.3, 0.5, 0.81).normalize();
+        let fit = ShEncoder::new(2).fit(&FitInput::sphere(&delta_light(d, Rgb::ONE)));
+        let want = 17.0 / (16.0 * PI);
+        assert!((fit.irradiance(d).x - want).abs() < 1e-14);
+        let fit1 = ShEncoder::new(1).fit(&FitInput::sphere(&delta_light(d, Rgb::ONE)));
+        assert!((fit1.irradiance(d).x - 3.0 / (4.0 * PI)).abs() < 1e-14);
+    }
+
+    #[test]
+    fn constant_is_exact_for_every_order() {
+        let sh = constant(Rgb::new(0.5, 1.0, 2.0));
+        for b in 0..=2 {
+            let f = ShEncoder::new(b).fit(&FitInput::sphere(&sh));
+            assert!(
+                (f.irradiance(DVec3::NEG_Z) - Rgb::new(0.5, 1.0, 2.0))
+                    .abs()
+                    .max_element()
+                    < 1e-15
+            );
+        }
+        assert_eq!(ShEncoder::new(1).stored_scalars(), 12);
+        assert_eq!(ShEncoder::new(2).stored_scalars(), 27);
+    }
+}
