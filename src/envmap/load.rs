@@ -1,1 +1,802 @@
+//! Reading lat-long environment maps from OpenEXR and Radiance RGBE (`.hdr`) files, and
+//! writing small maps as OpenEXR.
+//!
+//! [`load`] identifies the format from the first bytes of the file (the extension is not
+//! trusted), reads and checks the header before any pixel is decoded (size limits, aspect,
+//! channels, sample types, single part, no deep data), then decodes the pixels and checks
+//! every texel through [`EnvMap::new`]. Every failure is a [`LoadError`] whose message
+//! starts with the file path and says what is wrong; a decoder panic on malformed data is
+//! caught and reported as an error too.
+//!
+//! [`write_exr`] writes a single-part scanline f32 RGB EXR with ZIP compression,
+//! atomically (temporary file in the same directory, then rename).
 
+use super::{EnvMap, MapError, Texel};
+use exr::prelude::{
+    read, Blocks, ChannelDescription, Compression, Encoding, Image, Layer, LayerAttributes,
+    LineOrder, MetaData, ReadChannels, ReadLayers, ReadSpecificChannel, SampleType,
+    SpecificChannels, Text, Vec2, WritableImage,
+};
+use image::codecs::hdr::HdrDecoder;
+use image::{ImageDecoder, ImageError};
+use std::any::Any;
+use std::fs::{self, File, OpenOptions};
+use std::io::{self, BufReader, BufWriter, Read, Seek, SeekFrom};
+use std::panic::{self, AssertUnwindSafe};
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::Arc;
+
+/// Largest accepted map width in pixels. A header claiming more is refused before any
+/// pixel memory is allocated.
+pub const MAX_WIDTH: usize = 16384;
+/// Largest accepted map height in pixels (with [`MAX_WIDTH`], at most 2^27 texels).
+pub const MAX_HEIGHT: usize = 8192;
+
+/// The four bytes every OpenEXR file starts with.
+const EXR_MAGIC: [u8; 4] = [0x76, 0x2f, 0x31, 0x01];
+/// The two bytes every Radiance RGBE file starts with (`#?RADIANCE` or `#?RGBE`).
+const HDR_SIGNATURE: [u8; 2] = *b"#?";
+/// What the "unknown format" error says is supported.
+const SUPPORTED: &str = "supported formats: OpenEXR (.exr, starts with bytes 76 2f 31 01) and \
+                         Radiance RGBE (.hdr, starts with '#?')";
+
+/// Why a map file could not be loaded. Every message starts with the file path.
+#[derive(Debug, thiserror::Error)]
+pub enum LoadError {
+    /// The file could not be opened, inspected or read (missing, permission denied, ...).
+    #[error("{}: cannot {action}: {source}", .path.display())]
+    Io {
+        path: PathBuf,
+        action: &'static str,
+        source: io::Error,
+    },
+    /// The path names a directory.
+    #[error("{}: is a directory, not an image file", .path.display())]
+    IsDirectory { path: PathBuf },
+    /// The path names something other than a regular file (FIFO, socket, device).
+    #[error("{}: is not a regular file", .path.display())]
+    NotAFile { path: PathBuf },
+    /// The file has no bytes at all.
+    #[error("{}: file is empty (0 bytes)", .path.display())]
+    Empty { path: PathBuf },
+    /// The first bytes match neither the OpenEXR magic number nor the Radiance signature.
+    #[error("{}: unrecognised file format: bad magic number (first bytes: {found}){note}; {SUPPORTED}", .path.display())]
+    UnknownFormat {
+        path: PathBuf,
+        found: String,
+        note: String,
+    },
+    /// The decoder ran off the end of the file: the file is cut short, or a length or
+    /// offset in it points past the end.
+    #[error("{}: file is truncated (or a length field in it is corrupt): the data ends at {len} bytes where the {format} decoder expected more ({detail})", .path.display())]
+    Truncated {
+        path: PathBuf,
+        format: &'static str,
+        len: u64,
+        detail: String,
+    },
+    /// The header claims a size above [`MAX_WIDTH`] x [`MAX_HEIGHT`]; nothing was decoded.
+    #[error("{}: header claims an image of {width}x{height} pixels, above the limit of {MAX_WIDTH}x{MAX_HEIGHT}; refusing to decode it", .path.display())]
+    TooLarge {
+        path: PathBuf,
+        width: usize,
+        height: usize,
+    },
+    /// The header claims a zero width or height.
+    #[error("{}: image has zero size ({width}x{height})", .path.display())]
+    ZeroSize {
+        path: PathBuf,
+        width: usize,
+        height: usize,
+    },
+    /// The pixels do not form a valid map: wrong aspect, NaN, infinite or negative texels.
+    #[error("{}: {source}", .path.display())]
+    Map { path: PathBuf, source: MapError },
+    /// The OpenEXR file holds more than one part.
+    #[error("{}: multi-part OpenEXR file with {parts} parts ({names}); only single-part files are supported", .path.display())]
+    MultiPart {
+        path: PathBuf,
+        parts: usize,
+        names: String,
+    },
+    /// The OpenEXR file holds deep data.
+    #[error("{}: OpenEXR file contains deep data, which is not supported (need a flat RGB image)", .path.display())]
+    Deep { path: PathBuf },
+    /// Some of the R, G, B channels are missing.
+    #[error("{}: missing channel(s) {missing}; the file has channels: {present} (need R, G, B, or one layer's LAYER.R, LAYER.G, LAYER.B)", .path.display())]
+    MissingChannel {
+        path: PathBuf,
+        missing: String,
+        present: String,
+    },
+    /// Several layers of one part each have a full set of R, G, B channels.
+    #[error("{}: ambiguous RGB channels: layers {layers} each have R, G and B, and there are no unprefixed R, G, B channels", .path.display())]
+    AmbiguousChannels { path: PathBuf, layers: String },
+    /// A colour channel holds unsigned integers.
+    #[error("{}: channel {channel} holds 32-bit unsigned integer samples; only half and float channels are supported", .path.display())]
+    IntegerChannel { path: PathBuf, channel: String },
+    /// A colour channel is subsampled.
+    #[error("{}: channel {channel} is subsampled ({x}x{y}); only full-resolution channels are supported", .path.display())]
+    Subsampled {
+        path: PathBuf,
+        channel: String,
+        x: usize,
+        y: usize,
+    },
+    /// The OpenEXR decoder rejected the file.
+    #[error("{}: invalid or unsupported OpenEXR data: {message}", .path.display())]
+    Exr { path: PathBuf, message: String },
+    /// The Radiance HDR decoder rejected the file.
+    #[error("{}: invalid Radiance HDR data: {message}", .path.display())]
+    Hdr { path: PathBuf, message: String },
+    /// A decoder panicked; the panic was caught.
+    #[error("{}: {format} decoder failed on malformed data (it panicked: {message})", .path.display())]
+    DecoderPanic {
+        path: PathBuf,
+        format: &'static str,
+        message: String,
+    },
+}
+
+/// Why [`write_exr`] failed. Every message starts with the file path.
+#[derive(Debug, thiserror::Error)]
+pub enum WriteError {
+    /// Creating, writing, syncing or renaming a file failed.
+    #[error("{}: cannot {action}: {source}", .path.display())]
+    Io {
+        path: PathBuf,
+        action: &'static str,
+        source: io::Error,
+    },
+    /// The OpenEXR encoder failed.
+    #[error("{}: OpenEXR encoding failed: {message}", .path.display())]
+    Encode { path: PathBuf, message: String },
+}
+
+/// The file formats [`load`] understands.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Format {
+    Exr,
+    Hdr,
+}
+
+/// Loads a lat-long map from an OpenEXR or Radiance RGBE file.
+///
+/// The format is taken from the file's first bytes. The map is named after the file stem
+/// and remembers `path`. Fails with a [`LoadError`] naming the file if it cannot be read,
+/// is not a supported format, is malformed or truncated, claims a size above
+/// [`MAX_WIDTH`] x [`MAX_HEIGHT`], is not 2:1, lacks R, G, B channels, or has a NaN,
+/// infinite or negative texel. Never panics on bad input.
+pub fn load(path: &Path) -> Result<EnvMap, LoadError> {
+    let io_err = |action, source| LoadError::Io {
+        path: path.to_path_buf(),
+        action,
+        source,
+    };
+    let meta = fs::metadata(path).map_err(|e| io_err("read file metadata", e))?;
+    if meta.is_dir() {
+        return Err(LoadError::IsDirectory {
+            path: path.to_path_buf(),
+        });
+    }
+    if !meta.is_file() {
+        return Err(LoadError::NotAFile {
+            path: path.to_path_buf(),
+        });
+    }
+    if meta.len() == 0 {
+        return Err(LoadError::Empty {
+            path: path.to_path_buf(),
+        });
+    }
+    let mut file = File::open(path).map_err(|e| io_err("open file", e))?;
+    let mut head = [0u8; 4];
+    let n = read_up_to(&mut file, &mut head).map_err(|e| io_err("read file", e))?;
+    let format = detect(path, &head[..n])?;
+    file.seek(SeekFrom::Start(0))
+        .map_err(|e| io_err("seek in file", e))?;
+    let (width, height, texels) = match format {
+        Format::Exr => read_exr(path, &mut file, meta.len())?,
+        Format::Hdr => read_hdr(path, &mut file, meta.len())?,
+    };
+    let name = path
+        .file_stem()
+        .unwrap_or(path.as_os_str())
+        .to_string_lossy()
+        .into_owned();
+    let mut map = EnvMap::new(name, width, height, texels).map_err(|source| LoadError::Map {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    map.path = Some(path.to_path_buf());
+    Ok(map)
+}
+
+/// Writes `map` to `path` as a single-part scanline OpenEXR with f32 R, G, B channels and
+/// ZIP compression (16 lines per block), so that [`load`] reads it back bit-exactly.
+///
+/// The data goes to a temporary file in the same directory, which is synced and then
+/// renamed over `path`, so readers never see a partial file. On failure the temporary
+/// file is removed.
+pub fn write_exr(path: &Path, map: &EnvMap) -> Result<(), WriteError> {
+    let (tmp_path, file) = create_temp_beside(path)?;
+    let result = write_exr_to(path, &tmp_path, file, map).and_then(|()| {
+        fs::rename(&tmp_path, path).map_err(|source| WriteError::Io {
+            path: path.to_path_buf(),
+            action: "rename the temporary file onto the target",
+            source,
+        })
+    });
+    if result.is_err() {
+        // Best effort: the original error is the one worth reporting.
+        let _ = fs::remove_file(&tmp_path);
+    }
+    result
+}
+
+/// Encodes `map` into the already created temporary file `file` (at `tmp_path`) and syncs
+/// it. Errors name the final `path`.
+fn write_exr_to(path: &Path, tmp_path: &Path, file: File, map: &EnvMap) -> Result<(), WriteError> {
+    let channels = SpecificChannels::rgb(|pos: Vec2<usize>| {
+        let [r, g, b] = map.texel(pos.x(), pos.y());
+        (r, g, b)
+    });
+    let encoding = Encoding {
+        compression: Compression::ZIP16,
+        blocks: Blocks::ScanLines,
+        line_order: LineOrder::Increasing,
+    };
+    let attributes = LayerAttributes {
+        software_name: Some(Text::from("probelab")),
+        ..LayerAttributes::default()
+    };
+    let layer = Layer::new((map.width(), map.height()), attributes, encoding, channels);
+    let mut writer = BufWriter::new(file);
+    Image::from_layer(layer)
+        .write()
+        .non_parallel()
+        .to_buffered(&mut writer)
+        .map_err(|e| WriteError::Encode {
+            path: path.to_path_buf(),
+            message: e.to_string(),
+        })?;
+    let io_err = |action, source| WriteError::Io {
+        path: tmp_path.to_path_buf(),
+        action,
+        source,
+    };
+    let file = writer
+        .into_inner()
+        .map_err(|e| io_err("flush the temporary file", e.into_error()))?;
+    file.sync_all()
+        .map_err(|e| io_err("sync the temporary file", e))
+}
+
+/// Creates a new, uniquely named temporary file in the directory of `path`.
+fn create_temp_beside(path: &Path) -> Result<(PathBuf, File), WriteError> {
+    static COUNTER: AtomicU64 = AtomicU64::new(0);
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    let stem = path
+        .file_name()
+        .unwrap_or(path.as_os_str())
+        .to_string_lossy();
+    let mut last_error = None;
+    for _ in 0..16 {
+        let n = COUNTER.fetch_add(1, Ordering::Relaxed);
+        let tmp = dir.join(format!(".{stem}.tmp-{}-{n}", std::process::id()));
+        match OpenOptions::new().write(true).create_new(true).open(&tmp) {
+            Ok(file) => return Ok((tmp, file)),
+            Err(e) if e.kind() == io::ErrorKind::AlreadyExists => last_error = Some(e),
+            Err(source) => {
+                return Err(WriteError::Io {
+                    path: path.to_path_buf(),
+                    action: "create a temporary file next to it",
+                    source,
+                })
+            }
+        }
+    }
+    Err(WriteError::Io {
+        path: path.to_path_buf(),
+        action: "create a temporary file next to it",
+        source: last_error.unwrap_or_else(|| io::Error::other("no free temporary name")),
+    })
+}
+
+/// Reads as many bytes as are available into `buf` (fewer only at end of file).
+fn read_up_to(r: &mut impl Read, buf: &mut [u8]) -> io::Result<usize> {
+    let mut n = 0;
+    while n < buf.len() {
+        match r.read(&mut buf[n..]) {
+            Ok(0) => break,
+            Ok(k) => n += k,
+            Err(e) if e.kind() == io::ErrorKind::Interrupted => {}
+            Err(e) => return Err(e),
+        }
+    }
+    Ok(n)
+}
+
+/// Identifies the format from the first (up to four) bytes of a file.
+fn detect(path: &Path, head: &[u8]) -> Result<Format, LoadError> {
+    if head.starts_with(&EXR_MAGIC) {
+        return Ok(Format::Exr);
+    }
+    if head.starts_with(&HDR_SIGNATURE) {
+        return Ok(Format::Hdr);
+    }
+    let found = head
+        .iter()
+        .map(|b| format!("{b:02x}"))
+        .collect::<Vec<_>>()
+        .join(" ");
+    let ext = path
+        .extension()
+        .map(|e| e.to_string_lossy().to_ascii_lowercase());
+    let note = match ext.as_deref() {
+        _ if head.len() < EXR_MAGIC.len() => {
+            format!(", only {} byte(s) long", head.len())
+        }
+        Some("exr") => ", although the name ends in .exr".to_string(),
+        Some("hdr") | Some("pic") => ", although the name ends in .hdr".to_string(),
+        _ => String::new(),
+    };
+    Err(LoadError::UnknownFormat {
+        path: path.to_path_buf(),
+        found,
+        note,
+    })
+}
+
+/// Checks a size read from a header before any pixel memory is allocated: not zero, at
+/// most [`MAX_WIDTH`] x [`MAX_HEIGHT`], and 2:1.
+fn check_size(path: &Path, width: usize, height: usize) -> Result<(), LoadError> {
+    let path = path.to_path_buf();
+    if width == 0 || height == 0 {
+        return Err(LoadError::ZeroSize {
+            path,
+            width,
+            height,
+        });
+    }
+    if width > MAX_WIDTH || height > MAX_HEIGHT {
+        return Err(LoadError::TooLarge {
+            path,
+            width,
+            height,
+        });
+    }
+    if width != 2 * height {
+        return Err(LoadError::Map {
+            path,
+            source: MapError::Aspect { width, height },
+        });
+    }
+    Ok(())
+}
+
+/// A reader that records whether anyone tried to read past the end of the data, so that a
+/// decoder error can be reported as truncation.
+struct EofWatch<R> {
+    inner: R,
+    hit_eof: Arc<AtomicBool>,
+}
+
+impl<R: Read> Read for EofWatch<R> {
+    fn read(&mut self, buf: &mut [u8]) -> io::Result<usize> {
+        let n = self.inner.read(buf)?;
+        if n == 0 && !buf.is_empty() {
+            self.hit_eof.store(true, Ordering::Relaxed);
+        }
+        Ok(n)
+    }
+}
+
+impl<R: Seek> Seek for EofWatch<R> {
+    fn seek(&mut self, pos: SeekFrom) -> io::Result<u64> {
+        self.inner.seek(pos)
+    }
+}
+
+/// Rewinds `file` and wraps it in a buffered [`EofWatch`]; returns the reader and its flag.
+fn watched<'f>(
+    path: &Path,
+    file: &'f mut File,
+) -> Result<(BufReader<EofWatch<&'f mut File>>, Arc<AtomicBool>), LoadError> {
+    file.seek(SeekFrom::Start(0))
+        .map_err(|source| LoadError::Io {
+            path: path.to_path_buf(),
+            action: "seek in file",
+            source,
+        })?;
+    let flag = Arc::new(AtomicBool::new(false));
+    Ok((
+        BufReader::new(EofWatch {
+            inner: file,
+            hit_eof: flag.clone(),
+        }),
+        flag,
+    ))
+}
+
+/// Runs a decoder step, turning a panic into [`LoadError::DecoderPanic`].
+fn guarded<T>(
+    path: &Path,
+    format: &'static str,
+    f: impl FnOnce() -> Result<T, LoadError>,
+) -> Result<T, LoadError> {
+    panic::catch_unwind(AssertUnwindSafe(f)).unwrap_or_else(|payload| {
+        Err(LoadError::DecoderPanic {
+            path: path.to_path_buf(),
+            format,
+            message: panic_message(payload.as_ref()),
+        })
+    })
+}
+
+/// The text of a panic payload, if it has one.
+fn panic_message(payload: &(dyn Any + Send)) -> String {
+    if let Some(s) = payload.downcast_ref::<&str>() {
+        (*s).to_string()
+    } else if let Some(s) = payload.downcast_ref::<String>() {
+        s.clone()
+    } else {
+        "no message".to_string()
+    }
+}
+
+/// Converts an `exr` error into a [`LoadError`]; `hit_eof` says the decoder ran off the
+/// end of the file.
+fn exr_error(path: &Path, len: u64, hit_eof: bool, e: exr::error::Error) -> LoadError {
+    let path = path.to_path_buf();
+    if hit_eof {
+        return LoadError::Truncated {
+            path,
+            format: "OpenEXR",
+            len,
+            detail: e.to_string(),
+        };
+    }
+    match e {
+        exr::error::Error::Io(source) => LoadError::Io {
+            path,
+            action: "read file",
+            source,
+        },
+        e => LoadError::Exr {
+            path,
+            message: e.to_string(),
+        },
+    }
+}
+
+/// Converts an `image` error from the HDR decoder into a [`LoadError`].
+fn hdr_error(path: &Path, len: u64, hit_eof: bool, e: ImageError) -> LoadError {
+    let path = path.to_path_buf();
+    let eof = matches!(&e, ImageError::IoError(io) if io.kind() == io::ErrorKind::UnexpectedEof);
+    if hit_eof || eof {
+        return LoadError::Truncated {
+            path,
+            format: "Radiance HDR",
+            len,
+            detail: e.to_string(),
+        };
+    }
+    match e {
+        ImageError::IoError(source) => LoadError::Io {
+            path,
+            action: "read file",
+            source,
+        },
+        e => LoadError::Hdr {
+            path,
+            message: e.to_string(),
+        },
+    }
+}
+
+/// Reads an OpenEXR file: header first (validated by [`check_exr_header`]), then the
+/// pixels of the selected R, G, B channels as f32. Returns width, height and row-major
+/// texels (row 0 at the top of the data window).
+fn read_exr(
+    path: &Path,
+    file: &mut File,
+    len: u64,
+) -> Result<(usize, usize, Vec<Texel>), LoadError> {
+    const FORMAT: &str = "OpenEXR";
+    let (reader, hit_eof) = watched(path, file)?;
+    let meta = guarded(path, FORMAT, || {
+        MetaData::read_from_buffered(reader, false)
+            .map_err(|e| exr_error(path, len, hit_eof.load(Ordering::Relaxed), e))
+    })?;
+    let (width, height, [r, g, b]) = check_exr_header(path, &meta)?;
+
+    let (reader, hit_eof) = watched(path, file)?;
+    let image = guarded(path, FORMAT, || {
+        read()
+            .no_deep_data()
+            .largest_resolution_level()
+            .specific_channels()
+            .required(r)
+            .required(g)
+            .required(b)
+            .collect_pixels(
+                |size: Vec2<usize>,
+                 _: &(ChannelDescription, ChannelDescription, ChannelDescription)| {
+                    (size.width(), vec![[0.0f32; 3]; size.area()])
+                },
+                |(w, texels): &mut (usize, Vec<Texel>),
+                 pos: Vec2<usize>,
+                 (r, g, b): (f32, f32, f32)| {
+                    if let Some(t) = texels.get_mut(pos.y() * *w + pos.x()) {
+                        *t = [r, g, b];
+                    }
+                },
+            )
+            .first_valid_layer()
+            .all_attributes()
+            .non_parallel()
+            .from_buffered(reader)
+            .map_err(|e| exr_error(path, len, hit_eof.load(Ordering::Relaxed), e))
+    })?;
+    let layer = image.layer_data;
+    if (layer.size.width(), layer.size.height()) != (width, height) {
+        return Err(LoadError::Exr {
+            path: path.to_path_buf(),
+            message: format!(
+                "decoded {}x{} pixels but the header says {width}x{height}",
+                layer.size.width(),
+                layer.size.height()
+            ),
+        });
+    }
+    let (_, texels) = layer.channel_data.pixels;
+    Ok((width, height, texels))
+}
+
+/// Validates OpenEXR meta data before any pixel is read: no deep data, one part, a size
+/// accepted by [`check_size`], and R, G, B channels (see [`select_rgb`]) holding
+/// full-resolution half or float samples. Returns the size and the three channel names.
+fn check_exr_header(path: &Path, meta: &MetaData) -> Result<(usize, usize, [Text; 3]), LoadError> {
+    let p = || path.to_path_buf();
+    if meta.requirements.has_deep_data || meta.headers.iter().any(|h| h.deep) {
+        return Err(LoadError::Deep { path: p() });
+    }
+    let header = match meta.headers.as_slice() {
+        [h] => h,
+        [] => {
+            return Err(LoadError::Exr {
+                path: p(),
+                message: "the file has no header".into(),
+            })
+        }
+        hs => {
+            let names = hs
+                .iter()
+                .enumerate()
+                .map(|(i, h)| match &h.own_attributes.layer_name {
+                    Some(n) => format!("'{n}'"),
+                    None => format!("part {i} unnamed"),
+                })
+                .collect::<Vec<_>>()
+                .join(", ");
+            return Err(LoadError::MultiPart {
+                path: p(),
+                parts: hs.len(),
+                names,
+            });
+        }
+    };
+    let (width, height) = (header.layer_size.width(), header.layer_size.height());
+    check_size(path, width, height)?;
+    let list = &header.channels.list;
+    let chosen = select_rgb(path, list)?;
+    for &i in &chosen {
+        let c = &list[i];
+        if c.sample_type == SampleType::U32 {
+            return Err(LoadError::IntegerChannel {
+                path: p(),
+                channel: c.name.to_string(),
+            });
+        }
+        if (c.sampling.x(), c.sampling.y()) != (1, 1) {
+            return Err(LoadError::Subsampled {
+                path: p(),
+                channel: c.name.to_string(),
+                x: c.sampling.x(),
+                y: c.sampling.y(),
+            });
+        }
+    }
+    let [r, g, b] = chosen.map(|i| list[i].name.clone());
+    Ok((width, height, [r, g, b]))
+}
+
+/// Picks the indices of the red, green and blue channels: the unprefixed `R`, `G`, `B` if
+/// all three exist, otherwise `L.R`, `L.G`, `L.B` of the one layer `L` that has all three.
+/// Several such layers is an ambiguity error; none is a missing-channel error naming what
+/// is missing from the most complete candidate set and every channel the file has.
+fn select_rgb(path: &Path, list: &[ChannelDescription]) -> Result<[usize; 3], LoadError> {
+    let names: Vec<String> = list.iter().map(|c| c.name.to_string()).collect();
+    let find = |prefix: &str, c: char| {
+        let full = if prefix.is_empty() {
+            c.to_string()
+        } else {
+            format!("{prefix}.{c}")
+        };
+        names.iter().position(|n| *n == full)
+    };
+    let full_set = |prefix: &str| match (find(prefix, 'R'), find(prefix, 'G'), find(prefix, 'B')) {
+        (Some(r), Some(g), Some(b)) => Some([r, g, b]),
+        _ => None,
+    };
+    if let Some(set) = full_set("") {
+        return Ok(set);
+    }
+    // Layer prefixes that have at least one of R, G, B, in channel-list order.
+    let mut prefixes: Vec<&str> = Vec::new();
+    for n in &names {
+        let prefix = n
+            .strip_suffix(".R")
+            .or(n.strip_suffix(".G"))
+            .or(n.strip_suffix(".B"));
+        if let Some(p) = prefix {
+            if !prefixes.contains(&p) {
+                prefixes.push(p);
+            }
+        }
+    }
+    let complete: Vec<&str> = prefixes
+        .iter()
+        .copied()
+        .filter(|p| full_set(p).is_some())
+        .collect();
+    match complete.as_slice() {
+        [only] => {
+            if let Some(set) = full_set(only) {
+                return Ok(set);
+            }
+        }
+        [] => {}
+        several => {
+            let layers = several
+                .iter()
+                .map(|p| format!("'{p}'"))
+                .collect::<Vec<_>>()
+                .join(", ");
+            return Err(LoadError::AmbiguousChannels {
+                path: path.to_path_buf(),
+                layers,
+            });
+        }
+    }
+    // Report against the candidate set with the most channels present (unprefixed on ties).
+    let present_count = |p: &str| {
+        ['R', 'G', 'B']
+            .iter()
+            .filter(|&&c| find(p, c).is_some())
+            .count()
+    };
+    let mut best = "";
+    for p in &prefixes {
+        if present_count(p) > present_count(best) {
+            best = p;
+        }
+    }
+    let missing = ['R', 'G', 'B']
+        .iter()
+        .filter(|&&c| find(best, c).is_none())
+        .map(|&c| {
+            if best.is_empty() {
+                c.to_string()
+            } else {
+                format!("{best}.{c}")
+            }
+        })
+        .collect::<Vec<_>>()
+        .join(", ");
+    let present = if names.is_empty() {
+        "(none)".to_string()
+    } else {
+        names.join(", ")
+    };
+    Err(LoadError::MissingChannel {
+        path: path.to_path_buf(),
+        missing,
+        present,
+    })
+}
+
+/// Reads a Radiance RGBE file with the `image` crate. The header (and so the size) is
+/// parsed and checked before the pixel buffer is allocated. Returns width, height and
+/// row-major texels (row 0 at the top).
+fn read_hdr(
+    path: &Path,
+    file: &mut File,
+    len: u64,
+) -> Result<(usize, usize, Vec<Texel>), LoadError> {
+    let (reader, hit_eof) = watched(path, file)?;
+    let eof = || hit_eof.load(Ordering::Relaxed);
+    guarded(path, "Radiance HDR", || {
+        // Non-strict: `detect` has already seen the "#?" signature, and this also accepts
+        // "#?RGBE" files, which the strict mode (requiring "#?RADIANCE") refuses.
+        let decoder =
+            HdrDecoder::new_nonstrict(reader).map_err(|e| hdr_error(path, len, eof(), e))?;
+        let (w, h) = decoder.dimensions();
+        let (width, height) = (w as usize, h as usize);
+        check_size(path, width, height)?;
+        let bytes = usize::try_from(decoder.total_bytes()).map_err(|_| LoadError::TooLarge {
+            path: path.to_path_buf(),
+            width,
+            height,
+        })?;
+        let mut buf = vec![0u8; bytes];
+        decoder
+            .read_image(&mut buf)
+            .map_err(|e| hdr_error(path, len, eof(), e))?;
+        let texels = buf
+            .chunks_exact(12)
+            .map(|px| {
+                let f = |k: usize| f32::from_ne_bytes([px[k], px[k + 1], px[k + 2], px[k + 3]]);
+                [f(0), f(4), f(8)]
+            })
+            .collect();
+        Ok((width, height, texels))
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn guarded_turns_a_panic_into_an_error() {
+        let path = Path::new("maps/x.exr");
+        let r: Result<(), LoadError> = guarded(path, "OpenEXR", || panic!("index out of bounds"));
+        let msg = r.unwrap_err().to_string();
+        assert_eq!(
+            msg,
+            "maps/x.exr: OpenEXR decoder failed on malformed data (it panicked: index out of bounds)"
+        );
+        let r = guarded(path, "OpenEXR", || Ok(7));
+        assert_eq!(r.unwrap(), 7);
+    }
+
+    #[test]
+    fn detect_uses_content_not_extension() {
+        let p = Path::new("a.hdr");
+        assert_eq!(detect(p, &EXR_MAGIC).unwrap(), Format::Exr);
+        assert_eq!(detect(Path::new("a.exr"), b"#?RA").unwrap(), Format::Hdr);
+        let msg = detect(Path::new("a.exr"), b"\x89PNG")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            msg.starts_with("a.exr: unrecognised file format: bad magic number"),
+            "{msg}"
+        );
+        assert!(
+            msg.contains("89 50 4e 47") && msg.contains("ends in .exr"),
+            "{msg}"
+        );
+    }
+
+    #[test]
+    fn check_size_order_of_checks() {
+        let p = Path::new("m.exr");
+        assert!(matches!(
+            check_size(p, 0, 0),
+            Err(LoadError::ZeroSize { .. })
+        ));
+        assert!(matches!(
+            check_size(p, 32768, 16384),
+            Err(LoadError::TooLarge { .. })
+        ));
+        assert!(matches!(check_size(p, 1, 1), Err(LoadError::Map { .. })));
+        assert!(check_size(p, MAX_WIDTH, MAX_HEIGHT).is_ok());
+        assert!(check_size(p, 2, 1).is_ok());
+    }
+}
