@@ -105,11 +105,13 @@ impl<'a> Reference<'a> {
     }
 
     /// E/π at the centres of a lat-long grid of normals (world orientation, row-major). When
-    /// there are no caps and the grid has the map's width, every output row shares one
-    /// convolution kernel per input row and the arc ends fall at the same texel offsets in every
-    /// column, which the fast path exploits; otherwise this is [`Self::irradiance_many`].
+    /// there are no caps and the map's width is a whole multiple r of the grid's, every output
+    /// row shares one convolution kernel per input row and the arc ends fall at the same texel
+    /// offsets (stride r) in every column, which the fast path exploits; otherwise this is
+    /// [`Self::irradiance_many`].
     pub fn irradiance_latlong(&self, out: LatLong) -> Vec<Rgb> {
-        if !self.masks.is_empty() || out.width != self.grid.width {
+        let stride = self.grid.width / out.width.max(1);
+        if !self.masks.is_empty() || stride == 0 || out.width * stride != self.grid.width {
             let normals: Vec<DVec3> = (0..out.height)
                 .flat_map(|j| (0..out.width).map(move |i| (i, j)))
                 .map(|(i, j)| out.direction(i, j))
@@ -131,6 +133,7 @@ impl<'a> Reference<'a> {
                         self.latlong_row(
                             &ext,
                             out,
+                            stride,
                             jo,
                             j,
                             &mut acc[jo * out.width * 3..(jo + 1) * out.width * 3],
@@ -152,16 +155,26 @@ impl<'a> Reference<'a> {
             .collect()
     }
 
-    /// Adds input row j's contribution to output row jo of the fast path (no caps, output
-    /// width = map width). `acc` holds the row's W RGB values, channel-interleaved.
+    /// Adds input row j's contribution to output row jo of the fast path (no caps, map width
+    /// = stride × output width). `acc` holds the row's RGB values, channel-interleaved.
     ///
-    /// For column i the kernel's arc is [θi − Δ, θi + Δ]; both ends lie at the same texel
-    /// offset and fraction for every i, so with C0, C1 the cumulative moments and
-    /// C1'[k] = C1[k]·e^{iθc(k)}, each end adds b·C0 + a·Re(C1'·e^{−i·k·h}) plus a partial-texel
-    /// term proportional to L: four multiply-adds per channel, no trigonometry per column.
-    fn latlong_row(&self, ext: &RowExt, out: LatLong, jo: usize, j: usize, acc: &mut [f64]) {
+    /// Output column i is centred at θ_edge(r·i) + (r/2)·h, and its kernel arc is
+    /// [θi − Δ, θi + Δ]; both ends lie at the same texel offset k and fraction from input column
+    /// r·i for every i. With C0, C1 the cumulative moments and C1''[m] = C1[m]·e^{iθ_edge(m)},
+    /// each end adds b·C0 + a·Re(C1''·e^{i(r/2 − k)h}) plus a partial-texel term proportional
+    /// to L: four multiply-adds per channel, no trigonometry per column.
+    fn latlong_row(
+        &self,
+        ext: &RowExt,
+        out: LatLong,
+        stride: usize,
+        jo: usize,
+        j: usize,
+        acc: &mut [f64],
+    ) {
         let w = self.grid.width;
         let h = self.grid.dtheta();
+        let half_r = 0.5 * stride as f64;
         let phi_o = out.phi_centre(jo);
         let (sin_o, cos_o) = phi_o.sin_cos();
         let half_pi = 0.5 * PI;
@@ -181,38 +194,34 @@ impl<'a> Reference<'a> {
             if t >= 1.0 {
                 return;
             }
-            // Ends of the arc, in texels from the left edge of column i: u = ½ ± Δ/h (the full
-            // circle when t ≤ −1: ends at ½ ± W/2).
+            // Arc ends in input texels from the left edge of input column r·i: u = r/2 ± Δ/h
+            // (the full circle when t ≤ −1: ends at r/2 ± W/2).
             let delta = if t <= -1.0 {
                 0.5 * w as f64
             } else {
                 t.acos() / h
             };
-            for (sign, u) in [(ws, 0.5 + delta), (-ws, 0.5 - delta)] {
+            for (sign, u) in [(ws, half_r + delta), (-ws, half_r - delta)] {
                 let k = u.floor();
                 let f = (u - k) * h;
-                let k = k as i64;
-                // e^{iθi} = e^{iθc(i+k)}·e^{−ikh}: Re(e^{iθi}C1[i+k]) = Re(C1'[i+k]·z)
-                let (zs, zc) = (-(k as f64) * h).sin_cos();
-                // Partial texel i+k over [θ_edge, θ_edge + f]: e^{iθi}·L·e^{−iθ_edge}(sin f −
-                // i·2sin²(f/2)); θi − θ_edge(i+k) = h/2 − k·h.
-                let (ps, pc) = (0.5 * h - k as f64 * h).sin_cos();
+                // e^{iθi} = e^{iθ_edge(ri+k)}·e^{i(r/2 − k)h}
+                let (zs, zc) = ((half_r - k) * h).sin_cos();
+                // Partial texel ri+k over [θ_edge, θ_edge + f]: e^{iθi}·L·e^{−iθ_edge}(sin f −
+                // i·2sin²(f/2)) = L·z·(fr + i·fi).
                 let (fr, fi) = (f.sin(), -2.0 * (0.5 * f).sin().powi(2));
-                let kappa = pc * fr - ps * fi;
+                let kappa = zc * fr - zs * fi;
                 let (ca, cb, cc, cl) = (
                     sign * b,
                     sign * a * zc,
                     -sign * a * zs,
                     sign * (b * f + a * kappa),
                 );
-                let off = (k + w as i64) as usize;
+                let off = (k as i64 + w as i64) as usize;
                 for ch in 0..3 {
-                    let c0 = &ext.c0[ch][off..off + w];
-                    let c1r = &ext.c1r[ch][off..off + w];
-                    let c1i = &ext.c1i[ch][off..off + w];
-                    let l = &ext.l[ch][off..off + w];
-                    for i in 0..w {
-                        acc[3 * i + ch] += ca * c0[i] + cb * c1r[i] + cc * c1i[i] + cl * l[i];
+                    let (c0, c1r, c1i, l) = (&ext.c0[ch], &ext.c1r[ch], &ext.c1i[ch], &ext.l[ch]);
+                    for (i, o) in acc.chunks_exact_mut(3).enumerate() {
+                        let m = off + stride * i;
+                        o[ch] += ca * c0[m] + cb * c1r[m] + cc * c1i[m] + cl * l[m];
                     }
                 }
             }
@@ -249,8 +258,8 @@ impl RowExt {
             let wraps = k.div_euclid(w as i64) as f64;
             let kk = k.rem_euclid(w as i64) as usize;
             let m = cum[kk];
-            // e^{iθc(k)}, θc(k) = θ_edge(k) + h/2
-            let (st, ct) = (grid.theta_edge(kk) + 0.5 * grid.dtheta()).sin_cos();
+            // e^{iθ_edge(k)}
+            let (st, ct) = grid.theta_edge(kk).sin_cos();
             let l = moments.texel(j, kk);
             for ch in 0..3 {
                 let (r, i) = (
@@ -357,13 +366,21 @@ mod tests {
         let map = test_map(64);
         let rm = RowMoments::new(&map);
         let r = Reference::new(&rm, vec![], 2);
-        let out = LatLong::new(64, 20);
-        let fast = r.irradiance_latlong(out);
-        for j in 0..out.height {
-            for i in 0..out.width {
-                let g = r.irradiance(out.direction(i, j));
-                let d = (fast[j * out.width + i] - g).abs().max_element();
-                assert!(d < 1e-11 * g.max_element().max(1.0), "({i},{j}) {d}");
+        for out in [
+            LatLong::new(64, 20),
+            LatLong::new(32, 16),
+            LatLong::new(16, 9),
+        ] {
+            let fast = r.irradiance_latlong(out);
+            for j in 0..out.height {
+                for i in 0..out.width {
+                    let g = r.irradiance(out.direction(i, j));
+                    let d = (fast[j * out.width + i] - g).abs().max_element();
+                    assert!(
+                        d < 1e-11 * g.max_element().max(1.0),
+                        "{out:?} ({i},{j}) {d}"
+                    );
+                }
             }
         }
     }

@@ -1,0 +1,285 @@
+//! The command line: a thin layer over the library. IO happens here and in `runner`/`atomic`.
+
+use crate::domain::parse_axis;
+use crate::envmap::search::SearchPath;
+use crate::experiment::{list_experiments, DomainKind, Effect, Experiment};
+use crate::metrics::Metric;
+use crate::{encoders, runner, table};
+use anyhow::{bail, Context, Result};
+use clap::{Parser, Subcommand};
+use std::path::{Path, PathBuf};
+
+#[derive(Parser, Debug)]
+#[command(
+    name = "probelab",
+    version,
+    about = "Measure compact diffuse-lighting encodings against an exact reference"
+)]
+pub struct Cli {
+    /// Worker threads (default: all cores). Results do not depend on it.
+    #[arg(long, global = true)]
+    pub jobs: Option<usize>,
+    /// Repository root holding experiments/, results/ and envmaps/.
+    #[arg(long, global = true, default_value = ".")]
+    pub root: PathBuf,
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+pub enum Command {
+    /// Run experiment files and write results/<name>/table.csv.
+    Run {
+        /// Experiment TOML files.
+        #[arg(required = true)]
+        experiments: Vec<PathBuf>,
+        /// Output folder (default: <root>/results).
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
+    /// Run every experiment in experiments/; experiments whose maps are missing are skipped and listed.
+    Reproduce {
+        /// Output folder (default: <root>/results).
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
+    /// Score encoders on maps and print CSV to stdout.
+    Eval {
+        /// Map names (on the search path) or file paths.
+        #[arg(required = true)]
+        maps: Vec<String>,
+        /// Comma-separated encoder ids (see `probelab encoders`).
+        #[arg(long, default_value = "sh1,sh2")]
+        encoders: String,
+        /// `sphere`, or `hemisphere:AXIS` with AXIS one of +x -x +y -y +z -z (the surface normal
+        /// N; the hemisphere effect about N is applied and n′ ranges over its hemisphere).
+        #[arg(long, default_value = "sphere")]
+        domain: String,
+        /// `exact` (solid-angle weighted) or `probulator` (the peer tool's per-pixel mean).
+        #[arg(long, default_value = "exact")]
+        metric: String,
+        /// Output lat-long resolution WxH for the exact metric.
+        #[arg(long, default_value = "256x128")]
+        resolution: String,
+        /// Gauss–Legendre nodes per row piece of the reference.
+        #[arg(long, default_value_t = crate::reference::DEFAULT_POLAR_NODES)]
+        polar_nodes: usize,
+    },
+    /// Write the analytic scenes into envmaps/ as f32 EXR.
+    GenEnvmaps {
+        /// Output folder (default: <root>/envmaps).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Width of the maps (height is half).
+        #[arg(long, default_value_t = 1024)]
+        width: usize,
+    },
+    /// List the encoders.
+    Encoders,
+    /// Show the map search path and which maps it finds.
+    Maps,
+}
+
+/// Runs the command line; returns the process exit code.
+pub fn main_with(cli: Cli) -> Result<i32> {
+    if let Some(j) = cli.jobs {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(j.max(1))
+            .build_global()
+            .context("--jobs")?;
+    }
+    let root = cli.root.clone();
+    let search = SearchPath::from_env(root.join("envmaps"));
+    let results = |out: Option<PathBuf>| out.unwrap_or_else(|| root.join("results"));
+    match cli.command {
+        Command::Run { experiments, out } => {
+            let out = results(out);
+            for path in experiments {
+                let exp = Experiment::load(&path)?;
+                let report = runner::run(&exp, &search)?;
+                if !report.missing.is_empty() {
+                    bail!(
+                        "{}: map(s) not found: {}; nothing written.\nSearched: {}",
+                        path.display(),
+                        report.missing.join(", "),
+                        describe_search(&search)
+                    );
+                }
+                write_results(&out, &exp, &report)?;
+            }
+            Ok(0)
+        }
+        Command::Reproduce { out } => {
+            let out = results(out);
+            let dir = root.join("experiments");
+            let mut skipped = Vec::new();
+            for path in list_experiments(&dir)? {
+                let exp = Experiment::load(&path)?;
+                let report = runner::run(&exp, &search)?;
+                if report.missing.is_empty() {
+                    write_results(&out, &exp, &report)?;
+                } else {
+                    eprintln!(
+                        "skipped {}: map(s) not found: {}",
+                        exp.name,
+                        report.missing.join(", ")
+                    );
+                    skipped.push(exp.name.clone());
+                }
+            }
+            if !skipped.is_empty() {
+                eprintln!(
+                    "{} experiment(s) skipped for missing maps ({}); their results were left unchanged.\n\
+                     Searched: {}\nSet PROBELAB_ENVMAPS to the folder of the paper probes (see README).",
+                    skipped.len(),
+                    skipped.join(", "),
+                    describe_search(&search)
+                );
+            }
+            Ok(0)
+        }
+        Command::Eval {
+            maps,
+            encoders: list,
+            domain,
+            metric,
+            resolution,
+            polar_nodes,
+        } => {
+            let exp = eval_experiment(maps, &list, &domain, &metric, &resolution, polar_nodes)?;
+            let report = runner::run(&exp, &search)?;
+            if !report.missing.is_empty() {
+                bail!(
+                    "map(s) not found: {}\nSearched: {}",
+                    report.missing.join(", "),
+                    describe_search(&search)
+                );
+            }
+            use std::io::Write;
+            std::io::stdout().write_all(&table::to_csv(&report.rows)?)?;
+            Ok(0)
+        }
+        Command::GenEnvmaps { out, width } => {
+            if width < 4 || width % 2 != 0 || width > 8192 {
+                bail!("--width {width}: expected an even width from 4 to 8192");
+            }
+            let out = out.unwrap_or_else(|| root.join("envmaps"));
+            std::fs::create_dir_all(&out)
+                .with_context(|| format!("{}: cannot create folder", out.display()))?;
+            for s in crate::scenes::generated() {
+                let path = out.join(format!("{}.exr", s.id));
+                crate::envmap::load::write_exr(&path, &s.map(width))?;
+                println!("{}  {}", path.display(), s.description);
+            }
+            Ok(0)
+        }
+        Command::Encoders => {
+            for k in encoders::REGISTRY {
+                println!("{:28} {}", k.id, k.summary);
+            }
+            Ok(0)
+        }
+        Command::Maps => {
+            println!("search path: {}", describe_search(&search));
+            for d in search.dirs() {
+                let Ok(entries) = std::fs::read_dir(d) else {
+                    continue;
+                };
+                let mut names: Vec<String> = entries
+                    .filter_map(|e| e.ok())
+                    .map(|e| e.file_name().to_string_lossy().into_owned())
+                    .filter(|n| n.ends_with(".exr") || n.ends_with(".hdr"))
+                    .collect();
+                names.sort();
+                println!("{}:", d.display());
+                for n in names {
+                    println!("  {n}");
+                }
+            }
+            Ok(0)
+        }
+    }
+}
+
+fn describe_search(s: &SearchPath) -> String {
+    s.dirs()
+        .iter()
+        .map(|d| {
+            if d.is_dir() {
+                d.display().to_string()
+            } else {
+                format!("{} (missing)", d.display())
+            }
+        })
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// Writes results/<name>/table.csv atomically.
+pub fn write_results(out: &Path, exp: &Experiment, report: &runner::RunReport) -> Result<()> {
+    let dir = out.join(&exp.name);
+    table::write_csv(&dir.join("table.csv"), &report.rows)?;
+    eprintln!(
+        "wrote {} ({} rows)",
+        dir.join("table.csv").display(),
+        report.rows.len()
+    );
+    Ok(())
+}
+
+/// The experiment `probelab eval` runs.
+fn eval_experiment(
+    maps: Vec<String>,
+    list: &str,
+    domain: &str,
+    metric: &str,
+    resolution: &str,
+    polar_nodes: usize,
+) -> Result<Experiment> {
+    let res = parse_resolution(resolution)?;
+    let metric = Metric::parse(metric)?;
+    let (kind, orientations, effects) = if domain == "sphere" {
+        (DomainKind::Sphere, vec![], vec![])
+    } else if let Some(axis) = domain.strip_prefix("hemisphere:") {
+        parse_axis(axis).with_context(|| format!("--domain {domain}"))?;
+        (
+            DomainKind::Hemisphere,
+            crate::domain::expand_orientations(axis)?,
+            vec![Effect::Hemisphere],
+        )
+    } else {
+        bail!("--domain '{domain}': expected sphere or hemisphere:AXIS (AXIS one of +x, -x, +y, -y, +z, -z)");
+    };
+    if kind == DomainKind::Hemisphere && metric == Metric::Probulator {
+        bail!("--metric probulator scores the whole sphere; use --domain sphere");
+    }
+    if !(1..=16).contains(&polar_nodes) {
+        bail!("--polar-nodes {polar_nodes}: expected 1..=16");
+    }
+    Ok(Experiment {
+        name: "eval".into(),
+        description: String::new(),
+        source: None,
+        maps,
+        encoders: encoders::build_list(list)?,
+        metrics: vec![metric],
+        domain: kind,
+        orientations,
+        effects,
+        resolution: res,
+        polar_nodes,
+        ci: false,
+    })
+}
+
+/// Parses "WxH" with W = 2H.
+pub fn parse_resolution(s: &str) -> Result<(usize, usize)> {
+    let (w, h) = s
+        .split_once('x')
+        .with_context(|| format!("resolution '{s}': expected WxH, e.g. 256x128"))?;
+    let (w, h): (usize, usize) = (w.parse()?, h.parse()?);
+    if w != 2 * h || h < 2 || h > 4096 {
+        bail!("resolution '{s}': expected W = 2H with 2 <= H <= 4096");
+    }
+    Ok((w, h))
+}

@@ -1,0 +1,346 @@
+//! Experiment files: TOML in `experiments/` declaring maps, encoders, domain, effects and
+//! metrics. An experiment is data; the runner (`runner.rs`) is the only code that executes it.
+//!
+//! | key            | type                      | default        | meaning |
+//! |----------------|---------------------------|----------------|---------|
+//! | `name`         | string                    | file stem      | results go to `results/<name>/` |
+//! | `description`  | string                    | ""             | shown in the report |
+//! | `maps`         | [string]                  | required       | map names on the search path, or file paths |
+//! | `encoders`     | [string or table]         | required       | `"sh2"` or `{ kind = "…", name = "…", <settings> }` |
+//! | `metrics`      | [string]                  | `["exact"]`    | `exact`, `probulator` |
+//! | `domain`       | string                    | `"sphere"`     | `sphere` or `hemisphere` (n′ over the hemisphere about each N) |
+//! | `orientations` | [string]                  | `[]`           | surface normals N: `+x` … `-z`, `up`, `axes6`, `fibonacciN` |
+//! | `effects`      | [string or table]         | `[]`           | `"hemisphere"`, `{ kind = "cone", cos_alpha = [..], tilt_deg = [..] }` |
+//! | `resolution`   | [W, H]                    | `[256, 128]`   | output lat-long grid of normals for the `exact` metric |
+//! | `polar_nodes`  | integer                   | 2              | Gauss–Legendre nodes per row piece of the reference |
+//! | `ci`           | bool                      | true           | whether the CI check re-runs it |
+//!
+//! Unknown keys are errors that name the key and the line.
+
+use crate::domain::{expand_orientations, Orientation};
+use crate::encoders::{self, NamedEncoder};
+use crate::metrics::Metric;
+use crate::reference::DEFAULT_POLAR_NODES;
+use anyhow::{bail, Context, Result};
+use serde::Deserialize;
+use std::path::{Path, PathBuf};
+
+/// An encoder entry: a kind, or a table with a kind and settings.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(untagged)]
+pub enum EncoderEntry {
+    Kind(String),
+    Table(toml::Table),
+}
+
+/// An effect entry.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(untagged)]
+pub enum EffectEntry {
+    Name(String),
+    Table(toml::Table),
+}
+
+/// The file as written.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ExperimentFile {
+    pub name: Option<String>,
+    #[serde(default)]
+    pub description: String,
+    pub maps: Vec<String>,
+    pub encoders: Vec<EncoderEntry>,
+    #[serde(default)]
+    pub metrics: Vec<String>,
+    #[serde(default)]
+    pub domain: Option<String>,
+    #[serde(default)]
+    pub orientations: Vec<String>,
+    #[serde(default)]
+    pub effects: Vec<EffectEntry>,
+    pub resolution: Option<[usize; 2]>,
+    pub polar_nodes: Option<usize>,
+    pub ci: Option<bool>,
+}
+
+/// A visibility effect applied to the radiance before it reaches the surface.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Effect {
+    /// Only light with ω·N > 0 counts.
+    Hemisphere,
+    /// Only light inside the cone of cos α about C counts, C being N tilted by `tilt_deg`
+    /// towards the tangent of N's frame (the image of +X under the rotation taking +Y to N).
+    Cone {
+        cos_alpha: Vec<f64>,
+        tilt_deg: Vec<f64>,
+    },
+}
+
+/// The domain of output normals.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DomainKind {
+    Sphere,
+    Hemisphere,
+}
+
+/// A validated experiment.
+pub struct Experiment {
+    pub name: String,
+    pub description: String,
+    pub source: Option<PathBuf>,
+    pub maps: Vec<String>,
+    pub encoders: Vec<NamedEncoder>,
+    pub metrics: Vec<Metric>,
+    pub domain: DomainKind,
+    pub orientations: Vec<Orientation>,
+    pub effects: Vec<Effect>,
+    pub resolution: (usize, usize),
+    pub polar_nodes: usize,
+    pub ci: bool,
+}
+
+impl Experiment {
+    /// Reads and validates an experiment file; errors name the file, and the line where TOML
+    /// knows it.
+    pub fn load(path: &Path) -> Result<Self> {
+        let text = std::fs::read_to_string(path)
+            .with_context(|| format!("{}: cannot read experiment file", path.display()))?;
+        let file: ExperimentFile = toml::from_str(&text)
+            .map_err(|e| anyhow::anyhow!("{}: {}", path.display(), e.to_string().trim_end()))?;
+        let stem = path
+            .file_stem()
+            .and_then(|s| s.to_str())
+            .unwrap_or("experiment")
+            .to_string();
+        let mut exp = Self::from_file(file, &stem).map_err(|e| {
+            let line = find_line(&text, &e);
+            anyhow::anyhow!(
+                "{}{}: {:#}",
+                path.display(),
+                line.map(|l| format!(":{l}")).unwrap_or_default(),
+                e
+            )
+        })?;
+        exp.source = Some(path.to_path_buf());
+        Ok(exp)
+    }
+
+    /// Validates a parsed file.
+    pub fn from_file(f: ExperimentFile, default_name: &str) -> Result<Self> {
+        let name = f.name.unwrap_or_else(|| default_name.to_string());
+        if name.is_empty()
+            || !name
+                .chars()
+                .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
+        {
+            bail!(
+                "name '{name}': use letters, digits, '_' or '-' (it names a folder under results/)"
+            );
+        }
+        if f.maps.is_empty() {
+            bail!("maps: list at least one map");
+        }
+        if f.encoders.is_empty() {
+            bail!(
+                "encoders: list at least one encoder (valid: {})",
+                encoders::known_ids()
+            );
+        }
+        let mut built = Vec::new();
+        for e in f.encoders {
+            built.push(match e {
+                EncoderEntry::Kind(k) => encoders::build(&k, None, toml::Table::new())?,
+                EncoderEntry::Table(mut t) => {
+                    let kind = match t.remove("kind") {
+                        Some(toml::Value::String(k)) => k,
+                        _ => bail!(
+                            "encoders: a table entry needs kind = \"<encoder>\" (valid: {})",
+                            encoders::known_ids()
+                        ),
+                    };
+                    let name = match t.remove("name") {
+                        Some(toml::Value::String(n)) => Some(n),
+                        None => None,
+                        Some(v) => bail!("encoders: name must be a string, got {v}"),
+                    };
+                    encoders::build(&kind, name.as_deref(), t)?
+                }
+            });
+        }
+        for (i, e) in built.iter().enumerate() {
+            if built[..i].iter().any(|o| o.name == e.name) {
+                bail!(
+                    "encoders: '{}' appears twice; give variants distinct names with name = \"…\"",
+                    e.name
+                );
+            }
+        }
+        let metrics = if f.metrics.is_empty() {
+            vec![Metric::Exact]
+        } else {
+            f.metrics
+                .iter()
+                .map(|m| Metric::parse(m).context("metrics"))
+                .collect::<Result<_>>()?
+        };
+        let domain = match f.domain.as_deref().unwrap_or("sphere") {
+            "sphere" => DomainKind::Sphere,
+            "hemisphere" => DomainKind::Hemisphere,
+            d => bail!("domain '{d}': expected sphere or hemisphere"),
+        };
+        let mut orientations = Vec::new();
+        for o in &f.orientations {
+            orientations.extend(expand_orientations(o).context("orientations")?);
+        }
+        let mut effects = Vec::new();
+        for e in f.effects {
+            effects.push(parse_effect(e)?);
+        }
+        let needs_normal = domain == DomainKind::Hemisphere || !effects.is_empty();
+        if needs_normal && orientations.is_empty() {
+            bail!("orientations: a hemisphere domain or an effect needs surface normals (e.g. orientations = [\"up\"])");
+        }
+        if !needs_normal && !orientations.is_empty() {
+            bail!("orientations: only a hemisphere domain or an effect uses surface normals; remove them or set domain = \"hemisphere\"");
+        }
+        if domain == DomainKind::Hemisphere && metrics.contains(&Metric::Probulator) {
+            bail!("metrics: 'probulator' scores the whole sphere at 256x128; it cannot be used with a hemisphere domain");
+        }
+        let resolution = f.resolution.map(|[w, h]| (w, h)).unwrap_or((256, 128));
+        if resolution.0 != 2 * resolution.1 || resolution.1 < 2 || resolution.1 > 4096 {
+            bail!(
+                "resolution {:?}: expected [2H, H] with 2 <= H <= 4096",
+                resolution
+            );
+        }
+        let polar_nodes = f.polar_nodes.unwrap_or(DEFAULT_POLAR_NODES);
+        if !(1..=16).contains(&polar_nodes) {
+            bail!("polar_nodes {polar_nodes}: expected 1..=16");
+        }
+        Ok(Experiment {
+            name,
+            description: f.description,
+            source: None,
+            maps: f.maps,
+            encoders: built,
+            metrics,
+            domain,
+            orientations,
+            effects,
+            resolution,
+            polar_nodes,
+            ci: f.ci.unwrap_or(true),
+        })
+    }
+}
+
+fn parse_effect(e: EffectEntry) -> Result<Effect> {
+    let floats = |t: &toml::Table, key: &str| -> Result<Vec<f64>> {
+        match t.get(key) {
+            None => bail!("effects: cone needs '{key}'"),
+            Some(toml::Value::Float(f)) => Ok(vec![*f]),
+            Some(toml::Value::Integer(i)) => Ok(vec![*i as f64]),
+            Some(toml::Value::Array(a)) => a
+                .iter()
+                .map(|v| match v {
+                    toml::Value::Float(f) => Ok(*f),
+                    toml::Value::Integer(i) => Ok(*i as f64),
+                    _ => bail!("effects: '{key}' must hold numbers"),
+                })
+                .collect(),
+            Some(v) => bail!("effects: '{key}' must be a number or a list, got {v}"),
+        }
+    };
+    match e {
+        EffectEntry::Name(n) if n == "hemisphere" => Ok(Effect::Hemisphere),
+        EffectEntry::Name(n) => bail!("effects: unknown effect '{n}' (valid: hemisphere, cone)"),
+        EffectEntry::Table(t) => match t.get("kind").and_then(|v| v.as_str()) {
+            Some("hemisphere") if t.len() == 1 => Ok(Effect::Hemisphere),
+            Some("cone") => {
+                if let Some(k) = t
+                    .keys()
+                    .find(|k| !["kind", "cos_alpha", "tilt_deg"].contains(&k.as_str()))
+                {
+                    bail!("effects: cone has unknown key '{k}' (valid: cos_alpha, tilt_deg)");
+                }
+                let cos_alpha = floats(&t, "cos_alpha")?;
+                if cos_alpha.iter().any(|c| !(-1.0..1.0).contains(c)) {
+                    bail!("effects: cone cos_alpha must lie in [-1, 1)");
+                }
+                let tilt_deg = if t.contains_key("tilt_deg") {
+                    floats(&t, "tilt_deg")?
+                } else {
+                    vec![0.0]
+                };
+                Ok(Effect::Cone {
+                    cos_alpha,
+                    tilt_deg,
+                })
+            }
+            Some(k) => bail!("effects: unknown effect kind '{k}' (valid: hemisphere, cone)"),
+            None => bail!("effects: a table entry needs kind = \"hemisphere\" or \"cone\""),
+        },
+    }
+}
+
+/// Best-effort line of the first quoted word of an error message in the source text.
+fn find_line(text: &str, e: &anyhow::Error) -> Option<usize> {
+    let msg = format!("{e:#}");
+    let quoted = msg.split('\'').nth(1)?;
+    if quoted.is_empty() {
+        return None;
+    }
+    text.lines().position(|l| l.contains(quoted)).map(|i| i + 1)
+}
+
+/// Every `*.toml` in a folder, sorted by name.
+pub fn list_experiments(dir: &Path) -> Result<Vec<PathBuf>> {
+    let mut out: Vec<PathBuf> = std::fs::read_dir(dir)
+        .with_context(|| format!("{}: cannot list experiments", dir.display()))?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|x| x == "toml"))
+        .collect();
+    out.sort();
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn parse(s: &str) -> Result<Experiment> {
+        Experiment::from_file(toml::from_str(s)?, "t")
+    }
+
+    #[test]
+    fn minimal_file_gets_defaults() {
+        let e = parse("maps = ['a']\nencoders = ['sh1', 'sh2']").unwrap();
+        assert_eq!(e.name, "t");
+        assert_eq!(e.metrics, vec![Metric::Exact]);
+        assert_eq!(e.resolution, (256, 128));
+        assert_eq!(e.encoders.len(), 2);
+    }
+
+    #[test]
+    fn errors_are_specific() {
+        let e = |s: &str| format!("{:#}", parse(s).err().unwrap());
+        assert!(e("maps=['a']\nencoders=['shx']").contains("valid encoders"));
+        assert!(e("maps=['a']\nencoders=['sh1']\nbogus=1").contains("bogus"));
+        assert!(e("maps=['a']\nencoders=['sh1']\neffects=['fog']").contains("unknown effect 'fog'"));
+        assert!(e("maps=['a']\nencoders=['sh1']\ndomain='hemisphere'").contains("orientations"));
+        assert!(e("maps=['a']\nencoders=['sh1','sh1']").contains("twice"));
+        assert!(e("maps=['a']\nencoders=['sh1']\nmetrics=['l1']").contains("unknown metric"));
+    }
+
+    #[test]
+    fn load_reports_file_and_line() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("x.toml");
+        std::fs::write(&p, "maps = ['a']\nencoders = ['sh1',\n  'nope']\n").unwrap();
+        let msg = format!("{:#}", Experiment::load(&p).err().unwrap());
+        assert!(msg.contains("x.toml:3") && msg.contains("nope"), "{msg}");
+        std::fs::write(&p, "maps = ['a'\nencoders = 3\n").unwrap();
+        let msg = format!("{:#}", Experiment::load(&p).err().unwrap());
+        assert!(msg.contains("x.toml") && msg.contains("line"), "{msg}");
+    }
+}

@@ -1,0 +1,271 @@
+//! The experiment runner: owns the order of work. Per map it loads the map once and computes
+//! the shared data once (row moments, the probe's SH); per case (surface orientation × effect
+//! parameters) the visible SH and the exact reference on each output grid; then fits and scores
+//! every encoder through the one trait. It never names an encoder.
+//!
+//! Only declared effects are simulated: with no effect the reference has no caps and the
+//! visible SH is the probe SH (no masked projection is computed).
+
+use crate::cap::Cap;
+use crate::domain::{frame_to, Domain, OutputGrid};
+use crate::encoder::FitInput;
+use crate::envmap::search::SearchPath;
+use crate::envmap::EnvMap;
+use crate::experiment::{DomainKind, Effect, Experiment};
+use crate::metrics::{score, Metric};
+use crate::moments::RowMoments;
+use crate::projection::{project, project_visible};
+use crate::reference::Reference;
+use crate::sh::{Rgb, Sh9};
+use crate::table::Row;
+use anyhow::{Context, Result};
+use glam::DVec3;
+use rayon::prelude::*;
+use sha2::{Digest, Sha256};
+use std::path::PathBuf;
+
+/// One surface configuration to score: where n′ ranges and what light is visible.
+#[derive(Clone, Debug)]
+pub struct Case {
+    pub domain: Domain,
+    /// "sphere" or "hemisphere:<orientation>" (or "sphere@<orientation>" for a sphere domain
+    /// with effects about N).
+    pub domain_label: String,
+    pub orientation_set: String,
+    pub effects_label: String,
+    pub masks: Vec<Cap>,
+    pub normal: Option<DVec3>,
+    pub cone: Option<(DVec3, f64)>,
+}
+
+/// The cases an experiment declares.
+pub fn cases(exp: &Experiment) -> Vec<Case> {
+    if exp.orientations.is_empty() {
+        return vec![Case {
+            domain: Domain::Sphere,
+            domain_label: "sphere".into(),
+            orientation_set: "-".into(),
+            effects_label: "none".into(),
+            masks: vec![],
+            normal: None,
+            cone: None,
+        }];
+    }
+    let mut out = Vec::new();
+    for o in &exp.orientations {
+        let n = o.normal;
+        let (domain, domain_label) = match exp.domain {
+            DomainKind::Sphere => (Domain::Sphere, format!("sphere@{}", o.label)),
+            DomainKind::Hemisphere => (
+                Domain::Hemisphere { normal: n },
+                format!("hemisphere:{}", o.label),
+            ),
+        };
+        // Effect variants: the cartesian product of every effect's parameter lists.
+        let mut variants: Vec<(Vec<Cap>, Vec<String>, Option<(DVec3, f64)>)> =
+            vec![(vec![], vec![], None)];
+        for e in &exp.effects {
+            let mut next = Vec::new();
+            for (masks, labels, cone) in &variants {
+                match e {
+                    Effect::Hemisphere => {
+                        let mut m = masks.clone();
+                        m.push(Cap::hemisphere(n));
+                        let mut l = labels.clone();
+                        l.push("hemisphere".into());
+                        next.push((m, l, *cone));
+                    }
+                    Effect::Cone {
+                        cos_alpha,
+                        tilt_deg,
+                    } => {
+                        for &t in tilt_deg {
+                            let c = cone_centre(n, t);
+                            for &ca in cos_alpha {
+                                let mut m = masks.clone();
+                                m.push(Cap::new(c, ca));
+                                let mut l = labels.clone();
+                                l.push(format!("cone(cos={ca},tilt={t}deg)"));
+                                next.push((m, l, Some((c, ca))));
+                            }
+                        }
+                    }
+                }
+            }
+            variants = next;
+        }
+        for (masks, labels, cone) in variants {
+            out.push(Case {
+                domain: domain.clone(),
+                domain_label: domain_label.clone(),
+                orientation_set: o.set.clone(),
+                effects_label: if labels.is_empty() {
+                    "none".into()
+                } else {
+                    labels.join("+")
+                },
+                masks,
+                normal: Some(n),
+                cone,
+            });
+        }
+    }
+    out
+}
+
+/// The cone centre: N tilted by `tilt_deg` towards the tangent of N's frame (the image of +X
+/// under the rotation taking +Y to N).
+pub fn cone_centre(n: DVec3, tilt_deg: f64) -> DVec3 {
+    let t = tilt_deg.to_radians();
+    let tangent = frame_to(n) * DVec3::X;
+    (n * t.cos() + tangent * t.sin()).normalize()
+}
+
+/// Identity of a map used in a run (for provenance).
+#[derive(Clone, Debug)]
+pub struct MapInfo {
+    pub name: String,
+    pub path: Option<PathBuf>,
+    pub width: usize,
+    pub height: usize,
+    pub sha256: String,
+}
+
+/// What a run produced.
+pub struct RunReport {
+    pub rows: Vec<Row>,
+    pub maps: Vec<MapInfo>,
+    /// Maps not found on the search path (their rows are absent).
+    pub missing: Vec<String>,
+}
+
+/// Runs an experiment over the maps the search path finds. Maps that are not found are listed
+/// in `missing`; a map that is found but cannot be read is an error.
+pub fn run(exp: &Experiment, search: &SearchPath) -> Result<RunReport> {
+    let mut rows = Vec::new();
+    let mut maps = Vec::new();
+    let mut missing = Vec::new();
+    for name in &exp.maps {
+        let path = match search.resolve(name) {
+            Ok(p) => p,
+            Err(_) => {
+                missing.push(name.clone());
+                continue;
+            }
+        };
+        let bytes =
+            std::fs::read(&path).with_context(|| format!("{}: cannot read", path.display()))?;
+        let map = crate::envmap::load::load(&path)?;
+        maps.push(MapInfo {
+            name: map.name.clone(),
+            path: Some(path),
+            width: map.width(),
+            height: map.height(),
+            sha256: hex(&Sha256::digest(&bytes)),
+        });
+        rows.extend(run_map(exp, &map));
+    }
+    Ok(RunReport {
+        rows,
+        maps,
+        missing,
+    })
+}
+
+fn hex(b: &[u8]) -> String {
+    b.iter().map(|x| format!("{x:02x}")).collect()
+}
+
+/// Scores every encoder of the experiment on one in-memory map.
+pub fn run_map(exp: &Experiment, map: &EnvMap) -> Vec<Row> {
+    let moments = RowMoments::new(map);
+    let probe_sh = project(map);
+    let all = cases(exp);
+    let per_case: Vec<Vec<Row>> = all
+        .par_iter()
+        .map(|case| run_case(exp, map, &moments, &probe_sh, case))
+        .collect();
+    per_case.into_iter().flatten().collect()
+}
+
+fn run_case(
+    exp: &Experiment,
+    map: &EnvMap,
+    moments: &RowMoments,
+    probe_sh: &Sh9,
+    case: &Case,
+) -> Vec<Row> {
+    let visible_sh = if case.masks.is_empty() {
+        *probe_sh
+    } else {
+        project_visible(moments, &case.masks, exp.polar_nodes)
+    };
+    let reference = Reference::new(moments, case.masks.clone(), exp.polar_nodes);
+    let exact_at_normal = case.normal.map(|n| reference.irradiance(n));
+    let input = FitInput {
+        probe_sh,
+        visible_sh: &visible_sh,
+        surface_normal: case.normal,
+        cone: case.cone,
+        exact_at_normal,
+    };
+    let fitted: Vec<_> = exp.encoders.iter().map(|e| e.encoder.fit(&input)).collect();
+    let mut rows = Vec::new();
+    // One output grid (and one reference evaluation) per distinct metric grid.
+    let mut grids: Vec<((usize, usize), bool, OutputGrid, Vec<Rgb>)> = Vec::new();
+    for metric in &exp.metrics {
+        let (res, domain) = match metric.fixed_resolution() {
+            Some(r) => (r, Domain::Sphere),
+            None => (exp.resolution, case.domain.clone()),
+        };
+        let sphere = matches!(domain, Domain::Sphere);
+        if !grids.iter().any(|g| g.0 == res && g.1 == sphere) {
+            let grid = domain.output_grid(res);
+            let values = match grid.latlong {
+                Some(ll) => reference.irradiance_latlong(ll),
+                None => reference.irradiance_many(&grid.normals),
+            };
+            grids.push((res, sphere, grid, values));
+        }
+        let (_, _, grid, ref_values) = grids
+            .iter()
+            .find(|g| g.0 == res && g.1 == sphere)
+            .expect("grid just added");
+        let weights: Vec<f64> = match metric {
+            Metric::Exact => grid.weights.clone(),
+            Metric::Probulator => vec![1.0; grid.normals.len()],
+        };
+        for (named, fit) in exp.encoders.iter().zip(&fitted) {
+            let test: Vec<Rgb> = grid
+                .normals
+                .par_iter()
+                .with_min_len(256)
+                .map(|&n| fit.irradiance(n))
+                .collect();
+            let clamp = *metric == Metric::Probulator && named.encoder.peer_clamps();
+            let scores = score(ref_values, &test, &weights, clamp);
+            let diagnostics = fit
+                .diagnostics()
+                .iter()
+                .map(|(k, v)| format!("{k}={}", crate::table::num(*v)))
+                .collect::<Vec<_>>()
+                .join(";");
+            rows.push(Row {
+                map: map.name.clone(),
+                encoder: named.name.clone(),
+                domain: case.domain_label.clone(),
+                metric: metric.name().into(),
+                scores,
+                stored_scalars: named.encoder.stored_scalars(),
+                orientation_set: case.orientation_set.clone(),
+                effects: case.effects_label.clone(),
+                weighting: metric.weighting().into(),
+                resolution: format!("{}x{}", grid.resolution.0, grid.resolution.1),
+                units: "E/pi".into(),
+                reference: reference.describe(),
+                diagnostics,
+            });
+        }
+    }
+    rows
+}
