@@ -17,20 +17,15 @@ fn synthetic(w: usize) -> EnvMap {
 
 fn bench(c: &mut Criterion) {
     let map = synthetic(256);
-    c.bench_function(
-        "reference 256x128 map -> 256x128 normals (incl. moments)",
-        |b| {
-            b.iter(|| {
-                let rm = RowMoments::new(black_box(&map));
-                let r = Reference::new(&rm, vec![], DEFAULT_POLAR_NODES);
-                black_box(r.irradiance_latlong(LatLong::new(256, 128)))
-            })
-        },
-    );
-    let big = synthetic(1024);
-    c.bench_function("projection 1024x512 map -> SH L2", |b| {
-        b.iter(|| black_box(project(black_box(&big))))
+    c.bench_function("reference 256x128 map -> 256x128 normals (incl. moments)", |b| {
+        b.iter(|| {
+            let rm = RowMoments::new(black_box(&map));
+            let r = Reference::new(&rm, vec![], DEFAULT_POLAR_NODES);
+            black_box(r.irradiance_latlong(LatLong::new(256, 128)))
+        })
     });
+    let big = synthetic(1024);
+    c.bench_function("projection 1024x512 map -> SH L2", |b| b.iter(|| black_box(project(black_box(&big)))));
 }
 
 criterion_group! {

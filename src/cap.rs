@@ -46,16 +46,10 @@ pub struct Arcs {
 
 impl Arcs {
     pub fn full() -> Self {
-        Arcs {
-            arcs: [Arc::FULL; 4],
-            n: 1,
-        }
+        Arcs { arcs: [Arc::FULL; 4], n: 1 }
     }
     pub fn empty() -> Self {
-        Arcs {
-            arcs: [Arc::FULL; 4],
-            n: 0,
-        }
+        Arcs { arcs: [Arc::FULL; 4], n: 0 }
     }
     pub fn as_slice(&self) -> &[Arc] {
         &self.arcs[..self.n]
@@ -87,17 +81,11 @@ impl Arcs {
             // Work in a's frame: a covers [0, a.len]; b starts at d in [0, 2π).
             let d = (b.lo - a.lo).rem_euclid(TAU);
             if d < a.len {
-                out.push(Arc {
-                    lo: a.lo + d,
-                    len: (d + b.len).min(a.len) - d,
-                });
+                out.push(Arc { lo: a.lo + d, len: (d + b.len).min(a.len) - d });
             }
             let wrapped_end = d + b.len - TAU;
             if wrapped_end > 0.0 {
-                out.push(Arc {
-                    lo: a.lo,
-                    len: wrapped_end.min(a.len),
-                });
+                out.push(Arc { lo: a.lo, len: wrapped_end.min(a.len) });
             }
         }
         out
@@ -112,14 +100,7 @@ impl Cap {
         let alpha = cos.clamp(-1.0, 1.0).acos();
         let lo = (phi - alpha).abs();
         let hi = PI - (PI - phi - alpha).abs();
-        Cap {
-            axis,
-            cos,
-            theta,
-            sin_phi: phi.sin(),
-            cos_phi: phi.cos(),
-            breaks: [lo, hi],
-        }
+        Cap { axis, cos, theta, sin_phi: phi.sin(), cos_phi: phi.cos(), breaks: [lo, hi] }
     }
 
     /// The hemisphere {ω·n > 0}: the support of the clamped cosine about n.
@@ -158,10 +139,7 @@ impl Cap {
             None
         } else {
             let half = t.acos();
-            Some(Arc {
-                lo: self.theta - half,
-                len: 2.0 * half,
-            })
+            Some(Arc { lo: self.theta - half, len: 2.0 * half })
         }
     }
 
@@ -198,23 +176,16 @@ mod tests {
                 for pj in 1..60 {
                     let phi = PI * pj as f64 / 60.0 + 0.001;
                     let (s, c) = phi.sin_cos();
-                    let arcs = Arcs::full()
-                        .intersect(caps[i].arc(s, c))
-                        .intersect(caps[j].arc(s, c));
+                    let arcs = Arcs::full().intersect(caps[i].arc(s, c)).intersect(caps[j].arc(s, c));
                     for ti in 0..200 {
                         let th = -PI + TAU * (ti as f64 + 0.37) / 200.0;
                         let d = direction(th, phi);
                         let want = caps[i].contains(d) && caps[j].contains(d);
                         // Skip points within rounding of a boundary.
-                        let margin = (d.dot(caps[i].axis) - caps[i].cos)
-                            .abs()
-                            .min((d.dot(caps[j].axis) - caps[j].cos).abs());
+                        let margin =
+                            (d.dot(caps[i].axis) - caps[i].cos).abs().min((d.dot(caps[j].axis) - caps[j].cos).abs());
                         if margin > 1e-9 {
-                            assert_eq!(
-                                arc_contains(&arcs, th),
-                                want,
-                                "caps {i},{j} phi {phi} th {th}"
-                            );
+                            assert_eq!(arc_contains(&arcs, th), want, "caps {i},{j} phi {phi} th {th}");
                         }
                     }
                 }

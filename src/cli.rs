@@ -10,11 +10,7 @@ use clap::{Parser, Subcommand};
 use std::path::{Path, PathBuf};
 
 #[derive(Parser, Debug)]
-#[command(
-    name = "probelab",
-    version,
-    about = "Measure compact diffuse-lighting encodings against an exact reference"
-)]
+#[command(name = "probelab", version, about = "Measure compact diffuse-lighting encodings against an exact reference")]
 pub struct Cli {
     /// Worker threads (default: all cores). Results do not depend on it.
     #[arg(long, global = true)]
@@ -83,10 +79,7 @@ pub enum Command {
 /// Runs the command line; returns the process exit code.
 pub fn main_with(cli: Cli) -> Result<i32> {
     if let Some(j) = cli.jobs {
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(j.max(1))
-            .build_global()
-            .context("--jobs")?;
+        rayon::ThreadPoolBuilder::new().num_threads(j.max(1)).build_global().context("--jobs")?;
     }
     let root = cli.root.clone();
     let search = SearchPath::from_env(root.join("envmaps"));
@@ -119,11 +112,7 @@ pub fn main_with(cli: Cli) -> Result<i32> {
                 if report.missing.is_empty() {
                     write_results(&out, &exp, &report)?;
                 } else {
-                    eprintln!(
-                        "skipped {}: map(s) not found: {}",
-                        exp.name,
-                        report.missing.join(", ")
-                    );
+                    eprintln!("skipped {}: map(s) not found: {}", exp.name, report.missing.join(", "));
                     skipped.push(exp.name.clone());
                 }
             }
@@ -138,22 +127,11 @@ pub fn main_with(cli: Cli) -> Result<i32> {
             }
             Ok(0)
         }
-        Command::Eval {
-            maps,
-            encoders: list,
-            domain,
-            metric,
-            resolution,
-            polar_nodes,
-        } => {
+        Command::Eval { maps, encoders: list, domain, metric, resolution, polar_nodes } => {
             let exp = eval_experiment(maps, &list, &domain, &metric, &resolution, polar_nodes)?;
             let report = runner::run(&exp, &search)?;
             if !report.missing.is_empty() {
-                bail!(
-                    "map(s) not found: {}\nSearched: {}",
-                    report.missing.join(", "),
-                    describe_search(&search)
-                );
+                bail!("map(s) not found: {}\nSearched: {}", report.missing.join(", "), describe_search(&search));
             }
             use std::io::Write;
             std::io::stdout().write_all(&table::to_csv(&report.rows)?)?;
@@ -164,8 +142,7 @@ pub fn main_with(cli: Cli) -> Result<i32> {
                 bail!("--width {width}: expected an even width from 4 to 8192");
             }
             let out = out.unwrap_or_else(|| root.join("envmaps"));
-            std::fs::create_dir_all(&out)
-                .with_context(|| format!("{}: cannot create folder", out.display()))?;
+            std::fs::create_dir_all(&out).with_context(|| format!("{}: cannot create folder", out.display()))?;
             for s in crate::scenes::generated() {
                 let path = out.join(format!("{}.exr", s.id));
                 crate::envmap::load::write_exr(&path, &s.map(width))?;
@@ -204,13 +181,7 @@ pub fn main_with(cli: Cli) -> Result<i32> {
 fn describe_search(s: &SearchPath) -> String {
     s.dirs()
         .iter()
-        .map(|d| {
-            if d.is_dir() {
-                d.display().to_string()
-            } else {
-                format!("{} (missing)", d.display())
-            }
-        })
+        .map(|d| if d.is_dir() { d.display().to_string() } else { format!("{} (missing)", d.display()) })
         .collect::<Vec<_>>()
         .join(", ")
 }
@@ -219,11 +190,7 @@ fn describe_search(s: &SearchPath) -> String {
 pub fn write_results(out: &Path, exp: &Experiment, report: &runner::RunReport) -> Result<()> {
     let dir = out.join(&exp.name);
     table::write_csv(&dir.join("table.csv"), &report.rows)?;
-    eprintln!(
-        "wrote {} ({} rows)",
-        dir.join("table.csv").display(),
-        report.rows.len()
-    );
+    eprintln!("wrote {} ({} rows)", dir.join("table.csv").display(), report.rows.len());
     Ok(())
 }
 
@@ -242,11 +209,7 @@ fn eval_experiment(
         (DomainKind::Sphere, vec![], vec![])
     } else if let Some(axis) = domain.strip_prefix("hemisphere:") {
         parse_axis(axis).with_context(|| format!("--domain {domain}"))?;
-        (
-            DomainKind::Hemisphere,
-            crate::domain::expand_orientations(axis)?,
-            vec![Effect::Hemisphere],
-        )
+        (DomainKind::Hemisphere, crate::domain::expand_orientations(axis)?, vec![Effect::Hemisphere])
     } else {
         bail!("--domain '{domain}': expected sphere or hemisphere:AXIS (AXIS one of +x, -x, +y, -y, +z, -z)");
     };
@@ -274,9 +237,7 @@ fn eval_experiment(
 
 /// Parses "WxH" with W = 2H.
 pub fn parse_resolution(s: &str) -> Result<(usize, usize)> {
-    let (w, h) = s
-        .split_once('x')
-        .with_context(|| format!("resolution '{s}': expected WxH, e.g. 256x128"))?;
+    let (w, h) = s.split_once('x').with_context(|| format!("resolution '{s}': expected WxH, e.g. 256x128"))?;
     let (w, h): (usize, usize) = (w.parse()?, h.parse()?);
     if w != 2 * h || h < 2 || h > 4096 {
         bail!("resolution '{s}': expected W = 2H with 2 <= H <= 4096");

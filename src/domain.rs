@@ -42,12 +42,7 @@ impl Domain {
                         weights.push(w);
                     }
                 }
-                OutputGrid {
-                    normals,
-                    weights,
-                    latlong: Some(g),
-                    resolution: res,
-                }
+                OutputGrid { normals, weights, latlong: Some(g), resolution: res }
             }
             Domain::Hemisphere { normal } => {
                 let rot = frame_to(*normal);
@@ -61,12 +56,7 @@ impl Domain {
                         weights.push(w);
                     }
                 }
-                OutputGrid {
-                    normals,
-                    weights,
-                    latlong: None,
-                    resolution: (res.0, rows),
-                }
+                OutputGrid { normals, weights, latlong: None, resolution: (res.0, rows) }
             }
         }
     }
@@ -124,24 +114,15 @@ pub fn fibonacci_sphere(n: usize) -> Vec<DVec3> {
 /// Expands an orientation name or set: an axis (+y …), `up` (= +y), `axes6`, or
 /// `fibonacciN` (e.g. fibonacci32).
 pub fn expand_orientations(name: &str) -> Result<Vec<Orientation>> {
-    let one = |label: &str, set: &str, normal| Orientation {
-        label: label.into(),
-        set: set.into(),
-        normal,
-    };
+    let one = |label: &str, set: &str, normal| Orientation { label: label.into(), set: set.into(), normal };
     if name == "up" {
         return Ok(vec![one("+y", "up", DVec3::Y)]);
     }
     if name == "axes6" {
-        return ["+x", "-x", "+y", "-y", "+z", "-z"]
-            .iter()
-            .map(|a| Ok(one(a, "axes6", parse_axis(a)?)))
-            .collect();
+        return ["+x", "-x", "+y", "-y", "+z", "-z"].iter().map(|a| Ok(one(a, "axes6", parse_axis(a)?))).collect();
     }
     if let Some(n) = name.strip_prefix("fibonacci") {
-        let n: usize = n
-            .parse()
-            .map_err(|_| anyhow::anyhow!("'{name}': expected fibonacciN, e.g. fibonacci32"))?;
+        let n: usize = n.parse().map_err(|_| anyhow::anyhow!("'{name}': expected fibonacciN, e.g. fibonacci32"))?;
         if n == 0 || n > 4096 {
             bail!("'{name}': the Fibonacci set size must be 1..=4096");
         }
@@ -151,9 +132,9 @@ pub fn expand_orientations(name: &str) -> Result<Vec<Orientation>> {
             .map(|(i, v)| one(&format!("fib{n}#{i:02}"), name, v))
             .collect());
     }
-    parse_axis(name)
-        .map(|v| vec![one(name, name, v)])
-        .map_err(|_| anyhow::anyhow!("unknown orientation '{name}' (expected +x, -x, +y, -y, +z, -z, up, axes6 or fibonacciN)"))
+    parse_axis(name).map(|v| vec![one(name, name, v)]).map_err(|_| {
+        anyhow::anyhow!("unknown orientation '{name}' (expected +x, -x, +y, -y, +z, -z, up, axes6 or fibonacciN)")
+    })
 }
 
 #[cfg(test)]
@@ -165,22 +146,11 @@ mod tests {
     fn weights_sum_to_domain_solid_angle() {
         let s = Domain::Sphere.output_grid((64, 32));
         assert!((s.weights.iter().sum::<f64>() - 4.0 * PI).abs() < 1e-12);
-        for n in [
-            DVec3::Y,
-            DVec3::NEG_Y,
-            DVec3::X,
-            DVec3::new(0.3, -0.4, 0.5).normalize(),
-        ] {
+        for n in [DVec3::Y, DVec3::NEG_Y, DVec3::X, DVec3::new(0.3, -0.4, 0.5).normalize()] {
             let h = Domain::Hemisphere { normal: n }.output_grid((64, 32));
             assert!((h.weights.iter().sum::<f64>() - 2.0 * PI).abs() < 1e-12);
             assert!(h.normals.iter().all(|v| v.dot(n) > 0.0), "{n}");
-            assert!(
-                (h.normals
-                    .iter()
-                    .map(|v| v.length())
-                    .fold(0.0f64, |a, b| a.max((b - 1.0).abs())))
-                    < 1e-12
-            );
+            assert!((h.normals.iter().map(|v| v.length()).fold(0.0f64, |a, b| a.max((b - 1.0).abs()))) < 1e-12);
         }
     }
 

@@ -30,13 +30,7 @@ pub struct FitInput<'a> {
 impl<'a> FitInput<'a> {
     /// The input for a probe on the sphere: no surface, no effects.
     pub fn sphere(sh: &'a Sh9) -> Self {
-        FitInput {
-            probe_sh: sh,
-            visible_sh: sh,
-            surface_normal: None,
-            cone: None,
-            exact_at_normal: None,
-        }
+        FitInput { probe_sh: sh, visible_sh: sh, surface_normal: None, cone: None, exact_at_normal: None }
     }
 }
 
@@ -75,10 +69,7 @@ pub struct Params {
 
 impl Params {
     pub fn new(table: toml::Table) -> Self {
-        Params {
-            table,
-            used: Vec::new(),
-        }
+        Params { table, used: Vec::new() }
     }
 
     /// An optional float with a default.
@@ -136,25 +127,13 @@ impl Params {
 
     /// Fails if any key was not read.
     pub fn finish(&self, kind: &str) -> Result<()> {
-        let unused: Vec<&String> = self
-            .table
-            .keys()
-            .filter(|k| !self.used.contains(k))
-            .collect();
+        let unused: Vec<&String> = self.table.keys().filter(|k| !self.used.contains(k)).collect();
         if !unused.is_empty() {
             let known: Vec<&str> = self.used.iter().map(|s| s.as_str()).collect();
             bail!(
                 "encoder '{kind}': unknown key(s) {}; it accepts: {}",
-                unused
-                    .iter()
-                    .map(|s| format!("'{s}'"))
-                    .collect::<Vec<_>>()
-                    .join(", "),
-                if known.is_empty() {
-                    "no keys".to_string()
-                } else {
-                    known.join(", ")
-                }
+                unused.iter().map(|s| format!("'{s}'")).collect::<Vec<_>>().join(", "),
+                if known.is_empty() { "no keys".to_string() } else { known.join(", ") }
             );
         }
         Ok(())

@@ -70,10 +70,7 @@ pub enum Effect {
     Hemisphere,
     /// Only light inside the cone of cos α about C counts, C being N tilted by `tilt_deg`
     /// towards the tangent of N's frame (the image of +X under the rotation taking +Y to N).
-    Cone {
-        cos_alpha: Vec<f64>,
-        tilt_deg: Vec<f64>,
-    },
+    Cone { cos_alpha: Vec<f64>, tilt_deg: Vec<f64> },
 }
 
 /// The domain of output normals.
@@ -105,21 +102,12 @@ impl Experiment {
     pub fn load(path: &Path) -> Result<Self> {
         let text = std::fs::read_to_string(path)
             .with_context(|| format!("{}: cannot read experiment file", path.display()))?;
-        let file: ExperimentFile = toml::from_str(&text)
-            .map_err(|e| anyhow::anyhow!("{}: {}", path.display(), e.to_string().trim_end()))?;
-        let stem = path
-            .file_stem()
-            .and_then(|s| s.to_str())
-            .unwrap_or("experiment")
-            .to_string();
+        let file: ExperimentFile =
+            toml::from_str(&text).map_err(|e| anyhow::anyhow!("{}: {}", path.display(), e.to_string().trim_end()))?;
+        let stem = path.file_stem().and_then(|s| s.to_str()).unwrap_or("experiment").to_string();
         let mut exp = Self::from_file(file, &stem).map_err(|e| {
             let line = find_line(&text, &e);
-            anyhow::anyhow!(
-                "{}{}: {:#}",
-                path.display(),
-                line.map(|l| format!(":{l}")).unwrap_or_default(),
-                e
-            )
+            anyhow::anyhow!("{}{}: {:#}", path.display(), line.map(|l| format!(":{l}")).unwrap_or_default(), e)
         })?;
         exp.source = Some(path.to_path_buf());
         Ok(exp)
@@ -128,23 +116,14 @@ impl Experiment {
     /// Validates a parsed file.
     pub fn from_file(f: ExperimentFile, default_name: &str) -> Result<Self> {
         let name = f.name.unwrap_or_else(|| default_name.to_string());
-        if name.is_empty()
-            || !name
-                .chars()
-                .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
-        {
-            bail!(
-                "name '{name}': use letters, digits, '_' or '-' (it names a folder under results/)"
-            );
+        if name.is_empty() || !name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-') {
+            bail!("name '{name}': use letters, digits, '_' or '-' (it names a folder under results/)");
         }
         if f.maps.is_empty() {
             bail!("maps: list at least one map");
         }
         if f.encoders.is_empty() {
-            bail!(
-                "encoders: list at least one encoder (valid: {})",
-                encoders::known_ids()
-            );
+            bail!("encoders: list at least one encoder (valid: {})", encoders::known_ids());
         }
         let mut built = Vec::new();
         for e in f.encoders {
@@ -169,19 +148,13 @@ impl Experiment {
         }
         for (i, e) in built.iter().enumerate() {
             if built[..i].iter().any(|o| o.name == e.name) {
-                bail!(
-                    "encoders: '{}' appears twice; give variants distinct names with name = \"…\"",
-                    e.name
-                );
+                bail!("encoders: '{}' appears twice; give variants distinct names with name = \"…\"", e.name);
             }
         }
         let metrics = if f.metrics.is_empty() {
             vec![Metric::Exact]
         } else {
-            f.metrics
-                .iter()
-                .map(|m| Metric::parse(m).context("metrics"))
-                .collect::<Result<_>>()?
+            f.metrics.iter().map(|m| Metric::parse(m).context("metrics")).collect::<Result<_>>()?
         };
         let domain = match f.domain.as_deref().unwrap_or("sphere") {
             "sphere" => DomainKind::Sphere,
@@ -198,20 +171,21 @@ impl Experiment {
         }
         let needs_normal = domain == DomainKind::Hemisphere || !effects.is_empty();
         if needs_normal && orientations.is_empty() {
-            bail!("orientations: a hemisphere domain or an effect needs surface normals (e.g. orientations = [\"up\"])");
+            bail!(
+                "orientations: a hemisphere domain or an effect needs surface normals (e.g. orientations = [\"up\"])"
+            );
         }
         if !needs_normal && !orientations.is_empty() {
             bail!("orientations: only a hemisphere domain or an effect uses surface normals; remove them or set domain = \"hemisphere\"");
         }
         if domain == DomainKind::Hemisphere && metrics.contains(&Metric::Probulator) {
-            bail!("metrics: 'probulator' scores the whole sphere at 256x128; it cannot be used with a hemisphere domain");
+            bail!(
+                "metrics: 'probulator' scores the whole sphere at 256x128; it cannot be used with a hemisphere domain"
+            );
         }
         let resolution = f.resolution.map(|[w, h]| (w, h)).unwrap_or((256, 128));
         if resolution.0 != 2 * resolution.1 || resolution.1 < 2 || resolution.1 > 4096 {
-            bail!(
-                "resolution {:?}: expected [2H, H] with 2 <= H <= 4096",
-                resolution
-            );
+            bail!("resolution {:?}: expected [2H, H] with 2 <= H <= 4096", resolution);
         }
         let polar_nodes = f.polar_nodes.unwrap_or(DEFAULT_POLAR_NODES);
         if !(1..=16).contains(&polar_nodes) {
@@ -257,25 +231,15 @@ fn parse_effect(e: EffectEntry) -> Result<Effect> {
         EffectEntry::Table(t) => match t.get("kind").and_then(|v| v.as_str()) {
             Some("hemisphere") if t.len() == 1 => Ok(Effect::Hemisphere),
             Some("cone") => {
-                if let Some(k) = t
-                    .keys()
-                    .find(|k| !["kind", "cos_alpha", "tilt_deg"].contains(&k.as_str()))
-                {
+                if let Some(k) = t.keys().find(|k| !["kind", "cos_alpha", "tilt_deg"].contains(&k.as_str())) {
                     bail!("effects: cone has unknown key '{k}' (valid: cos_alpha, tilt_deg)");
                 }
                 let cos_alpha = floats(&t, "cos_alpha")?;
                 if cos_alpha.iter().any(|c| !(-1.0..1.0).contains(c)) {
                     bail!("effects: cone cos_alpha must lie in [-1, 1)");
                 }
-                let tilt_deg = if t.contains_key("tilt_deg") {
-                    floats(&t, "tilt_deg")?
-                } else {
-                    vec![0.0]
-                };
-                Ok(Effect::Cone {
-                    cos_alpha,
-                    tilt_deg,
-                })
+                let tilt_deg = if t.contains_key("tilt_deg") { floats(&t, "tilt_deg")? } else { vec![0.0] };
+                Ok(Effect::Cone { cos_alpha, tilt_deg })
             }
             Some(k) => bail!("effects: unknown effect kind '{k}' (valid: hemisphere, cone)"),
             None => bail!("effects: a table entry needs kind = \"hemisphere\" or \"cone\""),

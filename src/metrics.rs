@@ -104,12 +104,7 @@ mod tests {
     #[test]
     fn rmse_of_known_differences() {
         let r = vec![Rgb::ONE; 4];
-        let t = vec![
-            Rgb::new(1.0, 2.0, 1.0),
-            Rgb::new(1.0, 0.0, 1.0),
-            Rgb::ONE,
-            Rgb::ONE,
-        ];
+        let t = vec![Rgb::new(1.0, 2.0, 1.0), Rgb::new(1.0, 0.0, 1.0), Rgb::ONE, Rgb::ONE];
         let s = score(&r, &t, &[1.0; 4], false);
         // G errors: +1, −1, 0, 0 → MSE_g = 0.5; R, B zero.
         assert!((s.rmse_rgb[1] - 0.5f64.sqrt()).abs() < 1e-15);
@@ -126,9 +121,6 @@ mod tests {
         assert!((s.rmse - ((3.0 + 4.0) / 4.0f64).sqrt()).abs() < 1e-15);
         assert!((s.neg_frac - 0.75).abs() < 1e-15);
         let c = score(&r, &t, &[3.0, 1.0], true);
-        assert!(
-            (c.rmse - 1.0).abs() < 1e-15,
-            "clamped −1 → 0, only 2 counts: √(4/4)"
-        );
+        assert!((c.rmse - 1.0).abs() < 1e-15, "clamped −1 → 0, only 2 counts: √(4/4)");
     }
 }

@@ -43,11 +43,7 @@ impl std::ops::Sub for Moments {
 impl std::ops::Mul<f64> for Moments {
     type Output = Moments;
     fn mul(self, s: f64) -> Moments {
-        Moments {
-            m0: self.m0 * s,
-            m1: [self.m1[0] * s, self.m1[1] * s],
-            m2: [self.m2[0] * s, self.m2[1] * s],
-        }
+        Moments { m0: self.m0 * s, m1: [self.m1[0] * s, self.m1[1] * s], m2: [self.m2[0] * s, self.m2[1] * s] }
     }
 }
 
@@ -75,11 +71,7 @@ impl RowMoments {
                 [t.cos_sin(), (2.0 * t).cos_sin()]
             })
             .collect();
-        let texels: Vec<Rgb> = map
-            .texels()
-            .iter()
-            .map(|t| Rgb::new(t[0] as f64, t[1] as f64, t[2] as f64))
-            .collect();
+        let texels: Vec<Rgb> = map.texels().iter().map(|t| Rgb::new(t[0] as f64, t[1] as f64, t[2] as f64)).collect();
         // ∫_{θk}^{θk+1} e^{−imθ} dθ = (e^{−imθk} − e^{−imθk+1})/(im)
         let texel_integral = |k: usize, m: usize| -> (f64, f64) {
             let (c0, s0) = edge_cis[k][m - 1];
@@ -89,9 +81,7 @@ impl RowMoments {
             // divide by i m: (re + i im)/(i m) = im/m − i re/m
             (im / m as f64, -re / m as f64)
         };
-        let weights: Vec<[(f64, f64); 2]> = (0..w)
-            .map(|k| [texel_integral(k, 1), texel_integral(k, 2)])
-            .collect();
+        let weights: Vec<[(f64, f64); 2]> = (0..w).map(|k| [texel_integral(k, 1), texel_integral(k, 2)]).collect();
         let cum = (0..h)
             .into_par_iter()
             .map(|j| {
@@ -111,14 +101,7 @@ impl RowMoments {
                 row
             })
             .collect();
-        Self {
-            width: w,
-            height: h,
-            dtheta,
-            cum,
-            texels,
-            edge_cis,
-        }
+        Self { width: w, height: h, dtheta, cum, texels, edge_cis }
     }
 
     pub fn width(&self) -> usize {
@@ -249,20 +232,12 @@ mod tests {
     fn arc_moments_match_brute_force() {
         let map = test_map();
         let rm = RowMoments::new(&map);
-        for &(lo, len) in &[
-            (-1.0, 0.5),
-            (2.9, 1.0),
-            (-4.0, 3.0),
-            (0.123, 6.0),
-            (-PI, TAU),
-        ] {
+        for &(lo, len) in &[(-1.0, 0.5), (2.9, 1.0), (-4.0, 3.0), (0.123, 6.0), (-PI, TAU)] {
             let got = rm.arc(3, Arc { lo, len });
             let want = brute(&map, 3, lo, lo + len);
             let d = got - want;
-            let err = [d.m0, d.m1[0], d.m1[1], d.m2[0], d.m2[1]]
-                .iter()
-                .map(|v| v.abs().max_element())
-                .fold(0.0, f64::max);
+            let err =
+                [d.m0, d.m1[0], d.m1[1], d.m2[0], d.m2[1]].iter().map(|v| v.abs().max_element()).fold(0.0, f64::max);
             assert!(err < 5e-5, "arc ({lo},{len}): err {err}");
         }
     }

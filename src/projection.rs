@@ -26,13 +26,7 @@ struct Azimuth {
 impl From<Moments> for Azimuth {
     fn from(m: Moments) -> Self {
         // m1 = ∫L e^{−iθ} = ∫L cos θ − i∫L sin θ
-        Azimuth {
-            a0: m.m0,
-            c1: m.m1[0],
-            s1: -m.m1[1],
-            c2: m.m2[0],
-            s2: -m.m2[1],
-        }
+        Azimuth { a0: m.m0, c1: m.m1[0], s1: -m.m1[1], c2: m.m2[0], s2: -m.m2[1] }
     }
 }
 
@@ -55,14 +49,7 @@ impl Polar {
     fn exact(p0: f64, p1: f64) -> Self {
         let f = |p: f64| {
             let (s, c) = p.sin_cos();
-            [
-                -c,
-                0.5 * s * s,
-                0.5 * p - 0.25 * (2.0 * p).sin(),
-                s * s * s / 3.0,
-                -c + c * c * c / 3.0,
-                -c * c * c / 3.0,
-            ]
+            [-c, 0.5 * s * s, 0.5 * p - 0.25 * (2.0 * p).sin(), s * s * s / 3.0, -c + c * c * c / 3.0, -c * c * c / 3.0]
         };
         let (a, b) = (f(p0), f(p1));
         Polar {
@@ -79,14 +66,7 @@ impl Polar {
     fn node(phi: f64, w: f64) -> Self {
         let (s, c) = phi.sin_cos();
         let ws = w * s;
-        Polar {
-            one: ws,
-            cos: ws * c,
-            sin: ws * s,
-            sin_cos: ws * s * c,
-            sin2: ws * s * s,
-            cos2: ws * c * c,
-        }
+        Polar { one: ws, cos: ws * c, sin: ws * s, sin_cos: ws * s * c, sin2: ws * s * s, cos2: ws * c * c }
     }
 }
 
@@ -141,11 +121,7 @@ pub fn project(map: &EnvMap) -> Sh9 {
             }
             az.a0 *= h;
             let mut out = Sh9::ZERO;
-            accumulate(
-                &mut out,
-                &Polar::exact(grid.phi_edge(j), grid.phi_edge(j + 1)),
-                &az,
-            );
+            accumulate(&mut out, &Polar::exact(grid.phi_edge(j), grid.phi_edge(j + 1)), &az);
             out
         })
         .collect();
@@ -168,9 +144,7 @@ pub fn project_visible(moments: &RowMoments, masks: &[Cap], polar_nodes: usize) 
             let mid = 0.5 * (p0 + p1);
             let arcs_at = |phi: f64| {
                 let (s, c) = phi.sin_cos();
-                masks
-                    .iter()
-                    .fold(Arcs::full(), |acc, m| acc.intersect(m.arc(s, c)))
+                masks.iter().fold(Arcs::full(), |acc, m| acc.intersect(m.arc(s, c)))
             };
             // A row no breakpoint cuts has the same arc structure throughout only if no cap
             // boundary crosses it at all; a boundary crossing without a breakpoint still moves
@@ -178,8 +152,7 @@ pub fn project_visible(moments: &RowMoments, masks: &[Cap], polar_nodes: usize) 
             let uniform = !cut
                 && masks.iter().all(|m| {
                     let (s, c) = mid.sin_cos();
-                    matches!(m.arc(s, c), None)
-                        || matches!(m.arc(s, c), Some(a) if a.len >= std::f64::consts::TAU)
+                    matches!(m.arc(s, c), None) || matches!(m.arc(s, c), Some(a) if a.len >= std::f64::consts::TAU)
                 });
             if uniform {
                 let arcs = arcs_at(mid);
@@ -245,9 +218,7 @@ mod tests {
     }
 
     fn max_diff(a: &Sh9, b: &Sh9) -> f64 {
-        (0..9)
-            .map(|i| (a[i] - b[i]).abs().max_element())
-            .fold(0.0, f64::max)
+        (0..9).map(|i| (a[i] - b[i]).abs().max_element()).fold(0.0, f64::max)
     }
 
     #[test]
@@ -283,10 +254,7 @@ mod tests {
         let map = test_map();
         let rm = RowMoments::new(&map);
         let n = DVec3::new(0.3, 0.5, 0.81).normalize();
-        let caps = [
-            Cap::hemisphere(n),
-            Cap::new(DVec3::new(-0.2, 0.9, 0.1).normalize(), 0.5),
-        ];
+        let caps = [Cap::hemisphere(n), Cap::new(DVec3::new(-0.2, 0.9, 0.1).normalize(), 0.5)];
         let ours = project_visible(&rm, &caps, 6);
         let b1 = brute(&map, 16, |d| caps.iter().all(|c| c.contains(d)));
         let b2 = brute(&map, 32, |d| caps.iter().all(|c| c.contains(d)));
@@ -298,14 +266,7 @@ mod tests {
         let got = project_visible(&rm, &up, 2);
         // brute with s=1 is midpoint; compare instead against the exact projection of a map
         // with the lower half zeroed.
-        let lower_zero =
-            EnvMap::from_fn(
-                "z",
-                32,
-                16,
-                |i, j| if j < 8 { map.texel(i, j) } else { [0.0; 3] },
-            )
-            .unwrap();
+        let lower_zero = EnvMap::from_fn("z", 32, 16, |i, j| if j < 8 { map.texel(i, j) } else { [0.0; 3] }).unwrap();
         assert!(max_diff(&got, &project(&lower_zero)) < 1e-12);
         assert!(max_diff(&got, &want) < 0.5, "sanity");
     }

@@ -85,11 +85,7 @@ mod tests {
             // ∫_{-1}^{1} x^k = 2/(k+1) for even k, exact up to degree 2n-1.
             for k in 0..(2 * n) {
                 let got: f64 = rule.iter().map(|&(x, w)| w * x.powi(k as i32)).sum();
-                let want = if k % 2 == 0 {
-                    2.0 / (k as f64 + 1.0)
-                } else {
-                    0.0
-                };
+                let want = if k % 2 == 0 { 2.0 / (k as f64 + 1.0) } else { 0.0 };
                 assert!((got - want).abs() < 1e-13, "n={n} k={k}: {got} vs {want}");
             }
         }
@@ -100,9 +96,7 @@ mod tests {
         // ∫_0^1 |x − 0.3| dx = (0.09 + 0.49)/2 = 0.29, exact when split at the kink.
         let rule = gauss_legendre(1);
         let mut s = 0.0;
-        for_each_polar_node(0.0, 1.0, &[0.3, 5.0, -1.0], &rule, |x, w| {
-            s += w * (x - 0.3f64).abs()
-        });
+        for_each_polar_node(0.0, 1.0, &[0.3, 5.0, -1.0], &rule, |x, w| s += w * (x - 0.3f64).abs());
         assert!((s - 0.29).abs() < 1e-15);
     }
 }

@@ -97,11 +97,7 @@ impl<'a> Reference<'a> {
     /// E/π at many normals (in parallel; each value is computed independently, so the result
     /// does not depend on the thread count).
     pub fn irradiance_many(&self, normals: &[DVec3]) -> Vec<Rgb> {
-        normals
-            .par_iter()
-            .with_min_len(64)
-            .map(|&n| self.irradiance(n))
-            .collect()
+        normals.par_iter().with_min_len(64).map(|&n| self.irradiance(n)).collect()
     }
 
     /// E/π at the centres of a lat-long grid of normals (world orientation, row-major). When
@@ -149,10 +145,7 @@ impl<'a> Reference<'a> {
                 *t += v;
             }
         }
-        total
-            .chunks_exact(3)
-            .map(|c| Rgb::new(c[0], c[1], c[2]) * FRAC_1_PI)
-            .collect()
+        total.chunks_exact(3).map(|c| Rgb::new(c[0], c[1], c[2]) * FRAC_1_PI).collect()
     }
 
     /// Adds input row j's contribution to output row jo of the fast path (no caps, map width
@@ -163,15 +156,7 @@ impl<'a> Reference<'a> {
     /// r·i for every i. With C0, C1 the cumulative moments and C1''[m] = C1[m]·e^{iθ_edge(m)},
     /// each end adds b·C0 + a·Re(C1''·e^{i(r/2 − k)h}) plus a partial-texel term proportional
     /// to L: four multiply-adds per channel, no trigonometry per column.
-    fn latlong_row(
-        &self,
-        ext: &RowExt,
-        out: LatLong,
-        stride: usize,
-        jo: usize,
-        j: usize,
-        acc: &mut [f64],
-    ) {
+    fn latlong_row(&self, ext: &RowExt, out: LatLong, stride: usize, jo: usize, j: usize, acc: &mut [f64]) {
         let w = self.grid.width;
         let h = self.grid.dtheta();
         let half_r = 0.5 * stride as f64;
@@ -196,11 +181,7 @@ impl<'a> Reference<'a> {
             }
             // Arc ends in input texels from the left edge of input column r·i: u = r/2 ± Δ/h
             // (the full circle when t ≤ −1: ends at r/2 ± W/2).
-            let delta = if t <= -1.0 {
-                0.5 * w as f64
-            } else {
-                t.acos() / h
-            };
+            let delta = if t <= -1.0 { 0.5 * w as f64 } else { t.acos() / h };
             for (sign, u) in [(ws, half_r + delta), (-ws, half_r - delta)] {
                 let k = u.floor();
                 let f = (u - k) * h;
@@ -210,12 +191,7 @@ impl<'a> Reference<'a> {
                 // i·2sin²(f/2)) = L·z·(fr + i·fi).
                 let (fr, fi) = (f.sin(), -2.0 * (0.5 * f).sin().powi(2));
                 let kappa = zc * fr - zs * fi;
-                let (ca, cb, cc, cl) = (
-                    sign * b,
-                    sign * a * zc,
-                    -sign * a * zs,
-                    sign * (b * f + a * kappa),
-                );
+                let (ca, cb, cc, cl) = (sign * b, sign * a * zc, -sign * a * zs, sign * (b * f + a * kappa));
                 let off = (k as i64 + w as i64) as usize;
                 for ch in 0..3 {
                     let (c0, c1r, c1i, l) = (&ext.c0[ch], &ext.c1r[ch], &ext.c1i[ch], &ext.l[ch]);
@@ -241,12 +217,7 @@ struct RowExt {
 impl RowExt {
     fn new(w: usize) -> Self {
         let v = || std::array::from_fn(|_| vec![0.0; 3 * w + 1]);
-        RowExt {
-            c0: v(),
-            c1r: v(),
-            c1i: v(),
-            l: v(),
-        }
+        RowExt { c0: v(), c1r: v(), c1i: v(), l: v() }
     }
 
     fn fill(&mut self, moments: &RowMoments, grid: &LatLong, j: usize) {
@@ -262,10 +233,7 @@ impl RowExt {
             let (st, ct) = grid.theta_edge(kk).sin_cos();
             let l = moments.texel(j, kk);
             for ch in 0..3 {
-                let (r, i) = (
-                    m.m1[0][ch] + wraps * total.m1[0][ch],
-                    m.m1[1][ch] + wraps * total.m1[1][ch],
-                );
+                let (r, i) = (m.m1[0][ch] + wraps * total.m1[0][ch], m.m1[1][ch] + wraps * total.m1[1][ch]);
                 self.c0[ch][e] = m.m0[ch] + wraps * total.m0[ch];
                 self.c1r[ch][e] = r * ct - i * st;
                 self.c1i[ch][e] = r * st + i * ct;
@@ -311,26 +279,16 @@ mod tests {
     /// with the polar node count and the map resolution; the default meets 1e-6 at 256×128.
     #[test]
     fn constant_map_converges_to_one() {
-        let normals = [
-            DVec3::Y,
-            DVec3::X,
-            DVec3::new(0.3, 0.5, 0.81).normalize(),
-            DVec3::new(-0.1, -0.99, 0.05).normalize(),
-        ];
+        let normals =
+            [DVec3::Y, DVec3::X, DVec3::new(0.3, 0.5, 0.81).normalize(), DVec3::new(-0.1, -0.99, 0.05).normalize()];
         let worst = |w: usize, q: usize| {
             let map = EnvMap::from_fn("c", w, w / 2, |_, _| [1.0; 3]).unwrap();
             let rm = RowMoments::new(&map);
             let r = Reference::new(&rm, vec![], q);
-            normals
-                .iter()
-                .map(|&n| (r.irradiance(n) - Rgb::ONE).abs().max_element())
-                .fold(0.0, f64::max)
+            normals.iter().map(|&n| (r.irradiance(n) - Rgb::ONE).abs().max_element()).fold(0.0, f64::max)
         };
         let by_q: Vec<f64> = (1..=4).map(|q| worst(64, q)).collect();
-        assert!(
-            by_q.windows(2).all(|p| p[1] < p[0]),
-            "not converging in q: {by_q:?}"
-        );
+        assert!(by_q.windows(2).all(|p| p[1] < p[0]), "not converging in q: {by_q:?}");
         assert!(worst(128, 2) < worst(64, 2) / 4.0);
         assert!(worst(256, DEFAULT_POLAR_NODES) < 1e-6);
     }
@@ -342,21 +300,12 @@ mod tests {
         let mask = [Cap::hemisphere(DVec3::new(0.8, 0.1, -0.59).normalize())];
         for masks in [&[][..], &mask[..]] {
             let r = Reference::new(&rm, masks.to_vec(), 4);
-            for n in [
-                DVec3::new(0.3, 0.5, 0.81).normalize(),
-                DVec3::new(0.9, -0.2, 0.1).normalize(),
-            ] {
+            for n in [DVec3::new(0.3, 0.5, 0.81).normalize(), DVec3::new(0.9, -0.2, 0.1).normalize()] {
                 let ours = r.irradiance(n);
                 let b1 = brute(&map, 8, n, masks);
                 let b2 = brute(&map, 32, n, masks);
-                let (e1, e2) = (
-                    (ours - b1).abs().max_element(),
-                    (ours - b2).abs().max_element(),
-                );
-                assert!(
-                    e2 < e1 && e2 < 2e-4 * ours.max_element(),
-                    "{n}: {e1} {e2} {ours}"
-                );
+                let (e1, e2) = ((ours - b1).abs().max_element(), (ours - b2).abs().max_element());
+                assert!(e2 < e1 && e2 < 2e-4 * ours.max_element(), "{n}: {e1} {e2} {ours}");
             }
         }
     }
@@ -366,20 +315,13 @@ mod tests {
         let map = test_map(64);
         let rm = RowMoments::new(&map);
         let r = Reference::new(&rm, vec![], 2);
-        for out in [
-            LatLong::new(64, 20),
-            LatLong::new(32, 16),
-            LatLong::new(16, 9),
-        ] {
+        for out in [LatLong::new(64, 20), LatLong::new(32, 16), LatLong::new(16, 9)] {
             let fast = r.irradiance_latlong(out);
             for j in 0..out.height {
                 for i in 0..out.width {
                     let g = r.irradiance(out.direction(i, j));
                     let d = (fast[j * out.width + i] - g).abs().max_element();
-                    assert!(
-                        d < 1e-11 * g.max_element().max(1.0),
-                        "{out:?} ({i},{j}) {d}"
-                    );
+                    assert!(d < 1e-11 * g.max_element().max(1.0), "{out:?} ({i},{j}) {d}");
                 }
             }
         }

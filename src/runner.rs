@@ -56,14 +56,10 @@ pub fn cases(exp: &Experiment) -> Vec<Case> {
         let n = o.normal;
         let (domain, domain_label) = match exp.domain {
             DomainKind::Sphere => (Domain::Sphere, format!("sphere@{}", o.label)),
-            DomainKind::Hemisphere => (
-                Domain::Hemisphere { normal: n },
-                format!("hemisphere:{}", o.label),
-            ),
+            DomainKind::Hemisphere => (Domain::Hemisphere { normal: n }, format!("hemisphere:{}", o.label)),
         };
         // Effect variants: the cartesian product of every effect's parameter lists.
-        let mut variants: Vec<(Vec<Cap>, Vec<String>, Option<(DVec3, f64)>)> =
-            vec![(vec![], vec![], None)];
+        let mut variants: Vec<(Vec<Cap>, Vec<String>, Option<(DVec3, f64)>)> = vec![(vec![], vec![], None)];
         for e in &exp.effects {
             let mut next = Vec::new();
             for (masks, labels, cone) in &variants {
@@ -75,10 +71,7 @@ pub fn cases(exp: &Experiment) -> Vec<Case> {
                         l.push("hemisphere".into());
                         next.push((m, l, *cone));
                     }
-                    Effect::Cone {
-                        cos_alpha,
-                        tilt_deg,
-                    } => {
+                    Effect::Cone { cos_alpha, tilt_deg } => {
                         for &t in tilt_deg {
                             let c = cone_centre(n, t);
                             for &ca in cos_alpha {
@@ -99,11 +92,7 @@ pub fn cases(exp: &Experiment) -> Vec<Case> {
                 domain: domain.clone(),
                 domain_label: domain_label.clone(),
                 orientation_set: o.set.clone(),
-                effects_label: if labels.is_empty() {
-                    "none".into()
-                } else {
-                    labels.join("+")
-                },
+                effects_label: if labels.is_empty() { "none".into() } else { labels.join("+") },
                 masks,
                 normal: Some(n),
                 cone,
@@ -153,8 +142,7 @@ pub fn run(exp: &Experiment, search: &SearchPath) -> Result<RunReport> {
                 continue;
             }
         };
-        let bytes =
-            std::fs::read(&path).with_context(|| format!("{}: cannot read", path.display()))?;
+        let bytes = std::fs::read(&path).with_context(|| format!("{}: cannot read", path.display()))?;
         let map = crate::envmap::load::load(&path)?;
         maps.push(MapInfo {
             name: map.name.clone(),
@@ -165,11 +153,7 @@ pub fn run(exp: &Experiment, search: &SearchPath) -> Result<RunReport> {
         });
         rows.extend(run_map(exp, &map));
     }
-    Ok(RunReport {
-        rows,
-        maps,
-        missing,
-    })
+    Ok(RunReport { rows, maps, missing })
 }
 
 fn hex(b: &[u8]) -> String {
@@ -181,34 +165,17 @@ pub fn run_map(exp: &Experiment, map: &EnvMap) -> Vec<Row> {
     let moments = RowMoments::new(map);
     let probe_sh = project(map);
     let all = cases(exp);
-    let per_case: Vec<Vec<Row>> = all
-        .par_iter()
-        .map(|case| run_case(exp, map, &moments, &probe_sh, case))
-        .collect();
+    let per_case: Vec<Vec<Row>> = all.par_iter().map(|case| run_case(exp, map, &moments, &probe_sh, case)).collect();
     per_case.into_iter().flatten().collect()
 }
 
-fn run_case(
-    exp: &Experiment,
-    map: &EnvMap,
-    moments: &RowMoments,
-    probe_sh: &Sh9,
-    case: &Case,
-) -> Vec<Row> {
-    let visible_sh = if case.masks.is_empty() {
-        *probe_sh
-    } else {
-        project_visible(moments, &case.masks, exp.polar_nodes)
-    };
+fn run_case(exp: &Experiment, map: &EnvMap, moments: &RowMoments, probe_sh: &Sh9, case: &Case) -> Vec<Row> {
+    let visible_sh =
+        if case.masks.is_empty() { *probe_sh } else { project_visible(moments, &case.masks, exp.polar_nodes) };
     let reference = Reference::new(moments, case.masks.clone(), exp.polar_nodes);
     let exact_at_normal = case.normal.map(|n| reference.irradiance(n));
-    let input = FitInput {
-        probe_sh,
-        visible_sh: &visible_sh,
-        surface_normal: case.normal,
-        cone: case.cone,
-        exact_at_normal,
-    };
+    let input =
+        FitInput { probe_sh, visible_sh: &visible_sh, surface_normal: case.normal, cone: case.cone, exact_at_normal };
     let fitted: Vec<_> = exp.encoders.iter().map(|e| e.encoder.fit(&input)).collect();
     let mut rows = Vec::new();
     // One output grid (and one reference evaluation) per distinct metric grid.
@@ -227,21 +194,13 @@ fn run_case(
             };
             grids.push((res, sphere, grid, values));
         }
-        let (_, _, grid, ref_values) = grids
-            .iter()
-            .find(|g| g.0 == res && g.1 == sphere)
-            .expect("grid just added");
+        let (_, _, grid, ref_values) = grids.iter().find(|g| g.0 == res && g.1 == sphere).expect("grid just added");
         let weights: Vec<f64> = match metric {
             Metric::Exact => grid.weights.clone(),
             Metric::Probulator => vec![1.0; grid.normals.len()],
         };
         for (named, fit) in exp.encoders.iter().zip(&fitted) {
-            let test: Vec<Rgb> = grid
-                .normals
-                .par_iter()
-                .with_min_len(256)
-                .map(|&n| fit.irradiance(n))
-                .collect();
+            let test: Vec<Rgb> = grid.normals.par_iter().with_min_len(256).map(|&n| fit.irradiance(n)).collect();
             let clamp = *metric == Metric::Probulator && named.encoder.peer_clamps();
             let scores = score(ref_values, &test, &weights, clamp);
             let diagnostics = fit

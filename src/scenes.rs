@@ -22,11 +22,7 @@ pub enum Component {
     UpperHemisphere(Rgb),
     /// A uniform spherical cap ("disc" light, or a cone light) of radiance c, half-angle α
     /// (radians) about the unit axis.
-    Cap {
-        axis: DVec3,
-        half_angle: f64,
-        radiance: Rgb,
-    },
+    Cap { axis: DVec3, half_angle: f64, radiance: Rgb },
     /// A sky gradient c0 + c1·y over the whole sphere (non-negative when c0 ≥ |c1|).
     Gradient { c0: Rgb, c1: Rgb },
 }
@@ -50,18 +46,10 @@ pub fn cap_irradiance(cos_theta: f64, sin_sigma_sq: f64) -> f64 {
     } else {
         let st = (1.0 - ct * ct).max(0.0).sqrt();
         let x = (1.0 / sin_sigma_sq - 1.0).max(0.0).sqrt();
-        let y = if st > 0.0 {
-            (-x * ct / st).clamp(-1.0, 1.0)
-        } else {
-            0.0
-        };
+        let y = if st > 0.0 { (-x * ct / st).clamp(-1.0, 1.0) } else { 0.0 };
         let sy = st * (1.0 - y * y).max(0.0).sqrt();
         let base = (ct * y.acos() - x * sy) * sin_sigma_sq;
-        base + if x > 0.0 {
-            (sy / x).atan()
-        } else {
-            0.5 * PI * sy.signum()
-        }
+        base + if x > 0.0 { (sy / x).atan() } else { 0.5 * PI * sy.signum() }
     };
     e.max(0.0) / PI
 }
@@ -72,11 +60,9 @@ impl Component {
         match self {
             Component::Constant(c) => *c,
             Component::UpperHemisphere(c) => *c * (0.5 * (1.0 + n.y)),
-            Component::Cap {
-                axis,
-                half_angle,
-                radiance,
-            } => *radiance * cap_irradiance(n.dot(*axis), half_angle.sin().powi(2)),
+            Component::Cap { axis, half_angle, radiance } => {
+                *radiance * cap_irradiance(n.dot(*axis), half_angle.sin().powi(2))
+            }
             // A band-1 function: E/π = c0 + (2/3)·c1·n_y (FORMULAS §3).
             Component::Gradient { c0, c1 } => *c0 + *c1 * (2.0 / 3.0 * n.y),
         }
@@ -96,17 +82,11 @@ impl Component {
         match self {
             Component::Constant(c) => crate::sh::constant(*c),
             // ∫_{t>0} Y_l0(t): l=0: 2π·½√(1/π); l=1: 2π√(3/4π)·½; l=2: 0.
-            Component::UpperHemisphere(c) => zonal(
-                DVec3::Y,
-                [PI * (1.0 / PI).sqrt(), PI * (3.0 / (4.0 * PI)).sqrt(), 0.0],
-                *c,
-            ),
+            Component::UpperHemisphere(c) => {
+                zonal(DVec3::Y, [PI * (1.0 / PI).sqrt(), PI * (3.0 / (4.0 * PI)).sqrt(), 0.0], *c)
+            }
             // ∫_{t>cos α} Y_l0: 2π(1−c)·½√(1/π); π√(3/4π)·sin²α; √(5/4π)·π·(c − c³).
-            Component::Cap {
-                axis,
-                half_angle,
-                radiance,
-            } => {
+            Component::Cap { axis, half_angle, radiance } => {
                 let c = half_angle.cos();
                 let s2 = 1.0 - c * c;
                 zonal(
@@ -146,11 +126,7 @@ impl Component {
                 let mean_y = 0.5 * (p1.sin().powi(2) - p0.sin().powi(2)) / (p0.cos() - p1.cos());
                 *c0 + *c1 * mean_y
             }
-            Component::Cap {
-                axis,
-                half_angle,
-                radiance,
-            } => {
+            Component::Cap { axis, half_angle, radiance } => {
                 // Cells far outside or deep inside the cap need no integration: the angular
                 // distance of any point of the cell to its centre is below the cell's half
                 // diagonal (bounded by dφ + dθ/2).
@@ -227,11 +203,7 @@ impl Scene {
         let texels: Vec<[f32; 3]> = (0..grid.height)
             .flat_map(|j| (0..grid.width).map(move |i| (i, j)))
             .map(|(i, j)| {
-                let v: Rgb = self
-                    .components
-                    .iter()
-                    .map(|c| c.cell_average(&grid, i, j))
-                    .sum();
+                let v: Rgb = self.components.iter().map(|c| c.cell_average(&grid, i, j)).sum();
                 [v.x as f32, v.y as f32, v.z as f32]
             })
             .collect();
@@ -243,23 +215,26 @@ impl Scene {
 /// The generated scenes written to `envmaps/` by `probelab gen-envmaps`.
 pub fn generated() -> Vec<Scene> {
     let deg = PI / 180.0;
-    let dir = |elev_deg: f64, azim_deg: f64| {
-        crate::envmap::direction(azim_deg * deg, (90.0 - elev_deg) * deg)
-    };
-    let scene = |id: &str, description: &str, components| Scene {
-        id: id.into(),
-        description: description.into(),
-        components,
-    };
+    let dir = |elev_deg: f64, azim_deg: f64| crate::envmap::direction(azim_deg * deg, (90.0 - elev_deg) * deg);
+    let scene =
+        |id: &str, description: &str, components| Scene { id: id.into(), description: description.into(), components };
     vec![
         scene("gen_constant", "constant radiance 1", vec![Component::Constant(Rgb::ONE)]),
-        scene("gen_hemisphere", "hemisphere light: radiance 1 above the horizon (y > 0), 0 below", vec![Component::UpperHemisphere(Rgb::ONE)]),
+        scene(
+            "gen_hemisphere",
+            "hemisphere light: radiance 1 above the horizon (y > 0), 0 below",
+            vec![Component::UpperHemisphere(Rgb::ONE)],
+        ),
         scene(
             "gen_sun_sky",
             "constant sky 0.2 plus a 5-degree-radius sun of radiance 2000 at 40 deg elevation",
             vec![
                 Component::Constant(Rgb::splat(0.2)),
-                Component::Cap { axis: dir(40.0, 30.0), half_angle: 5.0 * deg, radiance: Rgb::new(2000.0, 1800.0, 1500.0) },
+                Component::Cap {
+                    axis: dir(40.0, 30.0),
+                    half_angle: 5.0 * deg,
+                    radiance: Rgb::new(2000.0, 1800.0, 1500.0),
+                },
             ],
         ),
         scene(
@@ -280,7 +255,11 @@ pub fn generated() -> Vec<Scene> {
             "bluish sky gradient c0 + c1*y plus a 4-degree sun of radiance 3000 at 25 deg elevation",
             vec![
                 Component::Gradient { c0: Rgb::new(0.45, 0.55, 0.8), c1: Rgb::new(0.3, 0.35, 0.5) },
-                Component::Cap { axis: dir(25.0, 120.0), half_angle: 4.0 * deg, radiance: Rgb::new(3000.0, 2800.0, 2400.0) },
+                Component::Cap {
+                    axis: dir(25.0, 120.0),
+                    half_angle: 4.0 * deg,
+                    radiance: Rgb::new(3000.0, 2800.0, 2400.0),
+                },
             ],
         ),
     ]
@@ -301,10 +280,7 @@ mod tests {
             let (np, nt) = (2000, 400);
             let mut e = 0.0;
             for j in 0..np {
-                let (a0, a1) = (
-                    sigma * j as f64 / np as f64,
-                    sigma * (j + 1) as f64 / np as f64,
-                );
+                let (a0, a1) = (sigma * j as f64 / np as f64, sigma * (j + 1) as f64 / np as f64);
                 let w = (TAU / nt as f64) * (a0.cos() - a1.cos());
                 for i in 0..nt {
                     // cap about +Y
@@ -319,9 +295,7 @@ mod tests {
     }
 
     fn max_sh_diff(a: &Sh9, b: &Sh9) -> f64 {
-        (0..9)
-            .map(|i| (a[i] - b[i]).abs().max_element())
-            .fold(0.0, f64::max)
+        (0..9).map(|i| (a[i] - b[i]).abs().max_element()).fold(0.0, f64::max)
     }
 
     /// Closed-form SH against the exact projection of a map of the scene. A polar cap whose
@@ -334,11 +308,7 @@ mod tests {
             id: "polar".into(),
             description: String::new(),
             components: vec![
-                Component::Cap {
-                    axis: DVec3::Y,
-                    half_angle: PI * 5.0 / 64.0,
-                    radiance: Rgb::new(3.0, 2.0, 1.0),
-                },
+                Component::Cap { axis: DVec3::Y, half_angle: PI * 5.0 / 64.0, radiance: Rgb::new(3.0, 2.0, 1.0) },
                 Component::UpperHemisphere(Rgb::splat(0.5)),
                 Component::Constant(Rgb::splat(0.125)), // exact in f32, as maps store
             ],
@@ -349,21 +319,13 @@ mod tests {
             let scale = s.sh()[0].max_element();
             let d256 = max_sh_diff(&crate::projection::project(&s.map(256)), &s.sh()) / scale;
             let d512 = max_sh_diff(&crate::projection::project(&s.map(512)), &s.sh()) / scale;
-            assert!(
-                d512 < 2e-4 && (d512 < d256 / 2.0 || d512 < 1e-12),
-                "{}: {d256} {d512}",
-                s.id
-            );
+            assert!(d512 < 2e-4 && (d512 < d256 / 2.0 || d512 < 1e-12), "{}: {d256} {d512}", s.id);
         }
     }
 
     #[test]
     fn cell_averages_conserve_cap_energy() {
-        let cap = Component::Cap {
-            axis: DVec3::new(0.3, 0.8, -0.52).normalize(),
-            half_angle: 0.2,
-            radiance: Rgb::ONE,
-        };
+        let cap = Component::Cap { axis: DVec3::new(0.3, 0.8, -0.52).normalize(), half_angle: 0.2, radiance: Rgb::ONE };
         let g = LatLong::new(128, 64);
         let mut e = 0.0;
         for j in 0..g.height {

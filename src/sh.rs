@@ -230,10 +230,7 @@ mod tests {
         let t = a.dot(b);
         let p = [1.0, t, 0.5 * (3.0 * t * t - 1.0)];
         for l in 0..3 {
-            let s: f64 = (0..N_SH)
-                .filter(|&i| band_of(i) == l)
-                .map(|i| ya[i] * yb[i])
-                .sum();
+            let s: f64 = (0..N_SH).filter(|&i| band_of(i) == l).map(|i| ya[i] * yb[i]).sum();
             let want = (2 * l + 1) as f64 / (4.0 * PI) * p[l];
             assert!((s - want).abs() < 1e-14, "band {l}");
         }

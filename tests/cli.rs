@@ -21,31 +21,18 @@ fn probelab(args: &[&str], envmaps: Option<&str>) -> std::process::Output {
 fn parse_csv(text: &str) -> Vec<std::collections::HashMap<String, String>> {
     let mut r = csv::Reader::from_reader(text.as_bytes());
     let h: Vec<String> = r.headers().unwrap().iter().map(String::from).collect();
-    r.records()
-        .map(|rec| {
-            h.iter()
-                .cloned()
-                .zip(rec.unwrap().iter().map(String::from))
-                .collect()
-        })
-        .collect()
+    r.records().map(|rec| h.iter().cloned().zip(rec.unwrap().iter().map(String::from)).collect()).collect()
 }
 
 fn shared_envmaps() -> Option<String> {
     let v = std::env::var("PROBELAB_ENVMAPS").ok()?;
-    v.split(':')
-        .any(|d| Path::new(d).join("grace_256x128.exr").is_file())
-        .then_some(v)
+    v.split(':').any(|d| Path::new(d).join("grace_256x128.exr").is_file()).then_some(v)
 }
 
 #[test]
 fn constant_map_is_exact_for_sh1_and_sh2() {
     let out = probelab(&["eval", "gen_constant", "--encoders", "sh1,sh2"], None);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let text = String::from_utf8(out.stdout).unwrap();
     assert!(text.starts_with("map,encoder,domain,metric,rmse_r,rmse_g,rmse_b,rmse,rel_rmse"));
     let rows = parse_csv(&text);
@@ -62,22 +49,8 @@ fn constant_map_is_exact_for_sh1_and_sh2() {
 /// (1 + n·N)/2, which is linear: SH L1 of the occluded radiance represents it exactly.
 #[test]
 fn hemisphere_domain_on_a_wall() {
-    let out = probelab(
-        &[
-            "eval",
-            "gen_constant",
-            "--encoders",
-            "sh0,sh1",
-            "--domain",
-            "hemisphere:+x",
-        ],
-        None,
-    );
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let out = probelab(&["eval", "gen_constant", "--encoders", "sh0,sh1", "--domain", "hemisphere:+x"], None);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let rows = parse_csv(&String::from_utf8(out.stdout).unwrap());
     assert_eq!(rows[0]["domain"], "hemisphere:+x");
     let sh1: f64 = rows[1]["rmse"].parse().unwrap();
@@ -97,31 +70,13 @@ fn probulator_metric_agrees_with_peer_on_grace() {
         eprintln!("skipped: PROBELAB_ENVMAPS does not hold grace_256x128.exr");
         return;
     };
-    let out = probelab(
-        &[
-            "eval",
-            "grace_256x128",
-            "--encoders",
-            "sh1,sh2",
-            "--metric",
-            "probulator",
-        ],
-        Some(&env),
-    );
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let out = probelab(&["eval", "grace_256x128", "--encoders", "sh1,sh2", "--metric", "probulator"], Some(&env));
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let rows = parse_csv(&String::from_utf8(out.stdout).unwrap());
     for (r, peer) in rows.iter().zip([0.08238, 0.01324]) {
         let ours: f64 = r["rmse"].parse().unwrap();
         let rel = (ours - peer).abs() / peer;
-        eprintln!(
-            "{}: ours {ours:.5}, peer {peer}, {:.2}%",
-            r["encoder"],
-            100.0 * rel
-        );
+        eprintln!("{}: ours {ours:.5}, peer {peer}, {:.2}%", r["encoder"], 100.0 * rel);
         assert!(rel < 0.03, "{}: {ours} vs {peer}", r["encoder"]);
         assert_eq!(r["weighting"], "per-pixel");
     }
@@ -129,18 +84,10 @@ fn probulator_metric_agrees_with_peer_on_grace() {
 
 #[test]
 fn missing_map_lists_searched_folders_and_exits_2() {
-    let out = probelab(
-        &["eval", "no_such_map", "--encoders", "sh1"],
-        Some("/nonexistent/a:/nonexistent/b"),
-    );
+    let out = probelab(&["eval", "no_such_map", "--encoders", "sh1"], Some("/nonexistent/a:/nonexistent/b"));
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8_lossy(&out.stderr);
-    assert!(
-        err.contains("no_such_map")
-            && err.contains("/nonexistent/a")
-            && err.contains("/nonexistent/b"),
-        "{err}"
-    );
+    assert!(err.contains("no_such_map") && err.contains("/nonexistent/a") && err.contains("/nonexistent/b"), "{err}");
 }
 
 #[test]
@@ -153,10 +100,7 @@ fn bad_arguments_exit_2_with_a_message() {
     ] {
         let out = probelab(args, None);
         assert_eq!(out.status.code(), Some(2), "{args:?}");
-        assert!(
-            String::from_utf8_lossy(&out.stderr).starts_with("error: "),
-            "{args:?}"
-        );
+        assert!(String::from_utf8_lossy(&out.stderr).starts_with("error: "), "{args:?}");
     }
 }
 
@@ -164,26 +108,12 @@ fn bad_arguments_exit_2_with_a_message() {
 #[test]
 fn committed_generated_maps_are_current() {
     let dir = tempfile::tempdir().unwrap();
-    let out = probelab(
-        &["gen-envmaps", "--out", dir.path().to_str().unwrap()],
-        None,
-    );
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let out = probelab(&["gen-envmaps", "--out", dir.path().to_str().unwrap()], None);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     for s in probelab::scenes::generated() {
-        let fresh =
-            probelab::envmap::load::load(&dir.path().join(format!("{}.exr", s.id))).unwrap();
-        let committed =
-            probelab::envmap::load::load(&repo().join("envmaps").join(format!("{}.exr", s.id)))
-                .unwrap_or_else(|e| panic!("{e} (run `probelab gen-envmaps`)"));
-        assert_eq!(
-            fresh.texels(),
-            committed.texels(),
-            "{} differs: run `probelab gen-envmaps`",
-            s.id
-        );
+        let fresh = probelab::envmap::load::load(&dir.path().join(format!("{}.exr", s.id))).unwrap();
+        let committed = probelab::envmap::load::load(&repo().join("envmaps").join(format!("{}.exr", s.id)))
+            .unwrap_or_else(|e| panic!("{e} (run `probelab gen-envmaps`)"));
+        assert_eq!(fresh.texels(), committed.texels(), "{} differs: run `probelab gen-envmaps`", s.id);
     }
 }

@@ -12,27 +12,16 @@ use std::path::{Path, PathBuf};
 fn sample_map(w: usize, h: usize) -> EnvMap {
     EnvMap::from_fn("sample", w, h, |i, j| {
         let k = (j * w + i) as f32;
-        [
-            k * 0.37 + 0.001,
-            1.0e-40 * (i as f32),
-            3.0e4 / (1.0 + k) + f32::EPSILON * k,
-        ]
+        [k * 0.37 + 0.001, 1.0e-40 * (i as f32), 3.0e4 / (1.0 + k) + f32::EPSILON * k]
     })
     .unwrap()
 }
 
 /// Writes an uncompressed scanline EXR with arbitrary f32 channels (no checks on values).
 fn write_f32_channels(path: &Path, w: usize, h: usize, channels: &[(&str, Vec<f32>)]) {
-    let list: SmallVec<[AnyChannel<FlatSamples>; 4]> = channels
-        .iter()
-        .map(|(name, v)| AnyChannel::new(*name, FlatSamples::F32(v.clone())))
-        .collect();
-    let layer = Layer::new(
-        (w, h),
-        LayerAttributes::default(),
-        Encoding::UNCOMPRESSED,
-        AnyChannels::sort(list),
-    );
+    let list: SmallVec<[AnyChannel<FlatSamples>; 4]> =
+        channels.iter().map(|(name, v)| AnyChannel::new(*name, FlatSamples::F32(v.clone()))).collect();
+    let layer = Layer::new((w, h), LayerAttributes::default(), Encoding::UNCOMPRESSED, AnyChannels::sort(list));
     Image::from_layer(layer).write().to_file(path).unwrap();
 }
 
@@ -46,25 +35,14 @@ fn write_rgb_unchecked(path: &Path, w: usize, h: usize, texels: &[[f32; 3]]) {
 /// every keyword (case-insensitive). Returns the message.
 fn expect_error(path: &Path, keywords: &[&str]) -> String {
     let err = match load(path) {
-        Ok(m) => panic!(
-            "{} loaded as {}x{} but should fail",
-            path.display(),
-            m.width(),
-            m.height()
-        ),
+        Ok(m) => panic!("{} loaded as {}x{} but should fail", path.display(), m.width(), m.height()),
         Err(e) => e,
     };
     let msg = err.to_string();
-    assert!(
-        msg.starts_with(&path.display().to_string()),
-        "message does not start with the path: {msg}"
-    );
+    assert!(msg.starts_with(&path.display().to_string()), "message does not start with the path: {msg}");
     let lower = msg.to_lowercase();
     for k in keywords {
-        assert!(
-            lower.contains(&k.to_lowercase()),
-            "message lacks '{k}': {msg}"
-        );
+        assert!(lower.contains(&k.to_lowercase()), "message lacks '{k}': {msg}");
     }
     println!("ok: {msg}");
     msg
@@ -77,10 +55,7 @@ fn tmp() -> tempfile::TempDir {
 /// Byte offset of the 16-byte value of the `dataWindow` box2i attribute in an EXR header.
 fn data_window_offset(bytes: &[u8]) -> usize {
     let key = b"dataWindow\0box2i\0";
-    let at = bytes
-        .windows(key.len())
-        .position(|w| w == key)
-        .expect("no dataWindow attribute");
+    let at = bytes.windows(key.len()).position(|w| w == key).expect("no dataWindow attribute");
     let size_at = at + key.len();
     assert_eq!(&bytes[size_at..size_at + 4], &16i32.to_le_bytes());
     size_at + 4
@@ -120,19 +95,12 @@ fn write_then_load_is_bit_exact() {
     assert!(!h.blocks.has_tiles());
     let names: Vec<String> = h.channels.list.iter().map(|c| c.name.to_string()).collect();
     assert_eq!(names, ["B", "G", "R"]);
-    assert!(h
-        .channels
-        .list
-        .iter()
-        .all(|c| c.sample_type == SampleType::F32));
+    assert!(h.channels.list.iter().all(|c| c.sample_type == SampleType::F32));
     let entries: Vec<_> = fs::read_dir(dir.path()).unwrap().collect();
     assert_eq!(entries.len(), 1);
     // Overwriting an existing file works.
     write_exr(&path, &map.scaled(2.0)).unwrap();
-    assert_eq!(
-        load(&path).unwrap().texel(3, 2)[0],
-        map.texel(3, 2)[0] * 2.0
-    );
+    assert_eq!(load(&path).unwrap().texel(3, 2)[0], map.texel(3, 2)[0] * 2.0);
 }
 
 #[test]
@@ -179,34 +147,13 @@ fn half_rgba_tiled_mipmapped_loads() {
             let chan = |name: &str, pick: fn((f16, f16, f16, f16)) -> f16| {
                 let levels: Vec<FlatSamples> = sizes
                     .iter()
-                    .map(|&(lw, lh)| {
-                        FlatSamples::F16(
-                            (0..lw * lh).map(|k| pick(value(k % lw, k / lw))).collect(),
-                        )
-                    })
+                    .map(|&(lw, lh)| FlatSamples::F16((0..lw * lh).map(|k| pick(value(k % lw, k / lw))).collect()))
                     .collect();
-                AnyChannel::new(
-                    name,
-                    Levels::Mip {
-                        rounding_mode: RoundingMode::Down,
-                        level_data: levels,
-                    },
-                )
+                AnyChannel::new(name, Levels::Mip { rounding_mode: RoundingMode::Down, level_data: levels })
             };
-            let list: SmallVec<[_; 4]> = [
-                chan("R", |v| v.0),
-                chan("G", |v| v.1),
-                chan("B", |v| v.2),
-                chan("A", |v| v.3),
-            ]
-            .into_iter()
-            .collect();
-            let layer = Layer::new(
-                (w, h),
-                LayerAttributes::default(),
-                encoding,
-                AnyChannels::sort(list),
-            );
+            let list: SmallVec<[_; 4]> =
+                [chan("R", |v| v.0), chan("G", |v| v.1), chan("B", |v| v.2), chan("A", |v| v.3)].into_iter().collect();
+            let layer = Layer::new((w, h), LayerAttributes::default(), encoding, AnyChannels::sort(list));
             Image::from_layer(layer).write().to_file(&path).unwrap();
         }
         let map = load(&path).unwrap();
@@ -214,11 +161,7 @@ fn half_rgba_tiled_mipmapped_loads() {
         for y in 0..h {
             for x in 0..w {
                 let (r, g, b, _) = value(x, y);
-                assert_eq!(
-                    map.texel(x, y),
-                    [r.to_f32(), g.to_f32(), b.to_f32()],
-                    "{name} {x},{y}"
-                );
+                assert_eq!(map.texel(x, y), [r.to_f32(), g.to_f32(), b.to_f32()], "{name} {x},{y}");
             }
         }
     }
@@ -246,17 +189,7 @@ fn layer_prefixed_channels_load_when_unambiguous() {
     let (w, h) = (4, 2);
     let v = |k: f32| (0..w * h).map(|i| i as f32 + k).collect::<Vec<_>>();
     let path = dir.path().join("prefixed.exr");
-    write_f32_channels(
-        &path,
-        w,
-        h,
-        &[
-            ("rgba.R", v(0.0)),
-            ("rgba.G", v(0.1)),
-            ("rgba.B", v(0.2)),
-            ("rgba.A", v(9.0)),
-        ],
-    );
+    write_f32_channels(&path, w, h, &[("rgba.R", v(0.0)), ("rgba.G", v(0.1)), ("rgba.B", v(0.2)), ("rgba.A", v(9.0))]);
     let map = load(&path).unwrap();
     assert_eq!(map.texel(3, 1), [7.0, 7.1, 7.2]);
 
@@ -266,14 +199,7 @@ fn layer_prefixed_channels_load_when_unambiguous() {
         &path,
         w,
         h,
-        &[
-            ("R", v(1.0)),
-            ("G", v(1.0)),
-            ("B", v(1.0)),
-            ("d.R", v(5.0)),
-            ("d.G", v(5.0)),
-            ("d.B", v(5.0)),
-        ],
+        &[("R", v(1.0)), ("G", v(1.0)), ("B", v(1.0)), ("d.R", v(5.0)), ("d.G", v(5.0)), ("d.B", v(5.0))],
     );
     assert_eq!(load(&path).unwrap().texel(0, 0), [1.0; 3]);
 
@@ -283,33 +209,14 @@ fn layer_prefixed_channels_load_when_unambiguous() {
         &path,
         w,
         h,
-        &[
-            ("a.R", v(1.0)),
-            ("a.G", v(1.0)),
-            ("a.B", v(1.0)),
-            ("b.R", v(5.0)),
-            ("b.G", v(5.0)),
-            ("b.B", v(5.0)),
-        ],
+        &[("a.R", v(1.0)), ("a.G", v(1.0)), ("a.B", v(1.0)), ("b.R", v(5.0)), ("b.G", v(5.0)), ("b.B", v(5.0))],
     );
     expect_error(&path, &["two_layers.exr", "ambiguous", "'a'", "'b'"]);
 
     // An incomplete layer: the missing channel is named with its prefix.
     let path = dir.path().join("incomplete.exr");
-    write_f32_channels(
-        &path,
-        w,
-        h,
-        &[("rgba.R", v(0.0)), ("rgba.G", v(0.0)), ("Z", v(0.0))],
-    );
-    expect_error(
-        &path,
-        &[
-            "incomplete.exr",
-            "missing channel(s) rgba.B",
-            "has channels: Z, rgba.G, rgba.R",
-        ],
-    );
+    write_f32_channels(&path, w, h, &[("rgba.R", v(0.0)), ("rgba.G", v(0.0)), ("Z", v(0.0))]);
+    expect_error(&path, &["incomplete.exr", "missing channel(s) rgba.B", "has channels: Z, rgba.G, rgba.R"]);
 }
 
 #[test]
@@ -317,20 +224,8 @@ fn rejects_missing_channels_naming_them() {
     let dir = tmp();
     let path = dir.path().join("xyz.exr");
     let z = vec![0.5f32; 8];
-    write_f32_channels(
-        &path,
-        4,
-        2,
-        &[("X", z.clone()), ("Y", z.clone()), ("Z", z.clone())],
-    );
-    expect_error(
-        &path,
-        &[
-            "xyz.exr",
-            "missing channel(s) R, G, B",
-            "has channels: X, Y, Z",
-        ],
-    );
+    write_f32_channels(&path, 4, 2, &[("X", z.clone()), ("Y", z.clone()), ("Z", z.clone())]);
+    expect_error(&path, &["xyz.exr", "missing channel(s) R, G, B", "has channels: X, Y, Z"]);
 
     let path = dir.path().join("r_only.exr");
     write_f32_channels(&path, 4, 2, &[("R", z.clone()), ("Y", z)]);
@@ -343,12 +238,7 @@ fn rejects_u32_channels() {
     let path = dir.path().join("ints.exr");
     let f = |name: &str| AnyChannel::new(name, FlatSamples::U32(vec![1u32; 8]));
     let list: SmallVec<[_; 4]> = [f("R"), f("G"), f("B")].into_iter().collect();
-    let layer = Layer::new(
-        (4, 2),
-        LayerAttributes::default(),
-        Encoding::UNCOMPRESSED,
-        AnyChannels::sort(list),
-    );
+    let layer = Layer::new((4, 2), LayerAttributes::default(), Encoding::UNCOMPRESSED, AnyChannels::sort(list));
     Image::from_layer(layer).write().to_file(&path).unwrap();
     expect_error(&path, &["ints.exr", "unsigned integer", "channel R"]);
 }
@@ -359,10 +249,7 @@ fn rejects_bad_aspect() {
     for (w, h) in [(3, 1), (1, 1), (4, 4), (2, 3)] {
         let path = dir.path().join(format!("m{w}x{h}.exr"));
         write_rgb_unchecked(&path, w, h, &vec![[1.0; 3]; w * h]);
-        expect_error(
-            &path,
-            &[&format!("m{w}x{h}.exr"), &format!("size {w}x{h}"), "2:1"],
-        );
+        expect_error(&path, &[&format!("m{w}x{h}.exr"), &format!("size {w}x{h}"), "2:1"]);
     }
 }
 
@@ -380,14 +267,7 @@ fn rejects_nan_inf_negative_with_first_pixel() {
         t[5][1] = value; // x=1, y=1, G
         t[7][2] = value;
         write_rgb_unchecked(&path, 4, 2, &t);
-        expect_error(
-            &path,
-            &[
-                &format!("{label}.exr"),
-                &format!("2 texel value(s) are {kind}"),
-                "x=1, y=1, channel G",
-            ],
-        );
+        expect_error(&path, &[&format!("{label}.exr"), &format!("2 texel value(s) are {kind}"), "x=1, y=1, channel G"]);
     }
 }
 
@@ -398,14 +278,7 @@ fn rejects_truncated_files() {
     write_exr(&good, &sample_map(64, 32)).unwrap();
     let bytes = fs::read(&good).unwrap();
     let header_end = data_window_offset(&bytes) + 16;
-    for cut in [
-        8,
-        20,
-        header_end,
-        bytes.len() / 2,
-        bytes.len() - 100,
-        bytes.len() - 1,
-    ] {
+    for cut in [8, 20, header_end, bytes.len() / 2, bytes.len() - 100, bytes.len() - 1] {
         let path = dir.path().join(format!("cut{cut}.exr"));
         fs::write(&path, &bytes[..cut]).unwrap();
         expect_error(&path, &[&format!("cut{cut}.exr"), "truncated"]);
@@ -413,10 +286,7 @@ fn rejects_truncated_files() {
     // Too short to hold a magic number.
     let path = dir.path().join("cut3.exr");
     fs::write(&path, &bytes[..3]).unwrap();
-    expect_error(
-        &path,
-        &["cut3.exr", "magic", "3 byte(s)", "supported formats"],
-    );
+    expect_error(&path, &["cut3.exr", "magic", "3 byte(s)", "supported formats"]);
 }
 
 #[test]
@@ -428,24 +298,11 @@ fn rejects_bad_magic_and_unknown_formats() {
     bytes[0] ^= 0xff;
     let path = dir.path().join("flipped.exr");
     fs::write(&path, &bytes).unwrap();
-    expect_error(
-        &path,
-        &[
-            "flipped.exr",
-            "bad magic",
-            "89 2f 31 01",
-            "ends in .exr",
-            "OpenEXR",
-            "Radiance",
-        ],
-    );
+    expect_error(&path, &["flipped.exr", "bad magic", "89 2f 31 01", "ends in .exr", "OpenEXR", "Radiance"]);
 
     let path = dir.path().join("notes.txt");
     fs::write(&path, b"hello world").unwrap();
-    expect_error(
-        &path,
-        &["notes.txt", "unrecognised file format", "supported formats"],
-    );
+    expect_error(&path, &["notes.txt", "unrecognised file format", "supported formats"]);
 
     // Content decides, not the extension: a valid EXR named .hdr loads.
     let path = dir.path().join("actually_exr.hdr");
@@ -503,16 +360,7 @@ fn rejects_multi_part_files() {
         .with_layer(layer("left", 1.0))
         .with_layer(layer("right", 2.0));
     image.write().to_file(&path).unwrap();
-    expect_error(
-        &path,
-        &[
-            "two_parts.exr",
-            "multi-part",
-            "2 parts",
-            "'left'",
-            "'right'",
-        ],
-    );
+    expect_error(&path, &["two_parts.exr", "multi-part", "2 parts", "'left'", "'right'"]);
 }
 
 #[test]
@@ -522,18 +370,10 @@ fn rejects_absurd_header_size_without_allocating() {
     write_exr(&good, &sample_map(8, 4)).unwrap();
     let bytes = fs::read(&good).unwrap();
     let cases: [(&str, [i32; 4], &[&str]); 4] = [
-        (
-            "huge",
-            [0, 0, 999_999_999, 999_999_999],
-            &["1000000000x1000000000", "above the limit", "refusing"],
-        ),
+        ("huge", [0, 0, 999_999_999, 999_999_999], &["1000000000x1000000000", "above the limit", "refusing"]),
         ("wide", [0, 0, 32767, 16383], &["32768x16384", "limit"]),
         ("tall", [0, 0, 15, 8192], &["16x8193", "limit"]),
-        (
-            "negative_origin",
-            [-500_000_000, -500_000_000, 499_999_999, 499_999_999],
-            &["1000000000x1000000000"],
-        ),
+        ("negative_origin", [-500_000_000, -500_000_000, 499_999_999, 499_999_999], &["1000000000x1000000000"]),
     ];
     for (label, window, keywords) in cases {
         let path = dir.path().join(format!("{label}.exr"));
@@ -567,10 +407,7 @@ fn corrupted_files_never_panic() {
     // EXR, run-length Radiance HDR): every outcome must be Ok or an error naming the file;
     // a decoder panic must come back as an error. PROBELAB_FUZZ_ROUNDS sets the number of
     // rounds per file (default 600).
-    let rounds: usize = std::env::var("PROBELAB_FUZZ_ROUNDS")
-        .ok()
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(600);
+    let rounds: usize = std::env::var("PROBELAB_FUZZ_ROUNDS").ok().and_then(|v| v.parse().ok()).unwrap_or(600);
     let dir = tmp();
     let zip = dir.path().join("zip.exr");
     write_exr(&zip, &sample_map(32, 16)).unwrap();
@@ -580,22 +417,13 @@ fn corrupted_files_never_panic() {
         LayerAttributes::default(),
         Encoding::FAST_LOSSLESS,
         SpecificChannels::rgba(|p: Vec2<usize>| {
-            (
-                f16::from_f32(p.x() as f32),
-                f16::from_f32(p.y() as f32),
-                f16::ONE,
-                f16::ONE,
-            )
+            (f16::from_f32(p.x() as f32), f16::from_f32(p.y() as f32), f16::ONE, f16::ONE)
         }),
     );
     Image::from_layer(layer).write().to_file(&tiled).unwrap();
     let hdr = dir.path().join("rle.hdr");
-    let px: Vec<image::Rgb<f32>> = (0..32 * 16)
-        .map(|k| image::Rgb([(k % 13) as f32, 0.5, (k / 32) as f32]))
-        .collect();
-    image::codecs::hdr::HdrEncoder::new(fs::File::create(&hdr).unwrap())
-        .encode(&px, 32, 16)
-        .unwrap();
+    let px: Vec<image::Rgb<f32>> = (0..32 * 16).map(|k| image::Rgb([(k % 13) as f32, 0.5, (k / 32) as f32])).collect();
+    image::codecs::hdr::HdrEncoder::new(fs::File::create(&hdr).unwrap()).encode(&px, 32, 16).unwrap();
 
     let mut state = 0x9e37_79b9_7f4a_7c15u64;
     let mut next = || {
@@ -606,21 +434,14 @@ fn corrupted_files_never_panic() {
     };
     for source in [zip, tiled, hdr] {
         let bytes = fs::read(&source).unwrap();
-        let path = dir.path().join(format!(
-            "fuzz_{}",
-            source.file_name().unwrap().to_str().unwrap()
-        ));
+        let path = dir.path().join(format!("fuzz_{}", source.file_name().unwrap().to_str().unwrap()));
         let (mut ok, mut failed, mut panicked) = (0, 0, 0);
         for round in 0..rounds {
             let mut b = bytes.clone();
             let flips = 1 + (next() % 4) as usize;
             for _ in 0..flips {
                 // Half the rounds hit the header, where the structure lives.
-                let limit = if round % 2 == 0 {
-                    400.min(b.len())
-                } else {
-                    b.len()
-                };
+                let limit = if round % 2 == 0 { 400.min(b.len()) } else { b.len() };
                 let at = (next() as usize) % limit;
                 b[at] = next() as u8;
             }
@@ -630,18 +451,11 @@ fn corrupted_files_never_panic() {
             fs::write(&path, &b).unwrap();
             match load(&path) {
                 Ok(m) => {
-                    assert!(m
-                        .texels()
-                        .iter()
-                        .flatten()
-                        .all(|v| v.is_finite() && *v >= 0.0));
+                    assert!(m.texels().iter().flatten().all(|v| v.is_finite() && *v >= 0.0));
                     ok += 1
                 }
                 Err(e) => {
-                    assert!(
-                        e.to_string().starts_with(&path.display().to_string()),
-                        "{e}"
-                    );
+                    assert!(e.to_string().starts_with(&path.display().to_string()), "{e}");
                     if matches!(e, LoadError::DecoderPanic { .. }) {
                         println!("caught: {e}");
                         panicked += 1;
@@ -650,10 +464,7 @@ fn corrupted_files_never_panic() {
                 }
             }
         }
-        println!(
-            "{}: {ok} loaded, {failed} rejected ({panicked} decoder panics caught)",
-            path.display()
-        );
+        println!("{}: {ok} loaded, {failed} rejected ({panicked} decoder panics caught)", path.display());
     }
 }
 
@@ -663,36 +474,22 @@ fn hdr_loads_and_corrupt_hdr_is_rejected() {
     use image::Rgb;
     let dir = tmp();
     let (w, h) = (16, 8);
-    let px: Vec<Rgb<f32>> = (0..w * h)
-        .map(|k| Rgb([0.25 * (k % 7) as f32, 2.0f32.powi((k % 5) as i32), 1.0]))
-        .collect();
+    let px: Vec<Rgb<f32>> =
+        (0..w * h).map(|k| Rgb([0.25 * (k % 7) as f32, 2.0f32.powi((k % 5) as i32), 1.0])).collect();
     let path = dir.path().join("probe.hdr");
-    HdrEncoder::new(fs::File::create(&path).unwrap())
-        .encode(&px, w, h)
-        .unwrap();
+    HdrEncoder::new(fs::File::create(&path).unwrap()).encode(&px, w, h).unwrap();
     let map = load(&path).unwrap();
-    assert_eq!(
-        (map.width(), map.height(), map.name.as_str()),
-        (16, 8, "probe")
-    );
+    assert_eq!((map.width(), map.height(), map.name.as_str()), (16, 8, "probe"));
     for (k, p) in px.iter().enumerate() {
         let t = map.texels()[k];
         for c in 0..3 {
-            assert!(
-                (t[c] - p.0[c]).abs() <= 0.01 * p.0[c],
-                "texel {k}: {t:?} vs {:?}",
-                p.0
-            );
+            assert!((t[c] - p.0[c]).abs() <= 0.01 * p.0[c], "texel {k}: {t:?} vs {:?}", p.0);
         }
     }
     let good = fs::read(&path).unwrap();
 
     let bad = dir.path().join("bad_dims.hdr");
-    fs::write(
-        &bad,
-        b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y eight +X 16\n",
-    )
-    .unwrap();
+    fs::write(&bad, b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y eight +X 16\n").unwrap();
     expect_error(&bad, &["bad_dims.hdr", "invalid Radiance HDR"]);
 
     let bad = dir.path().join("flipped.hdr");
@@ -708,11 +505,7 @@ fn hdr_loads_and_corrupt_hdr_is_rejected() {
     expect_error(&bad, &["header_only.hdr"]);
 
     let bad = dir.path().join("huge.hdr");
-    fs::write(
-        &bad,
-        b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 100000000 +X 200000000\n",
-    )
-    .unwrap();
+    fs::write(&bad, b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 100000000 +X 200000000\n").unwrap();
     expect_error(&bad, &["huge.hdr", "200000000x100000000", "refusing"]);
 
     let bad = dir.path().join("zero.hdr");
@@ -720,9 +513,7 @@ fn hdr_loads_and_corrupt_hdr_is_rejected() {
     expect_error(&bad, &["zero.hdr", "zero size (0x0)"]);
 
     let bad = dir.path().join("square.hdr");
-    HdrEncoder::new(fs::File::create(&bad).unwrap())
-        .encode(&[Rgb([1.0f32; 3]); 16], 4, 4)
-        .unwrap();
+    HdrEncoder::new(fs::File::create(&bad).unwrap()).encode(&[Rgb([1.0f32; 3]); 16], 4, 4).unwrap();
     expect_error(&bad, &["square.hdr", "2:1"]);
 }
 
@@ -737,11 +528,7 @@ fn errors_are_typed() {
 /// The folders of `PROBELAB_ENVMAPS`, or `None` (with a note) when it is unset.
 fn shared_envmap_dirs() -> Option<Vec<PathBuf>> {
     match std::env::var_os("PROBELAB_ENVMAPS") {
-        Some(v) => Some(
-            std::env::split_paths(&v)
-                .filter(|p| !p.as_os_str().is_empty())
-                .collect(),
-        ),
+        Some(v) => Some(std::env::split_paths(&v).filter(|p| !p.as_os_str().is_empty()).collect()),
         None => {
             println!("note: PROBELAB_ENVMAPS is not set; skipping the shared probe checks");
             None
@@ -771,11 +558,7 @@ fn shared_probes_load() {
         for f in files {
             let map = load(&f).unwrap_or_else(|e| panic!("{e}"));
             assert_eq!(map.width(), 2 * map.height(), "{}", f.display());
-            assert!(map
-                .texels()
-                .iter()
-                .flatten()
-                .all(|v| v.is_finite() && *v >= 0.0));
+            assert!(map.texels().iter().flatten().all(|v| v.is_finite() && *v >= 0.0));
             if map.name == "grace_256x128" || map.name == "wells_probulator" {
                 assert_eq!((map.width(), map.height()), (256, 128), "{}", f.display());
             }

@@ -20,22 +20,14 @@ fn worst_relative(width: usize, scene: &probelab::scenes::Scene) -> f64 {
     let cf: Vec<Rgb> = normals.iter().map(|&n| scene.irradiance(n)).collect();
     let rms = (cf.iter().map(|e| e.length_squared()).sum::<f64>() / (3.0 * cf.len() as f64)).sqrt();
     let got = r.irradiance_many(&normals);
-    got.iter()
-        .zip(&cf)
-        .map(|(g, c)| (*g - *c).abs().max_element() / rms)
-        .fold(0.0, f64::max)
+    got.iter().zip(&cf).map(|(g, c)| (*g - *c).abs().max_element() / rms).fold(0.0, f64::max)
 }
 
 #[test]
 fn reference_matches_closed_forms_to_1e4() {
     for s in generated() {
         let e512 = worst_relative(1024, &s);
-        println!(
-            "{:16} 512: {:.2e}  1024: {:.2e}",
-            s.id,
-            worst_relative(512, &s),
-            e512
-        );
+        println!("{:16} 512: {:.2e}  1024: {:.2e}", s.id, worst_relative(512, &s), e512);
         assert!(e512 < 1e-4, "{}: {e512:e}", s.id);
     }
 }
@@ -51,10 +43,7 @@ fn hemisphere_effect_on_constant_gives_hemisphere_light() {
         for n in fibonacci_sphere(50) {
             let want = 0.5 * (1.0 + n.dot(big_n));
             let got = r.irradiance(n);
-            assert!(
-                (got - Rgb::splat(want)).abs().max_element() < 1e-5,
-                "N {big_n} n {n}: {got} vs {want}"
-            );
+            assert!((got - Rgb::splat(want)).abs().max_element() < 1e-5, "N {big_n} n {n}: {got} vs {want}");
         }
     }
 }

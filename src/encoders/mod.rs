@@ -15,21 +15,9 @@ pub struct EncoderKind {
 
 /// Every encoder kind, in the order tables list them.
 pub const REGISTRY: &[EncoderKind] = &[
-    EncoderKind {
-        id: "sh0",
-        summary: "SH band 0 only (constant)",
-        build: sh::build_sh0,
-    },
-    EncoderKind {
-        id: "sh1",
-        summary: "SH L1 irradiance (bands 0-1)",
-        build: sh::build_sh1,
-    },
-    EncoderKind {
-        id: "sh2",
-        summary: "SH L2 irradiance (bands 0-2)",
-        build: sh::build_sh2,
-    },
+    EncoderKind { id: "sh0", summary: "SH band 0 only (constant)", build: sh::build_sh0 },
+    EncoderKind { id: "sh1", summary: "SH L1 irradiance (bands 0-1)", build: sh::build_sh1 },
+    EncoderKind { id: "sh2", summary: "SH L2 irradiance (bands 0-2)", build: sh::build_sh2 },
 ];
 
 /// The ids of every registered encoder, comma-separated (for error messages).
@@ -50,19 +38,12 @@ pub fn build(kind: &str, name: Option<&str>, params: toml::Table) -> Result<Name
     };
     let mut p = Params::new(params);
     let encoder = (k.build)(&mut p).with_context(|| format!("configuring encoder '{kind}'"))?;
-    Ok(NamedEncoder {
-        name: name.unwrap_or(kind).to_string(),
-        encoder,
-    })
+    Ok(NamedEncoder { name: name.unwrap_or(kind).to_string(), encoder })
 }
 
 /// Builds encoders from a comma-separated list of kinds (the `--encoders` option).
 pub fn build_list(list: &str) -> Result<Vec<NamedEncoder>> {
-    list.split(',')
-        .map(str::trim)
-        .filter(|s| !s.is_empty())
-        .map(|k| build(k, None, toml::Table::new()))
-        .collect()
+    list.split(',').map(str::trim).filter(|s| !s.is_empty()).map(|k| build(k, None, toml::Table::new())).collect()
 }
 
 #[cfg(test)]
@@ -72,11 +53,7 @@ mod tests {
     #[test]
     fn ids_are_unique_and_match_the_built_encoder() {
         for (i, k) in REGISTRY.iter().enumerate() {
-            assert!(
-                REGISTRY[i + 1..].iter().all(|o| o.id != k.id),
-                "duplicate {}",
-                k.id
-            );
+            assert!(REGISTRY[i + 1..].iter().all(|o| o.id != k.id), "duplicate {}", k.id);
             let e = build(k.id, None, toml::Table::new()).unwrap();
             assert_eq!(e.encoder.id(), k.id);
         }
@@ -84,14 +61,8 @@ mod tests {
 
     #[test]
     fn unknown_encoder_lists_valid_ones() {
-        let e = build("sh9", None, toml::Table::new())
-            .err()
-            .unwrap()
-            .to_string();
-        assert!(
-            e.contains("unknown encoder 'sh9'") && e.contains("sh1"),
-            "{e}"
-        );
+        let e = build("sh9", None, toml::Table::new()).err().unwrap().to_string();
+        assert!(e.contains("unknown encoder 'sh9'") && e.contains("sh1"), "{e}");
         let mut t = toml::Table::new();
         t.insert("bogus".into(), toml::Value::Integer(1));
         let e = format!("{:#}", build("sh1", None, t).err().unwrap());

@@ -24,10 +24,7 @@ pub struct ShEncoder {
 impl ShEncoder {
     pub fn new(max_band: usize) -> Self {
         let id = ["sh0", "sh1", "sh2"][max_band.min(2)];
-        ShEncoder {
-            id,
-            max_band: max_band.min(2),
-        }
+        ShEncoder { id, max_band: max_band.min(2) }
     }
 }
 
@@ -48,9 +45,7 @@ impl Encoder for ShEncoder {
         3 * (self.max_band + 1) * (self.max_band + 1)
     }
     fn fit(&self, input: &FitInput) -> Box<dyn Fitted> {
-        Box::new(ShIrradiance(
-            input.visible_sh.truncate(self.max_band).convolve_cosine(),
-        ))
+        Box::new(ShIrradiance(input.visible_sh.truncate(self.max_band).convolve_cosine()))
     }
 }
 
@@ -91,12 +86,7 @@ mod tests {
         let sh = constant(Rgb::new(0.5, 1.0, 2.0));
         for b in 0..=2 {
             let f = ShEncoder::new(b).fit(&FitInput::sphere(&sh));
-            assert!(
-                (f.irradiance(DVec3::NEG_Z) - Rgb::new(0.5, 1.0, 2.0))
-                    .abs()
-                    .max_element()
-                    < 1e-15
-            );
+            assert!((f.irradiance(DVec3::NEG_Z) - Rgb::new(0.5, 1.0, 2.0)).abs().max_element() < 1e-15);
         }
         assert_eq!(ShEncoder::new(1).stored_scalars(), 12);
         assert_eq!(ShEncoder::new(2).stored_scalars(), 27);

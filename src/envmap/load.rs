@@ -13,9 +13,8 @@
 
 use super::{EnvMap, MapError, Texel};
 use exr::prelude::{
-    read, Blocks, ChannelDescription, Compression, Encoding, Image, Layer, LayerAttributes,
-    LineOrder, MetaData, ReadChannels, ReadLayers, ReadSpecificChannel, SampleType,
-    SpecificChannels, Text, Vec2, WritableImage,
+    read, Blocks, ChannelDescription, Compression, Encoding, Image, Layer, LayerAttributes, LineOrder, MetaData,
+    ReadChannels, ReadLayers, ReadSpecificChannel, SampleType, SpecificChannels, Text, Vec2, WritableImage,
 };
 use image::codecs::hdr::HdrDecoder;
 use image::{ImageDecoder, ImageError};
@@ -46,11 +45,7 @@ const SUPPORTED: &str = "supported formats: OpenEXR (.exr, starts with bytes 76 
 pub enum LoadError {
     /// The file could not be opened, inspected or read (missing, permission denied, ...).
     #[error("{}: cannot {action}: {source}", .path.display())]
-    Io {
-        path: PathBuf,
-        action: &'static str,
-        source: io::Error,
-    },
+    Io { path: PathBuf, action: &'static str, source: io::Error },
     /// The path names a directory.
     #[error("{}: is a directory, not an image file", .path.display())]
     IsDirectory { path: PathBuf },
@@ -62,54 +57,29 @@ pub enum LoadError {
     Empty { path: PathBuf },
     /// The first bytes match neither the OpenEXR magic number nor the Radiance signature.
     #[error("{}: unrecognised file format: bad magic number (first bytes: {found}){note}; {SUPPORTED}", .path.display())]
-    UnknownFormat {
-        path: PathBuf,
-        found: String,
-        note: String,
-    },
+    UnknownFormat { path: PathBuf, found: String, note: String },
     /// The decoder ran off the end of the file: the file is cut short, or a length or
     /// offset in it points past the end.
     #[error("{}: file is truncated (or a length field in it is corrupt): the data ends at {len} bytes where the {format} decoder expected more ({detail})", .path.display())]
-    Truncated {
-        path: PathBuf,
-        format: &'static str,
-        len: u64,
-        detail: String,
-    },
+    Truncated { path: PathBuf, format: &'static str, len: u64, detail: String },
     /// The header claims a size above [`MAX_WIDTH`] x [`MAX_HEIGHT`]; nothing was decoded.
     #[error("{}: header claims an image of {width}x{height} pixels, above the limit of {MAX_WIDTH}x{MAX_HEIGHT}; refusing to decode it", .path.display())]
-    TooLarge {
-        path: PathBuf,
-        width: usize,
-        height: usize,
-    },
+    TooLarge { path: PathBuf, width: usize, height: usize },
     /// The header claims a zero width or height.
     #[error("{}: image has zero size ({width}x{height})", .path.display())]
-    ZeroSize {
-        path: PathBuf,
-        width: usize,
-        height: usize,
-    },
+    ZeroSize { path: PathBuf, width: usize, height: usize },
     /// The pixels do not form a valid map: wrong aspect, NaN, infinite or negative texels.
     #[error("{}: {source}", .path.display())]
     Map { path: PathBuf, source: MapError },
     /// The OpenEXR file holds more than one part.
     #[error("{}: multi-part OpenEXR file with {parts} parts ({names}); only single-part files are supported", .path.display())]
-    MultiPart {
-        path: PathBuf,
-        parts: usize,
-        names: String,
-    },
+    MultiPart { path: PathBuf, parts: usize, names: String },
     /// The OpenEXR file holds deep data.
     #[error("{}: OpenEXR file contains deep data, which is not supported (need a flat RGB image)", .path.display())]
     Deep { path: PathBuf },
     /// Some of the R, G, B channels are missing.
     #[error("{}: missing channel(s) {missing}; the file has channels: {present} (need R, G, B, or one layer's LAYER.R, LAYER.G, LAYER.B)", .path.display())]
-    MissingChannel {
-        path: PathBuf,
-        missing: String,
-        present: String,
-    },
+    MissingChannel { path: PathBuf, missing: String, present: String },
     /// Several layers of one part each have a full set of R, G, B channels.
     #[error("{}: ambiguous RGB channels: layers {layers} each have R, G and B, and there are no unprefixed R, G, B channels", .path.display())]
     AmbiguousChannels { path: PathBuf, layers: String },
@@ -118,12 +88,7 @@ pub enum LoadError {
     IntegerChannel { path: PathBuf, channel: String },
     /// A colour channel is subsampled.
     #[error("{}: channel {channel} is subsampled ({x}x{y}); only full-resolution channels are supported", .path.display())]
-    Subsampled {
-        path: PathBuf,
-        channel: String,
-        x: usize,
-        y: usize,
-    },
+    Subsampled { path: PathBuf, channel: String, x: usize, y: usize },
     /// The OpenEXR decoder rejected the file.
     #[error("{}: invalid or unsupported OpenEXR data: {message}", .path.display())]
     Exr { path: PathBuf, message: String },
@@ -132,11 +97,7 @@ pub enum LoadError {
     Hdr { path: PathBuf, message: String },
     /// A decoder panicked; the panic was caught.
     #[error("{}: {format} decoder failed on malformed data (it panicked: {message})", .path.display())]
-    DecoderPanic {
-        path: PathBuf,
-        format: &'static str,
-        message: String,
-    },
+    DecoderPanic { path: PathBuf, format: &'static str, message: String },
 }
 
 /// Why [`write_exr`] failed. Every message starts with the file path.
@@ -144,11 +105,7 @@ pub enum LoadError {
 pub enum WriteError {
     /// Creating, writing, syncing or renaming a file failed.
     #[error("{}: cannot {action}: {source}", .path.display())]
-    Io {
-        path: PathBuf,
-        action: &'static str,
-        source: io::Error,
-    },
+    Io { path: PathBuf, action: &'static str, source: io::Error },
     /// The OpenEXR encoder failed.
     #[error("{}: OpenEXR encoding failed: {message}", .path.display())]
     Encode { path: PathBuf, message: String },
@@ -169,46 +126,29 @@ enum Format {
 /// [`MAX_WIDTH`] x [`MAX_HEIGHT`], is not 2:1, lacks R, G, B channels, or has a NaN,
 /// infinite or negative texel. Never panics on bad input.
 pub fn load(path: &Path) -> Result<EnvMap, LoadError> {
-    let io_err = |action, source| LoadError::Io {
-        path: path.to_path_buf(),
-        action,
-        source,
-    };
+    let io_err = |action, source| LoadError::Io { path: path.to_path_buf(), action, source };
     let meta = fs::metadata(path).map_err(|e| io_err("read file metadata", e))?;
     if meta.is_dir() {
-        return Err(LoadError::IsDirectory {
-            path: path.to_path_buf(),
-        });
+        return Err(LoadError::IsDirectory { path: path.to_path_buf() });
     }
     if !meta.is_file() {
-        return Err(LoadError::NotAFile {
-            path: path.to_path_buf(),
-        });
+        return Err(LoadError::NotAFile { path: path.to_path_buf() });
     }
     if meta.len() == 0 {
-        return Err(LoadError::Empty {
-            path: path.to_path_buf(),
-        });
+        return Err(LoadError::Empty { path: path.to_path_buf() });
     }
     let mut file = File::open(path).map_err(|e| io_err("open file", e))?;
     let mut head = [0u8; 4];
     let n = read_up_to(&mut file, &mut head).map_err(|e| io_err("read file", e))?;
     let format = detect(path, &head[..n])?;
-    file.seek(SeekFrom::Start(0))
-        .map_err(|e| io_err("seek in file", e))?;
+    file.seek(SeekFrom::Start(0)).map_err(|e| io_err("seek in file", e))?;
     let (width, height, texels) = match format {
         Format::Exr => read_exr(path, &mut file, meta.len())?,
         Format::Hdr => read_hdr(path, &mut file, meta.len())?,
     };
-    let name = path
-        .file_stem()
-        .unwrap_or(path.as_os_str())
-        .to_string_lossy()
-        .into_owned();
-    let mut map = EnvMap::new(name, width, height, texels).map_err(|source| LoadError::Map {
-        path: path.to_path_buf(),
-        source,
-    })?;
+    let name = path.file_stem().unwrap_or(path.as_os_str()).to_string_lossy().into_owned();
+    let mut map = EnvMap::new(name, width, height, texels)
+        .map_err(|source| LoadError::Map { path: path.to_path_buf(), source })?;
     map.path = Some(path.to_path_buf());
     Ok(map)
 }
@@ -242,35 +182,19 @@ fn write_exr_to(path: &Path, tmp_path: &Path, file: File, map: &EnvMap) -> Resul
         let [r, g, b] = map.texel(pos.x(), pos.y());
         (r, g, b)
     });
-    let encoding = Encoding {
-        compression: Compression::ZIP16,
-        blocks: Blocks::ScanLines,
-        line_order: LineOrder::Increasing,
-    };
-    let attributes = LayerAttributes {
-        software_name: Some(Text::from("probelab")),
-        ..LayerAttributes::default()
-    };
+    let encoding =
+        Encoding { compression: Compression::ZIP16, blocks: Blocks::ScanLines, line_order: LineOrder::Increasing };
+    let attributes = LayerAttributes { software_name: Some(Text::from("probelab")), ..LayerAttributes::default() };
     let layer = Layer::new((map.width(), map.height()), attributes, encoding, channels);
     let mut writer = BufWriter::new(file);
     Image::from_layer(layer)
         .write()
         .non_parallel()
         .to_buffered(&mut writer)
-        .map_err(|e| WriteError::Encode {
-            path: path.to_path_buf(),
-            message: e.to_string(),
-        })?;
-    let io_err = |action, source| WriteError::Io {
-        path: tmp_path.to_path_buf(),
-        action,
-        source,
-    };
-    let file = writer
-        .into_inner()
-        .map_err(|e| io_err("flush the temporary file", e.into_error()))?;
-    file.sync_all()
-        .map_err(|e| io_err("sync the temporary file", e))
+        .map_err(|e| WriteError::Encode { path: path.to_path_buf(), message: e.to_string() })?;
+    let io_err = |action, source| WriteError::Io { path: tmp_path.to_path_buf(), action, source };
+    let file = writer.into_inner().map_err(|e| io_err("flush the temporary file", e.into_error()))?;
+    file.sync_all().map_err(|e| io_err("sync the temporary file", e))
 }
 
 /// Creates a new, uniquely named temporary file in the directory of `path`.
@@ -280,10 +204,7 @@ fn create_temp_beside(path: &Path) -> Result<(PathBuf, File), WriteError> {
         Some(d) if !d.as_os_str().is_empty() => d,
         _ => Path::new("."),
     };
-    let stem = path
-        .file_name()
-        .unwrap_or(path.as_os_str())
-        .to_string_lossy();
+    let stem = path.file_name().unwrap_or(path.as_os_str()).to_string_lossy();
     let mut last_error = None;
     for _ in 0..16 {
         let n = COUNTER.fetch_add(1, Ordering::Relaxed);
@@ -329,14 +250,8 @@ fn detect(path: &Path, head: &[u8]) -> Result<Format, LoadError> {
     if head.starts_with(&HDR_SIGNATURE) {
         return Ok(Format::Hdr);
     }
-    let found = head
-        .iter()
-        .map(|b| format!("{b:02x}"))
-        .collect::<Vec<_>>()
-        .join(" ");
-    let ext = path
-        .extension()
-        .map(|e| e.to_string_lossy().to_ascii_lowercase());
+    let found = head.iter().map(|b| format!("{b:02x}")).collect::<Vec<_>>().join(" ");
+    let ext = path.extension().map(|e| e.to_string_lossy().to_ascii_lowercase());
     let note = match ext.as_deref() {
         _ if head.len() < EXR_MAGIC.len() => {
             format!(", only {} byte(s) long", head.len())
@@ -345,11 +260,7 @@ fn detect(path: &Path, head: &[u8]) -> Result<Format, LoadError> {
         Some("hdr") | Some("pic") => ", although the name ends in .hdr".to_string(),
         _ => String::new(),
     };
-    Err(LoadError::UnknownFormat {
-        path: path.to_path_buf(),
-        found,
-        note,
-    })
+    Err(LoadError::UnknownFormat { path: path.to_path_buf(), found, note })
 }
 
 /// Checks a size read from a header before any pixel memory is allocated: not zero, at
@@ -357,24 +268,13 @@ fn detect(path: &Path, head: &[u8]) -> Result<Format, LoadError> {
 fn check_size(path: &Path, width: usize, height: usize) -> Result<(), LoadError> {
     let path = path.to_path_buf();
     if width == 0 || height == 0 {
-        return Err(LoadError::ZeroSize {
-            path,
-            width,
-            height,
-        });
+        return Err(LoadError::ZeroSize { path, width, height });
     }
     if width > MAX_WIDTH || height > MAX_HEIGHT {
-        return Err(LoadError::TooLarge {
-            path,
-            width,
-            height,
-        });
+        return Err(LoadError::TooLarge { path, width, height });
     }
     if width != 2 * height {
-        return Err(LoadError::Map {
-            path,
-            source: MapError::Aspect { width, height },
-        });
+        return Err(LoadError::Map { path, source: MapError::Aspect { width, height } });
     }
     Ok(())
 }
@@ -407,34 +307,19 @@ fn watched<'f>(
     path: &Path,
     file: &'f mut File,
 ) -> Result<(BufReader<EofWatch<&'f mut File>>, Arc<AtomicBool>), LoadError> {
-    file.seek(SeekFrom::Start(0))
-        .map_err(|source| LoadError::Io {
-            path: path.to_path_buf(),
-            action: "seek in file",
-            source,
-        })?;
+    file.seek(SeekFrom::Start(0)).map_err(|source| LoadError::Io {
+        path: path.to_path_buf(),
+        action: "seek in file",
+        source,
+    })?;
     let flag = Arc::new(AtomicBool::new(false));
-    Ok((
-        BufReader::new(EofWatch {
-            inner: file,
-            hit_eof: flag.clone(),
-        }),
-        flag,
-    ))
+    Ok((BufReader::new(EofWatch { inner: file, hit_eof: flag.clone() }), flag))
 }
 
 /// Runs a decoder step, turning a panic into [`LoadError::DecoderPanic`].
-fn guarded<T>(
-    path: &Path,
-    format: &'static str,
-    f: impl FnOnce() -> Result<T, LoadError>,
-) -> Result<T, LoadError> {
+fn guarded<T>(path: &Path, format: &'static str, f: impl FnOnce() -> Result<T, LoadError>) -> Result<T, LoadError> {
     panic::catch_unwind(AssertUnwindSafe(f)).unwrap_or_else(|payload| {
-        Err(LoadError::DecoderPanic {
-            path: path.to_path_buf(),
-            format,
-            message: panic_message(payload.as_ref()),
-        })
+        Err(LoadError::DecoderPanic { path: path.to_path_buf(), format, message: panic_message(payload.as_ref()) })
     })
 }
 
@@ -454,23 +339,11 @@ fn panic_message(payload: &(dyn Any + Send)) -> String {
 fn exr_error(path: &Path, len: u64, hit_eof: bool, e: exr::error::Error) -> LoadError {
     let path = path.to_path_buf();
     if hit_eof {
-        return LoadError::Truncated {
-            path,
-            format: "OpenEXR",
-            len,
-            detail: e.to_string(),
-        };
+        return LoadError::Truncated { path, format: "OpenEXR", len, detail: e.to_string() };
     }
     match e {
-        exr::error::Error::Io(source) => LoadError::Io {
-            path,
-            action: "read file",
-            source,
-        },
-        e => LoadError::Exr {
-            path,
-            message: e.to_string(),
-        },
+        exr::error::Error::Io(source) => LoadError::Io { path, action: "read file", source },
+        e => LoadError::Exr { path, message: e.to_string() },
     }
 }
 
@@ -479,34 +352,18 @@ fn hdr_error(path: &Path, len: u64, hit_eof: bool, e: ImageError) -> LoadError {
     let path = path.to_path_buf();
     let eof = matches!(&e, ImageError::IoError(io) if io.kind() == io::ErrorKind::UnexpectedEof);
     if hit_eof || eof {
-        return LoadError::Truncated {
-            path,
-            format: "Radiance HDR",
-            len,
-            detail: e.to_string(),
-        };
+        return LoadError::Truncated { path, format: "Radiance HDR", len, detail: e.to_string() };
     }
     match e {
-        ImageError::IoError(source) => LoadError::Io {
-            path,
-            action: "read file",
-            source,
-        },
-        e => LoadError::Hdr {
-            path,
-            message: e.to_string(),
-        },
+        ImageError::IoError(source) => LoadError::Io { path, action: "read file", source },
+        e => LoadError::Hdr { path, message: e.to_string() },
     }
 }
 
 /// Reads an OpenEXR file: header first (validated by [`check_exr_header`]), then the
 /// pixels of the selected R, G, B channels as f32. Returns width, height and row-major
 /// texels (row 0 at the top of the data window).
-fn read_exr(
-    path: &Path,
-    file: &mut File,
-    len: u64,
-) -> Result<(usize, usize, Vec<Texel>), LoadError> {
+fn read_exr(path: &Path, file: &mut File, len: u64) -> Result<(usize, usize, Vec<Texel>), LoadError> {
     const FORMAT: &str = "OpenEXR";
     let (reader, hit_eof) = watched(path, file)?;
     let meta = guarded(path, FORMAT, || {
@@ -525,13 +382,10 @@ fn read_exr(
             .required(g)
             .required(b)
             .collect_pixels(
-                |size: Vec2<usize>,
-                 _: &(ChannelDescription, ChannelDescription, ChannelDescription)| {
+                |size: Vec2<usize>, _: &(ChannelDescription, ChannelDescription, ChannelDescription)| {
                     (size.width(), vec![[0.0f32; 3]; size.area()])
                 },
-                |(w, texels): &mut (usize, Vec<Texel>),
-                 pos: Vec2<usize>,
-                 (r, g, b): (f32, f32, f32)| {
+                |(w, texels): &mut (usize, Vec<Texel>), pos: Vec2<usize>, (r, g, b): (f32, f32, f32)| {
                     if let Some(t) = texels.get_mut(pos.y() * *w + pos.x()) {
                         *t = [r, g, b];
                     }
@@ -568,12 +422,7 @@ fn check_exr_header(path: &Path, meta: &MetaData) -> Result<(usize, usize, [Text
     }
     let header = match meta.headers.as_slice() {
         [h] => h,
-        [] => {
-            return Err(LoadError::Exr {
-                path: p(),
-                message: "the file has no header".into(),
-            })
-        }
+        [] => return Err(LoadError::Exr { path: p(), message: "the file has no header".into() }),
         hs => {
             let names = hs
                 .iter()
@@ -584,11 +433,7 @@ fn check_exr_header(path: &Path, meta: &MetaData) -> Result<(usize, usize, [Text
                 })
                 .collect::<Vec<_>>()
                 .join(", ");
-            return Err(LoadError::MultiPart {
-                path: p(),
-                parts: hs.len(),
-                names,
-            });
+            return Err(LoadError::MultiPart { path: p(), parts: hs.len(), names });
         }
     };
     let (width, height) = (header.layer_size.width(), header.layer_size.height());
@@ -598,10 +443,7 @@ fn check_exr_header(path: &Path, meta: &MetaData) -> Result<(usize, usize, [Text
     for &i in &chosen {
         let c = &list[i];
         if c.sample_type == SampleType::U32 {
-            return Err(LoadError::IntegerChannel {
-                path: p(),
-                channel: c.name.to_string(),
-            });
+            return Err(LoadError::IntegerChannel { path: p(), channel: c.name.to_string() });
         }
         if (c.sampling.x(), c.sampling.y()) != (1, 1) {
             return Err(LoadError::Subsampled {
@@ -623,11 +465,7 @@ fn check_exr_header(path: &Path, meta: &MetaData) -> Result<(usize, usize, [Text
 fn select_rgb(path: &Path, list: &[ChannelDescription]) -> Result<[usize; 3], LoadError> {
     let names: Vec<String> = list.iter().map(|c| c.name.to_string()).collect();
     let find = |prefix: &str, c: char| {
-        let full = if prefix.is_empty() {
-            c.to_string()
-        } else {
-            format!("{prefix}.{c}")
-        };
+        let full = if prefix.is_empty() { c.to_string() } else { format!("{prefix}.{c}") };
         names.iter().position(|n| *n == full)
     };
     let full_set = |prefix: &str| match (find(prefix, 'R'), find(prefix, 'G'), find(prefix, 'B')) {
@@ -640,21 +478,14 @@ fn select_rgb(path: &Path, list: &[ChannelDescription]) -> Result<[usize; 3], Lo
     // Layer prefixes that have at least one of R, G, B, in channel-list order.
     let mut prefixes: Vec<&str> = Vec::new();
     for n in &names {
-        let prefix = n
-            .strip_suffix(".R")
-            .or(n.strip_suffix(".G"))
-            .or(n.strip_suffix(".B"));
+        let prefix = n.strip_suffix(".R").or(n.strip_suffix(".G")).or(n.strip_suffix(".B"));
         if let Some(p) = prefix {
             if !prefixes.contains(&p) {
                 prefixes.push(p);
             }
         }
     }
-    let complete: Vec<&str> = prefixes
-        .iter()
-        .copied()
-        .filter(|p| full_set(p).is_some())
-        .collect();
+    let complete: Vec<&str> = prefixes.iter().copied().filter(|p| full_set(p).is_some()).collect();
     match complete.as_slice() {
         [only] => {
             if let Some(set) = full_set(only) {
@@ -663,24 +494,12 @@ fn select_rgb(path: &Path, list: &[ChannelDescription]) -> Result<[usize; 3], Lo
         }
         [] => {}
         several => {
-            let layers = several
-                .iter()
-                .map(|p| format!("'{p}'"))
-                .collect::<Vec<_>>()
-                .join(", ");
-            return Err(LoadError::AmbiguousChannels {
-                path: path.to_path_buf(),
-                layers,
-            });
+            let layers = several.iter().map(|p| format!("'{p}'")).collect::<Vec<_>>().join(", ");
+            return Err(LoadError::AmbiguousChannels { path: path.to_path_buf(), layers });
         }
     }
     // Report against the candidate set with the most channels present (unprefixed on ties).
-    let present_count = |p: &str| {
-        ['R', 'G', 'B']
-            .iter()
-            .filter(|&&c| find(p, c).is_some())
-            .count()
-    };
+    let present_count = |p: &str| ['R', 'G', 'B'].iter().filter(|&&c| find(p, c).is_some()).count();
     let mut best = "";
     for p in &prefixes {
         if present_count(p) > present_count(best) {
@@ -690,42 +509,23 @@ fn select_rgb(path: &Path, list: &[ChannelDescription]) -> Result<[usize; 3], Lo
     let missing = ['R', 'G', 'B']
         .iter()
         .filter(|&&c| find(best, c).is_none())
-        .map(|&c| {
-            if best.is_empty() {
-                c.to_string()
-            } else {
-                format!("{best}.{c}")
-            }
-        })
+        .map(|&c| if best.is_empty() { c.to_string() } else { format!("{best}.{c}") })
         .collect::<Vec<_>>()
         .join(", ");
-    let present = if names.is_empty() {
-        "(none)".to_string()
-    } else {
-        names.join(", ")
-    };
-    Err(LoadError::MissingChannel {
-        path: path.to_path_buf(),
-        missing,
-        present,
-    })
+    let present = if names.is_empty() { "(none)".to_string() } else { names.join(", ") };
+    Err(LoadError::MissingChannel { path: path.to_path_buf(), missing, present })
 }
 
 /// Reads a Radiance RGBE file with the `image` crate. The header (and so the size) is
 /// parsed and checked before the pixel buffer is allocated. Returns width, height and
 /// row-major texels (row 0 at the top).
-fn read_hdr(
-    path: &Path,
-    file: &mut File,
-    len: u64,
-) -> Result<(usize, usize, Vec<Texel>), LoadError> {
+fn read_hdr(path: &Path, file: &mut File, len: u64) -> Result<(usize, usize, Vec<Texel>), LoadError> {
     let (reader, hit_eof) = watched(path, file)?;
     let eof = || hit_eof.load(Ordering::Relaxed);
     guarded(path, "Radiance HDR", || {
         // Non-strict: `detect` has already seen the "#?" signature, and this also accepts
         // "#?RGBE" files, which the strict mode (requiring "#?RADIANCE") refuses.
-        let decoder =
-            HdrDecoder::new_nonstrict(reader).map_err(|e| hdr_error(path, len, eof(), e))?;
+        let decoder = HdrDecoder::new_nonstrict(reader).map_err(|e| hdr_error(path, len, eof(), e))?;
         let (w, h) = decoder.dimensions();
         let (width, height) = (w as usize, h as usize);
         check_size(path, width, height)?;
@@ -735,9 +535,7 @@ fn read_hdr(
             height,
         })?;
         let mut buf = vec![0u8; bytes];
-        decoder
-            .read_image(&mut buf)
-            .map_err(|e| hdr_error(path, len, eof(), e))?;
+        decoder.read_image(&mut buf).map_err(|e| hdr_error(path, len, eof(), e))?;
         let texels = buf
             .chunks_exact(12)
             .map(|px| {
@@ -758,10 +556,7 @@ mod tests {
         let path = Path::new("maps/x.exr");
         let r: Result<(), LoadError> = guarded(path, "OpenEXR", || panic!("index out of bounds"));
         let msg = r.unwrap_err().to_string();
-        assert_eq!(
-            msg,
-            "maps/x.exr: OpenEXR decoder failed on malformed data (it panicked: index out of bounds)"
-        );
+        assert_eq!(msg, "maps/x.exr: OpenEXR decoder failed on malformed data (it panicked: index out of bounds)");
         let r = guarded(path, "OpenEXR", || Ok(7));
         assert_eq!(r.unwrap(), 7);
     }
@@ -771,30 +566,16 @@ mod tests {
         let p = Path::new("a.hdr");
         assert_eq!(detect(p, &EXR_MAGIC).unwrap(), Format::Exr);
         assert_eq!(detect(Path::new("a.exr"), b"#?RA").unwrap(), Format::Hdr);
-        let msg = detect(Path::new("a.exr"), b"\x89PNG")
-            .unwrap_err()
-            .to_string();
-        assert!(
-            msg.starts_with("a.exr: unrecognised file format: bad magic number"),
-            "{msg}"
-        );
-        assert!(
-            msg.contains("89 50 4e 47") && msg.contains("ends in .exr"),
-            "{msg}"
-        );
+        let msg = detect(Path::new("a.exr"), b"\x89PNG").unwrap_err().to_string();
+        assert!(msg.starts_with("a.exr: unrecognised file format: bad magic number"), "{msg}");
+        assert!(msg.contains("89 50 4e 47") && msg.contains("ends in .exr"), "{msg}");
     }
 
     #[test]
     fn check_size_order_of_checks() {
         let p = Path::new("m.exr");
-        assert!(matches!(
-            check_size(p, 0, 0),
-            Err(LoadError::ZeroSize { .. })
-        ));
-        assert!(matches!(
-            check_size(p, 32768, 16384),
-            Err(LoadError::TooLarge { .. })
-        ));
+        assert!(matches!(check_size(p, 0, 0), Err(LoadError::ZeroSize { .. })));
+        assert!(matches!(check_size(p, 32768, 16384), Err(LoadError::TooLarge { .. })));
         assert!(matches!(check_size(p, 1, 1), Err(LoadError::Map { .. })));
         assert!(check_size(p, MAX_WIDTH, MAX_HEIGHT).is_ok());
         assert!(check_size(p, 2, 1).is_ok());

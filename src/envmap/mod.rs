@@ -33,44 +33,23 @@ pub struct EnvMap {
 /// Errors of map construction that do not involve a file (the loader wraps them with the path).
 #[derive(Debug, thiserror::Error, PartialEq)]
 pub enum MapError {
-    #[error(
-        "size {width}x{height} is not a 2:1 lat-long map (width must be 2 x height, height >= 1)"
-    )]
+    #[error("size {width}x{height} is not a 2:1 lat-long map (width must be 2 x height, height >= 1)")]
     Aspect { width: usize, height: usize },
     #[error("texel count {got} does not match {width}x{height}")]
-    Count {
-        width: usize,
-        height: usize,
-        got: usize,
-    },
+    Count { width: usize, height: usize, got: usize },
     #[error("{count} texel value(s) are {kind} (first at pixel x={x}, y={y}, channel {channel})")]
-    BadTexels {
-        kind: &'static str,
-        count: usize,
-        x: usize,
-        y: usize,
-        channel: char,
-    },
+    BadTexels { kind: &'static str, count: usize, x: usize, y: usize, channel: char },
 }
 
 impl EnvMap {
     /// Builds a map from row-major texels (row 0 = zenith), checking the 2:1 aspect and that
     /// every value is finite and non-negative.
-    pub fn new(
-        name: impl Into<String>,
-        width: usize,
-        height: usize,
-        texels: Vec<Texel>,
-    ) -> Result<Self, MapError> {
+    pub fn new(name: impl Into<String>, width: usize, height: usize, texels: Vec<Texel>) -> Result<Self, MapError> {
         if height == 0 || width != 2 * height {
             return Err(MapError::Aspect { width, height });
         }
         if texels.len() != width * height {
-            return Err(MapError::Count {
-                width,
-                height,
-                got: texels.len(),
-            });
+            return Err(MapError::Count { width, height, got: texels.len() });
         }
         for (kind, bad) in [
             ("NaN", (|v: f32| v.is_nan()) as fn(f32) -> bool),
@@ -97,13 +76,7 @@ impl EnvMap {
                 });
             }
         }
-        Ok(Self {
-            name: name.into(),
-            path: None,
-            width,
-            height,
-            texels,
-        })
+        Ok(Self { name: name.into(), path: None, width, height, texels })
     }
 
     /// Builds a map by evaluating `f(i, j)` for every texel (row j, column i).
@@ -250,36 +223,18 @@ mod tests {
 
     #[test]
     fn rejects_bad_aspect_and_values() {
-        assert_eq!(
-            EnvMap::new("a", 3, 2, vec![[0.0; 3]; 6]).unwrap_err(),
-            MapError::Aspect {
-                width: 3,
-                height: 2
-            }
-        );
+        assert_eq!(EnvMap::new("a", 3, 2, vec![[0.0; 3]; 6]).unwrap_err(), MapError::Aspect { width: 3, height: 2 });
         let mut t = vec![[1.0f32; 3]; 8];
         t[5][1] = f32::NAN;
         t[6][2] = f32::NAN;
         match EnvMap::new("a", 4, 2, t).unwrap_err() {
-            MapError::BadTexels {
-                kind,
-                count,
-                x,
-                y,
-                channel,
-            } => {
+            MapError::BadTexels { kind, count, x, y, channel } => {
                 assert_eq!((kind, count, x, y, channel), ("NaN", 2, 1, 1, 'G'))
             }
             e => panic!("{e}"),
         }
         let mut t = vec![[1.0f32; 3]; 8];
         t[0][0] = -1.0;
-        assert!(matches!(
-            EnvMap::new("a", 4, 2, t),
-            Err(MapError::BadTexels {
-                kind: "negative",
-                ..
-            })
-        ));
+        assert!(matches!(EnvMap::new("a", 4, 2, t), Err(MapError::BadTexels { kind: "negative", .. })));
     }
 }

@@ -88,10 +88,7 @@ impl SearchPath {
             return Ok(as_file.to_path_buf());
         }
         for dir in &self.dirs {
-            let mut candidates = vec![
-                dir.join(format!("{name}.exr")),
-                dir.join(format!("{name}.hdr")),
-            ];
+            let mut candidates = vec![dir.join(format!("{name}.exr")), dir.join(format!("{name}.hdr"))];
             if has_ext {
                 candidates.push(dir.join(name));
             }
@@ -104,26 +101,12 @@ impl SearchPath {
         } else {
             self.dirs
                 .iter()
-                .map(|d| {
-                    if d.is_dir() {
-                        d.display().to_string()
-                    } else {
-                        format!("{} (missing)", d.display())
-                    }
-                })
+                .map(|d| if d.is_dir() { d.display().to_string() } else { format!("{} (missing)", d.display()) })
                 .collect::<Vec<_>>()
                 .join(", ")
         };
-        let as_path = if looks_like_path {
-            " (no such file)".to_string()
-        } else {
-            String::new()
-        };
-        Err(SearchError::NotFound {
-            name: name.to_string(),
-            as_path,
-            searched,
-        })
+        let as_path = if looks_like_path { " (no such file)".to_string() } else { String::new() };
+        Err(SearchError::NotFound { name: name.to_string(), as_path, searched })
     }
 
     /// Resolves `name` (see [`SearchPath::resolve`]) and loads the map with [`load::load`].
@@ -211,33 +194,18 @@ mod tests {
         assert!(msg.contains("README"), "{msg}");
         // A path-like name that does not exist says so, and still lists the folders.
         let msg = sp.resolve("sub/nope.exr").unwrap_err().to_string();
-        assert!(
-            msg.contains("'sub/nope.exr' not found (no such file)"),
-            "{msg}"
-        );
-        assert!(
-            msg.contains(&format!("{} (missing)", gone.display())),
-            "{msg}"
-        );
+        assert!(msg.contains("'sub/nope.exr' not found (no such file)"), "{msg}");
+        assert!(msg.contains(&format!("{} (missing)", gone.display())), "{msg}");
         assert_eq!(sp.resolve(""), Err(SearchError::EmptyName));
     }
 
     #[cfg(unix)]
     #[test]
     fn from_list_puts_repo_first_and_skips_empty_entries() {
-        let sp = SearchPath::from_list(
-            PathBuf::from("repo/envmaps"),
-            Some(OsStr::new(":/x/maps::/y:repo/envmaps:")),
-        );
-        let want: Vec<PathBuf> = ["repo/envmaps", "/x/maps", "/y"]
-            .iter()
-            .map(PathBuf::from)
-            .collect();
+        let sp = SearchPath::from_list(PathBuf::from("repo/envmaps"), Some(OsStr::new(":/x/maps::/y:repo/envmaps:")));
+        let want: Vec<PathBuf> = ["repo/envmaps", "/x/maps", "/y"].iter().map(PathBuf::from).collect();
         assert_eq!(sp.dirs(), want.as_slice());
-        assert_eq!(
-            SearchPath::from_list(PathBuf::from("r"), None).dirs(),
-            [PathBuf::from("r")]
-        );
+        assert_eq!(SearchPath::from_list(PathBuf::from("r"), None).dirs(), [PathBuf::from("r")]);
     }
 
     #[test]
