@@ -160,22 +160,68 @@ fn hex(b: &[u8]) -> String {
     b.iter().map(|x| format!("{x:02x}")).collect()
 }
 
+/// Per-map data computed once and shared by every case: the row moments (for the reference
+/// and masked projections) and the probe's L2 SH.
+pub struct MapData<'m> {
+    pub map: &'m EnvMap,
+    pub moments: RowMoments,
+    pub probe_sh: Sh9,
+}
+
+impl<'m> MapData<'m> {
+    pub fn new(map: &'m EnvMap) -> Self {
+        MapData { map, moments: RowMoments::new(map), probe_sh: project(map) }
+    }
+}
+
+/// Per-case data: the visible SH, the exact reference under the case's caps, and the exact
+/// irradiance at N. Renders and timing use this too, so everything scores the same inputs.
+pub struct CaseData<'a> {
+    pub case: &'a Case,
+    pub probe_sh: Sh9,
+    pub visible_sh: Sh9,
+    pub reference: Reference<'a>,
+    pub exact_at_normal: Option<Rgb>,
+}
+
+impl<'a> CaseData<'a> {
+    /// Only the declared effects are simulated: with no caps the visible SH is the probe SH.
+    pub fn new(data: &'a MapData, case: &'a Case, polar_nodes: usize) -> Self {
+        let visible_sh = if case.masks.is_empty() {
+            data.probe_sh
+        } else {
+            project_visible(&data.moments, &case.masks, polar_nodes)
+        };
+        let reference = Reference::new(&data.moments, case.masks.clone(), polar_nodes);
+        let exact_at_normal = case.normal.map(|n| reference.irradiance(n));
+        CaseData { case, probe_sh: data.probe_sh, visible_sh, reference, exact_at_normal }
+    }
+
+    /// What every encoder is fitted from.
+    pub fn fit_input(&self) -> FitInput<'_> {
+        FitInput {
+            probe_sh: &self.probe_sh,
+            visible_sh: &self.visible_sh,
+            surface_normal: self.case.normal,
+            cone: self.case.cone,
+            exact_at_normal: self.exact_at_normal,
+        }
+    }
+}
+
 /// Scores every encoder of the experiment on one in-memory map.
 pub fn run_map(exp: &Experiment, map: &EnvMap) -> Vec<Row> {
-    let moments = RowMoments::new(map);
-    let probe_sh = project(map);
+    let data = MapData::new(map);
     let all = cases(exp);
-    let per_case: Vec<Vec<Row>> = all.par_iter().map(|case| run_case(exp, map, &moments, &probe_sh, case)).collect();
+    let per_case: Vec<Vec<Row>> = all.par_iter().map(|case| run_case(exp, &data, case)).collect();
     per_case.into_iter().flatten().collect()
 }
 
-fn run_case(exp: &Experiment, map: &EnvMap, moments: &RowMoments, probe_sh: &Sh9, case: &Case) -> Vec<Row> {
-    let visible_sh =
-        if case.masks.is_empty() { *probe_sh } else { project_visible(moments, &case.masks, exp.polar_nodes) };
-    let reference = Reference::new(moments, case.masks.clone(), exp.polar_nodes);
-    let exact_at_normal = case.normal.map(|n| reference.irradiance(n));
-    let input =
-        FitInput { probe_sh, visible_sh: &visible_sh, surface_normal: case.normal, cone: case.cone, exact_at_normal };
+fn run_case(exp: &Experiment, data: &MapData, case: &Case) -> Vec<Row> {
+    let map = data.map;
+    let cd = CaseData::new(data, case, exp.polar_nodes);
+    let reference = &cd.reference;
+    let input = cd.fit_input();
     let fitted: Vec<_> = exp.encoders.iter().map(|e| e.encoder.fit(&input)).collect();
     let mut rows = Vec::new();
     // One output grid (and one reference evaluation) per distinct metric grid.
