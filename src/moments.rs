@@ -120,6 +120,13 @@ impl RowMoments {
     /// The cumulative moments ∫_{−π}^{θ} on row j, for any real θ (periodic extension).
     #[inline]
     pub fn cumulative(&self, j: usize, theta: f64) -> Moments {
+        self.cumulative_to(j, theta, 2)
+    }
+
+    /// As [`Self::cumulative`], computing the partial texel only for m ≤ `max_m` (m2 is then
+    /// left at the prefix value and must not be used).
+    #[inline]
+    fn cumulative_to(&self, j: usize, theta: f64, max_m: usize) -> Moments {
         let w = self.width as f64;
         let u = (theta + PI) / self.dtheta;
         let wraps = (u / w).floor();
@@ -135,7 +142,7 @@ impl RowMoments {
         if delta != 0.0 {
             let l = self.texels[j * self.width + k];
             out.m0 += l * delta;
-            for m in 1..=2usize {
+            for m in 1..=max_m {
                 let x = m as f64 * delta;
                 let (sx, half) = (x.sin(), (0.5 * x).sin());
                 // (1 − e^{−ix})/(im) = sin x/m − i(1 − cos x)/m
@@ -181,6 +188,16 @@ impl RowMoments {
             return self.row_total(j);
         }
         self.cumulative(j, arc.hi()) - self.cumulative(j, arc.lo)
+    }
+
+    /// Moments m0 and m1 of row j over an arc (m2 is not valid in the result): what the
+    /// clamped-cosine kernel needs, at two thirds of the cost.
+    #[inline]
+    pub fn arc01(&self, j: usize, arc: Arc) -> Moments {
+        if arc.len >= TAU {
+            return self.row_total(j);
+        }
+        self.cumulative_to(j, arc.hi(), 1) - self.cumulative_to(j, arc.lo, 1)
     }
 }
 

@@ -31,6 +31,9 @@ pub struct Reference<'a> {
     masks: Vec<Cap>,
     rule: Vec<(f64, f64)>,
     grid: LatLong,
+    /// Per row, the (sin φ, cos φ, w·sin φ) of its Gauss–Legendre nodes when no breakpoint
+    /// splits it (the common case).
+    row_nodes: Vec<Vec<(f64, f64, f64)>>,
 }
 
 impl<'a> Reference<'a> {
@@ -38,12 +41,19 @@ impl<'a> Reference<'a> {
     /// cap of `masks` (empty: the whole sphere), integrating each row piece with `polar_nodes`
     /// Gauss–Legendre nodes.
     pub fn new(moments: &'a RowMoments, masks: Vec<Cap>, polar_nodes: usize) -> Self {
-        Self {
-            moments,
-            masks,
-            rule: gauss_legendre(polar_nodes.max(1)),
-            grid: LatLong::new(moments.width(), moments.height()),
-        }
+        let rule = gauss_legendre(polar_nodes.max(1));
+        let grid = LatLong::new(moments.width(), moments.height());
+        let row_nodes = (0..grid.height)
+            .map(|j| {
+                let mut v = Vec::with_capacity(rule.len());
+                for_each_polar_node(grid.phi_edge(j), grid.phi_edge(j + 1), &[], &rule, |phi, w| {
+                    let (s, c) = phi.sin_cos();
+                    v.push((s, c, w * s));
+                });
+                v
+            })
+            .collect();
+        Self { moments, masks, rule, grid, row_nodes }
     }
 
     /// A human-readable description for tables and reports.
@@ -69,27 +79,43 @@ impl<'a> Reference<'a> {
                 }
             }
         }
+        let breaks = &breaks[..nb];
         let (sin_t, cos_t) = kernel.theta().sin_cos();
         let mut acc = Rgb::ZERO;
+        let mut node = |j: usize, s: f64, c: f64, ws: f64| {
+            let mut arcs = Arcs::full().intersect(kernel.arc(s, c));
+            for m in &self.masks {
+                if arcs.is_empty() {
+                    return;
+                }
+                arcs = arcs.intersect(m.arc(s, c));
+            }
+            let (a, b) = kernel.dot_coefficients(s, c);
+            for arc in arcs.as_slice() {
+                let m = self.moments.arc01(j, *arc);
+                // ∫ L (a cos(θ − θn) + b) dθ = b·m0 + a·Re(e^{iθn} m1)
+                acc += (m.m0 * b + (m.m1[0] * cos_t - m.m1[1] * sin_t) * a) * ws;
+            }
+        };
         for j in 0..self.grid.height {
             let (p0, p1) = (self.grid.phi_edge(j), self.grid.phi_edge(j + 1));
-            for_each_polar_node(p0, p1, &breaks[..nb], &self.rule, |phi, w| {
-                let (s, c) = phi.sin_cos();
-                let mut arcs = Arcs::full().intersect(kernel.arc(s, c));
-                for m in &self.masks {
-                    if arcs.is_empty() {
-                        break;
-                    }
-                    arcs = arcs.intersect(m.arc(s, c));
+            if breaks.iter().any(|&b| b > p0 && b < p1) {
+                for_each_polar_node(p0, p1, breaks, &self.rule, |phi, w| {
+                    let (s, c) = phi.sin_cos();
+                    node(j, s, c, w * s);
+                });
+            } else {
+                // No cap boundary is tangent inside the row: its arcs keep their shape, so a
+                // row the kernel misses at one node is missed at all of them.
+                let nodes = &self.row_nodes[j];
+                let (s, c, _) = nodes[0];
+                if kernel.arc(s, c).is_none() {
+                    continue;
                 }
-                let (a, b) = kernel.dot_coefficients(s, c);
-                let ws = w * s;
-                for arc in arcs.as_slice() {
-                    let m = self.moments.arc(j, *arc);
-                    // ∫ L (a cos(θ − θn) + b) dθ = b·m0 + a·Re(e^{iθn} m1)
-                    acc += (m.m0 * b + (m.m1[0] * cos_t - m.m1[1] * sin_t) * a) * ws;
+                for &(s, c, ws) in nodes {
+                    node(j, s, c, ws);
                 }
-            });
+            }
         }
         acc * FRAC_1_PI
     }
