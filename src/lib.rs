@@ -18,3 +18,4 @@ pub mod runner;
 pub mod scenes;
 pub mod sh;
 pub mod table;
+pub mod tolerance;
