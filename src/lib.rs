@@ -2,6 +2,7 @@
 //! See ARCHITECTURE.md for the module map.
 
 pub mod atomic;
+pub mod baseline;
 pub mod cap;
 pub mod cli;
 pub mod domain;
@@ -12,6 +13,7 @@ pub mod experiment;
 pub mod metrics;
 pub mod moments;
 pub mod projection;
+pub mod provenance;
 pub mod quadrature;
 pub mod reference;
 pub mod runner;
