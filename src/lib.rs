@@ -4,6 +4,7 @@
 pub mod atomic;
 pub mod baseline;
 pub mod cap;
+pub mod check;
 pub mod cli;
 pub mod domain;
 pub mod encoder;
