@@ -451,10 +451,11 @@ pub fn check_command(
 }
 
 /// `probelab bless`: re-runs the experiments (by default all of them), prints the same report
-/// as `check`, and rewrites the baselines that differ. Every experiment is run and compared
+/// as `check`, and rewrites the baselines that differ (all of them with `force`, which
+/// refreshes the provenance and ignored columns such as timings). Every experiment is run and compared
 /// before anything is written. A named experiment whose maps are missing is an error (nothing
 /// is written); by default such experiments are skipped and listed.
-pub fn bless_command(root: &Path, search: &SearchPath, out: &Path, names: &[String]) -> Result<i32> {
+pub fn bless_command(root: &Path, search: &SearchPath, out: &Path, names: &[String], force: bool) -> Result<i32> {
     let tolerances = Tolerances::load(root)?;
     let (exps, _) = select(root, names, false)?;
     let mut staged = Vec::new();
@@ -474,17 +475,18 @@ pub fn bless_command(root: &Path, search: &SearchPath, out: &Path, names: &[Stri
         }
         let c = compare_with_baseline(&out.join(&exp.name), exp, &report, &tolerances, false)?;
         print!("{}", c.report());
-        let files = if c.passed() { None } else { Some(baseline_files(exp, &report, root)?) };
-        staged.push((exp.name.clone(), files));
+        let files = if c.passed() && !force { None } else { Some(baseline_files(exp, &report, root)?) };
+        staged.push((exp.name.clone(), c.passed(), files));
     }
-    for (name, files) in staged {
+    for (name, passed, files) in staged {
         let dir = out.join(&name);
         match files {
             None => println!("bless {name}: nothing moved; {} left unchanged", dir.display()),
             Some(files) => {
                 baseline::write_all(&dir, &files)?;
                 let list: Vec<&str> = files.iter().map(|(n, _)| n.as_str()).collect();
-                println!("bless {name}: wrote {} in {}", list.join(", "), dir.display());
+                let why = if passed { " (nothing moved; rewritten because of --force)" } else { "" };
+                println!("bless {name}: wrote {} in {}{why}", list.join(", "), dir.display());
             }
         }
     }

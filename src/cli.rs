@@ -90,6 +90,9 @@ pub enum Command {
     Bless {
         /// Experiment names or files (default: every experiment).
         experiments: Vec<String>,
+        /// Rewrite even when nothing moved (refreshes provenance and ignored columns).
+        #[arg(long)]
+        force: bool,
         /// Baselines folder (default: <root>/results).
         #[arg(long)]
         out: Option<PathBuf>,
@@ -159,7 +162,9 @@ pub fn main_with(cli: Cli) -> Result<i32> {
         Command::Check { experiments, all, allow_missing, out } => {
             crate::check::check_command(&root, &search, &results(out), &experiments, all, allow_missing)
         }
-        Command::Bless { experiments, out } => crate::check::bless_command(&root, &search, &results(out), &experiments),
+        Command::Bless { experiments, force, out } => {
+            crate::check::bless_command(&root, &search, &results(out), &experiments, force)
+        }
         Command::Eval { maps, encoders: list, domain, metric, resolution, polar_nodes } => {
             let exp = eval_experiment(maps, &list, &domain, &metric, &resolution, polar_nodes)?;
             let report = runner::run(&exp, &search)?;

@@ -325,11 +325,17 @@ fn run_check_bless_cycle() {
     assert_eq!(finding_lines(&bless_out, "cyc"), lines, "{bless_out}");
     assert!(bless_out.contains("bless cyc: wrote table.csv, provenance.toml"), "{bless_out}");
     assert_eq!(read("table.csv"), table0);
+    let prov_blessed = read("provenance.toml");
     let (code, so, _) = run(&["check", e]);
     assert_eq!(code, Some(0), "{so}");
     let (code, so, _) = run(&["bless", e]);
     assert_eq!(code, Some(0));
     assert!(so.contains("nothing moved") && so.contains("left unchanged"), "{so}");
+    assert_eq!(read("provenance.toml"), prov_blessed);
+    let (code, so, _) = run(&["bless", e, "--force"]);
+    assert_eq!(code, Some(0));
+    assert!(so.contains("rewritten because of --force"), "{so}");
+    assert_eq!(read("table.csv"), table0);
 
     // A map whose file changed since the baseline is reported, and its rows are not compared.
     let good_prov = read("provenance.toml");
