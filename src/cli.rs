@@ -24,7 +24,8 @@ pub struct Cli {
 
 #[derive(Subcommand, Debug)]
 pub enum Command {
-    /// Run experiment files and write results/<name>/table.csv.
+    /// Run experiment files and write results/<name>/table.csv (a table that exists is a
+    /// baseline: left unchanged if nothing moved, refused if something did; see `bless`).
     Run {
         /// Experiment TOML files.
         #[arg(required = true)]
@@ -70,6 +71,32 @@ pub enum Command {
         #[arg(long, default_value_t = 1024)]
         width: usize,
     },
+    /// Re-run experiments and compare every number with its baseline in results/ (exit 1 if
+    /// anything moved).
+    Check {
+        /// Experiment names or files (default: every experiment with `ci = true`).
+        experiments: Vec<String>,
+        /// Also check the experiments marked `ci = false` (the full check).
+        #[arg(long)]
+        all: bool,
+        /// Do not fail when a map is not on this machine (its rows are reported, not compared).
+        #[arg(long)]
+        allow_missing: bool,
+        /// Baselines folder (default: <root>/results).
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
+    /// Re-run experiments and rewrite the baselines that differ, printing the differences.
+    Bless {
+        /// Experiment names or files (default: every experiment).
+        experiments: Vec<String>,
+        /// Rewrite even when nothing moved (refreshes provenance and ignored columns).
+        #[arg(long)]
+        force: bool,
+        /// Baselines folder (default: <root>/results).
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
     /// List the encoders.
     Encoders,
     /// Show the map search path and which maps it finds.
@@ -87,6 +114,7 @@ pub fn main_with(cli: Cli) -> Result<i32> {
     match cli.command {
         Command::Run { experiments, out } => {
             let out = results(out);
+            let mut refused = Vec::new();
             for path in experiments {
                 let exp = Experiment::load(&path)?;
                 let report = runner::run(&exp, &search)?;
@@ -98,19 +126,23 @@ pub fn main_with(cli: Cli) -> Result<i32> {
                         describe_search(&search)
                     );
                 }
-                write_results(&out, &exp, &report)?;
+                if !write_results(&root, &out, &exp, &report)? {
+                    refused.push(exp.name.clone());
+                }
             }
-            Ok(0)
+            Ok(crate::check::refused_exit(&refused))
         }
         Command::Reproduce { out } => {
             let out = results(out);
             let dir = root.join("experiments");
-            let mut skipped = Vec::new();
+            let (mut skipped, mut refused) = (Vec::new(), Vec::new());
             for path in list_experiments(&dir)? {
                 let exp = Experiment::load(&path)?;
                 let report = runner::run(&exp, &search)?;
                 if report.missing.is_empty() {
-                    write_results(&out, &exp, &report)?;
+                    if !write_results(&root, &out, &exp, &report)? {
+                        refused.push(exp.name.clone());
+                    }
                 } else {
                     eprintln!("skipped {}: map(s) not found: {}", exp.name, report.missing.join(", "));
                     skipped.push(exp.name.clone());
@@ -125,7 +157,13 @@ pub fn main_with(cli: Cli) -> Result<i32> {
                     describe_search(&search)
                 );
             }
-            Ok(0)
+            Ok(crate::check::refused_exit(&refused))
+        }
+        Command::Check { experiments, all, allow_missing, out } => {
+            crate::check::check_command(&root, &search, &results(out), &experiments, all, allow_missing)
+        }
+        Command::Bless { experiments, force, out } => {
+            crate::check::bless_command(&root, &search, &results(out), &experiments, force)
         }
         Command::Eval { maps, encoders: list, domain, metric, resolution, polar_nodes } => {
             let exp = eval_experiment(maps, &list, &domain, &metric, &resolution, polar_nodes)?;
@@ -186,12 +224,12 @@ fn describe_search(s: &SearchPath) -> String {
         .join(", ")
 }
 
-/// Writes results/<name>/table.csv atomically.
-pub fn write_results(out: &Path, exp: &Experiment, report: &runner::RunReport) -> Result<()> {
-    let dir = out.join(&exp.name);
-    table::write_csv(&dir.join("table.csv"), &report.rows)?;
-    eprintln!("wrote {} ({} rows)", dir.join("table.csv").display(), report.rows.len());
-    Ok(())
+/// Writes results/<name>/table.csv and provenance.toml atomically when there is no table
+/// yet; an existing table is a baseline and is never overwritten here (only `bless` does):
+/// returns false, printing the differences, if its numbers moved (`check::store`).
+pub fn write_results(root: &Path, out: &Path, exp: &Experiment, report: &runner::RunReport) -> Result<bool> {
+    let stored = crate::check::store(out, root, exp, report)?;
+    Ok(crate::check::print_stored(exp, out, &stored, report.rows.len()))
 }
 
 /// The experiment `probelab eval` runs.

@@ -47,6 +47,12 @@ pub trait Encoder: Send + Sync {
     fn peer_clamps(&self) -> bool {
         true
     }
+    /// Whether the fit runs an iterative solver (a nonlinear least-squares or optimisation
+    /// loop) rather than a closed form. `probelab check` gives iterative encoders the looser
+    /// tolerances of `tolerances.toml` (`class = "iterative"`).
+    fn is_iterative(&self) -> bool {
+        false
+    }
 }
 
 /// A fitted encoding: evaluates E/π at a normal.

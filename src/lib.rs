@@ -2,7 +2,9 @@
 //! See ARCHITECTURE.md for the module map.
 
 pub mod atomic;
+pub mod baseline;
 pub mod cap;
+pub mod check;
 pub mod cli;
 pub mod domain;
 pub mod encoder;
@@ -12,9 +14,11 @@ pub mod experiment;
 pub mod metrics;
 pub mod moments;
 pub mod projection;
+pub mod provenance;
 pub mod quadrature;
 pub mod reference;
 pub mod runner;
 pub mod scenes;
 pub mod sh;
 pub mod table;
+pub mod tolerance;

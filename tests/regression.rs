@@ -1,0 +1,366 @@
+//! Regression on the numbers (issue 9): the committed baselines pass `probelab check`; tables
+//! are bit-identical for any thread count; `check` catches a broken band scale and a number one
+//! ulp beyond its tolerance; `run` refuses to overwrite a moved baseline; `bless` rewrites it
+//! atomically and prints the same differences as `check`.
+
+use probelab::baseline::Table;
+use probelab::check::{compare_with_baseline, Finding};
+use probelab::encoder::{Encoder, FitInput, Fitted};
+use probelab::encoders::NamedEncoder;
+use probelab::envmap::search::SearchPath;
+use probelab::experiment::Experiment;
+use probelab::provenance::{sha256_hex, Provenance};
+use probelab::sh::band_of;
+use probelab::tolerance::{EncoderClass, Tolerance, Tolerances};
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn repo() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// Runs the binary in the repository (root "."), with PROBELAB_ENVMAPS set or unset.
+fn probelab(args: &[&str], envmaps: Option<&str>) -> Output {
+    let mut c = Command::new(env!("CARGO_BIN_EXE_probelab"));
+    c.args(args).current_dir(repo());
+    match envmaps {
+        Some(e) => c.env("PROBELAB_ENVMAPS", e),
+        None => c.env_remove("PROBELAB_ENVMAPS"),
+    };
+    c.output().expect("run probelab")
+}
+
+fn text(o: &Output) -> (String, String) {
+    (String::from_utf8_lossy(&o.stdout).into_owned(), String::from_utf8_lossy(&o.stderr).into_owned())
+}
+
+/// The CI check: every committed experiment with `ci = true` re-runs and matches its baseline.
+/// In CI (`CI=true`) or when PROBELAB_ENVMAPS is set, a missing map fails the test; only on a
+/// developer machine without PROBELAB_ENVMAPS are missing maps allowed, and said so.
+#[test]
+fn committed_baselines_pass_check() {
+    let ci = std::env::var("CI").is_ok_and(|v| v == "true" || v == "1");
+    let envmaps = std::env::var("PROBELAB_ENVMAPS").ok();
+    let strict = ci || envmaps.is_some();
+    let mut args = vec!["check"];
+    if !strict {
+        args.push("--allow-missing");
+    }
+    let out = probelab(&args, envmaps.as_deref());
+    let (stdout, stderr) = text(&out);
+    eprintln!("{stdout}{stderr}");
+    assert!(
+        out.status.success(),
+        "`probelab {}` failed: a committed baseline moved (or a map is missing). If the change is intended, \
+         run `probelab bless` and quote its output in the commit message.\n{stdout}{stderr}",
+        args.join(" ")
+    );
+    assert!(stdout.contains("nothing moved"), "{stdout}");
+    if !strict && stdout.contains("NOT checked") {
+        eprintln!("note: maps missing here were not checked; set PROBELAB_ENVMAPS=../shared/envmaps to check them");
+    }
+}
+
+/// Every registered encoder, as TOML list items.
+fn all_encoders() -> String {
+    probelab::encoders::REGISTRY.iter().map(|k| format!("{:?}", k.id)).collect::<Vec<_>>().join(", ")
+}
+
+/// The same experiments with 1, 2 and 3 worker threads (separate processes, `--jobs`) give the
+/// same bytes. They cover every registered encoder and the three reference paths: the lat-long
+/// fast path (sphere, no effects, map width a multiple of the grid's), the general path on a
+/// hemisphere domain under hemisphere and cone effects, and the general path on a sphere under
+/// a cone (with masked projections), plus both metrics.
+#[test]
+fn tables_are_bit_identical_for_any_thread_count() {
+    let d = tempfile::tempdir().unwrap();
+    let enc = all_encoders();
+    let files = [
+        (
+            "det_sphere",
+            format!("maps = [\"gen_sun_sky\", \"gen_two_lights\"]\nencoders = [{enc}]\nmetrics = [\"exact\", \"probulator\"]\n"),
+        ),
+        (
+            "det_surface",
+            format!(
+                "maps = [\"gen_sky_sun\"]\nencoders = [{enc}]\ndomain = \"hemisphere\"\norientations = [\"up\", \"+x\"]\n\
+                 effects = [\"hemisphere\", {{ kind = \"cone\", cos_alpha = [0.5], tilt_deg = [0, 30] }}]\n\
+                 resolution = [64, 32]\n"
+            ),
+        ),
+        (
+            "det_cone",
+            format!(
+                "maps = [\"gen_cone\"]\nencoders = [{enc}]\norientations = [\"-z\"]\n\
+                 effects = [{{ kind = \"cone\", cos_alpha = [0.7] }}]\nresolution = [64, 32]\n"
+            ),
+        ),
+    ];
+    let mut paths = Vec::new();
+    for (name, body) in &files {
+        let p = d.path().join(format!("{name}.toml"));
+        std::fs::write(&p, body).unwrap();
+        paths.push(p.to_str().unwrap().to_string());
+    }
+    let mut tables: Vec<Vec<Vec<u8>>> = Vec::new();
+    for jobs in ["1", "2", "3"] {
+        let out_dir = d.path().join(format!("jobs{jobs}"));
+        let mut args = vec!["--jobs", jobs, "run"];
+        args.extend(paths.iter().map(|s| s.as_str()));
+        args.extend(["--out", out_dir.to_str().unwrap()]);
+        let o = probelab(&args, None);
+        assert!(o.status.success(), "{}", text(&o).1);
+        tables.push(files.iter().map(|(n, _)| std::fs::read(out_dir.join(n).join("table.csv")).unwrap()).collect());
+    }
+    for (i, (name, _)) in files.iter().enumerate() {
+        let rows = Table::parse(&tables[0][i], Path::new(name)).unwrap().rows.len();
+        assert!(rows > 0, "{name}: empty table");
+        for (t, jobs) in tables.iter().zip(["1", "2", "3"]).skip(1) {
+            assert!(t[i] == tables[0][i], "{name}: --jobs {jobs} differs from --jobs 1");
+        }
+    }
+}
+
+/// A deliberately broken variant of sh1: band 1 scaled by 0.6667 instead of Â₁ = 2/3 (a
+/// rounded constant, 5e-5 relative). Everything else as `sh1` (FORMULAS §3).
+struct BrokenSh1;
+
+impl Encoder for BrokenSh1 {
+    fn id(&self) -> &str {
+        "sh1"
+    }
+    fn stored_scalars(&self) -> usize {
+        12
+    }
+    fn fit(&self, input: &FitInput) -> Box<dyn Fitted> {
+        let mut sh = input.visible_sh.truncate(1);
+        for i in 0..9 {
+            sh[i] *= [1.0, 0.6667, 0.25][band_of(i)];
+        }
+        Box::new(probelab::encoders::sh::ShIrradiance(sh))
+    }
+}
+
+/// `check` catches the broken band scale against the committed generated_scenes baseline: it
+/// reports moved numbers for sh1 on every scene with a linear (band 1) component, and nothing
+/// else — not for sh0 or sh2, and not for the constant scene, whose band 1 is zero.
+#[test]
+fn check_catches_a_changed_band_scale() {
+    let mut exp = Experiment::load(&repo().join("experiments/generated_scenes.toml")).unwrap();
+    let i = exp.encoders.iter().position(|e| e.name == "sh1").expect("generated_scenes has sh1");
+    exp.encoders[i] = NamedEncoder { name: "sh1".into(), encoder: Box::new(BrokenSh1) };
+    let search = SearchPath::new(vec![repo().join("envmaps")]);
+    let report = probelab::runner::run(&exp, &search).unwrap();
+    let tolerances = Tolerances::load(&repo()).unwrap();
+    let c = compare_with_baseline(&repo().join("results/generated_scenes"), &exp, &report, &tolerances, false).unwrap();
+    let report_text = c.report();
+    eprintln!("{report_text}");
+    assert!(!c.passed());
+    let mut maps = std::collections::BTreeSet::new();
+    for f in &c.findings {
+        match f {
+            Finding::Change(probelab::baseline::Change::Moved { key, .. }) if key.encoder == "sh1" => {
+                maps.insert(key.map.clone());
+            }
+            other => panic!("unexpected finding: {other}"),
+        }
+    }
+    let want: std::collections::BTreeSet<String> =
+        ["gen_hemisphere", "gen_sun_sky", "gen_two_lights", "gen_cone", "gen_sky_sun"].map(String::from).into();
+    assert_eq!(maps, want);
+    assert!(
+        report_text.contains("generated_scenes: moved    gen_sun_sky  sh1  sphere  exact  rmse  "),
+        "{report_text}"
+    );
+}
+
+fn write_provenance_sha(dir: &Path) {
+    let p = dir.join("provenance.toml");
+    let mut prov = Provenance::read(&p).unwrap();
+    prov.table_sha256 = sha256_hex(&std::fs::read(dir.join("table.csv")).unwrap());
+    std::fs::write(&p, prov.to_toml().unwrap()).unwrap();
+}
+
+/// The table text with one cell replaced.
+fn with_cell(table: &str, map: &str, encoder: &str, column: &str, value: &str) -> String {
+    let t = Table::parse(table.as_bytes(), Path::new("t")).unwrap();
+    let col = |n: &str| t.columns.iter().position(|c| c == n).unwrap();
+    let mut w = csv::Writer::from_writer(Vec::new());
+    w.write_record(&t.columns).unwrap();
+    let mut hit = false;
+    for r in &t.rows {
+        let mut r = r.clone();
+        if r[col("map")] == map && r[col("encoder")] == encoder {
+            r[col(column)] = value.to_string();
+            hit = true;
+        }
+        w.write_record(&r).unwrap();
+    }
+    assert!(hit, "no row {map} {encoder}");
+    String::from_utf8(w.into_inner().unwrap()).unwrap()
+}
+
+fn finding_lines(stdout: &str, exp: &str) -> Vec<String> {
+    let prefix = format!("{exp}: ");
+    stdout
+        .lines()
+        .filter(|l| l.starts_with(&prefix) && !l.contains("FAILED") && !l.contains(": ok"))
+        .map(String::from)
+        .collect()
+}
+
+/// The whole cycle through the binary on a small experiment with its baseline in a temporary
+/// folder: a first `run` writes the baseline, a second leaves it untouched; `check` passes;
+/// a number one ulp beyond its tolerance fails `check` (and a hand edit is noticed), one at the
+/// tolerance passes; `run` refuses to overwrite; an interrupted `bless` keeps the old baseline;
+/// `bless` prints the same lines as `check` and restores the true numbers; a changed map
+/// checksum and a missing map are reported.
+#[test]
+fn run_check_bless_cycle() {
+    let d = tempfile::tempdir().unwrap();
+    let exp = d.path().join("cyc.toml");
+    std::fs::write(
+        &exp,
+        "maps = [\"gen_sun_sky\", \"gen_two_lights\"]\nencoders = [\"sh1\", \"sh2\"]\nresolution = [64, 32]\n",
+    )
+    .unwrap();
+    let out = d.path().join("results");
+    let base = out.join("cyc");
+    let (e, o) = (exp.to_str().unwrap(), out.to_str().unwrap());
+    let run = |args: &[&str]| {
+        let mut a = args.to_vec();
+        a.extend(["--out", o]);
+        let r = probelab(&a, None);
+        let (so, se) = text(&r);
+        (r.status.code(), so, se)
+    };
+    let read = |n: &str| std::fs::read_to_string(base.join(n)).unwrap();
+
+    let (code, _, err) = run(&["run", e]);
+    assert_eq!(code, Some(0), "{err}");
+    assert!(err.contains("new baseline"), "{err}");
+    let (table0, prov0) = (read("table.csv"), read("provenance.toml"));
+    let prov = Provenance::read(&base.join("provenance.toml")).unwrap();
+    assert_eq!(prov.table_sha256, sha256_hex(table0.as_bytes()));
+    assert_eq!(prov.maps.len(), 2);
+    assert!(prov.maps.iter().all(|m| m.width == 1024 && m.height == 512 && m.sha256.len() == 64));
+    assert!(prov.maps[0].reference.starts_with("exact cell-integrated"));
+
+    let (code, _, err) = run(&["run", e]);
+    assert_eq!(code, Some(0), "{err}");
+    assert!(err.contains("left unchanged"), "{err}");
+    assert_eq!((read("table.csv"), read("provenance.toml")), (table0.clone(), prov0.clone()));
+
+    let (code, so, _) = run(&["check", e]);
+    assert_eq!(code, Some(0), "{so}");
+    assert!(so.contains("cyc: ok, nothing moved (4 rows, 32 numbers compared"), "{so}");
+
+    // The first baseline value beyond the tolerance of sh2's rmse on gen_sun_sky, and the last
+    // one within it, found by stepping one ulp at a time across the boundary.
+    let t0 = Table::parse(table0.as_bytes(), Path::new("t")).unwrap();
+    let [mc, ec, rc] = ["map", "encoder", "rmse"].map(|n| t0.columns.iter().position(|c| c == n).unwrap());
+    let v: f64 = t0.rows.iter().find(|r| r[mc] == "gen_sun_sky" && r[ec] == "sh2").unwrap()[rc].parse().unwrap();
+    let tol = Tolerances::load(&repo()).unwrap().get("rmse", Some(EncoderClass { kind: "sh2", iterative: false }));
+    let Tolerance::Within { rel, abs } = tol else { panic!("rmse is ignored") };
+    assert!(rel > 0.0);
+    let mut edge = v + abs.max(rel * v);
+    while tol.accepts(edge, v) {
+        edge = edge.next_up();
+    }
+    while !tol.accepts(edge, v) {
+        edge = edge.next_down();
+    }
+    let beyond = edge.next_up();
+    let (edge_s, beyond_s) = (probelab::table::num(edge), probelab::table::num(beyond));
+    assert_eq!((edge_s.parse::<f64>().unwrap(), beyond_s.parse::<f64>().unwrap()), (edge, beyond));
+    let perturbed = with_cell(&table0, "gen_sun_sky", "sh2", "rmse", &beyond_s);
+
+    // Edited by hand: both the edit and the moved number are reported.
+    std::fs::write(base.join("table.csv"), &perturbed).unwrap();
+    let (code, so, _) = run(&["check", e]);
+    assert_eq!(code, Some(1), "{so}");
+    assert!(so.contains("is not the table provenance.toml vouches for"), "{so}");
+
+    // As if blessed: exactly one finding, the moved number with its key, values and change.
+    write_provenance_sha(&base);
+    let (code, check_out, _) = run(&["check", e]);
+    assert_eq!(code, Some(1), "{check_out}");
+    let lines = finding_lines(&check_out, "cyc");
+    assert_eq!(lines.len(), 1, "{check_out}");
+    let want =
+        format!("cyc: moved    gen_sun_sky  sh2  sphere  exact  rmse  {beyond_s} -> {}  (", probelab::table::num(v));
+    assert!(lines[0].starts_with(&want), "{}\nwanted: {want}", lines[0]);
+    assert!(check_out.contains("FAILED: 1 number(s) moved"), "{check_out}");
+
+    // At the tolerance: passes, and counts it.
+    std::fs::write(base.join("table.csv"), with_cell(&table0, "gen_sun_sky", "sh2", "rmse", &edge_s)).unwrap();
+    write_provenance_sha(&base);
+    let (code, so, _) = run(&["check", e]);
+    assert_eq!(code, Some(0), "{so}");
+    assert!(so.contains("1 within tolerance"), "{so}");
+
+    // `run` refuses to overwrite the moved baseline.
+    std::fs::write(base.join("table.csv"), &perturbed).unwrap();
+    write_provenance_sha(&base);
+    let prov_perturbed = read("provenance.toml");
+    let (code, _, err) = run(&["run", e]);
+    assert_eq!(code, Some(1), "{err}");
+    assert!(err.contains("NOT overwritten") && err.contains("probelab bless cyc"), "{err}");
+    assert_eq!(read("table.csv"), perturbed);
+
+    // A bless that cannot complete (the provenance's place is taken by a folder) leaves the
+    // old baseline whole.
+    std::fs::remove_file(base.join("provenance.toml")).unwrap();
+    std::fs::create_dir(base.join("provenance.toml")).unwrap();
+    let (code, _, err) = run(&["bless", e]);
+    assert_eq!(code, Some(2), "{err}");
+    assert_eq!(read("table.csv"), perturbed);
+    std::fs::remove_dir(base.join("provenance.toml")).unwrap();
+    std::fs::write(base.join("provenance.toml"), &prov_perturbed).unwrap();
+    assert_eq!(std::fs::read_dir(&base).unwrap().count(), 2, "temporary files left behind");
+
+    // `bless` prints the lines `check` printed, and writes the true numbers back.
+    let (code, bless_out, err) = run(&["bless", e]);
+    assert_eq!(code, Some(0), "{err}");
+    assert_eq!(finding_lines(&bless_out, "cyc"), lines, "{bless_out}");
+    assert!(bless_out.contains("bless cyc: wrote table.csv, provenance.toml"), "{bless_out}");
+    assert_eq!(read("table.csv"), table0);
+    let prov_blessed = read("provenance.toml");
+    let (code, so, _) = run(&["check", e]);
+    assert_eq!(code, Some(0), "{so}");
+    let (code, so, _) = run(&["bless", e]);
+    assert_eq!(code, Some(0));
+    assert!(so.contains("nothing moved") && so.contains("left unchanged"), "{so}");
+    assert_eq!(read("provenance.toml"), prov_blessed);
+    let (code, so, _) = run(&["bless", e, "--force"]);
+    assert_eq!(code, Some(0));
+    assert!(so.contains("rewritten because of --force"), "{so}");
+    assert_eq!(read("table.csv"), table0);
+
+    // A map whose file changed since the baseline is reported, and its rows are not compared.
+    let good_prov = read("provenance.toml");
+    let mut p = Provenance::read(&base.join("provenance.toml")).unwrap();
+    p.maps.iter_mut().find(|m| m.name == "gen_two_lights").unwrap().sha256 = "0".repeat(64);
+    std::fs::write(base.join("provenance.toml"), p.to_toml().unwrap()).unwrap();
+    let (code, so, _) = run(&["check", e]);
+    assert_eq!(code, Some(1), "{so}");
+    assert!(so.contains("cyc: map gen_two_lights is not the file the baseline used"), "{so}");
+    assert!(so.contains("(2 rows, 16 numbers compared"), "{so}");
+    std::fs::write(base.join("provenance.toml"), good_prov).unwrap();
+
+    // A map missing on this machine fails the check unless --allow-missing.
+    let exp2 = d.path().join("cyc2.toml");
+    std::fs::write(
+        &exp2,
+        "name = \"cyc\"\nmaps = [\"gen_sun_sky\", \"gen_two_lights\", \"no_such_map_xyz\"]\n\
+         encoders = [\"sh1\", \"sh2\"]\nresolution = [64, 32]\n",
+    )
+    .unwrap();
+    let e2 = exp2.to_str().unwrap();
+    let (code, so, _) = run(&["check", e2]);
+    assert_eq!(code, Some(1), "{so}");
+    assert!(so.contains("cyc: map no_such_map_xyz not found on this machine"), "{so}");
+    let (code, so, _) = run(&["check", e2, "--allow-missing"]);
+    assert_eq!(code, Some(0), "{so}");
+    assert!(so.contains("NOT checked"), "{so}");
+}
