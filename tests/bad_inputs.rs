@@ -276,6 +276,53 @@ fn kinds() -> Vec<Kind> {
     ]
 }
 
+/// Small valid maps: the fuzz seeds of the map loader (`fuzz/seeds/map_loader/`), one per
+/// encoding the loader accepts, so mutations start from every decoder path.
+fn seeds() -> Vec<(&'static str, fn(&Path))> {
+    vec![
+        ("zip_f32_8x4.exr", |p| write_exr(p, &good_map(8)).unwrap()),
+        ("plain_f32_8x4.exr", |p| {
+            let m = good_map(8);
+            let ch = |c: usize| m.texels().iter().map(|t| t[c]).collect::<Vec<_>>();
+            write_channels(p, 8, 4, &[("R", ch(0)), ("G", ch(1)), ("B", ch(2))])
+        }),
+        ("rle_tiled_half_rgba_16x8.exr", |p| {
+            let layer = Layer::new(
+                (16, 8),
+                LayerAttributes::default(),
+                Encoding {
+                    compression: Compression::RLE,
+                    blocks: Blocks::Tiles(Vec2(8, 4)),
+                    line_order: LineOrder::Increasing,
+                },
+                SpecificChannels::rgba(|q: Vec2<usize>| {
+                    (f16::from_f32(q.x() as f32), f16::from_f32(q.y() as f32), f16::ONE, f16::ONE)
+                }),
+            );
+            Image::from_layer(layer).write().to_file(p).unwrap();
+        }),
+        ("piz_layer_8x4.exr", |p| {
+            let v = |k: f32| (0..32).map(|i| i as f32 * 0.1 + k).collect::<Vec<_>>();
+            let list: SmallVec<[AnyChannel<FlatSamples>; 4]> =
+                [("diffuse.R", v(0.0)), ("diffuse.G", v(1.0)), ("diffuse.B", v(2.0))]
+                    .into_iter()
+                    .map(|(n, d)| AnyChannel::new(n, FlatSamples::F32(d)))
+                    .collect();
+            let enc = Encoding { compression: Compression::PIZ, ..Encoding::UNCOMPRESSED };
+            Image::from_layer(Layer::new((8, 4), LayerAttributes::default(), enc, AnyChannels::sort(list)))
+                .write()
+                .to_file(p)
+                .unwrap();
+        }),
+        ("rle_16x8.hdr", |p| write_hdr(p, 16, 8)),
+        ("flat_4x2.hdr", |p| write_hdr(p, 4, 2)),
+    ]
+}
+
+fn seed_dir() -> PathBuf {
+    repo().join("fuzz").join("seeds").join("map_loader")
+}
+
 /// Writes the whole corpus into `dir` (created if needed).
 fn generate(dir: &Path) {
     fs::create_dir_all(dir).unwrap();
@@ -306,6 +353,23 @@ fn snapshot(dir: &Path) -> BTreeMap<PathBuf, Vec<u8>> {
         }
     }
     out
+}
+
+#[test]
+fn fuzz_seeds_are_current_and_load() {
+    if std::env::var_os("PROBELAB_REGEN_BAD_INPUTS").is_some() {
+        fs::create_dir_all(seed_dir()).unwrap();
+        for (name, make) in seeds() {
+            make(&seed_dir().join(name));
+        }
+    }
+    let fresh = tempfile::tempdir().unwrap();
+    for (name, make) in seeds() {
+        make(&fresh.path().join(name));
+        let committed = fs::read(seed_dir().join(name)).unwrap_or_default();
+        assert!(committed == fs::read(fresh.path().join(name)).unwrap(), "fuzz seed {name} is stale");
+        probelab::envmap::load::load(&seed_dir().join(name)).unwrap_or_else(|e| panic!("seed {name}: {e}"));
+    }
 }
 
 #[test]
