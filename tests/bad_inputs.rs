@@ -576,3 +576,24 @@ fn bad_experiment_files_point_at_the_line() {
         fs::remove_file(&p).unwrap();
     }
 }
+
+/// A header claiming 10⁹ × 10⁹ pixels is refused before any pixel memory is reserved: the
+/// binary gives the same clean error with its address space capped at 128 MiB (on the machine
+/// this was written on, scoring even gen_constant under that cap fails for lack of memory, so
+/// the cap is tight).
+#[cfg(unix)]
+#[test]
+fn huge_headers_are_refused_in_128_mib() {
+    for file in ["header_1e9_by_1e9.exr", "header_2e8_by_1e8.hdr"] {
+        let path = corpus_dir().join(file);
+        let out = Command::new("sh")
+            .arg("-c")
+            .arg("ulimit -v 131072 && exec \"$0\" eval \"$1\" --encoders sh1")
+            .arg(env!("CARGO_BIN_EXE_probelab"))
+            .arg(&path)
+            .env_remove("PROBELAB_ENVMAPS")
+            .output()
+            .unwrap();
+        assert_clean_failure(&out, file, &["refusing"], &format!("{file} under ulimit -v"));
+    }
+}

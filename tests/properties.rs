@@ -1,4 +1,5 @@
-//! Properties of every registered encoder on random non-negative lighting (issue 8): mixtures
+//! Properties of every registered encoder (and every encoder configuration declared in
+//! `experiments/*.toml`) on random non-negative lighting (issue 8): mixtures
 //! of delta lights, uniform caps and coloured ambient, as closed-form SH (`tests/common`) and,
 //! for the error ordering, as small maps through the exact pipeline.
 //!
@@ -105,7 +106,7 @@ proptest! {
 
     #[test]
     fn outputs_are_finite(input in any_input()) {
-        for (id, e) in registry_encoders() {
+        for (id, e) in all_encoders() {
             let f = e.fit(&input.fit_input());
             for n in normals() {
                 let v = f.irradiance(n);
@@ -121,7 +122,7 @@ proptest! {
     fn scale_covariance(input in any_input(), log_k in -20.0f64..20.0) {
         let k = 10f64.powf(log_k);
         let scaled = input.scaled(k);
-        for (id, e) in registry_encoders().into_iter().filter(|(_, e)| e.is_scale_covariant()) {
+        for (id, e) in all_encoders().into_iter().filter(|(_, e)| e.is_scale_covariant()) {
             let (f, fk) = (e.fit(&input.fit_input()), e.fit(&scaled.fit_input()));
             let base: Vec<Rgb> = normals().iter().map(|&n| f.irradiance(n)).collect();
             let m = max_abs(&base);
@@ -137,7 +138,7 @@ proptest! {
     #[test]
     fn rotation_covariance(input in any_input(), q in rotation()) {
         let rotated = Input::new(&input.probe.rotated(q), input.surface.as_ref().map(|s| s.rotated(q)).as_ref());
-        for (id, e) in registry_encoders().into_iter().filter(|(_, e)| e.is_rotation_covariant()) {
+        for (id, e) in all_encoders().into_iter().filter(|(_, e)| e.is_rotation_covariant()) {
             let (f, fr) = (e.fit(&input.fit_input()), e.fit(&rotated.fit_input()));
             let base: Vec<Rgb> = normals().iter().map(|&n| f.irradiance(n)).collect();
             let m = max_abs(&base).max(1e-300);
@@ -150,7 +151,7 @@ proptest! {
 
     #[test]
     fn non_negative_where_promised(input in any_input()) {
-        for (id, e) in registry_encoders().into_iter().filter(|(_, e)| e.promises_non_negative()) {
+        for (id, e) in all_encoders().into_iter().filter(|(_, e)| e.promises_non_negative()) {
             let f = e.fit(&input.fit_input());
             for n in Domain::Sphere.output_grid((64, 32)).normals {
                 let v = f.irradiance(n);
@@ -204,7 +205,7 @@ proptest! {
         let by_order: Vec<f64> = (0..3).map(|l| err(&ShEncoder::new(l))).collect();
         prop_assert!(by_order[2] <= by_order[1] * (1.0 + 1e-5) + 1e-12, "{by_order:?}");
         prop_assert!(by_order[1] <= by_order[0] * (1.0 + 1e-5) + 1e-12, "{by_order:?}");
-        for (id, e) in registry_encoders() {
+        for (id, e) in all_encoders() {
             if let Some(l) = e.sphere_error_at_most_sh() {
                 let mine = err(e.as_ref());
                 prop_assert!(mine <= by_order[l.min(2)] * (1.0 + 1e-5) + 1e-12, "{id}: {mine} vs SH L{l} {}", by_order[l.min(2)]);

@@ -284,6 +284,22 @@ pub fn registry_encoders() -> Vec<(String, Box<dyn Encoder>)> {
         .collect()
 }
 
+/// Every registered encoder with its default settings, then every encoder configuration that
+/// an experiment file in `experiments/` declares (settings included, so a variant used in a
+/// table is tested too), each with a label ("sh1", or "zh3_shared in zh3.toml").
+pub fn all_encoders() -> Vec<(String, Box<dyn Encoder>)> {
+    let mut out = registry_encoders();
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("experiments");
+    for path in probelab::experiment::list_experiments(&dir).expect("experiments/ lists") {
+        let exp = probelab::experiment::Experiment::load(&path).unwrap_or_else(|e| panic!("{e:#}"));
+        let file = path.file_name().unwrap().to_string_lossy().into_owned();
+        for named in exp.encoders {
+            out.push((format!("{} in {file}", named.name), named.encoder));
+        }
+    }
+    out
+}
+
 /// Values of `f` at the grid's normals.
 pub fn eval(f: &dyn Fitted, grid: &OutputGrid) -> Vec<Rgb> {
     grid.normals.iter().map(|&n| f.irradiance(n)).collect()
