@@ -4,7 +4,7 @@
 //!
 //! Encoders do no IO and cannot fail: a degenerate input (no light, no direction) must fall
 //! back to a documented answer, never NaN. The contract every registered encoder is tested
-//! against (`tests/hard_cases.rs`, on 35 named hard cases): finite output; black in, black
+//! against (`tests/hard_cases.rs`, on 34 named hard cases): finite output; black in, black
 //! out; no direction (L1 = 0, or an L1 whose square underflows) → no worse than pure ambient
 //! (the band-0 answer); a loose sanity bound everywhere; and each promise below that the
 //! encoder makes.
