@@ -112,21 +112,28 @@ pub fn main_with(cli: Cli) -> Result<i32> {
     let search = SearchPath::from_env(root.join("envmaps"));
     let results = |out: Option<PathBuf>| out.unwrap_or_else(|| root.join("results"));
     match cli.command {
+        // Losing nothing: every experiment is loaded and run before anything is written, so a
+        // failure anywhere (a bad file, a map that cannot be read) leaves results/ as it was;
+        // each file is then written atomically.
         Command::Run { experiments, out } => {
             let out = results(out);
-            let mut refused = Vec::new();
-            for path in experiments {
-                let exp = Experiment::load(&path)?;
-                let report = runner::run(&exp, &search)?;
+            let exps = experiments.iter().map(|p| Experiment::load(p)).collect::<Result<Vec<_>>>()?;
+            // Run everything first, write only then: a failure leaves results/ untouched.
+            let mut done = Vec::new();
+            for exp in &exps {
+                let report = runner::run(exp, &search)?;
                 if !report.missing.is_empty() {
                     bail!(
-                        "{}: map(s) not found: {}; nothing written.\nSearched: {}",
-                        path.display(),
-                        report.missing.join(", "),
+                        "{}\nnothing written. Searched: {}",
+                        missing_maps(exp, &report.missing),
                         describe_search(&search)
                     );
                 }
-                if !write_results(&root, &out, &exp, &report)? {
+                done.push(report);
+            }
+            let mut refused = Vec::new();
+            for (exp, report) in exps.iter().zip(&done) {
+                if !write_results(&root, &out, exp, report)? {
                     refused.push(exp.name.clone());
                 }
             }
@@ -135,17 +142,21 @@ pub fn main_with(cli: Cli) -> Result<i32> {
         Command::Reproduce { out } => {
             let out = results(out);
             let dir = root.join("experiments");
+            let exps = list_experiments(&dir)?.iter().map(|p| Experiment::load(p)).collect::<Result<Vec<_>>>()?;
             let (mut skipped, mut refused) = (Vec::new(), Vec::new());
-            for path in list_experiments(&dir)? {
-                let exp = Experiment::load(&path)?;
-                let report = runner::run(&exp, &search)?;
+            let mut done = Vec::new();
+            for exp in &exps {
+                let report = runner::run(exp, &search)?;
                 if report.missing.is_empty() {
-                    if !write_results(&root, &out, &exp, &report)? {
-                        refused.push(exp.name.clone());
-                    }
+                    done.push((exp, report));
                 } else {
                     eprintln!("skipped {}: map(s) not found: {}", exp.name, report.missing.join(", "));
                     skipped.push(exp.name.clone());
+                }
+            }
+            for (exp, report) in &done {
+                if !write_results(&root, &out, exp, report)? {
+                    refused.push(exp.name.clone());
                 }
             }
             if !skipped.is_empty() {
@@ -214,6 +225,20 @@ pub fn main_with(cli: Cli) -> Result<i32> {
             Ok(0)
         }
     }
+}
+
+/// "FILE:LINE: map 'x' not found" for each missing map (the line where the experiment file
+/// names it).
+fn missing_maps(exp: &Experiment, missing: &[String]) -> String {
+    let file = exp.source.as_ref().map(|p| p.display().to_string()).unwrap_or_else(|| exp.name.clone());
+    missing
+        .iter()
+        .map(|m| match exp.source_line(m) {
+            Some(l) => format!("{file}:{l}: map '{m}' not found"),
+            None => format!("{file}: map '{m}' not found"),
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
 }
 
 fn describe_search(s: &SearchPath) -> String {

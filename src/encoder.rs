@@ -3,7 +3,11 @@
 //! reference, metrics, renders and report never name an encoder.
 //!
 //! Encoders do no IO and cannot fail: a degenerate input (no light, no direction) must fall
-//! back to a documented answer, never NaN.
+//! back to a documented answer, never NaN. The contract every registered encoder is tested
+//! against (`tests/hard_cases.rs`, on 34 named hard cases): finite output; black in, black
+//! out; no direction (L1 = 0, or an L1 whose square underflows) → no worse than pure ambient
+//! (the band-0 answer); a loose sanity bound everywhere; and each promise below that the
+//! encoder makes.
 
 use crate::sh::{Rgb, Sh9};
 use anyhow::{bail, Result};
@@ -52,6 +56,34 @@ pub trait Encoder: Send + Sync {
     /// tolerances of `tolerances.toml` (`class = "iterative"`).
     fn is_iterative(&self) -> bool {
         false
+    }
+
+    // Promises. Each is false (or `None`) unless the encoder overrides it, and each one an
+    // encoder makes is checked for it on every hard case (`tests/hard_cases.rs`) and on random
+    // lighting (`tests/properties.rs`). Promise only what holds for every input, including the
+    // degenerate ones.
+
+    /// E/π ≥ 0 at every normal whenever the input radiance is non-negative.
+    fn promises_non_negative(&self) -> bool {
+        false
+    }
+    /// Scaling the input (every SH coefficient and `exact_at_normal`) by k > 0 scales the
+    /// output by k, for k from 1e-30 to 1e30, to 1e-7 of the largest output (room for an
+    /// iterative solver's tolerance; a closed form meets it to rounding).
+    fn is_scale_covariant(&self) -> bool {
+        false
+    }
+    /// Rotating the input (the light, the surface normal and the cone together) by R rotates
+    /// the output: fit(R·input)(R n) = fit(input)(n), to 1e-7 of the largest output.
+    fn is_rotation_covariant(&self) -> bool {
+        false
+    }
+    /// `Some(l)` if the fitted E/π is never farther, in the solid-angle RMSE over the whole
+    /// sphere from the irradiance of the visible radiance, than the SH projection through band
+    /// l: the model contains that projection and the fit minimises the sphere error over a
+    /// family that includes it (sh1 → 1; a least-squares ZH3 → 1).
+    fn sphere_error_at_most_sh(&self) -> Option<usize> {
+        None
     }
 }
 

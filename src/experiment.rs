@@ -25,6 +25,9 @@ use anyhow::{bail, Context, Result};
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
 
+/// The most cases (surface normals × effect parameter combinations) one experiment may declare.
+pub const MAX_CASES: usize = 1 << 20;
+
 /// An encoder entry: a kind, or a table with a kind and settings.
 #[derive(Clone, Debug, Deserialize)]
 #[serde(untagged)]
@@ -97,20 +100,44 @@ pub struct Experiment {
 }
 
 impl Experiment {
-    /// Reads and validates an experiment file; errors name the file, and the line where TOML
-    /// knows it.
+    /// Reads and validates an experiment file; errors name the file and the line (see
+    /// [`Experiment::parse`]).
     pub fn load(path: &Path) -> Result<Self> {
         let text = std::fs::read_to_string(path)
             .with_context(|| format!("{}: cannot read experiment file", path.display()))?;
-        let file: ExperimentFile =
-            toml::from_str(&text).map_err(|e| anyhow::anyhow!("{}: {}", path.display(), e.to_string().trim_end()))?;
+        Self::parse(&text, path)
+    }
+
+    /// Parses and validates the text of an experiment file read from `path` (which names it in
+    /// errors and gives the default name). Every error starts with `path:LINE:` when the line
+    /// is known: from TOML's own span for syntax and type errors, otherwise the line where the
+    /// offending value or key is written ([`find_line`]); the line itself is quoted after the
+    /// message. Never panics, whatever the text.
+    pub fn parse(text: &str, path: &Path) -> Result<Self> {
+        let file: ExperimentFile = toml::from_str(text).map_err(|e| {
+            let at = e.span().map(|s| line_col(text, s.start));
+            let msg = e.message().trim_end();
+            match at {
+                Some((line, col)) => {
+                    anyhow::anyhow!("{}:{line}:{col}: {msg}{}", path.display(), quote_line(text, line))
+                }
+                None => anyhow::anyhow!("{}: {msg}", path.display()),
+            }
+        })?;
         let stem = path.file_stem().and_then(|s| s.to_str()).unwrap_or("experiment").to_string();
-        let mut exp = Self::from_file(file, &stem).map_err(|e| {
-            let line = find_line(&text, &e);
-            anyhow::anyhow!("{}{}: {:#}", path.display(), line.map(|l| format!(":{l}")).unwrap_or_default(), e)
+        let mut exp = Self::from_file(file, &stem).map_err(|e| match find_line(text, &e) {
+            Some(l) => anyhow::anyhow!("{}:{l}: {:#}{}", path.display(), e, quote_line(text, l)),
+            None => anyhow::anyhow!("{}: {:#}", path.display(), e),
         })?;
         exp.source = Some(path.to_path_buf());
         Ok(exp)
+    }
+
+    /// The line of the experiment's source file where `value` is written as a string (e.g. a
+    /// map name), for errors found after loading, such as a map that is not on the search path.
+    pub fn source_line(&self, value: &str) -> Option<usize> {
+        let text = std::fs::read_to_string(self.source.as_ref()?).ok()?;
+        find_value_or_key(&text, value)
     }
 
     /// Validates a parsed file.
@@ -168,6 +195,17 @@ impl Experiment {
         let mut effects = Vec::new();
         for e in f.effects {
             effects.push(parse_effect(e)?);
+        }
+        let variants = effects.iter().try_fold(orientations.len().max(1), |n: usize, e| match e {
+            Effect::Hemisphere => Some(n),
+            Effect::Cone { cos_alpha, tilt_deg } => n.checked_mul(cos_alpha.len())?.checked_mul(tilt_deg.len()),
+        });
+        match variants {
+            Some(n) if n <= MAX_CASES => {}
+            _ => bail!(
+                "orientations: the orientations and effect parameters make more than {MAX_CASES} cases (one per \
+                 normal and parameter combination); split the experiment"
+            ),
         }
         let needs_normal = domain == DomainKind::Hemisphere || !effects.is_empty();
         if needs_normal && orientations.is_empty() {
@@ -239,6 +277,12 @@ fn parse_effect(e: EffectEntry) -> Result<Effect> {
                     bail!("effects: cone cos_alpha must lie in [-1, 1)");
                 }
                 let tilt_deg = if t.contains_key("tilt_deg") { floats(&t, "tilt_deg")? } else { vec![0.0] };
+                if tilt_deg.iter().any(|t| !t.is_finite()) {
+                    bail!("effects: cone tilt_deg must be finite");
+                }
+                if cos_alpha.is_empty() || tilt_deg.is_empty() {
+                    bail!("effects: cone cos_alpha and tilt_deg need at least one value each");
+                }
                 Ok(Effect::Cone { cos_alpha, tilt_deg })
             }
             Some(k) => bail!("effects: unknown effect kind '{k}' (valid: hemisphere, cone)"),
@@ -247,14 +291,64 @@ fn parse_effect(e: EffectEntry) -> Result<Effect> {
     }
 }
 
-/// Best-effort line of the first quoted word of an error message in the source text.
-fn find_line(text: &str, e: &anyhow::Error) -> Option<usize> {
+/// The line of an error in the source text. The message's quoted words ('…') are tried from
+/// the last (the most specific: "encoder 'sh1': unknown key(s) 'bogus'" points at `bogus`) to
+/// the first, each looked up as a string literal ("w" or 'w') or as a key (`w =`). Failing
+/// that, a message starting with a key ("maps: …", "resolution (…)") points at its line.
+pub fn find_line(text: &str, e: &anyhow::Error) -> Option<usize> {
     let msg = format!("{e:#}");
-    let quoted = msg.split('\'').nth(1)?;
-    if quoted.is_empty() {
+    let quoted: Vec<&str> = msg.split('\'').skip(1).step_by(2).filter(|q| !q.is_empty()).collect();
+    if let Some(l) = quoted.iter().rev().find_map(|q| find_value_or_key(text, q)) {
+        return Some(l);
+    }
+    let key: String = msg.chars().take_while(|c| c.is_ascii_alphanumeric() || *c == '_').collect();
+    if key.is_empty() {
         return None;
     }
-    text.lines().position(|l| l.contains(quoted)).map(|i| i + 1)
+    find_key(text, &key)
+}
+
+/// The first line holding `w` as a string literal, else as a key.
+fn find_value_or_key(text: &str, w: &str) -> Option<usize> {
+    let literal = [format!("\"{w}\""), format!("'{w}'")];
+    text.lines()
+        .position(|l| literal.iter().any(|q| l.contains(q.as_str())))
+        .map(|i| i + 1)
+        .or_else(|| find_key(text, w))
+}
+
+/// The first line where `key` is assigned (`key =`, at the start of a line or inside an
+/// inline table after `{` or `,`).
+fn find_key(text: &str, key: &str) -> Option<usize> {
+    text.lines()
+        .position(|l| {
+            l.match_indices(key).any(|(i, _)| {
+                let before = l[..i].trim_end();
+                let after = l[i + key.len()..].trim_start();
+                (before.is_empty() || before.ends_with('{') || before.ends_with(',')) && after.starts_with('=')
+            })
+        })
+        .map(|i| i + 1)
+}
+
+/// 1-based line and column of byte offset `at`.
+fn line_col(text: &str, at: usize) -> (usize, usize) {
+    let mut at = at.min(text.len());
+    while !text.is_char_boundary(at) {
+        at -= 1;
+    }
+    let before = &text[..at];
+    let line = before.matches('\n').count() + 1;
+    let col = before.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
+    (line, col)
+}
+
+/// The source line `line` (1-based), quoted for an error message.
+fn quote_line(text: &str, line: usize) -> String {
+    match text.lines().nth(line.wrapping_sub(1)) {
+        Some(l) if !l.trim().is_empty() => format!("\n  {line} | {}", l.trim_end()),
+        _ => String::new(),
+    }
 }
 
 /// Every `*.toml` in a folder, sorted by name.
@@ -302,9 +396,45 @@ mod tests {
         let p = dir.path().join("x.toml");
         std::fs::write(&p, "maps = ['a']\nencoders = ['sh1',\n  'nope']\n").unwrap();
         let msg = format!("{:#}", Experiment::load(&p).err().unwrap());
-        assert!(msg.contains("x.toml:3") && msg.contains("nope"), "{msg}");
+        assert!(msg.contains("x.toml:3: ") && msg.contains("nope") && msg.contains("3 |   'nope']"), "{msg}");
         std::fs::write(&p, "maps = ['a'\nencoders = 3\n").unwrap();
         let msg = format!("{:#}", Experiment::load(&p).err().unwrap());
-        assert!(msg.contains("x.toml") && msg.contains("line"), "{msg}");
+        assert!(msg.contains("x.toml:2:"), "{msg}");
+    }
+
+    /// Each validation error points at the line that causes it (not at an earlier line that
+    /// merely contains the same word).
+    #[test]
+    fn errors_point_at_the_offending_line() {
+        let line = |text: &str| {
+            let e = Experiment::parse(text, Path::new("e.toml")).err().expect("must fail");
+            let msg = format!("{e:#}");
+            let l = msg.strip_prefix("e.toml:").and_then(|r| r.split(':').next()).and_then(|n| n.parse().ok());
+            (l.unwrap_or(0usize), msg)
+        };
+        let cases: &[(&str, usize)] = &[
+            // The description mentions sh: the literal 'sh' on line 3 is the culprit.
+            ("description = 'sh and sh1'\nmaps = ['a']\nencoders = ['sh1', 'sh']\n", 3),
+            ("maps = ['a']\nencoders = ['sh1']\neffects = ['hemisphere',\n 'fog']\norientations = ['up']\n", 4),
+            ("maps = ['a']\nencoders = ['sh1']\norientations = ['up']\neffects = [{ kind = 'cone', cos_alpha = 0.5, bogus = 1 }]\n", 4),
+            ("maps = ['a']\nencoders = [\n  { kind = 'sh1', bogus = 2 },\n]\n", 3),
+            ("maps = ['a']\nencoders = [{ kind = 'zz9' }]\n", 2),
+            ("maps = []\nencoders = ['sh1']\n", 1),
+            ("maps = ['a']\nencoders = ['sh1']\nmetrics = ['exact', 'l2']\n", 3),
+            ("maps = ['a']\n\nencoders = ['sh1']\nwhat = 1\n", 4),
+            ("maps = ['a']\nencoders = ['sh1'\n", 2),
+            ("maps = ['a']\nencoders = ['sh1']\nresolution = [100, 10]\n", 3),
+        ];
+        for (text, want) in cases {
+            let (got, msg) = line(text);
+            assert_eq!(got, *want, "{msg}");
+        }
+    }
+
+    #[test]
+    fn line_col_handles_multibyte_text() {
+        assert_eq!(line_col("a\nbé c", 5), (2, 3));
+        assert_eq!(line_col("é", 1), (1, 1));
+        assert_eq!(line_col("", 10), (1, 1));
     }
 }

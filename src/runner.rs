@@ -142,8 +142,9 @@ pub fn run(exp: &Experiment, search: &SearchPath) -> Result<RunReport> {
                 continue;
             }
         };
-        let bytes = std::fs::read(&path).with_context(|| format!("{}: cannot read", path.display()))?;
+        // Load first: the loader refuses what is not a regular file (reading a FIFO would block).
         let map = crate::envmap::load::load(&path)?;
+        let bytes = std::fs::read(&path).with_context(|| format!("{}: cannot read", path.display()))?;
         maps.push(MapInfo {
             name: map.name.clone(),
             path: Some(path),

@@ -9,6 +9,9 @@
 //!
 //! TOML keys: none. The fit uses the visible radiance (the map under the declared effects).
 //! SH irradiance is not clamped: it can go negative, which the `neg_frac` column reports.
+//!
+//! Degenerate inputs need no fallback: the fit is a linear map of the coefficients (black in,
+//! black out; a 1e-300 L1 band stays 1e-300), so every finite input gives a finite output.
 
 use crate::encoder::{Encoder, FitInput, Fitted, Params};
 use crate::sh::{Rgb, Sh9};
@@ -46,6 +49,23 @@ impl Encoder for ShEncoder {
     }
     fn fit(&self, input: &FitInput) -> Box<dyn Fitted> {
         Box::new(ShIrradiance(input.visible_sh.truncate(self.max_band).convolve_cosine()))
+    }
+    /// Band 0 alone is the mean radiance, E/π = (1/4π)∫L dω ≥ 0. With band 1 a single light
+    /// gives (1/4π)·e·(1 + 2 n·d), negative facing away from it.
+    fn promises_non_negative(&self) -> bool {
+        self.max_band == 0
+    }
+    /// Linear in the coefficients.
+    fn is_scale_covariant(&self) -> bool {
+        true
+    }
+    /// Each band is an irreducible representation of the rotation group.
+    fn is_rotation_covariant(&self) -> bool {
+        true
+    }
+    /// It is that projection (the basis is orthonormal and the cosine kernel diagonal in it).
+    fn sphere_error_at_most_sh(&self) -> Option<usize> {
+        Some(self.max_band)
     }
 }
 

@@ -19,12 +19,13 @@ use exr::prelude::{
 use image::codecs::hdr::HdrDecoder;
 use image::{ImageDecoder, ImageError};
 use std::any::Any;
+use std::cell::Cell;
 use std::fs::{self, File, OpenOptions};
 use std::io::{self, BufReader, BufWriter, Read, Seek, SeekFrom};
 use std::panic::{self, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
-use std::sync::Arc;
+use std::sync::{Arc, Once};
 
 /// Largest accepted map width in pixels. A header claiming more is refused before any
 /// pixel memory is allocated.
@@ -44,8 +45,8 @@ const SUPPORTED: &str = "supported formats: OpenEXR (.exr, starts with bytes 76 
 #[derive(Debug, thiserror::Error)]
 pub enum LoadError {
     /// The file could not be opened, inspected or read (missing, permission denied, ...).
-    #[error("{}: cannot {action}: {source}", .path.display())]
-    Io { path: PathBuf, action: &'static str, source: io::Error },
+    #[error("{}: cannot {action}: {cause}", .path.display())]
+    Io { path: PathBuf, action: &'static str, cause: io::Error },
     /// The path names a directory.
     #[error("{}: is a directory, not an image file", .path.display())]
     IsDirectory { path: PathBuf },
@@ -69,8 +70,8 @@ pub enum LoadError {
     #[error("{}: image has zero size ({width}x{height})", .path.display())]
     ZeroSize { path: PathBuf, width: usize, height: usize },
     /// The pixels do not form a valid map: wrong aspect, NaN, infinite or negative texels.
-    #[error("{}: {source}", .path.display())]
-    Map { path: PathBuf, source: MapError },
+    #[error("{}: {cause}", .path.display())]
+    Map { path: PathBuf, cause: MapError },
     /// The OpenEXR file holds more than one part.
     #[error("{}: multi-part OpenEXR file with {parts} parts ({names}); only single-part files are supported", .path.display())]
     MultiPart { path: PathBuf, parts: usize, names: String },
@@ -104,8 +105,8 @@ pub enum LoadError {
 #[derive(Debug, thiserror::Error)]
 pub enum WriteError {
     /// Creating, writing, syncing or renaming a file failed.
-    #[error("{}: cannot {action}: {source}", .path.display())]
-    Io { path: PathBuf, action: &'static str, source: io::Error },
+    #[error("{}: cannot {action}: {cause}", .path.display())]
+    Io { path: PathBuf, action: &'static str, cause: io::Error },
     /// The OpenEXR encoder failed.
     #[error("{}: OpenEXR encoding failed: {message}", .path.display())]
     Encode { path: PathBuf, message: String },
@@ -126,7 +127,7 @@ enum Format {
 /// [`MAX_WIDTH`] x [`MAX_HEIGHT`], is not 2:1, lacks R, G, B channels, or has a NaN,
 /// infinite or negative texel. Never panics on bad input.
 pub fn load(path: &Path) -> Result<EnvMap, LoadError> {
-    let io_err = |action, source| LoadError::Io { path: path.to_path_buf(), action, source };
+    let io_err = |action, cause| LoadError::Io { path: path.to_path_buf(), action, cause };
     let meta = fs::metadata(path).map_err(|e| io_err("read file metadata", e))?;
     if meta.is_dir() {
         return Err(LoadError::IsDirectory { path: path.to_path_buf() });
@@ -147,8 +148,8 @@ pub fn load(path: &Path) -> Result<EnvMap, LoadError> {
         Format::Hdr => read_hdr(path, &mut file, meta.len())?,
     };
     let name = path.file_stem().unwrap_or(path.as_os_str()).to_string_lossy().into_owned();
-    let mut map = EnvMap::new(name, width, height, texels)
-        .map_err(|source| LoadError::Map { path: path.to_path_buf(), source })?;
+    let mut map =
+        EnvMap::new(name, width, height, texels).map_err(|cause| LoadError::Map { path: path.to_path_buf(), cause })?;
     map.path = Some(path.to_path_buf());
     Ok(map)
 }
@@ -162,10 +163,10 @@ pub fn load(path: &Path) -> Result<EnvMap, LoadError> {
 pub fn write_exr(path: &Path, map: &EnvMap) -> Result<(), WriteError> {
     let (tmp_path, file) = create_temp_beside(path)?;
     let result = write_exr_to(path, &tmp_path, file, map).and_then(|()| {
-        fs::rename(&tmp_path, path).map_err(|source| WriteError::Io {
+        fs::rename(&tmp_path, path).map_err(|cause| WriteError::Io {
             path: path.to_path_buf(),
             action: "rename the temporary file onto the target",
-            source,
+            cause,
         })
     });
     if result.is_err() {
@@ -192,7 +193,7 @@ fn write_exr_to(path: &Path, tmp_path: &Path, file: File, map: &EnvMap) -> Resul
         .non_parallel()
         .to_buffered(&mut writer)
         .map_err(|e| WriteError::Encode { path: path.to_path_buf(), message: e.to_string() })?;
-    let io_err = |action, source| WriteError::Io { path: tmp_path.to_path_buf(), action, source };
+    let io_err = |action, cause| WriteError::Io { path: tmp_path.to_path_buf(), action, cause };
     let file = writer.into_inner().map_err(|e| io_err("flush the temporary file", e.into_error()))?;
     file.sync_all().map_err(|e| io_err("sync the temporary file", e))
 }
@@ -212,11 +213,11 @@ fn create_temp_beside(path: &Path) -> Result<(PathBuf, File), WriteError> {
         match OpenOptions::new().write(true).create_new(true).open(&tmp) {
             Ok(file) => return Ok((tmp, file)),
             Err(e) if e.kind() == io::ErrorKind::AlreadyExists => last_error = Some(e),
-            Err(source) => {
+            Err(cause) => {
                 return Err(WriteError::Io {
                     path: path.to_path_buf(),
                     action: "create a temporary file next to it",
-                    source,
+                    cause,
                 })
             }
         }
@@ -224,7 +225,7 @@ fn create_temp_beside(path: &Path) -> Result<(PathBuf, File), WriteError> {
     Err(WriteError::Io {
         path: path.to_path_buf(),
         action: "create a temporary file next to it",
-        source: last_error.unwrap_or_else(|| io::Error::other("no free temporary name")),
+        cause: last_error.unwrap_or_else(|| io::Error::other("no free temporary name")),
     })
 }
 
@@ -274,7 +275,7 @@ fn check_size(path: &Path, width: usize, height: usize) -> Result<(), LoadError>
         return Err(LoadError::TooLarge { path, width, height });
     }
     if width != 2 * height {
-        return Err(LoadError::Map { path, source: MapError::Aspect { width, height } });
+        return Err(LoadError::Map { path, cause: MapError::Aspect { width, height } });
     }
     Ok(())
 }
@@ -307,18 +308,38 @@ fn watched<'f>(
     path: &Path,
     file: &'f mut File,
 ) -> Result<(BufReader<EofWatch<&'f mut File>>, Arc<AtomicBool>), LoadError> {
-    file.seek(SeekFrom::Start(0)).map_err(|source| LoadError::Io {
+    file.seek(SeekFrom::Start(0)).map_err(|cause| LoadError::Io {
         path: path.to_path_buf(),
         action: "seek in file",
-        source,
+        cause,
     })?;
     let flag = Arc::new(AtomicBool::new(false));
     Ok((BufReader::new(EofWatch { inner: file, hit_eof: flag.clone() }), flag))
 }
 
-/// Runs a decoder step, turning a panic into [`LoadError::DecoderPanic`].
+thread_local! {
+    /// Set while this thread runs a [`guarded`] decoder step.
+    static IN_GUARDED: Cell<bool> = const { Cell::new(false) };
+}
+
+/// Runs a decoder step, turning a panic into [`LoadError::DecoderPanic`]. The panic is
+/// caught, so it must not print either: the first call installs a panic hook that stays quiet
+/// on a thread inside a guarded step and defers to the previous hook everywhere else (the
+/// decoders run on the calling thread).
 fn guarded<T>(path: &Path, format: &'static str, f: impl FnOnce() -> Result<T, LoadError>) -> Result<T, LoadError> {
-    panic::catch_unwind(AssertUnwindSafe(f)).unwrap_or_else(|payload| {
+    static QUIET_HOOK: Once = Once::new();
+    QUIET_HOOK.call_once(|| {
+        let previous = panic::take_hook();
+        panic::set_hook(Box::new(move |info| {
+            if !IN_GUARDED.with(Cell::get) {
+                previous(info);
+            }
+        }));
+    });
+    let was = IN_GUARDED.with(|g| g.replace(true));
+    let result = panic::catch_unwind(AssertUnwindSafe(f));
+    IN_GUARDED.with(|g| g.set(was));
+    result.unwrap_or_else(|payload| {
         Err(LoadError::DecoderPanic { path: path.to_path_buf(), format, message: panic_message(payload.as_ref()) })
     })
 }
@@ -342,7 +363,7 @@ fn exr_error(path: &Path, len: u64, hit_eof: bool, e: exr::error::Error) -> Load
         return LoadError::Truncated { path, format: "OpenEXR", len, detail: e.to_string() };
     }
     match e {
-        exr::error::Error::Io(source) => LoadError::Io { path, action: "read file", source },
+        exr::error::Error::Io(cause) => LoadError::Io { path, action: "read file", cause },
         e => LoadError::Exr { path, message: e.to_string() },
     }
 }
@@ -355,7 +376,7 @@ fn hdr_error(path: &Path, len: u64, hit_eof: bool, e: ImageError) -> LoadError {
         return LoadError::Truncated { path, format: "Radiance HDR", len, detail: e.to_string() };
     }
     match e {
-        ImageError::IoError(source) => LoadError::Io { path, action: "read file", source },
+        ImageError::IoError(cause) => LoadError::Io { path, action: "read file", cause },
         e => LoadError::Hdr { path, message: e.to_string() },
     }
 }

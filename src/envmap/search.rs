@@ -73,7 +73,8 @@ impl SearchPath {
     /// Resolves a map name to a file.
     ///
     /// If `name` looks like a file path (contains a path separator or has an extension)
-    /// and names an existing file, that file is returned. Otherwise each folder in turn is
+    /// and something exists there (or cannot be inspected), that path is returned, so the
+    /// loader reports what is wrong with it (a directory, a FIFO, permission denied). Otherwise each folder in turn is
     /// tried for `<dir>/<name>.exr`, `<dir>/<name>.hdr` and, if `name` has an extension,
     /// `<dir>/<name>`; the first existing file wins. If none exists the error lists every
     /// folder searched, marking those that do not exist.
@@ -84,8 +85,15 @@ impl SearchPath {
         let as_file = Path::new(name);
         let has_ext = as_file.extension().is_some();
         let looks_like_path = has_ext || name.contains('/') || name.contains(MAIN_SEPARATOR);
-        if looks_like_path && as_file.is_file() {
-            return Ok(as_file.to_path_buf());
+        if looks_like_path {
+            // Anything at that path (a directory, a FIFO, a file that cannot be inspected)
+            // goes to the loader, whose error says what is wrong with it; only a path that
+            // does not exist falls through to the folders.
+            match std::fs::metadata(as_file) {
+                Ok(_) => return Ok(as_file.to_path_buf()),
+                Err(e) if e.kind() != std::io::ErrorKind::NotFound => return Ok(as_file.to_path_buf()),
+                Err(_) => {}
+            }
         }
         for dir in &self.dirs {
             let mut candidates = vec![dir.join(format!("{name}.exr")), dir.join(format!("{name}.hdr"))];
@@ -169,9 +177,16 @@ mod tests {
         let sp = SearchPath::new(vec![]);
         let name = f.to_str().unwrap();
         assert_eq!(sp.resolve(name).unwrap(), f);
-        // A folder is not a file.
+        // A folder given as a path reaches the loader, which says what is wrong with it.
         let dir_name = t.path().join("elsewhere");
-        assert!(sp.resolve(dir_name.to_str().unwrap()).is_err());
+        let msg = format!("{:#}", sp.load(dir_name.to_str().unwrap()).unwrap_err());
+        assert!(msg.contains("is a directory"), "{msg}");
+        // So does a path through a file (ENOTDIR); a path to nothing is "not found".
+        let through = f.join("inner.exr");
+        let msg = format!("{:#}", sp.load(through.to_str().unwrap()).unwrap_err());
+        assert!(msg.contains("inner.exr: cannot"), "{msg}");
+        let msg = sp.resolve(t.path().join("nothing.exr").to_str().unwrap()).unwrap_err().to_string();
+        assert!(msg.contains("not found (no such file)"), "{msg}");
     }
 
     #[test]

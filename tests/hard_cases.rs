@@ -1,0 +1,717 @@
+//! The catalogue of hard cases (issue 8): named scenes that push encoders to divide by d_z, by
+//! L00 and by |L1|, take square roots of discriminants and normalise vectors that can be zero.
+//! Every encoder of `probelab::encoders::REGISTRY` (default settings) and every encoder
+//! configuration declared in `experiments/*.toml` runs on every case; an encoder added to the
+//! registry or a variant added to an experiment joins automatically (this file names none).
+//!
+//! Each case is built analytically (closed-form SH of ambient, delta and cap lights, visible
+//! under the surface's effects, and closed-form E/π; `tests/common`), and fitted through
+//! `FitInput` with or without a surface normal and cone, as the case says. A second test feeds
+//! tiny maps with the same kind of trouble through the whole pipeline (projection, reference,
+//! metrics, CSV).
+//!
+//! # What every encoder must satisfy (the contract; also in `Encoder`'s docs)
+//!
+//! On every case, for every encoder:
+//! 1. **Finite.** Every output on the sphere of normals and every diagnostic is finite.
+//! 2. **Black in, black out.** If the probe is black, the output is exactly zero everywhere.
+//! 3. **Sanity bound.** On the case's domain (the sphere for a probe, the hemisphere about N
+//!    for a surface), rmse ≤ RMS(E_vis) + RMS(E_probe): no worse than the worse of the two
+//!    trivial answers, black (error RMS(E_vis)) and the unoccluded irradiance (error at most
+//!    RMS(E_probe − E_vis) ≤ RMS(E_probe) + RMS(E_vis), triangle inequality). E_vis is the
+//!    irradiance of the light that reaches the surface, E_probe of all of it. This is loose: it
+//!    catches a fit that blows up, not a merely poor one.
+//! 4. **Degenerate cases fall back to pure ambient.** Where the lighting has no usable
+//!    direction (black, constant, L1 = 0, |L1| = 1e-300 that squares to zero), the documented
+//!    fallback is pure ambient: the mean radiance, i.e. the band-0 answer. So the sphere rmse is
+//!    no worse than that of the band-0 SH projection; an encoder that keeps more (an L2 band, a
+//!    zonal term fitted by least squares from that start) is no worse either.
+//!
+//! And where the encoder promises it (`Encoder` promise methods):
+//! 5. `sphere_error_at_most_sh() == Some(l)`: sphere rmse against E_vis ≤ that of the SH
+//!    projection of the visible radiance through band l (computed from its definition here,
+//!    `Sh9::truncate` + `convolve_cosine`, not through any encoder).
+//! 6. `is_scale_covariant()`: fit(k·input) = k·fit(input) at every normal, k = 1e-30, 0.37,
+//!    3.7e5, 1e30 (each where k times the input's smallest and largest non-zero coefficient
+//!    stays a normal f64), to 1e-7 of the largest output.
+//! 7. `promises_non_negative()`: every output on the sphere of normals is ≥ 0.
+//!
+//! # Tolerances
+//!
+//! Errors are computed on the 128×64 lat-long output grid (pixel centres, exact cell solid
+//! angles), on values divided by the case's scale so nothing under- or overflows when squared.
+//! Bounds 4 and 5 compare two least-squares answers on a discrete grid: if f minimises the
+//! continuous error over a family containing g, its grid error can exceed g's only through the
+//! grid's quadrature error ε in the cross term, by at most about 4ε² relative in the squared
+//! error (see `least_squares_on_a_grid_tolerance`). With ε ≈ 1e-3 at this resolution, 1e-5
+//! relative is a generous bound, and 1e-9 (of the scale) absolute covers answers that are
+//! exact to rounding.
+
+mod common;
+
+use common::*;
+use glam::DVec3;
+use probelab::domain::Domain;
+use probelab::sh::{Rgb, Sh9};
+use std::f64::consts::PI;
+
+/// Output grid of the checks.
+const RES: (usize, usize) = (128, 64);
+/// Relative and absolute (in units of the case's scale) slack of least-squares bounds.
+const LSQ_REL: f64 = 1e-5;
+const LSQ_ABS: f64 = 1e-9;
+/// Scale covariance: relative to the largest output.
+const SCALE_TOL: f64 = 1e-7;
+
+/// A named hard case.
+struct Case {
+    name: String,
+    /// What the case probes, for the failure message.
+    why: &'static str,
+    lighting: Lighting,
+    surface: Option<Surface>,
+    /// A non-physical edit of the SH after it is computed (rounding beyond a bound).
+    tweak: Option<fn(&mut Input)>,
+    /// No usable direction: the pure-ambient fallback bound (4) applies.
+    degenerate: bool,
+}
+
+const UP: DVec3 = DVec3::Y;
+
+fn case(name: &str, why: &'static str, lights: Vec<Light>, surface: Option<Surface>) -> Case {
+    Case { name: name.into(), why, lighting: Lighting(lights), surface, tweak: None, degenerate: false }
+}
+
+fn degenerate(mut c: Case) -> Case {
+    c.degenerate = true;
+    c
+}
+
+fn delta(d: DVec3, e: Rgb) -> Light {
+    Light::Delta { dir: d.normalize(), e }
+}
+
+/// A direction at `deg` degrees from +Y, towards +X.
+fn from_up(deg: f64) -> DVec3 {
+    let t = deg.to_radians();
+    DVec3::new(t.sin(), t.cos(), 0.0)
+}
+
+/// Sun and sky of the generated `gen_sun_sky` scene (a 5° cap at 40° elevation).
+fn sun_sky() -> Vec<Light> {
+    vec![
+        Light::Ambient(Rgb::new(0.2, 0.25, 0.3)),
+        Light::Cap { axis: dir(40.0, 30.0), half_angle: 5f64.to_radians(), radiance: Rgb::new(2000.0, 1800.0, 1500.0) },
+    ]
+}
+
+fn scale_lights(lights: Vec<Light>, k: f64) -> Vec<Light> {
+    Lighting(lights).scaled(k).0
+}
+
+/// Multiplies the L1 band of probe and visible SH by 1 + 8ε: a single delta light then has a
+/// hallucination ratio r = |L1|/L00 a few ulps above its physical maximum √3, as rounding in
+/// real data produces.
+fn l1_past_sqrt3(i: &mut Input) {
+    for sh in [&mut i.probe_sh, &mut i.visible_sh] {
+        for k in 1..4 {
+            sh.0[k] *= 1.0 + 8.0 * f64::EPSILON;
+        }
+    }
+}
+
+fn cases() -> Vec<Case> {
+    let hemi = || Some(Surface::hemisphere(UP));
+    let pi = Rgb::splat(PI);
+    let oblique = DVec3::new(0.3, 0.8, -0.52).normalize();
+    let mut v = vec![
+        degenerate(case("all_black", "zero everywhere: 0/0 in every ratio", vec![], None)),
+        degenerate(case("all_black@hemisphere", "zero with a surface: I_z = 0", vec![], hemi())),
+        degenerate(case(
+            "all_black@cone",
+            "zero under a cone: an empty visible set",
+            vec![],
+            Some(Surface { normal: UP, hemisphere: true, cone: Some((UP, 0.5)) }),
+        )),
+        degenerate(case(
+            "constant",
+            "no direction at all: L1 = L2 = 0, r = 0",
+            vec![Light::Ambient(Rgb::new(0.5, 1.0, 2.0))],
+            None,
+        )),
+        case(
+            "constant@hemisphere",
+            "the hemisphere light (1 + n.N)/2: HHD's discriminant is exactly 0",
+            vec![Light::Ambient(Rgb::new(0.5, 1.0, 2.0))],
+            hemi(),
+        ),
+        case("delta_along_n@hemisphere", "one light along N: d = N", vec![delta(UP, pi)], hemi()),
+        case("delta_89.9deg@hemisphere", "a grazing light: d_z = 0.0017", vec![delta(from_up(89.9), pi)], hemi()),
+        case(
+            "delta_horizon@hemisphere",
+            "a light exactly at the horizon (counted visible): d_z = 0, I_z = 0",
+            vec![delta(DVec3::X, pi)],
+            hemi(),
+        ),
+        case(
+            "delta_below@hemisphere",
+            "a light 10 deg below the horizon: nothing visible, the probe is lit",
+            vec![delta(from_up(100.0), pi)],
+            hemi(),
+        ),
+        degenerate(case(
+            "two_opposite",
+            "two equal opposite lights: L1 = 0, the zonal axis is undefined; every BFGS start is stationary",
+            vec![delta(DVec3::X, pi), delta(DVec3::NEG_X, pi)],
+            None,
+        )),
+        case(
+            "two_opposite@bare_x",
+            "L1 = 0 with a surface normal along one light (no effect declared): IrradZ with no direction",
+            vec![delta(DVec3::X, pi), delta(DVec3::NEG_X, pi)],
+            Some(Surface::bare(DVec3::X)),
+        ),
+        degenerate(case(
+            "octahedron",
+            "six equal lights on the axes: L1 = 0 and L2 = 0",
+            [DVec3::X, DVec3::NEG_X, DVec3::Y, DVec3::NEG_Y, DVec3::Z, DVec3::NEG_Z]
+                .into_iter()
+                .map(|d| delta(d, pi))
+                .collect(),
+            None,
+        )),
+        case(
+            "rgb_directions",
+            "R, G, B lit from three orthogonal directions: per-channel axes disagree",
+            vec![
+                delta(DVec3::X, Rgb::new(PI, 0.0, 0.0)),
+                delta(DVec3::Y, Rgb::new(0.0, PI, 0.0)),
+                delta(DVec3::NEG_Z, Rgb::new(0.0, 0.0, PI)),
+            ],
+            None,
+        ),
+        case(
+            "rgb_directions@hemisphere",
+            "R, G, B from three directions, all visible above a tilted surface",
+            vec![
+                delta(DVec3::X, Rgb::new(PI, 0.0, 0.0)),
+                delta(DVec3::Y, Rgb::new(0.0, PI, 0.0)),
+                delta(DVec3::NEG_Z, Rgb::new(0.0, 0.0, PI)),
+            ],
+            Some(Surface::hemisphere(DVec3::new(1.0, 1.0, -1.0))),
+        ),
+        case(
+            "one_channel_zero",
+            "green is zero everywhere: 0/0 in that channel only",
+            vec![Light::Ambient(Rgb::new(0.3, 0.0, 0.2)), delta(dir(40.0, 10.0), Rgb::new(5.0, 0.0, 2.0))],
+            None,
+        ),
+        case(
+            "one_channel_zero@hemisphere",
+            "green is zero everywhere, with a surface",
+            vec![Light::Ambient(Rgb::new(0.3, 0.0, 0.2)), delta(dir(40.0, 10.0), Rgb::new(5.0, 0.0, 2.0))],
+            hemi(),
+        ),
+        case("scale_1e-30", "sun and sky scaled by 1e-30: squares reach 1e-60", scale_lights(sun_sky(), 1e-30), None),
+        case(
+            "scale_1e-30@hemisphere",
+            "sun and sky scaled by 1e-30, with a surface",
+            scale_lights(sun_sky(), 1e-30),
+            hemi(),
+        ),
+        case("scale_1e+30", "sun and sky scaled by 1e+30: squares reach 1e+60", scale_lights(sun_sky(), 1e30), None),
+        case(
+            "scale_1e+30@hemisphere",
+            "sun and sky scaled by 1e+30, with a surface",
+            scale_lights(sun_sky(), 1e30),
+            hemi(),
+        ),
+        case(
+            "sun_radiance_1e6",
+            "a 0.265 deg sun of radiance 1e6 times the sky's",
+            vec![
+                Light::Ambient(Rgb::ONE),
+                Light::Cap { axis: dir(30.0, 60.0), half_angle: 0.265f64.to_radians(), radiance: Rgb::splat(1e6) },
+            ],
+            None,
+        ),
+        case(
+            "sun_irradiance_1e6",
+            "a sun whose irradiance is 1e6 times the sky's",
+            vec![Light::Ambient(Rgb::ONE), delta(dir(30.0, 60.0), Rgb::splat(PI * 1e6))],
+            None,
+        ),
+        case(
+            "sun_irradiance_1e6@hemisphere",
+            "a sun 1e6 times the sky, with a surface",
+            vec![Light::Ambient(Rgb::ONE), delta(dir(30.0, 60.0), Rgb::splat(PI * 1e6))],
+            hemi(),
+        ),
+        case(
+            "ratio_r_sqrt3",
+            "a single delta light: hallucination ratio r = sqrt(3), the physical maximum; ZH3 exact at the start",
+            vec![delta(oblique, Rgb::new(PI, 2.0, 1.0))],
+            None,
+        ),
+        case(
+            "ratio_r_to_0",
+            "ambient plus a 1e-9 light: r ~ 1e-10",
+            vec![Light::Ambient(Rgb::ONE), delta(oblique, Rgb::splat(1e-9))],
+            None,
+        ),
+        case(
+            "irradz_dz_zero@hemisphere",
+            "sky plus a light exactly at the horizon: C_d = (I_z - C_a)/d_z with d_z = 0",
+            vec![Light::Ambient(Rgb::splat(0.5)), delta(DVec3::X, Rgb::splat(2.0 * PI))],
+            hemi(),
+        ),
+        case(
+            "irradz_dz_1e-12@hemisphere",
+            "sky plus a light 1e-12 above the horizon: d_z = 1e-12",
+            vec![
+                Light::Ambient(Rgb::splat(0.5)),
+                delta(DVec3::new((1.0f64 - 1e-24).sqrt(), 1e-12, 0.0), Rgb::splat(2.0 * PI)),
+            ],
+            hemi(),
+        ),
+        // HHD from linear SH (FORMULAS §8), with b_c = (2/√π)L00, b = (2/√π)(L1 vector)/√3 and I_z
+        // the exact irradiance at N: for ambient c over the whole sphere plus a light along N
+        // with s = e/π, b_c = 4c + s, |b| = s, I_z = c + s, so the discriminant
+        // (2b_c − I_z)² − 3(b_c² − |b|²) = c² − 10cs + s² = −8 for c = s = 1.
+        case(
+            "hhd_negative_discriminant@bare",
+            "light from below the horizon, no hemisphere effect: hhd_from_sh1's discriminant is -8",
+            vec![Light::Ambient(Rgb::ONE), delta(UP, pi)],
+            Some(Surface::bare(UP)),
+        ),
+        case(
+            "cone_cos_1e-12@cone",
+            "a cone of cos(alpha) = 1 - 1e-12 with a light at its centre: the cone Gram is nearly zero",
+            vec![Light::Ambient(Rgb::ONE), delta(UP, pi)],
+            Some(Surface { normal: UP, hemisphere: true, cone: Some((UP, 1.0 - 1e-12)) }),
+        ),
+        case(
+            "cone_cos_1e-6@cone",
+            "a tilted cone of cos(alpha) = 1 - 1e-6 under plain sky",
+            vec![Light::Ambient(Rgb::splat(0.5))],
+            Some(Surface { normal: UP, hemisphere: true, cone: Some((from_up(30.0), 1.0 - 1e-6)) }),
+        ),
+        case(
+            "bfgs_start_at_minimum",
+            "ambient plus one cap light: zonal, so the given L1 is already the optimal axis (gradient 0)",
+            vec![
+                Light::Ambient(Rgb::splat(0.1)),
+                Light::Cap { axis: oblique, half_angle: 20f64.to_radians(), radiance: Rgb::new(3.0, 2.0, 1.0) },
+            ],
+            None,
+        ),
+        degenerate(case(
+            "l1_1e-300",
+            "ambient plus an L1 band of 1e-300: |L1|^2 underflows to 0",
+            vec![Light::Ambient(Rgb::ONE), delta(oblique, Rgb::splat(1e-300))],
+            None,
+        )),
+        degenerate(case(
+            "tiny_light_1e-300",
+            "a lone 1e-300 light: L00 and |L1| ~ 1e-301, their squares 0",
+            vec![delta(oblique, Rgb::splat(1e-300))],
+            None,
+        )),
+    ];
+    let mut past = case(
+        "ratio_r_past_sqrt3",
+        "a single delta light with L1 8 ulps too long: r a hair above sqrt(3)",
+        vec![delta(oblique, pi)],
+        None,
+    );
+    past.tweak = Some(l1_past_sqrt3);
+    v.push(past);
+    v
+}
+
+/// Whether k times the input keeps every non-zero coefficient a normal f64 (with room for a
+/// few products).
+fn scale_in_range(sh: &Sh9, k: f64) -> bool {
+    let vals = sh.0.iter().flat_map(|c| c.to_array()).filter(|v| *v != 0.0).map(f64::abs);
+    vals.clone().all(|v| v * k > 1e-250) && vals.clone().all(|v| v * k < 1e250)
+}
+
+/// Runs every check of the contract for one case and one encoder; returns failure messages.
+fn check(case: &Case, id: &str, enc: &dyn probelab::encoder::Encoder) -> Vec<String> {
+    let mut fails = Vec::new();
+    let mut fail = |m: String| fails.push(format!("{id} on {} ({}): {m}", case.name, case.why));
+    let mut input = Input::new(&case.lighting, case.surface.as_ref());
+    if let Some(t) = case.tweak {
+        t(&mut input);
+    }
+    let sphere = Domain::Sphere.output_grid(RES);
+    let domain = input.domain().output_grid(RES);
+    let fit = enc.fit(&input.fit_input());
+
+    // The case's scale: the largest unoccluded E/π on the sphere (1 for black).
+    let e_probe_sphere: Vec<Rgb> = sphere.normals.iter().map(|&n| input.probe.irradiance(n)).collect();
+    let scale = match max_abs(&e_probe_sphere) {
+        s if s > 0.0 => s,
+        _ => 1.0,
+    };
+
+    // 1. Finite.
+    let out_sphere = eval(fit.as_ref(), &sphere);
+    if let Some((k, v)) = out_sphere.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+        fail(format!("non-finite output {v} at normal {}", sphere.normals[k]));
+        return fails;
+    }
+    for (name, v) in fit.diagnostics() {
+        if !v.is_finite() {
+            fail(format!("non-finite diagnostic {name} = {v}"));
+        }
+    }
+
+    // 2. Black in, black out.
+    if input.probe_sh == Sh9::ZERO && input.exact_at_normal.is_none_or(|v| v == Rgb::ZERO) {
+        let m = max_abs(&out_sphere);
+        if m != 0.0 {
+            fail(format!("black input gives output up to {m:e}"));
+        }
+    }
+
+    // 3. Sanity bound on the case's domain.
+    let out_domain = eval(fit.as_ref(), &domain);
+    let e_vis: Vec<Rgb> = domain.normals.iter().map(|&n| input.visible.irradiance(n)).collect();
+    let e_probe: Vec<Rgb> = domain.normals.iter().map(|&n| input.probe.irradiance(n)).collect();
+    let rmse = rmse_scaled(&e_vis, &out_domain, &domain, scale);
+    let sanity = rms_scaled(&e_vis, &domain, scale) + rms_scaled(&e_probe, &domain, scale);
+    if rmse > sanity * (1.0 + LSQ_REL) + LSQ_ABS {
+        fail(format!(
+            "rmse {rmse:e} above the sanity bound {sanity:e} (RMS of E_vis + E_probe), in units of {scale:e}"
+        ));
+    }
+
+    // Sphere error against the visible irradiance, and the SH projections' errors.
+    let e_vis_sphere: Vec<Rgb> = sphere.normals.iter().map(|&n| input.visible.irradiance(n)).collect();
+    let sphere_rmse = rmse_scaled(&e_vis_sphere, &out_sphere, &sphere, scale);
+    let sh_rmse = |l: usize| {
+        let p = sh_projection(&input, l);
+        let v: Vec<Rgb> = sphere.normals.iter().map(|&n| p.eval(n)).collect();
+        rmse_scaled(&e_vis_sphere, &v, &sphere, scale)
+    };
+
+    // 4. Degenerate cases: no worse than pure ambient.
+    if case.degenerate {
+        let ambient = sh_rmse(0);
+        if sphere_rmse > ambient * (1.0 + LSQ_REL) + LSQ_ABS {
+            fail(format!(
+                "no usable direction, yet sphere rmse {sphere_rmse:e} exceeds the pure-ambient fallback's {ambient:e}"
+            ));
+        }
+    }
+
+    // 5. Promised: no worse than the SH projection through band l.
+    if let Some(l) = enc.sphere_error_at_most_sh() {
+        let bound = sh_rmse(l);
+        if sphere_rmse > bound * (1.0 + LSQ_REL) + LSQ_ABS {
+            fail(format!("promises sphere rmse <= SH L{l} ({bound:e}) but has {sphere_rmse:e}"));
+        }
+    }
+
+    // 6. Promised: scale covariance.
+    if enc.is_scale_covariant() {
+        for k in [1e-30, 0.37, 3.7e5, 1e30] {
+            if !scale_in_range(&input.probe_sh, k) || !scale_in_range(&input.visible_sh, k) {
+                continue;
+            }
+            let scaled = input.scaled(k);
+            let fk = enc.fit(&scaled.fit_input());
+            let m = max_abs(&out_sphere);
+            let worst = sphere
+                .normals
+                .iter()
+                .zip(&out_sphere)
+                .map(|(&n, v)| ((fk.irradiance(n) / k) - *v).abs().max_element())
+                .fold(0.0, f64::max);
+            if worst.is_nan() || worst > SCALE_TOL * m {
+                fail(format!(
+                    "scale covariance: fit(k x)/k differs from fit(x) by {worst:e} (max output {m:e}) at k = {k:e}"
+                ));
+            }
+        }
+    }
+
+    // 7. Promised: non-negative.
+    if enc.promises_non_negative() {
+        if let Some((k, v)) = out_sphere.iter().enumerate().find(|(_, v)| v.min_element() < 0.0) {
+            fail(format!("promises non-negative output but gives {v} at normal {}", sphere.normals[k]));
+        }
+    }
+    fails
+}
+
+#[test]
+fn every_encoder_survives_every_hard_case() {
+    let encoders = all_encoders();
+    assert!(encoders.len() >= probelab::encoders::REGISTRY.len());
+    let cases = cases();
+    let mut fails = Vec::new();
+    for c in &cases {
+        for (id, e) in &encoders {
+            fails.extend(check(c, id, e.as_ref()));
+        }
+    }
+    println!("{} hard cases x {} encoder configurations", cases.len(), encoders.len());
+    assert!(fails.is_empty(), "{} failure(s):\n{}", fails.len(), fails.join("\n"));
+}
+
+/// The tolerance argument above needs the grid's quadrature error ε on products of smooth
+/// functions to be ~1e-3: the Gram matrix of the SH basis on the 128×64 grid is the identity to
+/// that accuracy (independent check: the basis is orthonormal on the sphere).
+#[test]
+fn least_squares_on_a_grid_tolerance() {
+    let g = Domain::Sphere.output_grid(RES);
+    let mut gram = [[0.0f64; 9]; 9];
+    for (n, w) in g.normals.iter().zip(&g.weights) {
+        let y = probelab::sh::basis(*n);
+        for a in 0..9 {
+            for b in 0..9 {
+                gram[a][b] += w * y[a] * y[b];
+            }
+        }
+    }
+    let eps = (0..81).map(|k| (gram[k / 9][k % 9] - if k / 9 == k % 9 { 1.0 } else { 0.0 }).abs()).fold(0.0, f64::max);
+    println!("SH Gram error on the {}x{} grid: {eps:e}", RES.0, RES.1);
+    assert!(eps < 1e-3, "{eps}");
+    // 4ε² relative in the squared error is ~2ε² in the rmse: far below LSQ_REL.
+    assert!(2.0 * eps * eps < LSQ_REL);
+}
+
+/// The cases are what they claim to be, checked from their SH (so the catalogue cannot rot
+/// into easy cases).
+#[test]
+fn cases_have_the_claimed_trouble() {
+    let by_name = |n: &str| {
+        let c = cases().into_iter().find(|c| c.name == n).unwrap_or_else(|| panic!("no case {n}"));
+        let mut i = Input::new(&c.lighting, c.surface.as_ref());
+        if let Some(t) = c.tweak {
+            t(&mut i);
+        }
+        i
+    };
+    let l1 = |sh: &Sh9, c: usize| sh.l1_vector(c);
+    // L1 = 0 exactly for the opposite pair; L1 = L2 = 0 for the octahedron (to rounding).
+    let two = by_name("two_opposite");
+    assert!((0..3).all(|c| l1(&two.probe_sh, c).length() < 1e-16));
+    let oct = by_name("octahedron");
+    assert!((1..9).all(|i| oct.probe_sh[i].abs().max_element() < 1e-15));
+    // Hallucination ratio r = |L1|/L00 (FORMULAS §5) of a single light: √3 (physical maximum);
+    // past it by rounding; ~0 for the faint light.
+    let r = |i: &Input| l1(&i.probe_sh, 0).length() / i.probe_sh[0].x;
+    assert!((r(&by_name("ratio_r_sqrt3")) - 3f64.sqrt()).abs() < 1e-15);
+    assert!(r(&by_name("ratio_r_past_sqrt3")) > 3f64.sqrt());
+    assert!(r(&by_name("ratio_r_to_0")) < 1e-9);
+    // |L1|² underflows to 0 in the 1e-300 cases.
+    for n in ["l1_1e-300", "tiny_light_1e-300"] {
+        let v = l1(&by_name(n).probe_sh, 0);
+        assert!(v != DVec3::ZERO && v.length_squared() == 0.0, "{n}");
+    }
+    // The horizon light is visible and perpendicular to N: d_z = 0 exactly.
+    let hz = by_name("irradz_dz_zero@hemisphere");
+    let d = hz.visible.0.iter().find_map(|l| if let Light::Delta { dir, .. } = l { Some(*dir) } else { None });
+    assert_eq!(d.map(|d| d.dot(UP)), Some(0.0));
+    assert!(by_name("delta_below@hemisphere").visible_sh == Sh9::ZERO);
+    assert!(by_name("delta_below@hemisphere").probe_sh != Sh9::ZERO);
+    // HHD from linear SH (FORMULAS §8): the discriminant, from the SH and the exact I_z.
+    let h = by_name("hhd_negative_discriminant@bare");
+    let b_c = 2.0 / PI.sqrt() * h.visible_sh[0].x;
+    let b = 2.0 / PI.sqrt() * l1(&h.visible_sh, 0) / 3f64.sqrt();
+    let i_z = h.exact_at_normal.unwrap().x;
+    assert!((i_z - b.dot(UP) - 1.0).abs() < 1e-12, "I_z exceeds b.N by the ambient");
+    let disc = (2.0 * b_c - i_z).powi(2) - 3.0 * (b_c * b_c - b.length_squared());
+    assert!((disc + 8.0).abs() < 1e-9, "{disc}");
+    // The hemisphere light sits exactly on the discriminant's zero.
+    let hl = by_name("constant@hemisphere");
+    let (b_c, b) = (2.0 / PI.sqrt() * hl.visible_sh[0].x, 2.0 / PI.sqrt() * l1(&hl.visible_sh, 0) / 3f64.sqrt());
+    let i_z = hl.exact_at_normal.unwrap().x;
+    assert!(((2.0 * b_c - i_z).powi(2) - 3.0 * (b_c * b_c - b.length_squared())).abs() < 1e-12);
+    // The 1e-12 cone lets through only its centre light and a sliver of sky of solid angle
+    // 2π(1 − cos α) = 2π·1e-12.
+    let cone = by_name("cone_cos_1e-12@cone");
+    assert!(
+        (cone.visible_sh[0].x - (probelab::sh::k::Y00 * PI + 2.0 * PI * 1e-12 * probelab::sh::k::Y00)).abs() < 1e-15
+    );
+    // The scaled cases are the sun and sky scaled.
+    let base = Lighting(sun_sky()).sh()[0].x;
+    assert!((by_name("scale_1e+30").probe_sh[0].x / (base * 1e30) - 1.0).abs() < 1e-15);
+    assert!((by_name("scale_1e-30").probe_sh[0].x / (base * 1e-30) - 1.0).abs() < 1e-15);
+}
+
+/// The analytic lights of `tests/common` agree with the library's scenes (cap SH and E/π),
+/// and a delta light's E/π is e·max(0, n·d)/π.
+#[test]
+fn common_lights_agree_with_scenes() {
+    use probelab::scenes::Component;
+    let axis = DVec3::new(0.2, -0.7, 0.4).normalize();
+    for half in [1e-3, 0.3, 1.2, 2.5] {
+        let ours = Light::Cap { axis, half_angle: half, radiance: Rgb::new(1.0, 2.0, 3.0) };
+        let theirs = Component::Cap { axis, half_angle: half, radiance: Rgb::new(1.0, 2.0, 3.0) };
+        let d = (0..9).map(|i| (ours.sh()[i] - theirs.sh()[i]).abs().max_element()).fold(0.0, f64::max);
+        assert!(d < 1e-12, "half-angle {half}: {d}");
+        let n = DVec3::new(0.5, 0.5, 0.1).normalize();
+        assert_eq!(ours.irradiance(n), theirs.irradiance(n));
+    }
+    let d = Light::Delta { dir: DVec3::X, e: Rgb::splat(PI) };
+    assert!((d.irradiance(DVec3::new(0.6, 0.8, 0.0)).x - 0.6).abs() < 1e-15);
+    assert_eq!(d.irradiance(DVec3::NEG_X), Rgb::ZERO);
+}
+
+/// The pure-ambient fallback bound is the error of the mean: for two opposite lights ±x, E/π =
+/// |n·x|/π·π = |n_x|, whose mean is ½, so the fallback's sphere rmse is √(⟨n_x²⟩ − ¼) =
+/// √(1/3 − 1/4) = √(1/12) (in units of the scale, max E/π = 1).
+#[test]
+fn fallback_bound_is_the_error_of_the_mean() {
+    let c = cases().into_iter().find(|c| c.name == "two_opposite").unwrap();
+    let i = Input::new(&c.lighting, None);
+    let g = Domain::Sphere.output_grid(RES);
+    let truth: Vec<Rgb> = g.normals.iter().map(|&n| i.visible.irradiance(n)).collect();
+    let p = sh_projection(&i, 0);
+    let amb: Vec<Rgb> = g.normals.iter().map(|&n| p.eval(n)).collect();
+    assert!((amb[0].x - 0.5).abs() < 1e-15);
+    let e = rmse_scaled(&truth, &amb, &g, 1.0);
+    assert!((e - (1.0f64 / 12.0).sqrt()).abs() < 1e-4, "{e}");
+}
+
+/// Tiny maps with the same trouble, through the whole pipeline (projection, exact reference,
+/// metrics, CSV) for every registered encoder, on the sphere (both metrics) and on hemispheres
+/// about the six axes under the hemisphere and cone effects (cos α up to 1 − 1e-12): every score
+/// is finite and the table never says "nonfinite".
+#[test]
+fn tiny_hard_maps_score_finite_through_the_pipeline() {
+    use probelab::envmap::EnvMap;
+    use probelab::experiment::Experiment;
+    use std::path::Path;
+    let ids: Vec<String> = probelab::encoders::REGISTRY.iter().map(|k| format!("'{}'", k.id)).collect();
+    let ids = ids.join(", ");
+    let exps = [
+        format!("maps = ['x']\nencoders = [{ids}]\nmetrics = ['exact', 'probulator']\nresolution = [16, 8]\n"),
+        format!(
+            "maps = ['x']\nencoders = [{ids}]\ndomain = 'hemisphere'\norientations = ['axes6']\nresolution = [16, 8]\n\
+             effects = ['hemisphere', {{ kind = 'cone', cos_alpha = [0.5, 0.999999999999], tilt_deg = [0, 30] }}]\n"
+        ),
+    ];
+    let map = |name: &str, w: usize, f: &dyn Fn(usize, usize) -> [f32; 3]| EnvMap::from_fn(name, w, w / 2, f).unwrap();
+    let maps = [
+        map("black", 8, &|_, _| [0.0; 3]),
+        map("constant", 8, &|_, _| [0.5, 1.0, 2.0]),
+        map("smallest_2x1", 2, &|i, _| [i as f32, 1.0, 0.0]),
+        map("green_zero", 16, &|i, j| [(i + j) as f32 * 0.1, 0.0, 0.3]),
+        map("sun_1e6", 16, &|i, j| if (i, j) == (5, 2) { [1e6; 3] } else { [1.0; 3] }),
+        map("near_f32_max", 16, &|i, j| if (i, j) == (3, 3) { [3e38; 3] } else { [0.0; 3] }),
+        map("all_1e-30", 16, &|_, _| [1e-30; 3]),
+        map("subnormal", 16, &|i, j| if (i, j) == (9, 6) { [1e-45; 3] } else { [0.0; 3] }),
+        map("horizon_row", 16, &|_, j| if j == 3 { [4.0, 2.0, 1.0] } else { [0.0; 3] }),
+    ];
+    for text in &exps {
+        let exp = Experiment::parse(text, Path::new("hard.toml")).unwrap();
+        for m in &maps {
+            let rows = probelab::runner::run_map(&exp, m);
+            assert!(!rows.is_empty());
+            for r in &rows {
+                let s = &r.scores;
+                let all = [s.rmse_rgb[0], s.rmse_rgb[1], s.rmse_rgb[2], s.rmse, s.rel_rmse, s.neg_frac, s.max_abs];
+                assert!(
+                    all.iter().all(|v| v.is_finite()),
+                    "{} {} {} {}: {s:?}",
+                    m.name,
+                    r.encoder,
+                    r.domain,
+                    r.effects
+                );
+            }
+            let csv = String::from_utf8(probelab::table::to_csv(&rows).unwrap()).unwrap();
+            assert!(!csv.contains("nonfinite"), "{}: {csv}", m.name);
+        }
+    }
+}
+
+/// The contract can fail: deliberately broken encoders, each breaking one rule, are caught.
+mod broken {
+    use super::*;
+    use probelab::encoder::{Encoder, FitInput, Fitted};
+
+    #[derive(Clone, Copy, PartialEq, Debug)]
+    pub enum Flaw {
+        /// Normalises L1 without a guard (NaN when L1 = 0).
+        NaiveNormalise,
+        /// SH L1 plus a constant 1e-3, claiming scale covariance.
+        Offset,
+        /// SH L1 claiming non-negativity.
+        ClaimsNonNegative,
+        /// SH L0 claiming to be at least as good as SH L1.
+        ClaimsL1Bound,
+        /// With no L1 direction, puts all the light along +z instead of falling back to ambient.
+        BadFallback,
+    }
+
+    pub struct Broken(pub Flaw);
+    struct F(Box<dyn Fn(DVec3) -> Rgb + Send + Sync>);
+    impl Fitted for F {
+        fn irradiance(&self, n: DVec3) -> Rgb {
+            (self.0)(n)
+        }
+    }
+    impl Encoder for Broken {
+        fn id(&self) -> &str {
+            "broken"
+        }
+        fn stored_scalars(&self) -> usize {
+            12
+        }
+        fn fit(&self, input: &FitInput) -> Box<dyn Fitted> {
+            let sh1 = input.visible_sh.truncate(1).convolve_cosine();
+            let sh0 = input.visible_sh.truncate(0).convolve_cosine();
+            let l1 = input.visible_sh.l1_vector_weighted(Rgb::splat(1.0 / 3.0));
+            match self.0 {
+                Flaw::NaiveNormalise => {
+                    let d = l1 / l1.length();
+                    Box::new(F(Box::new(move |n| sh0.eval(n) + Rgb::splat(l1.length() * n.dot(d).max(0.0)))))
+                }
+                Flaw::Offset => Box::new(F(Box::new(move |n| sh1.eval(n) + Rgb::splat(1e-3)))),
+                Flaw::ClaimsNonNegative | Flaw::ClaimsL1Bound => {
+                    let s = if self.0 == Flaw::ClaimsL1Bound { sh0 } else { sh1 };
+                    Box::new(F(Box::new(move |n| s.eval(n))))
+                }
+                Flaw::BadFallback => {
+                    let d = if l1.length() > 0.0 { l1.normalize() } else { DVec3::Z };
+                    let amb = sh0.eval(DVec3::Z);
+                    Box::new(F(Box::new(move |n| amb * (2.0 * n.dot(d).max(0.0)))))
+                }
+            }
+        }
+        fn is_scale_covariant(&self) -> bool {
+            self.0 == Flaw::Offset
+        }
+        fn promises_non_negative(&self) -> bool {
+            self.0 == Flaw::ClaimsNonNegative
+        }
+        fn sphere_error_at_most_sh(&self) -> Option<usize> {
+            (self.0 == Flaw::ClaimsL1Bound).then_some(1)
+        }
+    }
+}
+
+#[test]
+fn the_contract_catches_broken_encoders() {
+    use broken::{Broken, Flaw};
+    let expect = [
+        (Flaw::NaiveNormalise, "non-finite output"),
+        (Flaw::Offset, "scale covariance"),
+        (Flaw::Offset, "black input gives output"),
+        (Flaw::ClaimsNonNegative, "promises non-negative"),
+        (Flaw::ClaimsL1Bound, "promises sphere rmse <= SH L1"),
+        (Flaw::BadFallback, "pure-ambient fallback"),
+    ];
+    let cases = cases();
+    for (flaw, words) in expect {
+        let e = Broken(flaw);
+        let fails: Vec<String> = cases.iter().flat_map(|c| check(c, "broken", &e)).collect();
+        assert!(fails.iter().any(|f| f.contains(words)), "{flaw:?} not caught ({words}): {fails:#?}");
+    }
+}
