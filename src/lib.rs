@@ -17,4 +17,6 @@ pub mod reference;
 pub mod runner;
 pub mod scenes;
 pub mod sh;
+pub mod sh_rotation;
+pub mod stats;
 pub mod table;
