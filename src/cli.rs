@@ -18,6 +18,12 @@ pub struct Cli {
     /// Repository root holding experiments/, results/ and envmaps/.
     #[arg(long, global = true, default_value = ".")]
     pub root: PathBuf,
+    /// Print where the time went (decode, reference, fits, rendering, …) to stderr at the end.
+    #[arg(long, global = true)]
+    pub profile: bool,
+    /// Skip the timing pass: the fit_ns and eval_ns columns stay empty.
+    #[arg(long, global = true)]
+    pub no_timing: bool,
     #[command(subcommand)]
     pub command: Command,
 }
@@ -81,6 +87,11 @@ pub fn main_with(cli: Cli) -> Result<i32> {
     if let Some(j) = cli.jobs {
         rayon::ThreadPoolBuilder::new().num_threads(j.max(1)).build_global().context("--jobs")?;
     }
+    if cli.profile {
+        crate::profile::enable();
+    }
+    crate::timing::set_enabled(!cli.no_timing);
+    let _profile_report = crate::profile::ReportOnDrop(std::time::Instant::now());
     let root = cli.root.clone();
     let search = SearchPath::from_env(root.join("envmaps"));
     let results = |out: Option<PathBuf>| out.unwrap_or_else(|| root.join("results"));
@@ -188,6 +199,7 @@ fn describe_search(s: &SearchPath) -> String {
 
 /// Writes results/<name>/table.csv atomically.
 pub fn write_results(out: &Path, exp: &Experiment, report: &runner::RunReport) -> Result<()> {
+    let _s = crate::profile::span("write");
     let dir = out.join(&exp.name);
     table::write_csv(&dir.join("table.csv"), &report.rows)?;
     eprintln!("wrote {} ({} rows)", dir.join("table.csv").display(), report.rows.len());
