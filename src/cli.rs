@@ -80,6 +80,10 @@ pub enum Command {
     Encoders,
     /// Show the map search path and which maps it finds.
     Maps,
+    /// Score encoders over a probe set (a file, or --synth N), in chunks and optionally sharded.
+    Probes(crate::probeset::ProbesArgs),
+    /// Merge shard statistics written by `probes --out`.
+    Merge(crate::probeset::MergeArgs),
 }
 
 /// Runs the command line; returns the process exit code.
@@ -186,6 +190,8 @@ pub fn main_with(cli: Cli) -> Result<i32> {
             }
             Ok(0)
         }
+        Command::Probes(args) => crate::probeset::command(args, &search),
+        Command::Merge(args) => crate::probeset::merge_command(args),
     }
 }
 

@@ -11,6 +11,7 @@ pub mod envmap;
 pub mod experiment;
 pub mod metrics;
 pub mod moments;
+pub mod probeset;
 pub mod profile;
 pub mod projection;
 pub mod quadrature;
