@@ -84,6 +84,8 @@ pub enum Command {
     Probes(crate::probeset::ProbesArgs),
     /// Merge shard statistics written by `probes --out`.
     Merge(crate::probeset::MergeArgs),
+    /// Vary one accuracy knob and record error against time (experiments/sweeps/*.toml).
+    Sweep(crate::sweep::SweepArgs),
 }
 
 /// Runs the command line; returns the process exit code.
@@ -192,6 +194,7 @@ pub fn main_with(cli: Cli) -> Result<i32> {
         }
         Command::Probes(args) => crate::probeset::command(args, &search),
         Command::Merge(args) => crate::probeset::merge_command(args),
+        Command::Sweep(args) => crate::sweep::command(args, &root, &search),
     }
 }
 

@@ -21,5 +21,6 @@ pub mod scenes;
 pub mod sh;
 pub mod sh_rotation;
 pub mod stats;
+pub mod sweep;
 pub mod table;
 pub mod timing;
