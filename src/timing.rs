@@ -7,9 +7,10 @@
 //! - `eval_ns`: the median time of one `Fitted::irradiance`, per normal, over (a subsample of at
 //!   most 4096 of) the normals the row was scored on.
 //!
-//! Method: a call is batched k times, k doubling until a batch takes ≥ 100 µs (so timer
-//! resolution is negligible); then the median over R batches (5 ≤ R ≤ 21, as many as fit in
-//! about 5 ms), divided by k. Measurements run on the calling thread, one at a time, after the
+//! Method: a call is batched k times, k growing until a batch takes ≥ 50 µs (so timer
+//! resolution is negligible); then the median over R batches (5 ≤ R ≤ 15, as many as fit in
+//! about 1 ms), divided by k. A measurement costs about 1–2 ms for fast encoders (and 5 fits
+//! for slow ones), so the pass stays small next to scoring. Measurements run on the calling thread, one at a time, after the
 //! parallel scoring has finished. They are wall-clock figures on a shared machine: they vary
 //! run to run, which is why the regression check ignores [`TIMING_COLUMNS`](crate::table::TIMING_COLUMNS).
 //! `--no-timing` leaves the columns empty.
@@ -35,11 +36,11 @@ pub fn enabled() -> bool {
 }
 
 /// A batch must last at least this long.
-const MIN_BATCH: Duration = Duration::from_micros(100);
+const MIN_BATCH: Duration = Duration::from_micros(50);
 /// Aim for about this much time in the repeated batches of one measurement.
-const BUDGET: Duration = Duration::from_millis(5);
+const BUDGET: Duration = Duration::from_millis(1);
 const MIN_REPEATS: usize = 5;
-const MAX_REPEATS: usize = 21;
+const MAX_REPEATS: usize = 15;
 /// Normals per eval measurement, at most.
 pub const EVAL_NORMALS: usize = 4096;
 
