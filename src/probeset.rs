@@ -524,6 +524,8 @@ impl Synth {
 /// azimuths, weights summing to 1 (exact for polynomials of degree ≤ 11 on the sphere).
 pub struct SphereRule {
     pub nodes: Vec<(DVec3, f64)>,
+    /// The SH basis at each node (so the reference costs 9 multiply-adds a node).
+    basis: Vec<[f64; N_SH]>,
 }
 
 impl SphereRule {
@@ -536,7 +538,8 @@ impl SphereRule {
                 nodes.push((DVec3::new(r * c, r * s, z), 0.5 * w / nphi as f64));
             }
         }
-        SphereRule { nodes }
+        let basis = nodes.iter().map(|n| crate::sh::basis(n.0)).collect();
+        SphereRule { nodes, basis }
     }
     pub fn standard() -> Self {
         Self::product_gauss(6, 12)
@@ -560,8 +563,12 @@ pub fn probe_rmse(fit: &dyn Fitted, reference: &Sh9, rule: &SphereRule) -> (f64,
         }
         None => {
             let mut se = 0.0;
-            for &(n, w) in &rule.nodes {
-                se += w * (fit.irradiance(n) - reference.eval(n)).length_squared();
+            for (&(n, w), y) in rule.nodes.iter().zip(&rule.basis) {
+                let mut r = Rgb::ZERO;
+                for i in 0..N_SH {
+                    r += reference[i] * y[i];
+                }
+                se += w * (fit.irradiance(n) - r).length_squared();
             }
             ((se / 3.0).sqrt(), Method::Quadrature)
         }
