@@ -18,6 +18,12 @@ pub struct Cli {
     /// Repository root holding experiments/, results/ and envmaps/.
     #[arg(long, global = true, default_value = ".")]
     pub root: PathBuf,
+    /// Print where the time went (decode, reference, fits, rendering, …) to stderr at the end.
+    #[arg(long, global = true)]
+    pub profile: bool,
+    /// Skip the timing pass: the fit_ns and eval_ns columns stay empty.
+    #[arg(long, global = true)]
+    pub no_timing: bool,
     #[command(subcommand)]
     pub command: Command,
 }
@@ -101,6 +107,12 @@ pub enum Command {
     Encoders,
     /// Show the map search path and which maps it finds.
     Maps,
+    /// Score encoders over a probe set (a file, or --synth N), in chunks and optionally sharded.
+    Probes(crate::probeset::ProbesArgs),
+    /// Merge shard statistics written by `probes --out`.
+    Merge(crate::probeset::MergeArgs),
+    /// Vary one accuracy knob and record error against time (experiments/sweeps/*.toml).
+    Sweep(crate::sweep::SweepArgs),
 }
 
 /// Runs the command line; returns the process exit code.
@@ -108,6 +120,11 @@ pub fn main_with(cli: Cli) -> Result<i32> {
     if let Some(j) = cli.jobs {
         rayon::ThreadPoolBuilder::new().num_threads(j.max(1)).build_global().context("--jobs")?;
     }
+    if cli.profile {
+        crate::profile::enable();
+    }
+    crate::timing::set_enabled(!cli.no_timing);
+    let _profile_report = crate::profile::ReportOnDrop(std::time::Instant::now());
     let root = cli.root.clone();
     let search = SearchPath::from_env(root.join("envmaps"));
     let results = |out: Option<PathBuf>| out.unwrap_or_else(|| root.join("results"));
@@ -224,6 +241,9 @@ pub fn main_with(cli: Cli) -> Result<i32> {
             }
             Ok(0)
         }
+        Command::Probes(args) => crate::probeset::command(args, &search),
+        Command::Merge(args) => crate::probeset::merge_command(args),
+        Command::Sweep(args) => crate::sweep::command(args, &root, &search),
     }
 }
 
@@ -253,6 +273,7 @@ fn describe_search(s: &SearchPath) -> String {
 /// yet; an existing table is a baseline and is never overwritten here (only `bless` does):
 /// returns false, printing the differences, if its numbers moved (`check::store`).
 pub fn write_results(root: &Path, out: &Path, exp: &Experiment, report: &runner::RunReport) -> Result<bool> {
+    let _s = crate::profile::span("write");
     let stored = crate::check::store(out, root, exp, report)?;
     Ok(crate::check::print_stored(exp, out, &stored, report.rows.len()))
 }

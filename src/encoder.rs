@@ -95,6 +95,12 @@ pub trait Fitted: Send + Sync {
     fn diagnostics(&self) -> Vec<(&'static str, f64)> {
         Vec::new()
     }
+    /// This fit's E/π as SH through band 2, when it is exactly that (SH, ZH3 expanded to SH3):
+    /// lets probe-set errors use the closed form instead of quadrature (`probes.rs`). None
+    /// (the default) for anything else, e.g. clamped or non-polynomial reconstructions.
+    fn sh3(&self) -> Option<Sh9> {
+        None
+    }
 }
 
 /// Encoder settings from an experiment file or the command line. Every key must be read:

@@ -143,14 +143,20 @@ pub fn run(exp: &Experiment, search: &SearchPath) -> Result<RunReport> {
             }
         };
         // Load first: the loader refuses what is not a regular file (reading a FIFO would block).
-        let map = crate::envmap::load::load(&path)?;
-        let bytes = std::fs::read(&path).with_context(|| format!("{}: cannot read", path.display()))?;
+        let map = {
+            let _s = crate::profile::span("decode");
+            crate::envmap::load::load(&path)?
+        };
+        let digest = {
+            let _s = crate::profile::span("read + sha256");
+            Sha256::digest(std::fs::read(&path).with_context(|| format!("{}: cannot read", path.display()))?)
+        };
         maps.push(MapInfo {
             name: map.name.clone(),
             path: Some(path),
             width: map.width(),
             height: map.height(),
-            sha256: hex(&Sha256::digest(&bytes)),
+            sha256: hex(&digest),
         });
         rows.extend(run_map(exp, &map));
     }
@@ -212,18 +218,28 @@ impl<'a> CaseData<'a> {
 
 /// Scores every encoder of the experiment on one in-memory map.
 pub fn run_map(exp: &Experiment, map: &EnvMap) -> Vec<Row> {
-    let data = MapData::new(map);
+    let data = {
+        let _s = crate::profile::span("row moments + SH projection");
+        MapData::new(map)
+    };
     let all = cases(exp);
-    let per_case: Vec<Vec<Row>> = all.par_iter().map(|case| run_case(exp, &data, case)).collect();
+    let mut per_case: Vec<Vec<Row>> = all.par_iter().map(|case| run_case(exp, &data, case)).collect();
+    crate::timing::fill(exp, &data, &all, &mut per_case);
     per_case.into_iter().flatten().collect()
 }
 
 fn run_case(exp: &Experiment, data: &MapData, case: &Case) -> Vec<Row> {
     let map = data.map;
-    let cd = CaseData::new(data, case, exp.polar_nodes);
+    let cd = {
+        let _s = crate::profile::span("case setup (visible SH)");
+        CaseData::new(data, case, exp.polar_nodes)
+    };
     let reference = &cd.reference;
     let input = cd.fit_input();
-    let fitted: Vec<_> = exp.encoders.iter().map(|e| e.encoder.fit(&input)).collect();
+    let fitted: Vec<_> = {
+        let _s = crate::profile::span("fit");
+        exp.encoders.iter().map(|e| e.encoder.fit(&input)).collect()
+    };
     let mut rows = Vec::new();
     // One output grid (and one reference evaluation) per distinct metric grid.
     let mut grids: Vec<((usize, usize), bool, OutputGrid, Vec<Rgb>)> = Vec::new();
@@ -235,6 +251,7 @@ fn run_case(exp: &Experiment, data: &MapData, case: &Case) -> Vec<Row> {
         let sphere = matches!(domain, Domain::Sphere);
         if !grids.iter().any(|g| g.0 == res && g.1 == sphere) {
             let grid = domain.output_grid(res);
+            let _s = crate::profile::span("reference");
             let values = match grid.latlong {
                 Some(ll) => reference.irradiance_latlong(ll),
                 None => reference.irradiance_many(&grid.normals),
@@ -247,9 +264,15 @@ fn run_case(exp: &Experiment, data: &MapData, case: &Case) -> Vec<Row> {
             Metric::Probulator => vec![1.0; grid.normals.len()],
         };
         for (named, fit) in exp.encoders.iter().zip(&fitted) {
-            let test: Vec<Rgb> = grid.normals.par_iter().with_min_len(256).map(|&n| fit.irradiance(n)).collect();
+            let test: Vec<Rgb> = {
+                let _s = crate::profile::span("render (encoder eval)");
+                grid.normals.par_iter().with_min_len(256).map(|&n| fit.irradiance(n)).collect()
+            };
             let clamp = *metric == Metric::Probulator && named.encoder.peer_clamps();
-            let scores = score(ref_values, &test, &weights, clamp);
+            let scores = {
+                let _s = crate::profile::span("score");
+                score(ref_values, &test, &weights, clamp)
+            };
             let diagnostics = fit
                 .diagnostics()
                 .iter()
@@ -270,6 +293,8 @@ fn run_case(exp: &Experiment, data: &MapData, case: &Case) -> Vec<Row> {
                 units: "E/pi".into(),
                 reference: reference.describe(),
                 diagnostics,
+                fit_ns: None,
+                eval_ns: None,
             });
         }
     }

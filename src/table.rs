@@ -27,7 +27,13 @@ pub const COLUMNS: &[&str] = &[
     "units",
     "reference",
     "diagnostics",
+    "fit_ns",
+    "eval_ns",
 ];
+
+/// Columns that are wall-clock measurements (`timing.rs`): they vary from run to run, so
+/// comparisons of tables ignore them by name. Empty when timing is off (`--no-timing`).
+pub const TIMING_COLUMNS: &[&str] = &["fit_ns", "eval_ns"];
 
 /// One scored (map, encoder, domain, metric).
 #[derive(Clone, Debug, PartialEq)]
@@ -45,6 +51,10 @@ pub struct Row {
     pub units: String,
     pub reference: String,
     pub diagnostics: String,
+    /// Median ns to fit one probe/texel (timing pass; None when timing is off).
+    pub fit_ns: Option<f64>,
+    /// Median ns per evaluated normal (timing pass; None when timing is off).
+    pub eval_ns: Option<f64>,
 }
 
 /// Shortest round-trip form of an f64 (so baselines compare exactly); never NaN/Inf in output.
@@ -82,6 +92,8 @@ impl Row {
             self.units.clone(),
             self.reference.clone(),
             self.diagnostics.clone(),
+            self.fit_ns.map(|v| format!("{v:.1}")).unwrap_or_default(),
+            self.eval_ns.map(|v| format!("{v:.2}")).unwrap_or_default(),
         ]
     }
 }

@@ -38,6 +38,9 @@ impl Fitted for ShIrradiance {
     fn irradiance(&self, n: DVec3) -> Rgb {
         self.0.eval(n)
     }
+    fn sh3(&self) -> Option<Sh9> {
+        Some(self.0)
+    }
 }
 
 impl Encoder for ShEncoder {
