@@ -27,6 +27,7 @@ pub const COLUMNS: &[&str] = &[
     "units",
     "reference",
     "diagnostics",
+    "at_normal_abs_err",
 ];
 
 /// One scored (map, encoder, domain, metric).
@@ -45,6 +46,9 @@ pub struct Row {
     pub units: String,
     pub reference: String,
     pub diagnostics: String,
+    /// |E_encoder(N) − E_exact(N)|, the largest channel, at the surface normal N (the IrradZ
+    /// point); `None` without a surface normal.
+    pub at_normal_abs_err: Option<f64>,
 }
 
 /// Shortest round-trip form of an f64 (so baselines compare exactly); never NaN/Inf in output.
@@ -82,6 +86,7 @@ impl Row {
             self.units.clone(),
             self.reference.clone(),
             self.diagnostics.clone(),
+            self.at_normal_abs_err.map(num).unwrap_or_default(),
         ]
     }
 }
