@@ -191,6 +191,10 @@ pub fn write_results(out: &Path, exp: &Experiment, report: &runner::RunReport) -
     let dir = out.join(&exp.name);
     table::write_csv(&dir.join("table.csv"), &report.rows)?;
     eprintln!("wrote {} ({} rows)", dir.join("table.csv").display(), report.rows.len());
+    let summary = exp.summary.as_ref().map(|b| b.as_deref());
+    for f in crate::summary::write(&dir, &exp.name, &exp.description, summary, &exp.claims, &report.rows)? {
+        eprintln!("wrote {}", dir.join(f).display());
+    }
     Ok(())
 }
 
@@ -232,6 +236,8 @@ fn eval_experiment(
         resolution: res,
         polar_nodes,
         ci: false,
+        summary: None,
+        claims: vec![],
     })
 }
 
