@@ -24,7 +24,9 @@
 //!
 //! TOML keys: `probe_hemi_full` and `probe_cone_full` take `output_bands` (1 or 2, default 2;
 //! 1 truncates the output to the linear band, which is what `probe_hemi_q2l` equals);
-//! `probe_hhd_lum` takes `weights` (`rec709` default, `equal`, or `[r, g, b]`) for luminance.
+//! `probe_hhd_lum` takes `weights` (`rec709` default, `equal`, or `[r, g, b]`) for luminance;
+//! `hlsh` and `cone_multiply` take `iz` (`pinned`, default: HLSH; `fitted`: the value at the axis
+//! is fitted by least squares too, an ablation that shows what the I_z pin costs or gains).
 //!
 //! **HLSH as implemented (derived; the talk's ShaderToy was not available).** In the frame of
 //! the axis A (N, or the cone centre C: "we always take the normal for the multiply to be the
@@ -56,7 +58,7 @@ enum Op {
     Unoccluded,
     Full { cone: bool, bands: usize },
     Q2l,
-    Hlsh { cone: bool },
+    Hlsh { cone: bool, pin_iz: bool },
     HhdLum { weights: Rgb },
     AoScale,
     BentNormal,
@@ -74,7 +76,8 @@ pub struct ProbeOp {
 
 impl ProbeOp {
     fn new(id: &'static str, op: Op) -> Self {
-        ProbeOp { id, op, hemi: HlshOperator::new(0.0), hemi_gram: AxialGram::cone(0.0) }
+        let pin_iz = !matches!(op, Op::Hlsh { pin_iz: false, .. });
+        ProbeOp { id, op, hemi: HlshOperator::new(0.0, pin_iz), hemi_gram: AxialGram::cone(0.0) }
     }
 }
 
@@ -106,10 +109,10 @@ impl Encoder for ProbeOp {
                 Box::new(ShIrradiance(multiply_full(f, c, axis).truncate(bands).convolve_cosine()))
             }
             Op::Q2l => Box::new(Linear::from_linear_sh(&multiply_to_linear(&axial_parts(f, n), &self.hemi_gram))),
-            Op::Hlsh { cone } => {
+            Op::Hlsh { cone, pin_iz } => {
                 let (axis, c) = visibility(input, cone).expect("normal present");
                 let parts = axial_parts(f, axis);
-                let fit = if c == 0.0 { self.hemi.fit(&parts) } else { HlshOperator::new(c).fit(&parts) };
+                let fit = if c == 0.0 { self.hemi.fit(&parts) } else { HlshOperator::new(c, pin_iz).fit(&parts) };
                 Box::new(fit)
             }
             Op::HhdLum { weights } => {
@@ -173,19 +176,21 @@ impl Fitted for Constant {
     }
 }
 
-/// HLSH for a visibility cone of cos α = c about the axis (see the module doc): the fit is
-/// (a, I_z) = linear maps of the m = 0 parts, t = β₁·b⊥ + β₂·q⊥.
+/// HLSH for a visibility cone of cos α = c about the axis (see the module doc). The fitted
+/// E(n′) = dc + s·(n′·A) + t·n′ has dc and s linear in the m = 0 parts and t = β₁·b⊥ + β₂·q⊥.
 #[derive(Clone, Copy, Debug)]
 pub struct HlshOperator {
-    /// Rows: a and I_z as linear functions of the zonal parts (f₀, b·A, zonal band 2).
-    w_a: [f64; 3],
-    w_iz: [f64; 3],
+    /// dc and s as linear functions of the zonal parts (f₀, b·A, zonal band 2).
+    w_dc: [f64; 3],
+    w_s: [f64; 3],
     beta: [f64; 2],
 }
 
 impl HlshOperator {
-    /// Builds the operator for cos α = c (c = 0: the hemisphere).
-    pub fn new(c: f64) -> Self {
+    /// Builds the operator for cos α = c (c = 0: the hemisphere). With `pin_iz` the value at
+    /// the axis is I_z (HLSH); without it, dc and s are fitted freely too (an ablation: the
+    /// plain least-squares linear fit over the hemisphere).
+    pub fn new(c: f64, pin_iz: bool) -> Self {
         let gv = AxialGram::cone(c);
         let gh = AxialGram::cone(0.0);
         let giz = AxialGram::cone(c.max(0.0));
@@ -202,25 +207,34 @@ impl HlshOperator {
         }
         // a = (3/2π)(∫T − ∫T z′) − I_z/2, from the normal equations over the hemisphere with
         // ∫(1 − z′)² = 2π/3 and ∫z′(1 − z′) = π/3.
-        let w_a = std::array::from_fn(|j| 1.5 / PI * (w_int[j] - w_intz[j]) - 0.5 * w_iz[j]);
+        let w_a: [f64; 3] = std::array::from_fn(|j| 1.5 / PI * (w_int[j] - w_intz[j]) - 0.5 * w_iz[j]);
+        // E = I_z·z′ + a·(1 − z′): dc = a, s = I_z − a. Unpinned, the normal equations of
+        // (dc, s) over the hemisphere, [[2π, π], [π, 2π/3]], give dc = (2∫T − 3∫T z′)/π and
+        // s = (6∫T z′ − 3∫T)/π.
+        let (w_dc, w_s) = if pin_iz {
+            (w_a, std::array::from_fn(|j| w_iz[j] - w_a[j]))
+        } else {
+            (
+                std::array::from_fn(|j| (2.0 * w_int[j] - 3.0 * w_intz[j]) / PI),
+                std::array::from_fn(|j| (6.0 * w_intz[j] - 3.0 * w_int[j]) / PI),
+            )
+        };
         // t = ∫T·n′⊥ / (2π/3), with ∫T·(x′, y′) = (m = ±1 moments)/√(3/4π).
         let o1 = [gv.m1[0][0] * 2.0 / 3.0, gv.m1[1][0] * 0.25]; // response to b⊥
         let o2 = [gv.m1[0][1] * 2.0 / 3.0, gv.m1[1][1] * 0.25]; // response to q⊥
         let to_t = 1.5 / (PI * k::Y1);
         let beta =
             [(gh.m1[0][0] * o1[0] + gh.m1[0][1] * o1[1]) * to_t, (gh.m1[0][0] * o2[0] + gh.m1[0][1] * o2[1]) * to_t];
-        HlshOperator { w_a, w_iz, beta }
+        HlshOperator { w_dc, w_s, beta }
     }
 
     /// The HLSH irradiance of the SH whose parts about the axis are `p`.
     pub fn fit(&self, p: &AxialParts) -> Linear {
         let z = &p.zonal;
-        let a = z[0] * self.w_a[0] + z[1] * self.w_a[1] + z[2] * self.w_a[2];
-        let iz = z[0] * self.w_iz[0] + z[1] * self.w_iz[1] + z[2] * self.w_iz[2];
-        let grad = std::array::from_fn(|ch| {
-            p.axis * (iz[ch] - a[ch]) + p.b_perp[ch] * self.beta[0] + p.q_perp[ch] * self.beta[1]
-        });
-        Linear { dc: a, grad }
+        let dc = z[0] * self.w_dc[0] + z[1] * self.w_dc[1] + z[2] * self.w_dc[2];
+        let s = z[0] * self.w_s[0] + z[1] * self.w_s[1] + z[2] * self.w_s[2];
+        let grad = std::array::from_fn(|ch| p.axis * s[ch] + p.b_perp[ch] * self.beta[0] + p.q_perp[ch] * self.beta[1]);
+        Linear { dc, grad }
     }
 }
 
@@ -373,8 +387,18 @@ pub fn build_cone_full(p: &mut Params) -> Result<Box<dyn Encoder>> {
 pub fn build_hemi_q2l(p: &mut Params) -> Result<Box<dyn Encoder>> {
     build(p, "probe_hemi_q2l", Op::Q2l)
 }
+/// The `iz` key of the HLSH operators: `pinned` (default) or `fitted`.
+fn pin_iz(p: &mut Params) -> Result<bool> {
+    match p.str_or("iz", "pinned")?.as_str() {
+        "pinned" => Ok(true),
+        "fitted" => Ok(false),
+        s => bail!("iz '{s}': expected pinned (HLSH) or fitted (plain least squares, an ablation)"),
+    }
+}
+
 pub fn build_hlsh(p: &mut Params) -> Result<Box<dyn Encoder>> {
-    build(p, "hlsh", Op::Hlsh { cone: false })
+    let pin_iz = pin_iz(p)?;
+    build(p, "hlsh", Op::Hlsh { cone: false, pin_iz })
 }
 pub fn build_hhd_lum(p: &mut Params) -> Result<Box<dyn Encoder>> {
     let weights = p.rgb_or("weights", named_weights("rec709")?)?;
@@ -384,7 +408,8 @@ pub fn build_hhd_lum(p: &mut Params) -> Result<Box<dyn Encoder>> {
     build(p, "probe_hhd_lum", Op::HhdLum { weights })
 }
 pub fn build_cone_multiply(p: &mut Params) -> Result<Box<dyn Encoder>> {
-    build(p, "cone_multiply", Op::Hlsh { cone: true })
+    let pin_iz = pin_iz(p)?;
+    build(p, "cone_multiply", Op::Hlsh { cone: true, pin_iz })
 }
 pub fn build_ao_scale(p: &mut Params) -> Result<Box<dyn Encoder>> {
     build(p, "ao_scale", Op::AoScale)
@@ -487,7 +512,7 @@ mod tests {
         let mut rng = Rng::new(4);
         for c in [0.0, 0.5, 0.9] {
             let (sh, n) = (lighting(&mut rng), rng.unit());
-            let op = HlshOperator::new(c);
+            let op = HlshOperator::new(c, true);
             let lin = op.fit(&axial_parts(&sh, n));
             for ch in 0..3 {
                 // Quadrature over the cone about n: GL in t ∈ [c, 1].
@@ -517,7 +542,8 @@ mod tests {
         for c in [0.0, 0.6] {
             let (sh, n) = (lighting(&mut rng), rng.unit());
             let target = multiply_full(&sh, c, n).convolve_cosine();
-            let fit = HlshOperator::new(c).fit(&axial_parts(&sh, n));
+            let fit = HlshOperator::new(c, true).fit(&axial_parts(&sh, n));
+            let free = HlshOperator::new(c, false).fit(&axial_parts(&sh, n));
             let err = |l: &Linear| {
                 hemisphere_integral(n, |m| {
                     let d = l.irradiance(m) - target.eval(m);
@@ -527,6 +553,20 @@ mod tests {
             let e0 = err(&fit);
             let helper = if n.x.abs() < 0.9 { DVec3::X } else { DVec3::Y };
             let t1 = (helper - n * helper.dot(n)).normalize();
+            let t2 = n.cross(t1);
+            // Unpinned, the fit is at least as close to the target, and optimal in dc and s.
+            let e_free = err(&free);
+            assert!(e_free <= e0 * (1.0 + 1e-12), "{e_free} > {e0}");
+            for eps in [1e-3, -1e-3] {
+                let mut l = free;
+                l.dc += Rgb::splat(eps);
+                assert!(err(&l) > e_free);
+                let mut l = free;
+                for g in &mut l.grad {
+                    *g += n * eps;
+                }
+                assert!(err(&l) > e_free);
+            }
             for eps in [1e-3, -1e-3] {
                 // a: dc += ε and the n-component of grad −= ε keeps E(N) fixed.
                 let mut l = fit;
@@ -535,11 +575,13 @@ mod tests {
                     *g -= n * eps;
                 }
                 assert!(err(&l) > e0, "a is not optimal");
-                let mut l = fit;
-                for g in &mut l.grad {
-                    *g += t1 * eps;
+                for t in [t1, t2] {
+                    let mut l = fit;
+                    for g in &mut l.grad {
+                        *g += t * eps;
+                    }
+                    assert!(err(&l) > e0, "t is not optimal");
                 }
-                assert!(err(&l) > e0, "t is not optimal");
             }
         }
     }
