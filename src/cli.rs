@@ -271,11 +271,20 @@ fn describe_search(s: &SearchPath) -> String {
 
 /// Writes results/<name>/table.csv and provenance.toml atomically when there is no table
 /// yet; an existing table is a baseline and is never overwritten here (only `bless` does):
-/// returns false, printing the differences, if its numbers moved (`check::store`).
+/// returns false, printing the differences, if its numbers moved (`check::store`). When the
+/// table stands, the summary files derived from it (summary.csv, claims) are written too.
 pub fn write_results(root: &Path, out: &Path, exp: &Experiment, report: &runner::RunReport) -> Result<bool> {
     let _s = crate::profile::span("write");
     let stored = crate::check::store(out, root, exp, report)?;
-    Ok(crate::check::print_stored(exp, out, &stored, report.rows.len()))
+    let ok = crate::check::print_stored(exp, out, &stored, report.rows.len());
+    if ok {
+        let dir = out.join(&exp.name);
+        let summary = exp.summary.as_ref().map(|b| b.as_deref());
+        for f in crate::summary::write(&dir, &exp.name, &exp.description, summary, &exp.claims, &report.rows)? {
+            eprintln!("wrote {}", dir.join(f).display());
+        }
+    }
+    Ok(ok)
 }
 
 /// The experiment `probelab eval` runs.
@@ -316,6 +325,8 @@ fn eval_experiment(
         resolution: res,
         polar_nodes,
         ci: false,
+        summary: None,
+        claims: vec![],
     })
 }
 

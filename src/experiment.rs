@@ -14,6 +14,8 @@
 //! | `resolution`   | [W, H]                    | `[256, 128]`   | output lat-long grid of normals for the `exact` metric |
 //! | `polar_nodes`  | integer                   | 2              | Gauss–Legendre nodes per row piece of the reference |
 //! | `ci`           | bool                      | true           | whether the CI check re-runs it |
+//! | `summary`      | table                     | none           | `summary.csv` per orientation/map/set, ratios to `baseline` (`summary.rs`) |
+//! | `claims`       | [table]                   | `[]`           | claims checked on the rows: `claims.csv`, `CLAIMS.md` (`summary.rs`) |
 //!
 //! Unknown keys are errors that name the key and the line.
 
@@ -64,6 +66,9 @@ pub struct ExperimentFile {
     pub resolution: Option<[usize; 2]>,
     pub polar_nodes: Option<usize>,
     pub ci: Option<bool>,
+    pub summary: Option<crate::summary::SummaryFile>,
+    #[serde(default)]
+    pub claims: Vec<crate::summary::ClaimFile>,
 }
 
 /// A visibility effect applied to the radiance before it reaches the surface.
@@ -97,6 +102,9 @@ pub struct Experiment {
     pub resolution: (usize, usize),
     pub polar_nodes: usize,
     pub ci: bool,
+    /// `Some(baseline)` when a per-orientation summary is declared.
+    pub summary: Option<Option<String>>,
+    pub claims: Vec<crate::summary::Claim>,
 }
 
 impl Experiment {
@@ -229,6 +237,10 @@ impl Experiment {
         if !(1..=16).contains(&polar_nodes) {
             bail!("polar_nodes {polar_nodes}: expected 1..=16");
         }
+        let names: Vec<String> = built.iter().map(|e| e.name.clone()).collect();
+        let summary = f.summary.map(|s| crate::summary::summary_baseline(s, &names)).transpose()?;
+        let claims =
+            f.claims.into_iter().map(|c| crate::summary::Claim::from_file(c, &names)).collect::<Result<Vec<_>>>()?;
         Ok(Experiment {
             name,
             description: f.description,
@@ -242,6 +254,8 @@ impl Experiment {
             resolution,
             polar_nodes,
             ci: f.ci.unwrap_or(true),
+            summary,
+            claims,
         })
     }
 }

@@ -25,6 +25,15 @@ use std::f64::consts::{FRAC_1_PI, PI};
 /// the generated scenes at 256×128.
 pub const DEFAULT_POLAR_NODES: usize = 2;
 
+/// References built with at least one cap so far in this process (instrumentation: the test
+/// that an undeclared effect costs nothing counts them).
+static CAPPED_REFERENCES: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+
+/// How many [`Reference`]s with at least one cap this process has built.
+pub fn capped_reference_count() -> usize {
+    CAPPED_REFERENCES.load(std::sync::atomic::Ordering::Relaxed)
+}
+
 /// The exact irradiance of one map under a fixed set of visibility caps.
 pub struct Reference<'a> {
     moments: &'a RowMoments,
@@ -41,6 +50,9 @@ impl<'a> Reference<'a> {
     /// cap of `masks` (empty: the whole sphere), integrating each row piece with `polar_nodes`
     /// Gauss–Legendre nodes.
     pub fn new(moments: &'a RowMoments, masks: Vec<Cap>, polar_nodes: usize) -> Self {
+        if !masks.is_empty() {
+            CAPPED_REFERENCES.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        }
         let rule = gauss_legendre(polar_nodes.max(1));
         let grid = LatLong::new(moments.width(), moments.height());
         let row_nodes = (0..grid.height)
@@ -54,6 +66,11 @@ impl<'a> Reference<'a> {
             })
             .collect();
         Self { moments, masks, rule, grid, row_nodes }
+    }
+
+    /// The visibility caps this reference integrates under (empty: the whole sphere).
+    pub fn caps(&self) -> &[Cap] {
+        &self.masks
     }
 
     /// A human-readable description for tables and reports.

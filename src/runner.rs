@@ -293,10 +293,36 @@ fn run_case(exp: &Experiment, data: &MapData, case: &Case) -> Vec<Row> {
                 units: "E/pi".into(),
                 reference: reference.describe(),
                 diagnostics,
+                at_normal_abs_err: case
+                    .normal
+                    .zip(cd.exact_at_normal)
+                    .map(|(n, e)| (fit.irradiance(n) - e).abs().max_element()),
                 fit_ns: None,
                 eval_ns: None,
             });
         }
     }
     rows
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::domain::expand_orientations;
+
+    /// The cone centre is N tilted by exactly `tilt_deg`, for every orientation (including the
+    /// poles, where `frame_to` has its degenerate antiparallel case), and unit length.
+    #[test]
+    fn cone_centre_is_n_tilted_by_the_angle() {
+        let mut normals: Vec<DVec3> = expand_orientations("axes6").unwrap().into_iter().map(|o| o.normal).collect();
+        normals.extend(expand_orientations("fibonacci32").unwrap().into_iter().map(|o| o.normal));
+        for n in normals {
+            for t in [0.0f64, 10.0, 30.0, 90.0] {
+                let c = cone_centre(n, t);
+                assert!((c.length() - 1.0).abs() < 1e-12);
+                let angle = c.dot(n).clamp(-1.0, 1.0).acos().to_degrees();
+                assert!((angle - t).abs() < 1e-6, "N={n} tilt {t}: {angle}");
+            }
+        }
+    }
 }

@@ -27,6 +27,7 @@ pub const COLUMNS: &[&str] = &[
     "units",
     "reference",
     "diagnostics",
+    "at_normal_abs_err",
     "fit_ns",
     "eval_ns",
 ];
@@ -51,6 +52,9 @@ pub struct Row {
     pub units: String,
     pub reference: String,
     pub diagnostics: String,
+    /// |E_encoder(N) − E_exact(N)|, the largest channel, at the surface normal N (the IrradZ
+    /// point); `None` without a surface normal.
+    pub at_normal_abs_err: Option<f64>,
     /// Median ns to fit one probe/texel (timing pass; None when timing is off).
     pub fit_ns: Option<f64>,
     /// Median ns per evaluated normal (timing pass; None when timing is off).
@@ -92,6 +96,7 @@ impl Row {
             self.units.clone(),
             self.reference.clone(),
             self.diagnostics.clone(),
+            self.at_normal_abs_err.map(num).unwrap_or_default(),
             self.fit_ns.map(|v| format!("{v:.1}")).unwrap_or_default(),
             self.eval_ns.map(|v| format!("{v:.2}")).unwrap_or_default(),
         ]

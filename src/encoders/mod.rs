@@ -1,10 +1,12 @@
 //! The encoder registry: one line per encoder kind. Adding an encoder means adding its file
 //! and one entry here; nothing else in the program names an encoder.
 
+pub mod probe_occlusion;
 pub mod sh;
 
 use crate::encoder::{Encoder, Params};
 use anyhow::{bail, Context, Result};
+use probe_occlusion as occ;
 
 /// A kind of encoder: its id, a one-line summary, and its factory from TOML settings.
 pub struct EncoderKind {
@@ -18,6 +20,15 @@ pub const REGISTRY: &[EncoderKind] = &[
     EncoderKind { id: "sh0", summary: "SH band 0 only (constant)", build: sh::build_sh0 },
     EncoderKind { id: "sh1", summary: "SH L1 irradiance (bands 0-1)", build: sh::build_sh1 },
     EncoderKind { id: "sh2", summary: "SH L2 irradiance (bands 0-2)", build: sh::build_sh2 },
+    EncoderKind { id: "probe_unoccluded", summary: "L2 probe, unoccluded (leaks)", build: occ::build_unoccluded },
+    EncoderKind { id: "probe_hemi_full", summary: "L2 x hemisphere, rotated Gram", build: occ::build_hemi_full },
+    EncoderKind { id: "probe_cone_full", summary: "L2 x cone, rotated Gram", build: occ::build_cone_full },
+    EncoderKind { id: "probe_hemi_q2l", summary: "quadratic-to-linear multiply", build: occ::build_hemi_q2l },
+    EncoderKind { id: "hlsh", summary: "HLSH: hemisphere multiply, I_z pinned", build: occ::build_hlsh },
+    EncoderKind { id: "probe_hhd_lum", summary: "hemisphere multiply, luminance HHD", build: occ::build_hhd_lum },
+    EncoderKind { id: "cone_multiply", summary: "HLSH cone multiply", build: occ::build_cone_multiply },
+    EncoderKind { id: "ao_scale", summary: "L2 probe irradiance x cone AO", build: occ::build_ao_scale },
+    EncoderKind { id: "bent_normal", summary: "L2 probe at the cone centre x AO", build: occ::build_bent_normal },
 ];
 
 /// The ids of every registered encoder, comma-separated (for error messages).
