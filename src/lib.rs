@@ -9,6 +9,7 @@ pub mod encoder;
 pub mod encoders;
 pub mod envmap;
 pub mod experiment;
+pub mod hallucination_fit;
 pub mod metrics;
 pub mod moments;
 pub mod projection;
