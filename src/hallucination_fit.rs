@@ -23,7 +23,7 @@
 use crate::encoder::named_weights;
 use crate::encoders::zh3::AxisRule;
 use crate::encoders::zh3_solve::{band2, l2_band};
-use crate::sh::{Rgb, Sh9};
+use crate::sh::Sh9;
 use anyhow::{bail, Result};
 use nalgebra::{DMatrix, DVector};
 use std::f64::consts::PI;
@@ -205,6 +205,34 @@ pub fn parse_probes(text: &str, name: &str) -> Result<Vec<Sh9>> {
     Ok(out)
 }
 
+/// `probelab fit-hallucination`: the radiance SH of the named maps (exact projection) and of
+/// the probe file (name, text), fitted and reported as text.
+pub fn run(
+    search: &crate::envmap::search::SearchPath,
+    maps: &[String],
+    probe_file: Option<(String, String)>,
+    axis: &str,
+    cubic: bool,
+) -> Result<String> {
+    let rule = parse_axis(axis)?;
+    let mut probes = Vec::new();
+    for m in maps {
+        probes.push(crate::projection::project(&search.load(m)?));
+    }
+    if let Some((name, text)) = probe_file {
+        probes.extend(parse_probes(&text, &name)?);
+    }
+    if probes.is_empty() {
+        bail!("fit-hallucination: give map names and/or --probes FILE");
+    }
+    let mut out = String::new();
+    if !maps.is_empty() {
+        out += &format!("maps: {}\n", maps.join(", "));
+    }
+    out += &format_report(&report(&probes, rule, axis, cubic)?);
+    Ok(out)
+}
+
 /// The report as text.
 pub fn format_report(r: &Report) -> String {
     let mut s = format!(
@@ -248,7 +276,7 @@ pub fn format_report(r: &Report) -> String {
 mod tests {
     use super::*;
     use crate::scenes::Component;
-    use crate::sh::{constant, delta_light};
+    use crate::sh::{constant, delta_light, Rgb};
     use glam::DVec3;
 
     /// Samples generated exactly on a known curve are fitted back to it, and the fitted curve

@@ -19,3 +19,4 @@ pub mod runner;
 pub mod scenes;
 pub mod sh;
 pub mod table;
+pub mod zh3_claims;
