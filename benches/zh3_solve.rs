@@ -135,7 +135,7 @@ fn distribution(
     s: &SolverSettings,
     f: fn(&Sh9, &SolverSettings) -> probelab::encoders::zh3::Solved,
 ) {
-    let stats: Vec<_> = set.iter().map(|irr| f(irr, &s).stats).collect();
+    let stats: Vec<_> = set.iter().map(|irr| f(irr, s).stats).collect();
     let col = |g: &dyn Fn(&probelab::encoders::zh3_solve::SolveStats) -> u32| {
         let mut v: Vec<u32> = stats.iter().map(g).collect();
         v.sort();

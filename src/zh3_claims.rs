@@ -573,7 +573,10 @@ fn z5(grid: &Grid, cases: &[Case]) -> Result<(Claim, String)> {
 }
 
 /// Relative RMSE reductions of `ids` against `base` per map, exact and probulator metrics.
-fn reductions(grid: &Grid, cases: &[Case], base: &str, ids: &[&str]) -> Result<(Vec<Vec<f64>>, Vec<Vec<f64>>, String)> {
+/// Per encoder, per map: relative RMSE reductions (exact, probulator), and the table.
+type Reductions = (Vec<Vec<f64>>, Vec<Vec<f64>>, String);
+
+fn reductions(grid: &Grid, cases: &[Case], base: &str, ids: &[&str]) -> Result<Reductions> {
     let b = enc(base, &[])?;
     let es: Vec<Box<dyn Encoder>> = ids.iter().map(|id| enc(id, &[])).collect::<Result<_>>()?;
     let mut ex = vec![Vec::new(); ids.len()];
@@ -820,7 +823,8 @@ fn z9(grid: &Grid) -> Result<(Claim, String)> {
 /// Z10: ratio quantisation to 13 / 16 / 28 bytes.
 fn z10(grid: &Grid, cases: &[Case]) -> Result<(Claim, String)> {
     let q = toml::Value::String("ratio8".into());
-    let pairs: Vec<(&str, Box<dyn Encoder>, Box<dyn Encoder>, usize)> = vec![
+    type Pair = (&'static str, Box<dyn Encoder>, Box<dyn Encoder>, usize);
+    let pairs: Vec<Pair> = vec![
         ("sh1", enc("sh1", &[])?, enc("sh1_q13", &[])?, 13),
         (
             "zh3_solved_shared",

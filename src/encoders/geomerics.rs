@@ -36,7 +36,7 @@ pub struct GeomericsChannel {
 impl GeomericsChannel {
     /// E/π at unit normal n (FORMULAS §6).
     pub fn eval(&self, n: DVec3) -> f64 {
-        if !(self.r0 > 0.0) {
+        if self.r0.is_nan() || self.r0 <= 0.0 {
             return 0.0;
         }
         let len = self.r1.length();

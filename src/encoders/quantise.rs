@@ -86,7 +86,7 @@ pub fn rgb9e5_decode(p: u32) -> Rgb {
 
 /// A coefficient `x` of a channel with decoded DC `dc`, as a signed byte of x/(dc·bound).
 pub fn ratio8_encode(x: f64, dc: f64, bound: f64) -> i8 {
-    if !(dc > 0.0) || !x.is_finite() {
+    if dc.is_nan() || dc <= 0.0 || !x.is_finite() {
         return 0;
     }
     (127.0 * (x / (dc * bound)).clamp(-1.0, 1.0)).round() as i8

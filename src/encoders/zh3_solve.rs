@@ -134,7 +134,7 @@ const RATIO_SCALE: f64 = 1.5;
 /// irradiance L1 vector `v` about unit axis `a`: r = 1.5·|v·a|/L0 (the radiance ratio),
 /// f_rad = L0·g(r), k = √(4π/5)·¼·f_rad (FORMULAS §5). 0 when L0 ≤ 0.
 pub fn hallucinated_k(l0: f64, v: DVec3, a: DVec3, curve: Curve) -> f64 {
-    if !(l0 > 0.0) {
+    if l0.is_nan() || l0 <= 0.0 {
         return 0.0;
     }
     let r = RATIO_SCALE * v.dot(a).abs() / l0;
@@ -278,7 +278,7 @@ impl Target {
         let u = self.group_axis(g, v);
         let len = u.length();
         let mut cost = 0.0;
-        if !(len > 1e-300) {
+        if len.is_nan() || len <= 1e-300 {
             // No axis: k = 0.
             for &c in g {
                 let d1 = v[c] - self.t1[c];
@@ -372,7 +372,7 @@ impl Target {
         let inv_s = if s > 0.0 { 1.0 / s } else { 0.0 };
         let mut f: f64 = g.iter().map(|&c| self.err_w[c] * self.t2[c].iter().map(|x| x * x).sum::<f64>()).sum();
         let len = u.length();
-        if !(len > 1e-300) {
+        if len.is_nan() || len <= 1e-300 {
             // No axis: k = 0, and the L1 is left as it is.
             return (f, DVec3::ZERO);
         }
@@ -400,7 +400,7 @@ impl Target {
         for (i, g) in self.groups().iter().enumerate() {
             let u = DVec3::new(x[3 * i], x[3 * i + 1], x[3 * i + 2]);
             let len = u.length();
-            if !(len > 1e-300) {
+            if len.is_nan() || len <= 1e-300 {
                 continue;
             }
             let a = u / len;
@@ -460,6 +460,9 @@ pub enum Formulation {
     Axis,
 }
 
+/// A point, the objective there and its gradient.
+type Evaluation<const N: usize> = (SVector<f64, N>, f64, SVector<f64, N>);
+
 /// The objective as an argmin problem with `N` variables. Cost and gradient are computed
 /// together and the pair is cached, since the line search asks for both at each trial point.
 /// Counts argmin's calls and the distinct evaluations.
@@ -469,7 +472,7 @@ pub struct AxisProblem<'t, const N: usize> {
     pub cost_calls: Cell<u32>,
     pub grad_calls: Cell<u32>,
     pub evals: Cell<u32>,
-    cache: Cell<Option<(SVector<f64, N>, f64, SVector<f64, N>)>>,
+    cache: Cell<Option<Evaluation<N>>>,
 }
 
 impl<'t, const N: usize> AxisProblem<'t, N> {
