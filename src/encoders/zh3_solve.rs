@@ -732,11 +732,35 @@ fn solve_n<const N: usize>(target: &Target, settings: &SolverSettings, form: For
         // Screened multi-start: the reduced objective at every candidate direction, per axis;
         // one L-BFGS run from the best combination (the objective is separable across axes).
         dirs.extend(screen_lines(settings.screen).iter().copied().map(Some));
+        // Value-only screening: the group constants once, the band-2 basis once per direction.
+        let consts: Vec<(DVec3, f64)> = groups
+            .iter()
+            .map(|g| {
+                let s: f64 = g.iter().map(|&c| t.w_axis(g, c).powi(2) / t.err_w[c]).sum();
+                (t.group_axis(g, &t.t1), if s > 0.0 { 1.0 / s } else { 0.0 })
+            })
+            .collect();
+        // F(a) up to a constant: −(a·U)²/S − Σ w^err (4π/5)(Y₂(a)·T₂)².
+        let screen_value = |i: usize, g: Group, a: DVec3, y: &[f64; 5]| -> f64 {
+            let (big_u, inv_s) = consts[i];
+            let mut f = -inv_s * a.dot(big_u).powi(2);
+            for &c in g {
+                let yt: f64 = (0..5).map(|m| y[m] * t.t2[c][m]).sum();
+                f -= t.err_w[c] * FOUR_PI_OVER_5 * yt * yt;
+            }
+            f
+        };
+        let ys: Vec<Option<[f64; 5]>> = dirs.iter().map(|d| d.map(|d| band2(d.normalize()))).collect();
         let mut pick: Vec<(f64, Option<DVec3>, u32)> = vec![(f64::INFINITY, None, 0); groups.len()];
         for (si, d) in dirs.iter().enumerate() {
+            let shared_y = ys[si];
             for (i, g) in groups.iter().enumerate() {
-                let u = d.unwrap_or(given_axes[g[0]]);
-                let (f, _) = t.eval_group_axis(g, u);
+                let a = d.unwrap_or(given_axes[g[0]]).normalize_or_zero();
+                if a == DVec3::ZERO {
+                    continue;
+                }
+                let y = shared_y.unwrap_or_else(|| band2(a));
+                let f = screen_value(i, g, a, &y);
                 stats.evals += 1;
                 if f < pick[i].0 {
                     pick[i] = (f, *d, si as u32);
@@ -755,10 +779,10 @@ fn solve_n<const N: usize>(target: &Target, settings: &SolverSettings, form: For
             let e = DVec3::new(end[3 * i], end[3 * i + 1], end[3 * i + 2]).normalize_or_zero();
             for (si, d) in dirs.iter().enumerate() {
                 let u = d.unwrap_or(given_axes[g[0]]).normalize_or_zero();
-                if u.dot(e).abs() > cos45 {
+                if u == DVec3::ZERO || u.dot(e).abs() > cos45 {
                     continue;
                 }
-                let (f, _) = t.eval_group_axis(g, u);
+                let f = screen_value(i, g, u, &ys[si].unwrap_or_else(|| band2(u)));
                 if f < second[i].0 {
                     second[i] = (f, Some(u), si as u32);
                 }
