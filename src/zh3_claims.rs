@@ -865,8 +865,8 @@ fn z10(grid: &Grid, cases: &[Case]) -> Result<(Claim, String)> {
             ),
             holds: yes(holds),
             notes: "layout derived (the talk gives sizes only; see src/encoders/quantise.rs); ratio bounds of non-negative radiance \
-                    (√3 for L1, √15/2 and √5 for L2, √5 for f/L00); holds if the layout reaches the sizes and adds < 10% of the \
-                    encoding's own RMSE on every probe"
+                    (√3 for L1, √15/2 and √5 for L2, √5 for f/L00); the sizes hold by construction; the figure gives the error \
+                    quantisation adds, relative to each encoding's own error against the reference"
                 .into(),
         },
         format!("Exact metric (sphere, solid-angle, 256x128). Quantisation error = RMS over the sphere of (quantised − unquantised) E/π.\n\n{table}"),
