@@ -103,6 +103,30 @@ pub enum Command {
         #[arg(long)]
         out: Option<PathBuf>,
     },
+    /// Fit the ZH3 hallucination curve f/L00 = c1 r + c2 r² (+ c3 r³) to maps and/or a probe
+    /// file, and print it next to SH L1 and the paper's curve.
+    FitHallucination {
+        /// Map names (on the search path) or file paths.
+        maps: Vec<String>,
+        /// CSV of radiance SH probes, 27 numbers per line: the 9 coefficients of R, then G, then B,
+        /// in probelab's order and signs (FORMULAS §2).
+        #[arg(long)]
+        probes: Option<PathBuf>,
+        /// Also fit a cubic.
+        #[arg(long)]
+        cubic: bool,
+        /// Zonal axis: rec709 (as zh3_hallucinate), equal, or channel.
+        #[arg(long, default_value = "rec709")]
+        axis: String,
+    },
+    /// Measure a set of paper claims (zh3) and write results/<set>_claims/claims.csv and CLAIMS.md.
+    Claims {
+        /// The claim set: zh3.
+        set: String,
+        /// Output folder (default: <root>/results).
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
     /// List the encoders.
     Encoders,
     /// Show the map search path and which maps it finds.
@@ -214,6 +238,25 @@ pub fn main_with(cli: Cli) -> Result<i32> {
                 crate::envmap::load::write_exr(&path, &s.map(width))?;
                 println!("{}  {}", path.display(), s.description);
             }
+            Ok(0)
+        }
+        Command::FitHallucination { maps, probes, cubic, axis } => {
+            let probe_file = match &probes {
+                Some(p) => Some((
+                    p.display().to_string(),
+                    std::fs::read_to_string(p).with_context(|| format!("{}: cannot read probe file", p.display()))?,
+                )),
+                None => None,
+            };
+            print!("{}", crate::hallucination_fit::run(&search, &maps, probe_file, &axis, cubic)?);
+            Ok(0)
+        }
+        Command::Claims { set, out } => {
+            crate::zh3_claims::check_set(&set)?;
+            let dir = results(out).join(format!("{set}_claims"));
+            let report = crate::zh3_claims::run(&search)?;
+            crate::zh3_claims::write(&report, &dir)?;
+            eprintln!("wrote {} and {}", dir.join("claims.csv").display(), dir.join("CLAIMS.md").display());
             Ok(0)
         }
         Command::Encoders => {

@@ -1,8 +1,12 @@
 //! The encoder registry: one line per encoder kind. Adding an encoder means adding its file
 //! and one entry here; nothing else in the program names an encoder.
 
+pub mod geomerics;
 pub mod probe_occlusion;
+pub mod quantise;
 pub mod sh;
+pub mod zh3;
+pub mod zh3_solve;
 
 use crate::encoder::{Encoder, Params};
 use anyhow::{bail, Context, Result};
@@ -29,6 +33,63 @@ pub const REGISTRY: &[EncoderKind] = &[
     EncoderKind { id: "cone_multiply", summary: "HLSH cone multiply", build: occ::build_cone_multiply },
     EncoderKind { id: "ao_scale", summary: "L2 probe irradiance x cone AO", build: occ::build_ao_scale },
     EncoderKind { id: "bent_normal", summary: "L2 probe at the cone centre x AO", build: occ::build_bent_normal },
+    EncoderKind { id: "sh1_q13", summary: "SH L1, ratio-quantised to 13 bytes", build: quantise::build_sh1_q13 },
+    EncoderKind { id: "sh2_q28", summary: "SH L2, ratio-quantised to 28 bytes", build: quantise::build_sh2_q28 },
+    EncoderKind {
+        id: "geomerics",
+        summary: "Geomerics L1 reconstruction, normalised",
+        build: geomerics::build_geomerics,
+    },
+    EncoderKind {
+        id: "geomerics_peer",
+        summary: "Geomerics as the peer tool (R0=L00, R1=L1/2)",
+        build: geomerics::build_geomerics_peer,
+    },
+    EncoderKind {
+        id: "zh3_hallucinate",
+        summary: "ZH3 hallucinated, curve fit, Rec.709 axis",
+        build: zh3::build_hallucinate,
+    },
+    EncoderKind {
+        id: "zh3_hallucinate_channel",
+        summary: "ZH3 hallucinated, curve fit, per-channel axes",
+        build: zh3::build_hallucinate_channel,
+    },
+    EncoderKind {
+        id: "zh3_hallucinate_ambdir",
+        summary: "ZH3 hallucinated, ambient+directional model",
+        build: zh3::build_hallucinate_ambdir,
+    },
+    EncoderKind {
+        id: "zh3_hallucinate_sphere",
+        summary: "ZH3 hallucinated, sphere-light model",
+        build: zh3::build_hallucinate_sphere,
+    },
+    EncoderKind {
+        id: "zh3_stored_channel",
+        summary: "ZH3 stored, per-channel L1 axes",
+        build: zh3::build_stored_channel,
+    },
+    EncoderKind {
+        id: "zh3_stored_shared",
+        summary: "ZH3 stored, shared equal-weight L1 axis",
+        build: zh3::build_stored_shared,
+    },
+    EncoderKind {
+        id: "zh3_solved_channel",
+        summary: "ZH3 stored, axis solved per channel (L-BFGS)",
+        build: zh3::build_solved_channel,
+    },
+    EncoderKind {
+        id: "zh3_solved_shared",
+        summary: "ZH3 stored, shared axis solved (L-BFGS)",
+        build: zh3::build_solved_shared,
+    },
+    EncoderKind {
+        id: "zh3_hallucinate_solved",
+        summary: "ZH3 hallucinated from a solved L1, shared axis",
+        build: zh3::build_hallucinate_solved,
+    },
 ];
 
 /// The ids of every registered encoder, comma-separated (for error messages).
