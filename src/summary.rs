@@ -725,6 +725,8 @@ mod tests {
             reference: "r".into(),
             diagnostics: String::new(),
             at_normal_abs_err: Some(rmse),
+            fit_ns: None,
+            eval_ns: None,
         }
     }
 
