@@ -38,10 +38,11 @@
 //! whole sphere, solid-angle weighted: rmse = √(mean over RGB of ∫(E_enc − E_ref)² dω / 4π).
 //! - When the fit says it is SH3 ([`crate::encoder::Fitted::sh3`]), the closed form
 //!   √(Σ_i |c_i − r_i|² / (3·4π)) (Parseval; orthonormal basis).
-//! - Otherwise a fixed product Gauss rule: 6 Gauss–Legendre nodes in z × 12 azimuths (72
-//!   normals), exact for any encoder whose output lies in SH bands ≤ 5 (integrand degree ≤ 11)
-//!   and so exact for every SH3-representable encoder too; the test bounds its error on
-//!   non-polynomial reconstructions.
+//! - Otherwise a fixed product Gauss rule (`--quadrature`, default 6x12): 6 Gauss–Legendre
+//!   nodes in z × 12 azimuths (72 normals), exact for any encoder whose output lies in SH bands
+//!   ≤ 5 (integrand degree ≤ 11) and so exact for every SH3-representable encoder too; the test
+//!   bounds its error on non-polynomial reconstructions. Smaller rules trade accuracy for time
+//!   (3x6 is still exact for SH3 outputs).
 //!
 //! rel_rmse = rmse / RMS of the reference over the sphere (closed form).
 
@@ -523,6 +524,8 @@ impl Synth {
 /// The fixed quadrature of the non-closed-form errors: 6 Gauss–Legendre nodes in z × 12
 /// azimuths, weights summing to 1 (exact for polynomials of degree ≤ 11 on the sphere).
 pub struct SphereRule {
+    /// "NZxNPHI", e.g. "6x12".
+    pub label: String,
     pub nodes: Vec<(DVec3, f64)>,
     /// The SH basis at each node (so the reference costs 9 multiply-adds a node).
     basis: Vec<[f64; N_SH]>,
@@ -539,10 +542,23 @@ impl SphereRule {
             }
         }
         let basis = nodes.iter().map(|n| crate::sh::basis(n.0)).collect();
-        SphereRule { nodes, basis }
+        SphereRule { label: format!("{nz}x{nphi}"), nodes, basis }
     }
+    /// The default: 6×12, exact for outputs in SH bands ≤ 5.
     pub fn standard() -> Self {
         Self::product_gauss(6, 12)
+    }
+    /// Parses `--quadrature NZxNPHI` (1 ≤ NZ ≤ 64, 1 ≤ NPHI ≤ 128). It is exact for encoder
+    /// outputs in SH bands ≤ L when 2·NZ − 1 ≥ 2L + 2 and NPHI ≥ 2L + 1 (e.g. 3x6 for SH3).
+    pub fn parse(s: &str) -> Result<Self> {
+        let bad =
+            || anyhow::anyhow!("--quadrature '{s}': expected NZxNPHI, e.g. 6x12 (1 <= NZ <= 64, 1 <= NPHI <= 128)");
+        let (a, b) = s.split_once('x').ok_or_else(bad)?;
+        let (nz, nphi): (usize, usize) = (a.parse().map_err(|_| bad())?, b.parse().map_err(|_| bad())?);
+        if !(1..=64).contains(&nz) || !(1..=128).contains(&nphi) {
+            return Err(bad());
+        }
+        Ok(Self::product_gauss(nz, nphi))
     }
 }
 
@@ -606,12 +622,12 @@ impl EncoderStats {
         }
     }
 
-    /// How errors were computed: closed form, quadrature, or both (with counts).
-    pub fn method(&self) -> String {
+    /// How errors were computed: closed form, quadrature (rule "NZxNPHI"), or both (with counts).
+    pub fn method(&self, rule: &str) -> String {
         match (self.closed_form, self.quadrature) {
             (_, 0) => "closed-form SH3".into(),
-            (0, _) => "quadrature (6x12 product Gauss)".into(),
-            (c, q) => format!("mixed ({c} closed-form, {q} quadrature)"),
+            (0, _) => format!("quadrature ({rule} product Gauss)"),
+            (c, q) => format!("mixed ({c} closed-form, {q} quadrature {rule})"),
         }
     }
 }
@@ -624,6 +640,8 @@ pub struct SetStats {
     pub shard_count: usize,
     /// The shards this state covers.
     pub shards: Vec<usize>,
+    /// The quadrature rule of non-SH3 errors ("NZxNPHI").
+    pub quadrature: String,
     pub probes: u64,
     /// Wall seconds of the run (summed over shards when merged).
     pub wall_s: f64,
@@ -675,11 +693,11 @@ pub fn score(
     source_id: &str,
     shard: Shard,
     encoders: &[NamedEncoder],
+    rule: &SphereRule,
     chunk: usize,
     mut sink: impl FnMut(&[Sh9]) -> Result<()>,
 ) -> Result<SetStats> {
     let t0 = Instant::now();
-    let rule = SphereRule::standard();
     let mut stats: Vec<EncoderStats> = encoders.iter().map(EncoderStats::new).collect();
     let (mut probes, mut input_s) = (0u64, 0.0);
     loop {
@@ -696,7 +714,7 @@ pub fn score(
                 .map(|p| {
                     let reference = p.convolve_cosine();
                     let fit = e.encoder.fit(&FitInput::sphere(p));
-                    let (rmse, method) = probe_rmse(fit.as_ref(), &reference, &rule);
+                    let (rmse, method) = probe_rmse(fit.as_ref(), &reference, rule);
                     let rms = sh_rms(&reference);
                     let rel = if rms > 0.0 {
                         rmse / rms
@@ -721,6 +739,7 @@ pub fn score(
         source: source_id.to_string(),
         shard_count: shard.count,
         shards: vec![shard.index],
+        quadrature: rule.label.clone(),
         probes,
         wall_s: t0.elapsed().as_secs_f64(),
         input_s,
@@ -735,6 +754,9 @@ impl SetStats {
     pub fn merge(&mut self, o: &SetStats) -> Result<()> {
         if o.source != self.source {
             bail!("different probe sets: '{}' vs '{}'", self.source, o.source);
+        }
+        if o.quadrature != self.quadrature {
+            bail!("different quadrature rules: {} vs {}", self.quadrature, o.quadrature);
         }
         if o.shard_count != self.shard_count {
             bail!("different shard counts: {} vs {}", self.shard_count, o.shard_count);
@@ -800,7 +822,7 @@ impl SetStats {
                 num(e.rel_rmse.max),
                 reduction,
                 e.stored_scalars.to_string(),
-                e.method(),
+                e.method(&self.quadrature),
                 (e.rmse.invalid + e.rel_rmse.invalid).to_string(),
                 pps,
                 num(e.seconds),
@@ -872,6 +894,7 @@ struct StateFile {
     reference: String,
     shard_count: usize,
     shards: Vec<usize>,
+    quadrature: String,
     probes: u64,
     wall_s: f64,
     input_s: f64,
@@ -889,6 +912,7 @@ impl SetStats {
             reference: REFERENCE.into(),
             shard_count: self.shard_count,
             shards: self.shards.clone(),
+            quadrature: self.quadrature.clone(),
             probes: self.probes,
             wall_s: self.wall_s,
             input_s: self.input_s,
@@ -946,6 +970,7 @@ impl SetStats {
             source: f.source,
             shard_count: f.shard_count,
             shards: f.shards,
+            quadrature: f.quadrature,
             probes: f.probes,
             wall_s: f.wall_s,
             input_s: f.input_s,
@@ -988,6 +1013,10 @@ pub struct ProbesArgs {
     /// Write the mergeable statistics (TOML) to this file.
     #[arg(long)]
     pub out: Option<PathBuf>,
+    /// Quadrature rule NZxNPHI for encoders whose fit is not SH3 (6x12 is exact for outputs in SH
+    /// bands <= 5; fewer nodes are faster and approximate; see README).
+    #[arg(long, default_value = "6x12")]
+    pub quadrature: String,
     /// Probes per chunk (memory in flight; results do not depend on it).
     #[arg(long, default_value_t = DEFAULT_CHUNK)]
     pub chunk: usize,
@@ -1063,6 +1092,7 @@ pub fn palette(search: &crate::envmap::search::SearchPath, names: Option<&str>) 
 pub fn command(a: ProbesArgs, search: &crate::envmap::search::SearchPath) -> Result<i32> {
     let shard = Shard::parse(&a.shard)?;
     let encoders = encoder_list(&a.encoders)?;
+    let rule = SphereRule::parse(&a.quadrature)?;
     if a.chunk == 0 {
         bail!("--chunk must be at least 1");
     }
@@ -1093,12 +1123,12 @@ pub fn command(a: ProbesArgs, search: &crate::envmap::search::SearchPath) -> Res
             let format = Format::resolve(path, None)?;
             let mut first = true;
             crate::atomic::write_with(path, |w| {
-                score(&mut source, &source_id, shard, &encoders, a.chunk, |c| {
+                score(&mut source, &source_id, shard, &encoders, &rule, a.chunk, |c| {
                     write_probes(w, format, c, std::mem::take(&mut first))
                 })
             })?
         }
-        None => score(&mut source, &source_id, shard, &encoders, a.chunk, |_| Ok(()))?,
+        None => score(&mut source, &source_id, shard, &encoders, &rule, a.chunk, |_| Ok(()))?,
     };
     if let Some(out) = &a.out {
         crate::atomic::write(out, stats.to_toml()?.as_bytes())?;
@@ -1164,6 +1194,10 @@ mod tests {
             }
         }
         assert_eq!(Shard::parse("2/5").unwrap(), Shard { index: 2, count: 5 });
+        assert_eq!(SphereRule::parse("3x6").unwrap().nodes.len(), 18);
+        for bad in ["6", "0x4", "6x0", "65x2", "ax3"] {
+            assert!(SphereRule::parse(bad).is_err(), "{bad}");
+        }
         for bad in ["5/5", "1/0", "x/2", "3", "-1/2"] {
             assert!(Shard::parse(bad).is_err(), "{bad}");
         }
@@ -1194,7 +1228,7 @@ mod tests {
             }
         }
         let s = Synth::new(3, palette());
-        let rule = SphereRule::standard();
+        let (rule, small) = (SphereRule::standard(), SphereRule::parse("3x6").unwrap());
         for e in build_list("sh0,sh1,sh2").unwrap() {
             for i in 0..50 {
                 let p = s.probe(i);
@@ -1202,9 +1236,16 @@ mod tests {
                 let fit = e.encoder.fit(&FitInput::sphere(&p));
                 let (a, m) = probe_rmse(fit.as_ref(), &r, &rule);
                 assert_eq!(m, Method::ClosedForm);
-                let (b, m) = probe_rmse(&NoHook(fit.sh3().unwrap()), &r, &rule);
-                assert_eq!(m, Method::Quadrature);
-                assert!((a - b).abs() <= 1e-12 * (a + sh_rms(&r)), "{} probe {i}: {a} vs {b}", e.name);
+                for rule in [&rule, &small] {
+                    let (b, m) = probe_rmse(&NoHook(fit.sh3().unwrap()), &r, rule);
+                    assert_eq!(m, Method::Quadrature);
+                    assert!(
+                        (a - b).abs() <= 1e-12 * (a + sh_rms(&r)),
+                        "{} probe {i} {}: {a} vs {b}",
+                        e.name,
+                        rule.label
+                    );
+                }
             }
         }
         // Weights sum to 1 and the rule integrates Y6² (degree 4) to 1/4π.
@@ -1252,7 +1293,8 @@ mod tests {
     fn score_synth(synth: &Synth, n: u64, shard: Shard, chunk: usize) -> SetStats {
         let (start, end) = shard.range(n);
         let mut src = Source::Synth { synth: synth.clone(), start, end, next: start };
-        score(&mut src, "test", shard, &build_list("sh0,sh1,sh2").unwrap(), chunk, |_| Ok(())).unwrap()
+        let rule = SphereRule::standard();
+        score(&mut src, "test", shard, &build_list("sh0,sh1,sh2").unwrap(), &rule, chunk, |_| Ok(())).unwrap()
     }
 
     fn strip_timing(mut s: SetStats) -> SetStats {
