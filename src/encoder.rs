@@ -57,6 +57,12 @@ pub trait Encoder: Send + Sync {
     fn is_iterative(&self) -> bool {
         false
     }
+    /// True for encodings that deliberately lose or bias information — quantised storage, or a
+    /// peer tool's biased variant kept for cross-checks. They are exempt from the hard cases'
+    /// "no usable direction → no worse than pure ambient" bound; every other check applies.
+    fn degrades_input(&self) -> bool {
+        false
+    }
 
     // Promises. Each is false (or `None`) unless the encoder overrides it, and each one an
     // encoder makes is checked for it on every hard case (`tests/hard_cases.rs`) and on random

@@ -65,6 +65,11 @@ pub struct Scores {
 pub fn score(reference: &[Rgb], test: &[Rgb], w: &[f64], clamp: bool) -> Scores {
     assert_eq!(reference.len(), test.len());
     assert_eq!(reference.len(), w.len());
+    // Values beyond ~1e150 (or below ~1e-150) would overflow (underflow) when squared: such
+    // inputs are scaled by an exact power of two first, which leaves ordinary inputs untouched
+    // and every result exact up to that power.
+    let big = reference.iter().chain(test).map(|v| v.abs().max_element()).filter(|v| v.is_finite()).fold(0.0, f64::max);
+    let scale = if big > 1e150 || (big > 0.0 && big < 1e-150) { 2f64.powi(-(big.log2().round() as i32)) } else { 1.0 };
     let mut se = Rgb::ZERO;
     let mut sr = Rgb::ZERO;
     let (mut wsum, mut neg, mut max_abs) = (0.0, 0.0, 0.0f64);
@@ -73,24 +78,29 @@ pub fn score(reference: &[Rgb], test: &[Rgb], w: &[f64], clamp: bool) -> Scores 
             neg += wi;
         }
         let t = if clamp { t.max(Rgb::ZERO) } else { *t };
-        let d = t - *r;
+        let d = (t - *r) * scale;
+        let r = *r * scale;
         max_abs = max_abs.max(d.abs().max_element());
         se += d * d * wi;
-        sr += *r * *r * wi;
+        sr += r * r * wi;
         wsum += wi;
     }
     let mse = se / wsum;
     let rmse = (mse.element_sum() / 3.0).sqrt();
     let rms_ref = (sr.element_sum() / (3.0 * wsum)).sqrt();
+    let (rmse, max_abs, mse) = (rmse / scale, max_abs / scale, mse);
+    let unscale = |v: f64| v.sqrt() / scale;
     Scores {
-        rmse_rgb: [mse.x.sqrt(), mse.y.sqrt(), mse.z.sqrt()],
+        rmse_rgb: [unscale(mse.x), unscale(mse.y), unscale(mse.z)],
         rmse,
+        // A reference that is zero everywhere (e.g. a cone that sees no light) has no relative
+        // error; a non-zero test value there saturates at f64::MAX rather than printing Inf.
         rel_rmse: if rms_ref > 0.0 {
-            rmse / rms_ref
+            (rmse * scale / rms_ref).min(f64::MAX)
         } else if rmse == 0.0 {
             0.0
         } else {
-            f64::INFINITY
+            f64::MAX
         },
         neg_frac: neg / wsum,
         max_abs,

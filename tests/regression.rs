@@ -22,7 +22,8 @@ fn repo() -> PathBuf {
 /// Runs the binary in the repository (root "."), with PROBELAB_ENVMAPS set or unset.
 fn probelab(args: &[&str], envmaps: Option<&str>) -> Output {
     let mut c = Command::new(env!("CARGO_BIN_EXE_probelab"));
-    c.args(args).current_dir(repo());
+    // Timings are measurements, not results: these tests compare tables byte for byte.
+    c.arg("--no-timing").args(args).current_dir(repo());
     match envmaps {
         Some(e) => c.env("PROBELAB_ENVMAPS", e),
         None => c.env_remove("PROBELAB_ENVMAPS"),

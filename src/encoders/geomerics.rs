@@ -94,6 +94,10 @@ impl Encoder for Geomerics {
     fn peer_clamps(&self) -> bool {
         !self.peer
     }
+    /// The peer variant carries the 2/√π bias of FORMULAS §6 on purpose.
+    fn degrades_input(&self) -> bool {
+        self.peer
+    }
 }
 
 pub fn build_geomerics(p: &mut Params) -> Result<Box<dyn Encoder>> {

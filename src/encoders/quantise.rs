@@ -124,6 +124,10 @@ impl Encoder for ShQuantised {
     fn id(&self) -> &str {
         self.id
     }
+    /// Ratio quantisation loses precision by design (and cannot hold 1e-300 lights).
+    fn degrades_input(&self) -> bool {
+        true
+    }
     fn stored_scalars(&self) -> usize {
         3 * (self.max_band + 1) * (self.max_band + 1)
     }
