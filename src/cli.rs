@@ -46,6 +46,12 @@ pub enum Command {
         #[arg(long)]
         out: Option<PathBuf>,
     },
+    /// Draw the comparison sheets and charts and write results/REPORT.md from the result CSVs.
+    Report {
+        /// Results folder (default: <root>/results).
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
     /// Score encoders on maps and print CSV to stdout.
     Eval {
         /// Map names (on the search path) or file paths.
@@ -186,7 +192,9 @@ pub fn main_with(cli: Cli) -> Result<i32> {
             let exps = list_experiments(&dir)?.iter().map(|p| Experiment::load(p)).collect::<Result<Vec<_>>>()?;
             let (mut skipped, mut refused) = (Vec::new(), Vec::new());
             let mut done = Vec::new();
+            let progress = crate::progress::Progress::new(exps.len() as u64, "experiments");
             for exp in &exps {
+                progress.message(exp.name.clone());
                 let report = runner::run(exp, &search)?;
                 if report.missing.is_empty() {
                     done.push((exp, report));
@@ -194,7 +202,9 @@ pub fn main_with(cli: Cli) -> Result<i32> {
                     eprintln!("skipped {}: map(s) not found: {}", exp.name, report.missing.join(", "));
                     skipped.push(exp.name.clone());
                 }
+                progress.inc();
             }
+            progress.finish();
             for (exp, report) in &done {
                 if !write_results(&root, &out, exp, report)? {
                     refused.push(exp.name.clone());
@@ -209,7 +219,12 @@ pub fn main_with(cli: Cli) -> Result<i32> {
                     describe_search(&search)
                 );
             }
+            write_report(&root, &out, &search)?;
             Ok(crate::check::refused_exit(&refused))
+        }
+        Command::Report { out } => {
+            write_report(&root, &results(out), &search)?;
+            Ok(0)
         }
         Command::Check { experiments, all, allow_missing, out } => {
             crate::check::check_command(&root, &search, &results(out), &experiments, all, allow_missing)
@@ -312,6 +327,16 @@ fn describe_search(s: &SearchPath) -> String {
         .join(", ")
 }
 
+/// Writes results/REPORT.md with its pictures (`report::generate`).
+fn write_report(root: &Path, out: &Path, search: &SearchPath) -> Result<()> {
+    let g = crate::report::generate(&crate::report::Options { root, out, search })?;
+    eprintln!("wrote {} ({} picture(s) drawn)", g.report.display(), g.pictures);
+    if !g.kept.is_empty() {
+        eprintln!("sheets not redrawn (maps not on the search path): {}", g.kept.join(", "));
+    }
+    Ok(())
+}
+
 /// Writes results/<name>/table.csv and provenance.toml atomically when there is no table
 /// yet; an existing table is a baseline and is never overwritten here (only `bless` does):
 /// returns false, printing the differences, if its numbers moved (`check::store`). When the
@@ -322,12 +347,32 @@ pub fn write_results(root: &Path, out: &Path, exp: &Experiment, report: &runner:
     let ok = crate::check::print_stored(exp, out, &stored, report.rows.len());
     if ok {
         let dir = out.join(&exp.name);
+        write_maps_csv(&dir, report)?;
         let summary = exp.summary.as_ref().map(|b| b.as_deref());
         for f in crate::summary::write(&dir, &exp.name, &exp.description, summary, &exp.claims, &report.rows)? {
             eprintln!("wrote {}", dir.join(f).display());
         }
     }
     Ok(ok)
+
+}
+
+/// Writes results/<name>/maps.csv: the map files the table was computed from, with their
+/// SHA-256 (the report lists them when a map is not on this machine).
+fn write_maps_csv(dir: &Path, report: &runner::RunReport) -> Result<()> {
+    let mut w = csv::Writer::from_writer(Vec::new());
+    w.write_record(["map", "file", "width", "height", "sha256"])?;
+    for m in &report.maps {
+        let file = m.path.as_ref().and_then(|p| p.file_name()).map(|f| f.to_string_lossy().into_owned());
+        w.write_record([
+            m.name.clone(),
+            file.unwrap_or_default(),
+            m.width.to_string(),
+            m.height.to_string(),
+            m.sha256.clone(),
+        ])?;
+    }
+    crate::atomic::write(&dir.join("maps.csv"), &w.into_inner().map_err(|e| anyhow::anyhow!("csv: {e}"))?)
 }
 
 /// The experiment `probelab eval` runs.

@@ -1,0 +1,646 @@
+//! Charts (plotters, bitmap, bundled font): rmse bars per encoder per map, error against fit
+//! time with the Pareto front, convergence curves of sweeps, and the lightmap blending line
+//! chart. Every chart reads its CSV by column name; a chart whose columns are absent is not
+//! drawn and says why (the report prints the reason).
+//!
+//! File formats read here (also in README, "Pictures and the report"):
+//! - `table.csv` (the runner's): `map`, `encoder`, `rmse`; optional `metric` (rows of `exact`
+//!   are charted when present), `fit_ns` (the error-against-time chart needs it).
+//! - `sweep*.csv`: `knob,value,rmse,time_ns,label` — one chart per knob, one line per label;
+//!   `time_ns` may be empty; an optional `reference` column says what rmse is measured against.
+//! - `blend*.csv`: `t,method,irradiance_at_n_r,irradiance_at_n_g,irradiance_at_n_b,rmse` —
+//!   `rmse` may be empty; an optional `set` column gives one chart per lighting set.
+
+use super::csvfile::CsvTable;
+use super::render::{ensure_font, luminance, sig, FONT};
+use crate::sh::Rgb;
+use anyhow::{anyhow, Result};
+use image::RgbImage;
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
+
+/// A drawn chart, or the reason it was not drawn.
+#[derive(Debug)]
+pub enum Outcome {
+    Drawn { image: RgbImage, caption: String },
+    Skipped(String),
+}
+
+fn pe<E: std::fmt::Display>(e: E) -> anyhow::Error {
+    anyhow!("drawing a chart: {e}")
+}
+
+/// Tableau 20 (the bold ten, then their light partners).
+const PALETTE: [(u8, u8, u8); 20] = [
+    (31, 119, 180),
+    (255, 127, 14),
+    (44, 160, 44),
+    (214, 39, 40),
+    (148, 103, 189),
+    (140, 86, 75),
+    (227, 119, 194),
+    (127, 127, 127),
+    (188, 189, 34),
+    (23, 190, 207),
+    (174, 199, 232),
+    (255, 187, 120),
+    (152, 223, 138),
+    (255, 152, 150),
+    (197, 176, 213),
+    (196, 156, 148),
+    (247, 182, 210),
+    (199, 199, 199),
+    (219, 219, 141),
+    (158, 218, 229),
+];
+
+fn colour(i: usize) -> RGBColor {
+    let (r, g, b) = PALETTE[i % PALETTE.len()];
+    RGBColor(r, g, b)
+}
+
+/// Draws into a fresh white w×h image.
+fn canvas(w: u32, h: u32, f: impl FnOnce(&DrawingArea<BitMapBackend, Shift>) -> Result<()>) -> Result<RgbImage> {
+    ensure_font();
+    let mut buf = vec![255u8; (w * h * 3) as usize];
+    {
+        let root = BitMapBackend::with_buffer(&mut buf, (w, h)).into_drawing_area();
+        f(&root)?;
+        root.present().map_err(pe)?;
+    }
+    RgbImage::from_raw(w, h, buf).ok_or_else(|| anyhow!("chart buffer size"))
+}
+
+/// Decade bounds around positive values (at least one decade).
+fn decades(values: impl Iterator<Item = f64>) -> Option<(f64, f64)> {
+    let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
+    for v in values.filter(|v| *v > 0.0 && v.is_finite()) {
+        lo = lo.min(v);
+        hi = hi.max(v);
+    }
+    if hi <= 0.0 {
+        return None;
+    }
+    let lo = 10f64.powf(lo.log10().floor());
+    let mut hi = 10f64.powf(hi.log10().ceil());
+    if hi <= lo {
+        hi = lo * 10.0;
+    }
+    Some((lo, hi))
+}
+
+/// Tick label for log axes.
+fn tick(v: f64) -> String {
+    if v == 0.0 {
+        return "0".into();
+    }
+    let e = v.abs().log10();
+    if (e - e.round()).abs() < 1e-9 && !(-3.0..=4.0).contains(&e.round()) {
+        return format!("1e{}", e.round() as i32);
+    }
+    let s = sig(v, 2);
+    if s.contains('.') && !s.contains('e') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    }
+}
+
+/// The rows a table chart uses: those of metric `exact` when a `metric` column exists and has
+/// such rows, else those of the first metric listed. Returns the rows and the metric's name.
+fn metric_rows(t: &CsvTable) -> (Vec<usize>, Option<String>) {
+    let Some(mc) = t.col("metric") else { return ((0..t.rows.len()).collect(), None) };
+    let pick = if t.rows.iter().any(|r| r[mc] == "exact") {
+        "exact".to_string()
+    } else {
+        t.rows.first().map(|r| r[mc].clone()).unwrap_or_default()
+    };
+    ((0..t.rows.len()).filter(|&i| t.rows[i][mc] == pick).collect(), Some(pick))
+}
+
+/// Values first-seen order.
+fn distinct(t: &CsvTable, rows: &[usize], col: usize) -> Vec<String> {
+    let mut out: Vec<String> = Vec::new();
+    for &i in rows {
+        if !out.contains(&t.rows[i][col]) {
+            out.push(t.rows[i][col].clone());
+        }
+    }
+    out
+}
+
+/// Maps, encoders, mean rmse per (map, encoder), and the largest number of rows averaged.
+type MeanRmse = (Vec<String>, Vec<String>, Vec<Vec<Option<f64>>>, usize);
+
+/// Mean rmse per (map, encoder) and the largest number of rows averaged.
+fn mean_rmse(t: &CsvTable, rows: &[usize]) -> Result<MeanRmse> {
+    let [mc, ec, rc] = t.require(&["map", "encoder", "rmse"])?[..] else { unreachable!() };
+    let maps = distinct(t, rows, mc);
+    let encs = distinct(t, rows, ec);
+    let mut sum = vec![vec![(0.0, 0usize); encs.len()]; maps.len()];
+    for &i in rows {
+        let Some(v) = t.num(i, rc)? else { continue };
+        let m = maps.iter().position(|x| *x == t.rows[i][mc]).expect("collected");
+        let e = encs.iter().position(|x| *x == t.rows[i][ec]).expect("collected");
+        sum[m][e].0 += v;
+        sum[m][e].1 += 1;
+    }
+    let k = sum.iter().flatten().map(|s| s.1).max().unwrap_or(0);
+    let mean = sum.iter().map(|r| r.iter().map(|&(s, n)| (n > 0).then(|| s / n as f64)).collect()).collect();
+    Ok((maps, encs, mean, k))
+}
+
+/// Horizontal bars of rmse per encoder, grouped by map, log scale.
+pub fn rmse_bars(t: &CsvTable, title: &str) -> Result<Outcome> {
+    if t.col("map").is_none() || t.col("encoder").is_none() || t.col("rmse").is_none() {
+        return Ok(Outcome::Skipped("the table has no map, encoder and rmse columns".into()));
+    }
+    let (rows, metric) = metric_rows(t);
+    let (maps, encs, mean, k) = mean_rmse(t, &rows)?;
+    let Some((lo, hi)) = decades(mean.iter().flatten().flatten().copied()) else {
+        return Ok(Outcome::Skipped("no positive rmse to draw on a log scale".into()));
+    };
+    let zeros = mean.iter().flatten().flatten().filter(|v| **v <= 0.0).count();
+    let bar = if encs.len() > 6 { 7.0 } else { 11.0 };
+    let group = encs.len() as f64 + 0.8;
+    let slots = maps.len() as f64 * group;
+    let (label_w, legend_w) = (190u32, 170u32);
+    let plot_h = (slots * bar).ceil() as u32;
+    let (w, h) = (980u32, plot_h + 110);
+    let image = canvas(w, h, |root| {
+        root.fill(&WHITE).map_err(pe)?;
+        let (area, legend) = root.split_horizontally(w - legend_w);
+        let mut chart = ChartBuilder::on(&area)
+            .caption(title, (FONT, 16).into_font().style(FontStyle::Bold))
+            .margin(10)
+            .x_label_area_size(40)
+            .y_label_area_size(label_w)
+            .build_cartesian_2d((lo..hi).log_scale(), 0.0..slots)
+            .map_err(pe)?;
+        chart
+            .configure_mesh()
+            .disable_y_mesh()
+            .y_labels(0)
+            .x_desc("rmse of E/pi (log scale)")
+            .x_label_formatter(&|v| tick(*v))
+            .label_style((FONT, 12))
+            .axis_desc_style((FONT, 12))
+            .light_line_style(RGBColor(238, 238, 238))
+            .draw()
+            .map_err(pe)?;
+        for (e, _) in encs.iter().enumerate() {
+            let bars = maps.iter().enumerate().filter_map(|(m, _)| {
+                let v = mean[m][e]?;
+                let y0 = slots - (m as f64 * group + e as f64 + 0.1);
+                Some(Rectangle::new([(lo, y0), (v.max(lo), y0 - 0.85)], colour(e).filled()))
+            });
+            chart.draw_series(bars).map_err(pe)?;
+        }
+        let style = TextStyle::from((FONT, 12)).pos(Pos::new(HPos::Right, VPos::Center));
+        for (m, name) in maps.iter().enumerate() {
+            let y = slots - (m as f64 * group + encs.len() as f64 / 2.0);
+            let (x, py) = chart.backend_coord(&(lo, y));
+            area.draw_text(name, &style, (x - 8, py)).map_err(pe)?;
+        }
+        for (e, name) in encs.iter().enumerate() {
+            let y = 50 + e as i32 * 18;
+            legend.draw(&Rectangle::new([(6, y), (20, y + 12)], colour(e).filled())).map_err(pe)?;
+            legend.draw_text(name, &TextStyle::from((FONT, 12)), (26, y)).map_err(pe)?;
+        }
+        Ok(())
+    })?;
+    let mut caption = format!(
+        "rmse of E/pi per encoder per map, log scale{}",
+        metric.map(|m| format!(", metric `{m}`")).unwrap_or_default()
+    );
+    if k > 1 {
+        caption.push_str(&format!("; each bar is the mean over the {k} cases (orientations/effects) of the table"));
+    }
+    if zeros > 0 {
+        caption.push_str(&format!("; {zeros} zero rmse value(s) drawn at the axis floor"));
+    }
+    Ok(Outcome::Drawn { image, caption })
+}
+
+/// Indices of the Pareto-optimal points of (time, error), sorted by time: no other point is
+/// at least as fast and at least as accurate while strictly better in one.
+pub fn pareto_front(points: &[(f64, f64)]) -> Vec<usize> {
+    let mut idx: Vec<usize> = (0..points.len()).collect();
+    idx.sort_by(|&a, &b| points[a].0.total_cmp(&points[b].0).then(points[a].1.total_cmp(&points[b].1)));
+    let mut front = Vec::new();
+    let mut best = f64::INFINITY;
+    for i in idx {
+        if points[i].1 < best {
+            best = points[i].1;
+            front.push(i);
+        }
+    }
+    front
+}
+
+/// Error against fit time per encoder (median fit_ns over the table's rows, mean rmse), log–log,
+/// with the Pareto front marked. Needs a `fit_ns` column.
+pub fn error_vs_time(t: &CsvTable, title: &str) -> Result<Outcome> {
+    let Some(fc) = t.col("fit_ns") else {
+        return Ok(Outcome::Skipped(
+            "not drawn: this table has no `fit_ns` column (the timing columns come from the timing work, issue 7)"
+                .into(),
+        ));
+    };
+    if t.col("encoder").is_none() || t.col("rmse").is_none() {
+        return Ok(Outcome::Skipped("not drawn: the table has no encoder and rmse columns".into()));
+    }
+    let (rows, metric) = metric_rows(t);
+    let (ec, rc) = (t.col("encoder").expect("checked"), t.col("rmse").expect("checked"));
+    let encs = distinct(t, &rows, ec);
+    let mut pts = Vec::new();
+    let mut names = Vec::new();
+    for e in &encs {
+        let mine: Vec<usize> = rows.iter().copied().filter(|&i| t.rows[i][ec] == *e).collect();
+        let mut times = Vec::new();
+        let (mut sum, mut n) = (0.0, 0usize);
+        for &i in &mine {
+            if let Some(v) = t.num(i, fc)? {
+                times.push(v);
+            }
+            if let Some(v) = t.num(i, rc)? {
+                sum += v;
+                n += 1;
+            }
+        }
+        if times.is_empty() || n == 0 {
+            continue;
+        }
+        times.sort_by(f64::total_cmp);
+        let median = times[times.len() / 2];
+        if median > 0.0 {
+            pts.push((median, sum / n as f64));
+            names.push(e.clone());
+        }
+    }
+    if pts.is_empty() {
+        return Ok(Outcome::Skipped("not drawn: the `fit_ns` column holds no positive times".into()));
+    }
+    let front = pareto_front(&pts);
+    let (xlo, xhi) = decades(pts.iter().map(|p| p.0)).expect("positive times");
+    let (ylo, yhi) = decades(pts.iter().map(|p| p.1)).unwrap_or((1e-3, 1.0));
+    let image = canvas(820, 560, |root| {
+        root.fill(&WHITE).map_err(pe)?;
+        let mut chart = ChartBuilder::on(root)
+            .caption(title, (FONT, 16).into_font().style(FontStyle::Bold))
+            .margin(14)
+            .x_label_area_size(44)
+            .y_label_area_size(64)
+            .build_cartesian_2d((xlo..xhi).log_scale(), (ylo..yhi).log_scale())
+            .map_err(pe)?;
+        chart
+            .configure_mesh()
+            .x_desc("fit time per probe, ns (median; log scale)")
+            .y_desc("rmse of E/pi (mean over maps; log scale)")
+            .x_label_formatter(&|v| tick(*v))
+            .y_label_formatter(&|v| tick(*v))
+            .label_style((FONT, 12))
+            .axis_desc_style((FONT, 12))
+            .light_line_style(RGBColor(238, 238, 238))
+            .draw()
+            .map_err(pe)?;
+        let red = RGBColor(200, 30, 30);
+        let line: Vec<(f64, f64)> = front.iter().map(|&i| (pts[i].0, pts[i].1.max(ylo))).collect();
+        chart
+            .draw_series(LineSeries::new(line, red.stroke_width(2)))
+            .map_err(pe)?
+            .label("Pareto front (none is both faster and more accurate)")
+            .legend(move |(x, y)| PathElement::new([(x, y), (x + 18, y)], red.stroke_width(2)));
+        for (i, (p, name)) in pts.iter().zip(&names).enumerate() {
+            let on = front.contains(&i);
+            let c = if on { red } else { RGBColor(90, 90, 90) };
+            let p = (p.0, p.1.max(ylo));
+            let point = EmptyElement::at(p)
+                + Circle::new((0, 0), 5, c.filled())
+                + Text::new(name.clone(), (8, -16), (FONT, 12).into_font().color(&c));
+            chart.draw_series(std::iter::once(point)).map_err(pe)?;
+        }
+        chart
+            .configure_series_labels()
+            .background_style(WHITE.mix(0.9))
+            .border_style(BLACK)
+            .label_font((FONT, 12))
+            .position(SeriesLabelPosition::UpperRight)
+            .draw()
+            .map_err(pe)?;
+        Ok(())
+    })?;
+    let on: Vec<&str> = front.iter().map(|&i| names[i].as_str()).collect();
+    Ok(Outcome::Drawn {
+        image,
+        caption: format!(
+            "error against fit time per encoder: x = median `fit_ns` over the table's rows, y = mean rmse{}; \
+             Pareto front: {}",
+            metric.map(|m| format!(" (metric `{m}`)")).unwrap_or_default(),
+            on.join(", ")
+        ),
+    })
+}
+
+/// One series of a line chart.
+struct Series {
+    label: String,
+    /// Palette index, so a label keeps its colour across panels.
+    colour: usize,
+    points: Vec<(f64, f64)>,
+}
+
+/// Draws one panel of line series on `area`: log axes where every value is positive and the
+/// range spans at least a factor 20.
+fn line_panel(
+    area: &DrawingArea<BitMapBackend, Shift>,
+    title: &str,
+    xdesc: &str,
+    ydesc: &str,
+    series: &[Series],
+    force_linear_y: bool,
+) -> Result<()> {
+    let xs = || series.iter().flat_map(|s| s.points.iter().map(|p| p.0));
+    let ys = || series.iter().flat_map(|s| s.points.iter().map(|p| p.1));
+    let span = |v: &mut dyn Iterator<Item = f64>| {
+        let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+        for x in v {
+            lo = lo.min(x);
+            hi = hi.max(x);
+        }
+        (lo, hi)
+    };
+    let (xl, xh) = span(&mut xs());
+    let (yl, yh) = span(&mut ys());
+    if !xl.is_finite() {
+        return Ok(());
+    }
+    let pad = |lo: f64, hi: f64| {
+        let d = if hi > lo { (hi - lo) * 0.06 } else { lo.abs().max(1.0) * 0.1 };
+        (lo - d, hi + d)
+    };
+    let xlog = xl > 0.0 && xh / xl >= 20.0;
+    let ylog = !force_linear_y && yl > 0.0 && yh / yl >= 20.0;
+    macro_rules! draw {
+        ($x:expr, $y:expr) => {{
+            let mut chart = ChartBuilder::on(area)
+                .caption(title, (FONT, 14).into_font().style(FontStyle::Bold))
+                .margin(12)
+                .x_label_area_size(40)
+                .y_label_area_size(62)
+                .build_cartesian_2d($x, $y)
+                .map_err(pe)?;
+            chart
+                .configure_mesh()
+                .x_desc(xdesc)
+                .y_desc(ydesc)
+                .x_label_formatter(&|v| tick(*v))
+                .y_label_formatter(&|v| tick(*v))
+                .label_style((FONT, 11))
+                .axis_desc_style((FONT, 12))
+                .light_line_style(RGBColor(238, 238, 238))
+                .draw()
+                .map_err(pe)?;
+            for s in series {
+                let c = colour(s.colour);
+                chart
+                    .draw_series(LineSeries::new(s.points.clone(), c.stroke_width(2)))
+                    .map_err(pe)?
+                    .label(s.label.clone())
+                    .legend(move |(x, y)| PathElement::new([(x, y), (x + 18, y)], c.stroke_width(2)));
+                chart.draw_series(s.points.iter().map(|p| Circle::new(*p, 3, c.filled()))).map_err(pe)?;
+            }
+            chart
+                .configure_series_labels()
+                .background_style(WHITE.mix(0.85))
+                .border_style(BLACK)
+                .label_font((FONT, 11))
+                .position(SeriesLabelPosition::UpperRight)
+                .draw()
+                .map_err(pe)?;
+        }};
+    }
+    let (xp, yp) = (pad(xl, xh), pad(yl, yh));
+    match (xlog, ylog) {
+        (true, true) => draw!((xl * 0.8..xh * 1.25).log_scale(), (yl * 0.8..yh * 1.25).log_scale()),
+        (true, false) => draw!((xl * 0.8..xh * 1.25).log_scale(), yp.0..yp.1),
+        (false, true) => draw!(xp.0..xp.1, (yl * 0.8..yh * 1.25).log_scale()),
+        (false, false) => draw!(xp.0..xp.1, yp.0..yp.1),
+    }
+    Ok(())
+}
+
+/// One chart per knob of a sweep CSV (`knob,value,rmse,time_ns,label`): rmse against the
+/// knob's value, one line per label, and beside it rmse against time when `time_ns` is filled.
+pub fn sweep_charts(t: &CsvTable) -> Result<Vec<(String, Outcome)>> {
+    let [kc, vc, rc, lc] = t.require(&["knob", "value", "rmse", "label"])?[..] else { unreachable!() };
+    let tc = t.col("time_ns");
+    let refc = t.col("reference");
+    let all: Vec<usize> = (0..t.rows.len()).collect();
+    let mut out = Vec::new();
+    for knob in distinct(t, &all, kc) {
+        let rows: Vec<usize> = all.iter().copied().filter(|&i| t.rows[i][kc] == knob).collect();
+        let mut by_value = Vec::new();
+        let mut by_time = Vec::new();
+        let mut zero = 0;
+        for (k, label) in distinct(t, &rows, lc).into_iter().enumerate() {
+            let mut a = Vec::new();
+            let mut b = Vec::new();
+            for &i in rows.iter().filter(|&&i| t.rows[i][lc] == label) {
+                let (Some(v), Some(r)) = (t.num(i, vc)?, t.num(i, rc)?) else { continue };
+                if r <= 0.0 {
+                    zero += 1;
+                }
+                a.push((v, r));
+                if let Some(tn) = tc.map(|c| t.num(i, c)).transpose()?.flatten() {
+                    b.push((tn, r));
+                }
+            }
+            a.sort_by(|p, q| p.0.total_cmp(&q.0));
+            b.sort_by(|p, q| p.0.total_cmp(&q.0));
+            by_value.push(Series { label: label.clone(), colour: k, points: a });
+            if !b.is_empty() {
+                by_time.push(Series { label, colour: k, points: b });
+            }
+        }
+        if by_value.iter().all(|s| s.points.is_empty()) {
+            out.push((knob.clone(), Outcome::Skipped(format!("sweep '{knob}': no numeric rows"))));
+            continue;
+        }
+        let two = !by_time.is_empty();
+        let w = if two { 1200 } else { 640 };
+        let image = canvas(w, 460, |root| {
+            root.fill(&WHITE).map_err(pe)?;
+            let (a, b) = if two { root.split_horizontally(600) } else { (root.clone(), root.clone()) };
+            line_panel(&a, &format!("{knob}: rmse against value"), &knob, "rmse of E/pi", &by_value, zero > 0)?;
+            if two {
+                line_panel(&b, &format!("{knob}: rmse against time"), "time, ns", "rmse of E/pi", &by_time, zero > 0)?;
+            }
+            Ok(())
+        })?;
+        let against = refc
+            .and_then(|c| rows.iter().map(|&i| t.rows[i][c].clone()).find(|s| !s.is_empty()))
+            .map(|s| format!("; rmse against {s}"))
+            .unwrap_or_default();
+        let caption = format!(
+            "convergence sweep of `{knob}`: rmse against the knob's value{}{}",
+            if two { " and against time_ns" } else { " (no time_ns in the file)" },
+            against
+        );
+        out.push((knob, Outcome::Drawn { image, caption }));
+    }
+    Ok(out)
+}
+
+/// Irradiance at N along t per blending method, and its rmse along t (lightmap blending, issue
+/// 4; the 2018 brief's Fig. 2). One chart per `set` value when that column exists. The caption
+/// gives each method's overshoot beyond both endpoints.
+pub fn blend_charts(t: &CsvTable) -> Result<Vec<(String, Outcome)>> {
+    let cols = t.require(&["t", "method", "irradiance_at_n_r", "irradiance_at_n_g", "irradiance_at_n_b"])?;
+    let [tc, mc, r, g, b] = cols[..] else { unreachable!() };
+    let rc = t.col("rmse");
+    let sc = t.col("set");
+    let all: Vec<usize> = (0..t.rows.len()).collect();
+    let sets = match sc {
+        Some(c) => distinct(t, &all, c),
+        None => vec![String::new()],
+    };
+    let mut out = Vec::new();
+    for set in sets {
+        let rows: Vec<usize> = all.iter().copied().filter(|&i| sc.is_none_or(|c| t.rows[i][c] == set)).collect();
+        let mut irr = Vec::new();
+        let mut err = Vec::new();
+        let mut notes = Vec::new();
+        for (k, m) in distinct(t, &rows, mc).into_iter().enumerate() {
+            let mut a = Vec::new();
+            let mut e = Vec::new();
+            for &i in rows.iter().filter(|&&i| t.rows[i][mc] == m) {
+                let Some(tv) = t.num(i, tc)? else { continue };
+                let (Some(x), Some(y), Some(z)) = (t.num(i, r)?, t.num(i, g)?, t.num(i, b)?) else { continue };
+                a.push((tv, luminance(Rgb::new(x, y, z))));
+                if let Some(v) = rc.map(|c| t.num(i, c)).transpose()?.flatten() {
+                    e.push((tv, v));
+                }
+            }
+            a.sort_by(|p, q| p.0.total_cmp(&q.0));
+            e.sort_by(|p, q| p.0.total_cmp(&q.0));
+            if let (Some(first), Some(last)) = (a.first(), a.last()) {
+                let (lo, hi) = (first.1.min(last.1), first.1.max(last.1));
+                let over = a.iter().map(|p| (p.1 - hi).max(lo - p.1).max(0.0)).fold(0.0, f64::max);
+                notes.push(format!("{m}: overshoot {}", sig(over, 3)));
+            }
+            irr.push(Series { label: m.clone(), colour: k, points: a });
+            if !e.is_empty() {
+                err.push(Series { label: m, colour: k, points: e });
+            }
+        }
+        let two = !err.is_empty();
+        let title = if set.is_empty() { String::new() } else { format!(" ({set})") };
+        let image = canvas(if two { 1200 } else { 640 }, 460, |root| {
+            root.fill(&WHITE).map_err(pe)?;
+            let (a, b) = if two { root.split_horizontally(600) } else { (root.clone(), root.clone()) };
+            line_panel(
+                &a,
+                &format!("irradiance at N along t{title}"),
+                "t",
+                "E/pi at N (Rec.709 luminance)",
+                &irr,
+                true,
+            )?;
+            if two {
+                line_panel(&b, &format!("rmse along t{title}"), "t", "rmse of E/pi", &err, true)?;
+            }
+            Ok(())
+        })?;
+        let caption = format!(
+            "blending{title}: E/pi at N (luminance) along t per method{}; overshoot = largest excursion beyond both \
+             endpoints' values: {}",
+            if two { ", and rmse along t" } else { "" },
+            notes.join("; ")
+        );
+        out.push((set, Outcome::Drawn { image, caption }));
+    }
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::path::Path;
+
+    fn csv(s: &str) -> CsvTable {
+        CsvTable::parse(Path::new("t.csv"), s.as_bytes()).unwrap()
+    }
+
+    #[test]
+    fn tick_labels_are_short() {
+        assert_eq!(tick(0.01), "0.01");
+        assert_eq!(tick(1.0), "1");
+        assert_eq!(tick(2.5), "2.5");
+        assert_eq!(tick(1e-6), "1e-6");
+        assert_eq!(tick(1e5), "1e5");
+    }
+
+    #[test]
+    fn pareto_front_by_hand() {
+        // (time, error): b dominates d; a is fastest; c is the most accurate.
+        let p = [(1.0, 5.0), (2.0, 3.0), (10.0, 1.0), (3.0, 4.0), (20.0, 1.0)];
+        assert_eq!(pareto_front(&p), vec![0, 1, 2]);
+        assert_eq!(pareto_front(&[]), Vec::<usize>::new());
+    }
+
+    #[test]
+    fn time_chart_skips_without_fit_ns_and_draws_with_it() {
+        let t = csv("map,encoder,metric,rmse\na,sh1,exact,0.5\na,sh2,exact,0.1\n");
+        assert!(matches!(error_vs_time(&t, "x").unwrap(), Outcome::Skipped(s) if s.contains("fit_ns")));
+        let t = csv("map,encoder,metric,rmse,fit_ns\na,sh1,exact,0.5,10\na,sh2,exact,0.1,40\na,zz,exact,0.3,50\n");
+        match error_vs_time(&t, "x").unwrap() {
+            Outcome::Drawn { caption, image } => {
+                assert!(caption.contains("Pareto front: sh1, sh2"), "{caption}");
+                assert_eq!(image.dimensions(), (820, 560));
+            }
+            Outcome::Skipped(s) => panic!("{s}"),
+        }
+    }
+
+    #[test]
+    fn bars_average_cases_and_read_columns_by_name() {
+        let t =
+            csv("rmse,encoder,map,metric\n0.5,sh1,a,exact\n0.25,sh1,a,exact\n9,sh1,a,probulator\n0.1,sh2,a,exact\n");
+        let (rows, m) = metric_rows(&t);
+        assert_eq!(m.as_deref(), Some("exact"));
+        let (_, encs, mean, k) = mean_rmse(&t, &rows).unwrap();
+        assert_eq!(encs, vec!["sh1", "sh2"]);
+        assert_eq!(mean[0][0], Some(0.375));
+        assert_eq!(k, 2);
+        assert!(
+            matches!(rmse_bars(&t, "x").unwrap(), Outcome::Drawn { caption, .. } if caption.contains("mean over the 2"))
+        );
+    }
+
+    #[test]
+    fn sweep_and_blend_formats() {
+        let s = csv("knob,value,rmse,time_ns,label\nref_res,32,0.1,100,grace\nref_res,64,0.02,400,grace\n\
+             ref_res,128,0.004,1600,grace\niters,1,0.5,,hhd\niters,2,0.2,,hhd\n");
+        let charts = sweep_charts(&s).unwrap();
+        assert_eq!(charts.len(), 2);
+        assert!(matches!(&charts[0].1, Outcome::Drawn { image, .. } if image.width() == 1200));
+        assert!(matches!(&charts[1].1, Outcome::Drawn { image, .. } if image.width() == 640));
+        assert!(sweep_charts(&csv("knob,value\na,1\n")).unwrap_err().to_string().contains("missing column"));
+        let b = csv(
+            "t,method,irradiance_at_n_r,irradiance_at_n_g,irradiance_at_n_b,rmse\n0,ahd,1,1,1,0\n0.5,ahd,1.5,1.5,1.5,0.1\n\
+             1,ahd,1.2,1.2,1.2,0\n0,reference,1,1,1,\n0.5,reference,1.1,1.1,1.1,\n1,reference,1.2,1.2,1.2,\n",
+        );
+        let charts = blend_charts(&b).unwrap();
+        match &charts[0].1 {
+            Outcome::Drawn { caption, .. } => {
+                assert!(
+                    caption.contains("ahd: overshoot 0.300") && caption.contains("reference: overshoot 0"),
+                    "{caption}"
+                )
+            }
+            Outcome::Skipped(s) => panic!("{s}"),
+        }
+    }
+}

@@ -1,0 +1,610 @@
+//! The report: comparison sheets, charts and `results/REPORT.md`, generated from the result
+//! CSVs and the maps — never written by hand. `probelab report` runs it; `probelab reproduce`
+//! runs it last.
+//!
+//! Per experiment (`experiments/*.toml`, in file order), then per other folder of `results/`:
+//! - the table (`table.csv`) as a map × encoder rmse pivot, a timing summary when `*_ns`
+//!   columns exist, and the whole table;
+//! - charts: rmse bars, error against `fit_ns` (when that column exists), one convergence
+//!   chart per knob of every `sweep*.csv`, the blending chart of every `blend*.csv`;
+//! - comparison sheets (`sheet_<map>.png`), drawn when every map of the experiment is on the
+//!   search path; otherwise the committed sheets are kept and linked;
+//! - other pictures and files found in the folder (e.g. a blending strip) are linked, so work
+//!   added later appears without changes here.
+//!
+//! Then the claims (`*/claims.csv`) and how the run was made (commit, date, settings, map
+//! checksums). Everything is written atomically; stale `sheet_*`/`chart_*` PNGs are removed.
+
+pub mod charts;
+pub mod csvfile;
+pub mod markdown;
+pub mod render;
+
+use crate::envmap::search::SearchPath;
+use crate::experiment::{list_experiments, Experiment};
+use crate::progress::Progress;
+use anyhow::{Context, Result};
+use charts::Outcome;
+use csvfile::CsvTable;
+use markdown::{anchor, href};
+use sha2::{Digest, Sha256};
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+/// Where the report reads and writes.
+pub struct Options<'a> {
+    /// Repository root (holds `experiments/`).
+    pub root: &'a Path,
+    /// The results folder (`REPORT.md` is written here).
+    pub out: &'a Path,
+    pub search: &'a SearchPath,
+}
+
+/// What a report run produced.
+pub struct Generated {
+    pub report: PathBuf,
+    pub pictures: usize,
+    /// Experiments whose sheets were not redrawn (maps missing).
+    pub kept: Vec<String>,
+}
+
+/// A file name made of `[A-Za-z0-9._-]`.
+pub fn file_safe(s: &str) -> String {
+    s.chars().map(|c| if c.is_ascii_alphanumeric() || matches!(c, '.' | '_' | '-') { c } else { '_' }).collect()
+}
+
+fn hex(b: &[u8]) -> String {
+    b.iter().map(|x| format!("{x:02x}")).collect()
+}
+
+/// One map file as used now.
+#[derive(Clone, Debug)]
+struct MapUse {
+    file: String,
+    dir: String,
+    size: String,
+    sha256: String,
+    used_by: Vec<String>,
+}
+
+/// A report section: an experiment, or another folder of results.
+struct Section {
+    name: String,
+    exp: Option<Experiment>,
+    source_text: Option<String>,
+    source_file: Option<PathBuf>,
+}
+
+/// Files of `dir` (names only), sorted.
+fn files(dir: &Path) -> Vec<String> {
+    let Ok(rd) = std::fs::read_dir(dir) else { return vec![] };
+    let mut v: Vec<String> = rd
+        .filter_map(|e| e.ok())
+        .filter(|e| e.file_type().map(|t| t.is_file()).unwrap_or(false))
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .filter(|n| !n.starts_with('.'))
+        .collect();
+    v.sort();
+    v
+}
+
+/// Writes the report; see the module doc.
+pub fn generate(opts: &Options) -> Result<Generated> {
+    let out = opts.out;
+    std::fs::create_dir_all(out).with_context(|| format!("{}: cannot create folder", out.display()))?;
+    let mut sections = Vec::new();
+    for path in list_experiments(&opts.root.join("experiments"))? {
+        let exp = Experiment::load(&path)?;
+        let text = std::fs::read_to_string(&path).with_context(|| format!("{}: cannot read", path.display()))?;
+        sections.push(Section {
+            name: exp.name.clone(),
+            exp: Some(exp),
+            source_text: Some(text),
+            source_file: Some(path),
+        });
+    }
+    if let Ok(rd) = std::fs::read_dir(out) {
+        let mut extra: Vec<String> = rd
+            .filter_map(|e| e.ok())
+            .filter(|e| e.file_type().map(|t| t.is_dir()).unwrap_or(false))
+            .map(|e| e.file_name().to_string_lossy().into_owned())
+            .filter(|n| !n.starts_with('.') && !sections.iter().any(|s| s.name == *n))
+            .filter(|n| files(&out.join(n)).iter().any(|f| f.ends_with(".csv") || f.ends_with(".png")))
+            .collect();
+        extra.sort();
+        for name in extra {
+            sections.push(Section { name, exp: None, source_text: None, source_file: None });
+        }
+    }
+
+    // Maps: resolve and checksum every map an experiment names.
+    let mut maps: BTreeMap<String, Option<MapUse>> = BTreeMap::new();
+    for s in &sections {
+        let Some(exp) = &s.exp else { continue };
+        for m in &exp.maps {
+            let entry = maps.entry(m.clone()).or_insert_with(|| map_use(opts.search, m).ok());
+            if let Some(u) = entry {
+                u.used_by.push(s.name.clone());
+            }
+        }
+    }
+
+    // Sheets.
+    let drawable: Vec<&Section> = sections
+        .iter()
+        .filter(|s| s.exp.as_ref().is_some_and(|e| e.maps.iter().all(|m| maps.get(m).is_some_and(|u| u.is_some()))))
+        .collect();
+    let total: usize = drawable.iter().map(|s| s.exp.as_ref().map_or(0, |e| e.maps.len())).sum();
+    let progress = Progress::new(total as u64, "sheets");
+    let mut pictures = 0;
+    let mut drawn_sheets: BTreeMap<String, Vec<String>> = BTreeMap::new();
+    for s in &drawable {
+        let exp = s.exp.as_ref().expect("drawable sections are experiments");
+        let dir = out.join(&s.name);
+        let table_path = dir.join("table.csv");
+        let table = if table_path.is_file() { Some(CsvTable::read(&table_path)?) } else { None };
+        let mut names = Vec::new();
+        for m in &exp.maps {
+            progress.message(format!("{} / {m}", s.name));
+            let path = opts.search.resolve(m).map_err(|e| anyhow::anyhow!("{e}"))?;
+            let map = crate::envmap::load::load(&path)?;
+            let (sheet, _) = render::experiment_sheet(exp, &map, table.as_ref())?;
+            let name = format!("sheet_{}.png", file_safe(m));
+            render::write_png(&dir.join(&name), &sheet.draw()?)?;
+            progress.log(format!("wrote {}", dir.join(&name).display()));
+            names.push(name);
+            pictures += 1;
+            progress.inc();
+        }
+        remove_stale(&dir, "sheet_", &names)?;
+        drawn_sheets.insert(s.name.clone(), names);
+    }
+    progress.finish();
+
+    // Sections.
+    let mut body = String::new();
+    let mut claims = Vec::new();
+    let mut kept = Vec::new();
+    for s in &sections {
+        let dir = out.join(&s.name);
+        let (md, n, section_claims) = section(s, &dir, out, opts.root, drawn_sheets.get(&s.name), &mut kept)?;
+        pictures += n;
+        body.push_str(&md);
+        claims.extend(section_claims);
+    }
+
+    let mut doc = String::new();
+    doc.push_str("# probelab report\n\n");
+    doc.push_str(
+        "Generated by `probelab report` from the CSVs under `results/` and the maps; do not edit by hand. \
+         Every figure is E/π (the exit radiance of a white Lambertian surface: a constant environment of \
+         radiance 1 gives 1), scored against the exact cell-integrated reference.\n\n",
+    );
+    doc.push_str("Contents: ");
+    let mut toc: Vec<String> = Vec::new();
+    if !claims.is_empty() {
+        toc.push("[Claims](#claims)".into());
+    }
+    toc.extend(sections.iter().map(|s| format!("[{}](#{})", s.name, anchor(&s.name))));
+    toc.push("[How this run was made](#how-this-run-was-made)".into());
+    doc.push_str(&toc.join(" · "));
+    doc.push_str("\n\n");
+    if !claims.is_empty() {
+        doc.push_str("## Claims\n\n");
+        doc.push_str(
+            "Each claim of the papers we measured (`*/claims.csv`: id, claim, paper figure, our figure, holds, notes).\n\n",
+        );
+        for (name, link, t) in &claims {
+            let _ = writeln!(doc, "**{name}** ([claims.csv]({})):\n", href(link));
+            doc.push_str(&markdown::claims_table(t)?);
+            doc.push('\n');
+        }
+    }
+    doc.push_str(&body);
+    doc.push_str(&provenance(opts, &sections, &maps, out)?);
+    let report = out.join("REPORT.md");
+    crate::atomic::write(&report, doc.as_bytes())?;
+    Ok(Generated { report, pictures, kept })
+}
+
+fn map_use(search: &SearchPath, name: &str) -> Result<MapUse> {
+    let path = search.resolve(name).map_err(|e| anyhow::anyhow!("{e}"))?;
+    let bytes = std::fs::read(&path).with_context(|| format!("{}: cannot read", path.display()))?;
+    let map = crate::envmap::load::load(&path)?;
+    Ok(MapUse {
+        file: path.file_name().map(|f| f.to_string_lossy().into_owned()).unwrap_or_default(),
+        dir: path.parent().map(|p| p.display().to_string()).unwrap_or_default(),
+        size: format!("{}x{}", map.width(), map.height()),
+        sha256: hex(&Sha256::digest(&bytes)),
+        used_by: Vec::new(),
+    })
+}
+
+/// Removes `prefix*.png` files of `dir` that are not in `keep`.
+fn remove_stale(dir: &Path, prefix: &str, keep: &[String]) -> Result<()> {
+    for f in files(dir) {
+        if f.starts_with(prefix) && f.ends_with(".png") && !keep.contains(&f) {
+            let p = dir.join(&f);
+            std::fs::remove_file(&p).with_context(|| format!("{}: cannot remove stale picture", p.display()))?;
+        }
+    }
+    Ok(())
+}
+
+/// Link text from REPORT.md (in `out`) to `name/file`.
+fn rel(name: &str, file: &str) -> String {
+    format!("{name}/{file}")
+}
+
+type Claims = Vec<(String, String, CsvTable)>;
+
+/// One section's Markdown, the number of charts drawn, and its claims tables.
+fn section(
+    s: &Section,
+    dir: &Path,
+    out: &Path,
+    root: &Path,
+    sheets: Option<&Vec<String>>,
+    kept: &mut Vec<String>,
+) -> Result<(String, usize, Claims)> {
+    let mut md = String::new();
+    let mut drawn = 0;
+    let _ = writeln!(md, "## {}\n", s.name);
+    if let Some(exp) = &s.exp {
+        if !exp.description.is_empty() {
+            let _ = writeln!(md, "{}\n", exp.description);
+        }
+        if let (Some(text), Some(file)) = (&s.source_text, &s.source_file) {
+            let fname = file.file_name().map(|f| f.to_string_lossy().into_owned()).unwrap_or_default();
+            let same_repo = out.parent().and_then(|p| p.canonicalize().ok()) == root.canonicalize().ok();
+            let label = if same_repo {
+                format!("<a href=\"{}\">experiments/{fname}</a>", href(&format!("../experiments/{fname}")))
+            } else {
+                format!("`experiments/{fname}`")
+            };
+            let _ = writeln!(
+                md,
+                "<details><summary>Settings: {label}</summary>\n\n```toml\n{}\n```\n\n</details>\n",
+                text.trim_end()
+            );
+        }
+    }
+    let all = files(dir);
+    let mut charts_made: Vec<String> = Vec::new();
+    let mut chart_md = String::new();
+
+    // The table.
+    if all.iter().any(|f| f == "table.csv") {
+        let t = CsvTable::read(&dir.join("table.csv"))?;
+        let link = rel(&s.name, "table.csv");
+        let _ = writeln!(md, "### Results\n\nFrom [table.csv]({}) ({} rows).\n", href(&link), t.rows.len());
+        if let Some(p) = markdown::pivot(&t)? {
+            md.push_str(&p);
+        }
+        if let Some(p) = markdown::timing_summary(&t)? {
+            md.push_str(&p);
+        }
+        let _ = writeln!(
+            md,
+            "<details><summary>The whole table</summary>\n\n{}\n</details>\n",
+            markdown::full_table(&t, &link)
+        );
+        let mut put = |file: String, o: Outcome, what: &str| -> Result<()> {
+            match o {
+                Outcome::Drawn { image, caption } => {
+                    render::write_png(&dir.join(&file), &image)?;
+                    let _ = writeln!(chart_md, "![{what}]({})\n\n*{caption}*\n", href(&rel(&s.name, &file)));
+                    charts_made.push(file);
+                    drawn += 1;
+                }
+                Outcome::Skipped(why) => {
+                    let _ = writeln!(chart_md, "{what}: {why}.\n");
+                }
+            }
+            Ok(())
+        };
+        put(
+            "chart_rmse.png".into(),
+            charts::rmse_bars(&t, &format!("{}: rmse per encoder and map", s.name))?,
+            "rmse bars",
+        )?;
+        put(
+            "chart_time.png".into(),
+            charts::error_vs_time(&t, &format!("{}: error against fit time", s.name))?,
+            "Error against time",
+        )?;
+    } else {
+        let _ = writeln!(
+            md,
+            "No `table.csv` in `results/{}/` yet{}.\n",
+            s.name,
+            if s.exp.is_some() { format!(" (run `probelab run experiments/{}.toml`)", s.name) } else { String::new() }
+        );
+    }
+    // Sweeps and blending.
+    for f in all.iter().filter(|f| f.ends_with(".csv")) {
+        let stem = f.trim_end_matches(".csv");
+        if f.starts_with("sweep") {
+            let t = CsvTable::read(&dir.join(f))?;
+            for (knob, o) in charts::sweep_charts(&t)? {
+                let file = format!("chart_{}_{}.png", file_safe(stem), file_safe(&knob));
+                match o {
+                    Outcome::Drawn { image, caption } => {
+                        render::write_png(&dir.join(&file), &image)?;
+                        let _ = writeln!(
+                            chart_md,
+                            "![sweep {knob}]({})\n\n*{caption} (from [{f}]({}))*\n",
+                            href(&rel(&s.name, &file)),
+                            href(&rel(&s.name, f))
+                        );
+                        charts_made.push(file);
+                        drawn += 1;
+                    }
+                    Outcome::Skipped(why) => {
+                        let _ = writeln!(chart_md, "{f}: {why}.\n");
+                    }
+                }
+            }
+        } else if f.starts_with("blend") {
+            let t = CsvTable::read(&dir.join(f))?;
+            for (set, o) in charts::blend_charts(&t)? {
+                let file = if set.is_empty() {
+                    format!("chart_{}.png", file_safe(stem))
+                } else {
+                    format!("chart_{}_{}.png", file_safe(stem), file_safe(&set))
+                };
+                if let Outcome::Drawn { image, caption } = o {
+                    render::write_png(&dir.join(&file), &image)?;
+                    let _ = writeln!(
+                        chart_md,
+                        "![blending]({})\n\n*{caption} (from [{f}]({}))*\n",
+                        href(&rel(&s.name, &file)),
+                        href(&rel(&s.name, f))
+                    );
+                    charts_made.push(file);
+                    drawn += 1;
+                }
+            }
+        }
+    }
+    if dir.is_dir() {
+        remove_stale(dir, "chart_", &charts_made)?;
+    }
+    if !chart_md.is_empty() {
+        let _ = writeln!(md, "### Charts\n\n{chart_md}");
+    }
+
+    // Sheets: drawn now, or kept from the committed run.
+    let now = files(dir);
+    let mut sheet_files: Vec<String> =
+        now.iter().filter(|f| f.starts_with("sheet_") && f.ends_with(".png")).cloned().collect();
+    if let Some(exp) = &s.exp {
+        // In the experiment's map order, then any others.
+        let pos = |f: &String| exp.maps.iter().position(|m| format!("sheet_{}.png", file_safe(m)) == *f);
+        sheet_files.sort_by_key(|f| (pos(f).unwrap_or(usize::MAX), f.clone()));
+    }
+    if let Some(exp) = &s.exp {
+        let note = if sheets.is_some() {
+            String::new()
+        } else {
+            kept.push(s.name.clone());
+            if sheet_files.is_empty() {
+                "Not drawn: not every map of this experiment is on the map search path (set PROBELAB_ENVMAPS).\n\n"
+                    .to_string()
+            } else {
+                "Not redrawn in this run (not every map is on the map search path); these are the committed sheets.\n\n"
+                    .to_string()
+            }
+        };
+        let hemi = !exp.orientations.is_empty();
+        let _ = writeln!(
+            md,
+            "### Comparison sheets\n\n{note}One sheet per map: a row per encoder; in each row the reference, the encoder \
+             and its signed relative error (blue darker, red brighter than the reference), {}. All spheres of a sheet \
+             share one exposure and tone curve (stated on the sheet); the rmse under each error sphere is the table's \
+             `exact` figure for the case drawn.\n",
+            if hemi {
+                "for the case whose surface normal N is nearest +Y (the hemisphere about N drawn as a disc looking \
+                 down N; a sphere domain is drawn front and top)"
+            } else {
+                "each as two views of the sphere of normals: front (viewer on +Z, +Y up) and top (viewer on +Y, -Z up)"
+            }
+        );
+        const INLINE: usize = 8;
+        for (i, f) in sheet_files.iter().enumerate() {
+            let map = f.trim_start_matches("sheet_").trim_end_matches(".png");
+            if i < INLINE {
+                let _ = writeln!(md, "![{} on {map}]({})\n", s.name, href(&rel(&s.name, f)));
+            } else {
+                let _ = writeln!(md, "- [{map}]({})", href(&rel(&s.name, f)));
+            }
+        }
+        if sheet_files.len() > INLINE {
+            md.push('\n');
+        }
+    }
+
+    // Claims, other pictures and files.
+    let mut claims = Vec::new();
+    if now.iter().any(|f| f == "claims.csv") {
+        claims.push((s.name.clone(), rel(&s.name, "claims.csv"), CsvTable::read(&dir.join("claims.csv"))?));
+        let _ = writeln!(md, "Claims of this experiment: see [Claims](#claims).\n");
+    }
+    let other_png: Vec<&String> =
+        now.iter().filter(|f| f.ends_with(".png") && !f.starts_with("sheet_") && !f.starts_with("chart_")).collect();
+    if !other_png.is_empty() {
+        md.push_str("### Other pictures\n\n");
+        for f in other_png {
+            let _ = writeln!(md, "![{f}]({})\n", href(&rel(&s.name, f)));
+        }
+    }
+    let other: Vec<&String> = now.iter().filter(|f| !f.ends_with(".png")).collect();
+    if !other.is_empty() {
+        let links: Vec<String> = other.iter().map(|f| format!("[{f}]({})", href(&rel(&s.name, f)))).collect();
+        let _ = writeln!(md, "Files: {}\n", links.join(" · "));
+    }
+    Ok((md, drawn, claims))
+}
+
+/// Days since 1970-01-01 to (year, month, day) (H. Hinnant's civil_from_days).
+fn civil_from_days(z: i64) -> (i64, u32, u32) {
+    let z = z + 719_468;
+    let era = z.div_euclid(146_097);
+    let doe = z.rem_euclid(146_097);
+    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let d = (doy - (153 * mp + 2) / 5 + 1) as u32;
+    let m = if mp < 10 { mp + 3 } else { mp - 9 } as u32;
+    (yoe + era * 400 + i64::from(m <= 2), m, d)
+}
+
+/// The current UTC time, ISO 8601.
+pub fn utc_now() -> String {
+    let secs =
+        std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map(|d| d.as_secs()).unwrap_or(0) as i64;
+    let (y, m, d) = civil_from_days(secs.div_euclid(86_400));
+    let s = secs.rem_euclid(86_400);
+    format!("{y:04}-{m:02}-{d:02} {:02}:{:02}:{:02} UTC", s / 3600, s / 60 % 60, s % 60)
+}
+
+fn git(root: &Path, args: &[&str]) -> Option<String> {
+    let o = std::process::Command::new("git").arg("-C").arg(root).args(args).output().ok()?;
+    o.status.success().then(|| String::from_utf8_lossy(&o.stdout).trim().to_string())
+}
+
+fn provenance(
+    opts: &Options,
+    sections: &[Section],
+    maps: &BTreeMap<String, Option<MapUse>>,
+    out: &Path,
+) -> Result<String> {
+    let mut md = String::from("## How this run was made\n\n");
+    let commit = git(opts.root, &["rev-parse", "HEAD"]);
+    let dirty = git(opts.root, &["status", "--porcelain", "--untracked-files=no", "--", ".", ":(exclude)results"])
+        .map(|s| !s.is_empty());
+    let _ = writeln!(
+        md,
+        "- Commit: {}{}\n- Date: {}\n- probelab {} ({} build), {} worker thread(s) (`--jobs`; the tables do not depend on it)",
+        commit.map(|c| format!("`{c}`")).unwrap_or_else(|| "unknown (not a git checkout)".into()),
+        match dirty {
+            Some(true) => " with uncommitted changes outside `results/`",
+            _ => "",
+        },
+        utc_now(),
+        env!("CARGO_PKG_VERSION"),
+        if cfg!(debug_assertions) { "debug" } else { "release" },
+        rayon::current_num_threads()
+    );
+    let dirs: Vec<String> = opts.search.dirs().iter().map(|d| format!("`{}`", d.display())).collect();
+    let _ = writeln!(md, "- Map search path: {} (`PROBELAB_ENVMAPS` adds folders after `envmaps/`)\n", dirs.join(", "));
+
+    md.push_str("**Settings** (each experiment file is echoed in full in its section):\n\n");
+    let mut rows = Vec::new();
+    for s in sections {
+        let Some(e) = &s.exp else { continue };
+        let orient: Vec<String> = {
+            let mut sets: Vec<String> = Vec::new();
+            for o in &e.orientations {
+                if !sets.contains(&o.set) {
+                    sets.push(o.set.clone());
+                }
+            }
+            sets
+        };
+        rows.push(vec![
+            s.name.clone(),
+            e.maps.len().to_string(),
+            e.encoders.iter().map(|n| n.name.clone()).collect::<Vec<_>>().join(", "),
+            e.metrics.iter().map(|m| m.name()).collect::<Vec<_>>().join(", "),
+            format!("{:?}", e.domain).to_lowercase(),
+            if orient.is_empty() { "-".into() } else { orient.join(", ") },
+            {
+                let mut labels: Vec<String> = Vec::new();
+                for c in crate::runner::cases(e) {
+                    if !labels.contains(&c.effects_label) {
+                        labels.push(c.effects_label);
+                    }
+                }
+                labels.join(", ")
+            },
+            format!("{}x{}", e.resolution.0, e.resolution.1),
+            e.polar_nodes.to_string(),
+        ]);
+    }
+    let headers: Vec<String> =
+        ["experiment", "maps", "encoders", "metrics", "domain", "orientations", "effects", "resolution", "polar nodes"]
+            .iter()
+            .map(|s| s.to_string())
+            .collect();
+    md.push_str(&markdown::table_with(&headers, &rows, markdown::text_cell));
+    md.push('\n');
+
+    md.push_str("**Maps** (SHA-256 of the file read now; `maps.csv` in each experiment folder records the files its table was computed from):\n\n");
+    // What each experiment's table was computed from (maps.csv, written by run/reproduce).
+    let mut recorded: BTreeMap<String, (String, String, String, Vec<String>)> = BTreeMap::new();
+    let mut mismatches = Vec::new();
+    for s in sections {
+        let p = out.join(&s.name).join("maps.csv");
+        if !p.is_file() {
+            continue;
+        }
+        let t = CsvTable::read(&p)?;
+        let Ok(cols) = t.require(&["map", "file", "width", "height", "sha256"]) else { continue };
+        let [mc, fc, wc, hc, sc] = cols[..] else { continue };
+        for r in &t.rows {
+            if let Some(Some(u)) = maps.get(&r[mc]) {
+                if u.sha256 != r[sc] {
+                    mismatches.push(format!("`{}`: its table used a map `{}` with another checksum", s.name, r[mc]));
+                }
+            }
+            let e = recorded
+                .entry(r[mc].clone())
+                .or_insert_with(|| (r[fc].clone(), format!("{}x{}", r[wc], r[hc]), r[sc].clone(), Vec::new()));
+            e.3.push(s.name.clone());
+        }
+    }
+    let mut rows = Vec::new();
+    for (name, u) in maps {
+        match (u, recorded.get(name)) {
+            (Some(u), _) => rows.push(vec![
+                name.clone(),
+                format!("`{}` in `{}`", u.file, u.dir),
+                u.size.clone(),
+                format!("`{}`", u.sha256),
+                u.used_by.join(", "),
+            ]),
+            (None, Some((file, size, sha, by))) => rows.push(vec![
+                name.clone(),
+                format!("not found on this machine; the table used `{file}` (from maps.csv)"),
+                size.clone(),
+                format!("`{sha}`"),
+                by.join(", "),
+            ]),
+            (None, None) => {
+                rows.push(vec![name.clone(), "not found on this machine".into(), "-".into(), "-".into(), "-".into()])
+            }
+        }
+    }
+    let headers: Vec<String> = ["map", "file", "size", "sha256", "used by"].iter().map(|s| s.to_string()).collect();
+    md.push_str(&markdown::table_with(&headers, &rows, markdown::text_cell));
+    if !mismatches.is_empty() {
+        let _ = writeln!(md, "\n**Warning:** {}.", mismatches.join("; "));
+    }
+    md.push('\n');
+    Ok(md)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn civil_dates() {
+        assert_eq!(civil_from_days(0), (1970, 1, 1));
+        assert_eq!(civil_from_days(19_723), (2024, 1, 1));
+        assert_eq!(civil_from_days(11_016), (2000, 2, 29));
+        assert_eq!(file_safe("a b/c.png"), "a_b_c.png");
+    }
+}

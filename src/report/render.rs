@@ -1,0 +1,1107 @@
+//! Lit spheres of E/π, relative-error spheres and comparison sheets (PNG).
+//!
+//! A *lit sphere* shows the sphere of normals seen orthographically from a view: the pixel at
+//! unit-disc point (x right, y up) shows E/π at the normal (x, y, √(1 − x² − y²)) of the view's
+//! frame, turned into world space. The views are
+//! - `front`: viewer on +Z looking towards −Z, +Y up, +X right (normals with n·Z > 0);
+//! - `top`: viewer on +Y looking down, −Z up, +X right (normals with n·Y > 0);
+//! - `down N`: the hemisphere about a surface normal N as a disc looking down N — the
+//!   hemisphere domain of a lightmap texel; `down +Y` is `top`.
+//!
+//! Every sphere on a sheet uses one [`Tone`]: exposure puts the reference's solid-angle mean
+//! Rec.709 luminance (over the scored domain) at 0.5, then an extended-Reinhard curve per
+//! channel whose white is the reference's largest exposed value (so the reference never clips
+//! and brighter values saturate), then the sRGB transfer curve. Negative E/π shows black.
+//!
+//! The error sphere shows the signed relative error of luminance,
+//! (Y − Y_ref) / max(Y_ref, 1% of the reference's mean Y), through a diverging map (blue:
+//! darker than the reference, red: brighter) over ±R; R is shared by the sheet: the median over
+//! rows of rel_rmse (rmse / RMS of the reference), rounded up to a 1-2-5 step. Dark regions,
+//! where a small absolute error is a large relative one, may saturate.
+//!
+//! The rmse under each error sphere is the `exact` metric — solid-angle weighted over the
+//! case's output domain at the experiment's resolution — computed from the same
+//! [`CaseData`] and fit the runner scores, so it equals the table's figure.
+//!
+//! Text is drawn with plotters and the bundled DejaVu Sans (no system font is needed).
+
+use super::csvfile::CsvTable;
+use crate::domain::{frame_to, Domain};
+use crate::encoder::Fitted;
+use crate::envmap::EnvMap;
+use crate::experiment::Experiment;
+use crate::metrics::{score, Scores};
+use crate::runner::{cases, Case, CaseData, MapData};
+use crate::sh::Rgb;
+use anyhow::{anyhow, Result};
+use glam::{DQuat, DVec3};
+use image::RgbImage;
+use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
+use rayon::prelude::*;
+use std::f64::consts::FRAC_PI_2;
+use std::path::Path;
+
+/// The font family every picture uses; registered from the `dejavu` crate by [`ensure_font`].
+pub const FONT: &str = "sans-serif";
+
+/// Registers DejaVu Sans (regular and bold) with plotters, once.
+pub fn ensure_font() {
+    static ONCE: std::sync::Once = std::sync::Once::new();
+    ONCE.call_once(|| {
+        // The bundled fonts are valid TrueType; if registration failed, drawing text would
+        // report FontUnavailable, which every caller propagates as an error.
+        let _ = plotters::style::register_font(FONT, FontStyle::Normal, dejavu::sans::regular());
+        let _ = plotters::style::register_font(FONT, FontStyle::Bold, dejavu::sans::bold());
+    });
+}
+
+/// Rec.709 luminance of linear RGB.
+pub fn luminance(c: Rgb) -> f64 {
+    0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z
+}
+
+/// The sRGB transfer curve (IEC 61966-2-1) of a linear value in [0, 1].
+pub fn srgb_encode(x: f64) -> f64 {
+    let x = x.clamp(0.0, 1.0);
+    if x <= 0.0031308 {
+        12.92 * x
+    } else {
+        1.055 * x.powf(1.0 / 2.4) - 0.055
+    }
+}
+
+/// One exposure and tone curve for every sphere of a sheet (see the module doc).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Tone {
+    /// Multiplier applied to E/π.
+    pub exposure: f64,
+    /// Extended-Reinhard white point in exposed units (≥ 1; 1 means a plain clip at 1).
+    pub white: f64,
+}
+
+impl Tone {
+    /// Exposure from the reference's mean luminance (→ 0.5); white from its largest channel.
+    pub fn from_reference(mean_luminance: f64, max_value: f64) -> Self {
+        let exposure = if mean_luminance > 0.0 && mean_luminance.is_finite() { 0.5 / mean_luminance } else { 1.0 };
+        let white = (max_value * exposure).max(1.0);
+        Tone { exposure, white: if white.is_finite() { white } else { 1.0 } }
+    }
+
+    /// One channel: exposure, x(1 + x/w²)/(1 + x), clip to [0, 1]. With w = 1 this is x.
+    pub fn curve(&self, v: f64) -> f64 {
+        let x = (v * self.exposure).max(0.0);
+        if !x.is_finite() {
+            return if v > 0.0 { 1.0 } else { 0.0 };
+        }
+        (x * (1.0 + x / (self.white * self.white)) / (1.0 + x)).min(1.0)
+    }
+
+    /// Display colour (sRGB, 8 bit) of an E/π value.
+    pub fn map(&self, c: Rgb) -> [u8; 3] {
+        [c.x, c.y, c.z].map(|v| (srgb_encode(self.curve(v)) * 255.0).round() as u8)
+    }
+
+    /// A one-line statement of the curve for sheet headers.
+    pub fn describe(&self) -> String {
+        format!(
+            "exposure x{} (reference mean luminance -> 0.5), Reinhard (white {}), sRGB; negative E/pi black",
+            sig(self.exposure, 3),
+            sig(self.white, 3)
+        )
+    }
+}
+
+/// The signed relative-error scale of a sheet.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ErrorScale {
+    /// Luminance below which the denominator is held (1% of the reference's mean luminance).
+    pub floor: f64,
+    /// R: the error shown at the ends of the colour bar.
+    pub range: f64,
+}
+
+impl ErrorScale {
+    /// (Y − Y_ref) / max(Y_ref, floor); 0 where both vanish.
+    pub fn relative(&self, reference: Rgb, test: Rgb) -> f64 {
+        let (yr, yt) = (luminance(reference), luminance(test));
+        let den = yr.max(self.floor);
+        if den > 0.0 && den.is_finite() {
+            let r = (yt - yr) / den;
+            if r.is_finite() {
+                r
+            } else {
+                0.0
+            }
+        } else {
+            0.0
+        }
+    }
+
+    /// The colour of a relative error.
+    pub fn color(&self, rel: f64) -> [u8; 3] {
+        diverging(rel / self.range)
+    }
+}
+
+/// ColorBrewer RdBu (9 classes), blue at −1, white at 0, red at +1; the luminance of the
+/// colour falls monotonically with |v| on each side, so "further from white" reads as "larger
+/// error" in colour and in grey.
+const RDBU: [[u8; 3]; 9] = [
+    [33, 102, 172],
+    [67, 147, 195],
+    [146, 197, 222],
+    [209, 229, 240],
+    [247, 247, 247],
+    [253, 219, 199],
+    [244, 165, 130],
+    [214, 96, 77],
+    [178, 24, 43],
+];
+
+/// The diverging colour map at v (clamped to [−1, 1]), linearly interpolated between classes.
+pub fn diverging(v: f64) -> [u8; 3] {
+    diverging_exact(v).map(|c| c.round() as u8)
+}
+
+/// [`diverging`] before rounding to 8 bits.
+fn diverging_exact(v: f64) -> [f64; 3] {
+    let v = if v.is_finite() { v.clamp(-1.0, 1.0) } else { 0.0 };
+    let s = (v + 1.0) * 4.0;
+    let i = (s.floor() as usize).min(7);
+    let f = s - i as f64;
+    let (a, b) = (RDBU[i], RDBU[i + 1]);
+    [0, 1, 2].map(|k| a[k] as f64 + (b[k] as f64 - a[k] as f64) * f)
+}
+
+/// The smallest 1-2-5 step (0.1% … 500%) at or above x.
+pub fn nice_ceil(x: f64) -> f64 {
+    let steps = [1.0, 2.0, 5.0];
+    for e in -3..=0 {
+        for s in steps {
+            let v = s * 10f64.powi(e);
+            if x <= v * (1.0 + 1e-9) {
+                return v;
+            }
+        }
+    }
+    5.0
+}
+
+/// `v` with `n` significant digits, compact.
+pub fn sig(v: f64, n: usize) -> String {
+    if v == 0.0 {
+        return "0".into();
+    }
+    if !v.is_finite() {
+        return "nonfinite".into();
+    }
+    let mag = v.abs().log10().floor() as i32;
+    if !(-4..6).contains(&mag) {
+        return format!("{:.*e}", n.saturating_sub(1), v);
+    }
+    let decimals = (n as i32 - 1 - mag).max(0) as usize;
+    format!("{v:.decimals$}")
+}
+
+/// A percentage for labels.
+pub fn percent(v: f64) -> String {
+    let p = v * 100.0;
+    if p.abs() >= 10.0 || p == 0.0 {
+        format!("{p:.0}%")
+    } else if p.abs() >= 1.0 {
+        format!("{p:.1}%")
+    } else {
+        format!("{}%", sig(p, 2))
+    }
+}
+
+/// An orthographic view of the sphere of normals.
+#[derive(Clone, Debug)]
+pub struct View {
+    /// What the view shows, for headings (e.g. "front: viewer on +Z, +Y up, +X right").
+    pub caption: String,
+    /// Local frame (x right, y up, z towards the viewer) to world.
+    rot: DQuat,
+}
+
+impl View {
+    /// Viewer on +Z looking towards −Z (the map's centre column), +Y up.
+    pub fn front() -> Self {
+        View { caption: "front: viewer on +Z, +Y up, +X right".into(), rot: DQuat::IDENTITY }
+    }
+    /// Viewer on +Y looking down, −Z up, +X right.
+    pub fn top() -> Self {
+        View { caption: "top: viewer on +Y, -Z up, +X right".into(), rot: DQuat::from_rotation_x(-FRAC_PI_2) }
+    }
+    /// The hemisphere about N as a disc looking down N (`down(+Y)` is [`View::top`]).
+    pub fn down(n: DVec3, label: &str) -> Self {
+        let rot = frame_to(n) * DQuat::from_rotation_x(-FRAC_PI_2);
+        let right = axis_name(rot * DVec3::X);
+        let up = axis_name(rot * DVec3::Y);
+        View { caption: format!("disc looking down N = {label}: {up} up, {right} right"), rot }
+    }
+    /// The world normal shown at unit-disc point (x right, y up), |(x, y)| ≤ 1.
+    pub fn normal(&self, x: f64, y: f64) -> DVec3 {
+        let z = (1.0 - x * x - y * y).max(0.0).sqrt();
+        (self.rot * DVec3::new(x, y, z)).normalize()
+    }
+}
+
+/// "+X" for axis-aligned unit vectors, else the rounded components.
+fn axis_name(v: DVec3) -> String {
+    for (name, a) in [("+X", DVec3::X), ("-X", DVec3::NEG_X), ("+Y", DVec3::Y), ("-Y", DVec3::NEG_Y)] {
+        if v.dot(a) > 1.0 - 1e-9 {
+            return name.into();
+        }
+    }
+    for (name, a) in [("+Z", DVec3::Z), ("-Z", DVec3::NEG_Z)] {
+        if v.dot(a) > 1.0 - 1e-9 {
+            return name.into();
+        }
+    }
+    format!("({:.2}, {:.2}, {:.2})", v.x, v.y, v.z)
+}
+
+/// The pixels of a disc of diameter `d`: per pixel its coverage (4×4 subsamples) and the
+/// index of its normal; pixels whose centre lies outside the disc take the normal at the
+/// nearest point just inside the rim.
+#[derive(Clone, Debug)]
+pub struct Disc {
+    pub d: usize,
+    pub coverage: Vec<f32>,
+    pub index: Vec<Option<usize>>,
+    pub normals: Vec<DVec3>,
+}
+
+impl Disc {
+    pub fn new(view: &View, d: usize) -> Self {
+        let mut coverage = vec![0.0f32; d * d];
+        let mut index = vec![None; d * d];
+        let mut normals = Vec::new();
+        let to_disc = |p: f64| 2.0 * p / d as f64 - 1.0;
+        for py in 0..d {
+            for px in 0..d {
+                let mut inside = 0;
+                for sy in 0..4 {
+                    for sx in 0..4 {
+                        let x = to_disc(px as f64 + (sx as f64 + 0.5) / 4.0);
+                        let y = -to_disc(py as f64 + (sy as f64 + 0.5) / 4.0);
+                        if x * x + y * y <= 1.0 {
+                            inside += 1;
+                        }
+                    }
+                }
+                if inside == 0 {
+                    continue;
+                }
+                let (mut x, mut y) = (to_disc(px as f64 + 0.5), -to_disc(py as f64 + 0.5));
+                let r = (x * x + y * y).sqrt();
+                if r > 0.999 {
+                    x *= 0.999 / r;
+                    y *= 0.999 / r;
+                }
+                coverage[py * d + px] = inside as f32 / 16.0;
+                index[py * d + px] = Some(normals.len());
+                normals.push(view.normal(x, y));
+            }
+        }
+        Disc { d, coverage, index, normals }
+    }
+}
+
+/// Background of the sheet and of a sphere's cell.
+pub const PAPER: [u8; 3] = [255, 255, 255];
+pub const CELL: [u8; 3] = [214, 214, 214];
+const INK: RGBColor = RGBColor(20, 20, 20);
+const GREY_INK: RGBColor = RGBColor(90, 90, 90);
+
+/// Sphere diameter and the sheet's fixed measures, in pixels.
+pub const DISC: u32 = 96;
+pub const CELL_W: u32 = DISC + 12;
+pub const CELL_H: u32 = DISC + 8;
+/// Two text lines under each row of spheres.
+pub const ROW_H: u32 = CELL_H + 34;
+pub const LABEL_W: u32 = 128;
+pub const MARGIN: u32 = 12;
+pub const VIEW_GAP: u32 = 16;
+pub const HEADER_LINES: u32 = 7;
+pub const LINE_H: u32 = 15;
+pub const THUMB_W: u32 = 256;
+pub const THUMB_H: u32 = 128;
+/// Title, header lines, then the thumbnail with the colour bar beside it.
+pub const HEADER_H: u32 = MARGIN + 24 + HEADER_LINES * LINE_H + 8 + THUMB_H + 18;
+/// The view captions and column names above the rows.
+pub const COLHEAD_H: u32 = 36;
+pub const MIN_W: u32 = 640;
+pub const BAR_W: u32 = 256;
+pub const BAR_H: u32 = 16;
+
+/// The geometry of a comparison sheet: one row per encoder, three columns (reference, encoder,
+/// relative error) per view.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SheetLayout {
+    pub rows: u32,
+    pub views: u32,
+}
+
+impl SheetLayout {
+    /// Width × height in pixels.
+    pub fn size(&self) -> (u32, u32) {
+        let grid_w = 2 * MARGIN + LABEL_W + self.views * 3 * CELL_W + self.views.saturating_sub(1) * VIEW_GAP;
+        (grid_w.max(MIN_W), HEADER_H + COLHEAD_H + self.rows * ROW_H + MARGIN)
+    }
+    /// Top-left pixel of the cell (row, view, column 0..3).
+    pub fn cell(&self, row: u32, view: u32, col: u32) -> (u32, u32) {
+        (MARGIN + LABEL_W + view * (3 * CELL_W + VIEW_GAP) + col * CELL_W, HEADER_H + COLHEAD_H + row * ROW_H)
+    }
+    /// Top-left pixel of the colour bar.
+    pub fn colour_bar(&self) -> (u32, u32) {
+        (MARGIN + THUMB_W + 28, MARGIN + 24 + HEADER_LINES * LINE_H + 8 + 30)
+    }
+}
+
+/// One row of a sheet: an encoder's E/π at every view's disc normals and its labels.
+#[derive(Clone, Debug)]
+pub struct SheetRow {
+    pub name: String,
+    pub note: String,
+    /// Per view, E/π at that view's [`Disc::normals`].
+    pub values: Vec<Vec<Rgb>>,
+    /// Under the lit sphere (e.g. the negative fraction), may be empty.
+    pub under_lit: String,
+    /// Under the error sphere: two lines.
+    pub under_err: [String; 2],
+}
+
+/// Everything a comparison sheet shows.
+#[derive(Clone, Debug)]
+pub struct Sheet {
+    pub title: String,
+    /// Header lines (at most [`HEADER_LINES`]).
+    pub lines: Vec<String>,
+    pub thumbnail: Option<RgbImage>,
+    pub thumbnail_caption: String,
+    pub views: Vec<View>,
+    pub discs: Vec<Disc>,
+    /// Per view, the reference E/π at the disc normals.
+    pub reference: Vec<Vec<Rgb>>,
+    pub tone: Tone,
+    pub error: ErrorScale,
+    pub rows: Vec<SheetRow>,
+}
+
+/// A text item to draw.
+#[derive(Clone)]
+pub struct Label {
+    pub text: String,
+    pub x: i32,
+    pub y: i32,
+    pub size: f64,
+    pub bold: bool,
+    pub anchor: HPos,
+    pub color: RGBColor,
+}
+
+impl Label {
+    pub fn new(text: impl Into<String>, x: u32, y: u32, size: f64) -> Self {
+        Label { text: text.into(), x: x as i32, y: y as i32, size, bold: false, anchor: HPos::Left, color: INK }
+    }
+    pub fn bold(mut self) -> Self {
+        self.bold = true;
+        self
+    }
+    pub fn centre(mut self) -> Self {
+        self.anchor = HPos::Center;
+        self
+    }
+    pub fn grey(mut self) -> Self {
+        self.color = GREY_INK;
+        self
+    }
+}
+
+/// Draws text into an RGB image with plotters (the image's pixels are the backend's buffer).
+pub fn draw_labels(img: &mut RgbImage, labels: &[Label]) -> Result<()> {
+    ensure_font();
+    let (w, h) = img.dimensions();
+    let buf: &mut [u8] = std::ops::DerefMut::deref_mut(img);
+    let root = BitMapBackend::with_buffer(buf, (w, h)).into_drawing_area();
+    for l in labels {
+        let style = TextStyle::from((FONT, l.size, if l.bold { FontStyle::Bold } else { FontStyle::Normal }))
+            .color(&l.color)
+            .pos(Pos::new(l.anchor, VPos::Top));
+        root.draw_text(&l.text, &style, (l.x, l.y)).map_err(|e| anyhow!("drawing text '{}': {e}", l.text))?;
+    }
+    root.present().map_err(|e| anyhow!("drawing text: {e}"))?;
+    Ok(())
+}
+
+/// `text` shortened with "..." to at most `max_w` pixels at `size` (regular weight).
+pub fn fit_text(text: &str, max_w: u32, size: f64) -> String {
+    ensure_font();
+    let font = FontDesc::new(FontFamily::Name(FONT), size, FontStyle::Normal);
+    let width = |s: &str| font.box_size(s).map(|b| b.0).unwrap_or(0);
+    if width(text) <= max_w {
+        return text.to_string();
+    }
+    let chars: Vec<char> = text.chars().collect();
+    let mut n = chars.len();
+    while n > 0 {
+        n -= 1;
+        let t: String = chars[..n].iter().collect::<String>() + "...";
+        if width(&t) <= max_w {
+            return t;
+        }
+    }
+    String::new()
+}
+
+fn fill(img: &mut RgbImage, x0: u32, y0: u32, w: u32, h: u32, c: [u8; 3]) {
+    for y in y0..(y0 + h).min(img.height()) {
+        for x in x0..(x0 + w).min(img.width()) {
+            img.put_pixel(x, y, image::Rgb(c));
+        }
+    }
+}
+
+/// Paints a disc: pixel colour `colour(normal index)` blended over `bg` by coverage.
+fn paint_disc(img: &mut RgbImage, x0: u32, y0: u32, disc: &Disc, bg: [u8; 3], colour: impl Fn(usize) -> [u8; 3]) {
+    for py in 0..disc.d {
+        for px in 0..disc.d {
+            let k = py * disc.d + px;
+            let Some(i) = disc.index[k] else { continue };
+            let a = disc.coverage[k] as f64;
+            let c = colour(i);
+            let mixed = [0, 1, 2].map(|j| (c[j] as f64 * a + bg[j] as f64 * (1.0 - a)).round() as u8);
+            let (x, y) = (x0 + px as u32, y0 + py as u32);
+            if x < img.width() && y < img.height() {
+                img.put_pixel(x, y, image::Rgb(mixed));
+            }
+        }
+    }
+}
+
+/// Draws the horizontal colour bar of an error scale at (x0, y0), with its labels.
+fn colour_bar(img: &mut RgbImage, labels: &mut Vec<Label>, x0: u32, y0: u32, scale: &ErrorScale) {
+    for x in 0..BAR_W {
+        let v = ((x as f64 + 0.5) / BAR_W as f64) * 2.0 - 1.0;
+        fill(img, x0 + x, y0, 1, BAR_H, diverging(v));
+    }
+    labels.push(Label::new("relative error of luminance (Y - Y_ref) / Y_ref", x0, y0 - 30, 12.0).bold());
+    labels.push(Label::new("darker than reference  <-   0   ->  brighter", x0 + BAR_W / 2, y0 - 15, 11.0).centre());
+    let r = percent(scale.range);
+    for (frac, text) in [(0.0, format!("-{r} or less")), (0.5, "0".to_string()), (1.0, format!("+{r} or more"))] {
+        let x = x0 + (frac * BAR_W as f64) as u32;
+        fill(img, x.min(x0 + BAR_W - 1), y0 + BAR_H, 1, 4, [0, 0, 0]);
+        let l = Label::new(text, x, y0 + BAR_H + 5, 11.0);
+        labels.push(if frac == 0.0 {
+            l
+        } else if frac == 1.0 {
+            Label { anchor: HPos::Right, ..l }
+        } else {
+            l.centre()
+        });
+    }
+}
+
+impl Sheet {
+    pub fn layout(&self) -> SheetLayout {
+        SheetLayout { rows: self.rows.len() as u32, views: self.views.len() as u32 }
+    }
+
+    /// Draws the sheet.
+    pub fn draw(&self) -> Result<RgbImage> {
+        let lay = self.layout();
+        let (w, h) = lay.size();
+        let mut img = RgbImage::from_pixel(w, h, image::Rgb(PAPER));
+        let mut labels = Vec::new();
+        labels.push(Label::new(&self.title, MARGIN, MARGIN, 17.0).bold());
+        for (i, line) in self.lines.iter().take(HEADER_LINES as usize).enumerate() {
+            labels.push(Label::new(
+                fit_text(line, w - 2 * MARGIN, 11.5),
+                MARGIN,
+                MARGIN + 24 + i as u32 * LINE_H,
+                11.5,
+            ));
+        }
+        let thumb_y = MARGIN + 24 + HEADER_LINES * LINE_H + 8;
+        if let Some(t) = &self.thumbnail {
+            image::imageops::replace(&mut img, t, MARGIN as i64, thumb_y as i64);
+            labels.push(Label::new(&self.thumbnail_caption, MARGIN, thumb_y + THUMB_H + 1, 10.0).grey());
+        }
+        let (bx, by) = lay.colour_bar();
+        colour_bar(&mut img, &mut labels, bx, by, &self.error);
+
+        let head_y = HEADER_H;
+        for (v, view) in self.views.iter().enumerate() {
+            let (x, _) = lay.cell(0, v as u32, 0);
+            labels.push(Label::new(&view.caption, x, head_y, 11.0).bold());
+            for (c, name) in ["reference", "encoder", "rel. error"].iter().enumerate() {
+                labels.push(Label::new(*name, x + c as u32 * CELL_W + CELL_W / 2, head_y + 17, 11.0).centre().grey());
+            }
+        }
+        for (r, row) in self.rows.iter().enumerate() {
+            let (_, y) = lay.cell(r as u32, 0, 0);
+            labels.push(Label::new(fit_text(&row.name, LABEL_W - 14, 13.0), MARGIN, y + CELL_H / 2 - 16, 13.0).bold());
+            labels.push(Label::new(&row.note, MARGIN, y + CELL_H / 2 + 2, 11.0).grey());
+            for (v, disc) in self.discs.iter().enumerate() {
+                let refs = &self.reference[v];
+                let vals = &row.values[v];
+                for col in 0..3u32 {
+                    let (x, y) = lay.cell(r as u32, v as u32, col);
+                    fill(&mut img, x + 2, y, CELL_W - 4, CELL_H, CELL);
+                    let (dx, dy) = (x + (CELL_W - DISC) / 2, y + (CELL_H - DISC) / 2);
+                    match col {
+                        0 => paint_disc(&mut img, dx, dy, disc, CELL, |i| self.tone.map(refs[i])),
+                        1 => paint_disc(&mut img, dx, dy, disc, CELL, |i| self.tone.map(vals[i])),
+                        _ => paint_disc(&mut img, dx, dy, disc, CELL, |i| {
+                            self.error.color(self.error.relative(refs[i], vals[i]))
+                        }),
+                    }
+                }
+                // The figures are the whole domain's: print them once, under the first view.
+                if v > 0 {
+                    continue;
+                }
+                let (x1, y1) = lay.cell(r as u32, v as u32, 1);
+                if !row.under_lit.is_empty() {
+                    labels.push(Label::new(&row.under_lit, x1 + CELL_W / 2, y1 + CELL_H + 3, 11.0).centre());
+                }
+                let (x2, _) = lay.cell(r as u32, v as u32, 2);
+                labels.push(Label::new(&row.under_err[0], x2 + CELL_W / 2, y1 + CELL_H + 3, 11.0).centre());
+                labels.push(Label::new(&row.under_err[1], x2 + CELL_W / 2, y1 + CELL_H + 17, 11.0).centre());
+            }
+        }
+        draw_labels(&mut img, &labels)?;
+        Ok(img)
+    }
+}
+
+/// A lat-long thumbnail of a map (box-filtered to `w`×`w/2`), with its own exposure (mean
+/// luminance → 0.5, Reinhard with white at the 99th-percentile texel).
+pub fn latlong_thumbnail(map: &EnvMap, w: u32) -> RgbImage {
+    let h = w / 2;
+    let (mw, mh) = (map.width(), map.height());
+    let box_of = |o: u32, n: u32, m: usize| {
+        let a = (o as usize * m) / n as usize;
+        let b = (((o as usize + 1) * m) / n as usize).max(a + 1).min(m);
+        (a.min(m - 1), b)
+    };
+    let mut px = Vec::with_capacity((w * h) as usize);
+    for y in 0..h {
+        let (j0, j1) = box_of(y, h, mh);
+        for x in 0..w {
+            let (i0, i1) = box_of(x, w, mw);
+            let mut acc = Rgb::ZERO;
+            for j in j0..j1 {
+                for i in i0..i1 {
+                    let t = map.texel(i, j);
+                    acc += Rgb::new(t[0] as f64, t[1] as f64, t[2] as f64);
+                }
+            }
+            px.push(acc / ((j1 - j0) * (i1 - i0)) as f64);
+        }
+    }
+    let mut lum: Vec<f64> = px.iter().map(|&c| luminance(c)).collect();
+    let mean = lum.iter().sum::<f64>() / lum.len() as f64;
+    lum.sort_by(f64::total_cmp);
+    let p99 = lum[((lum.len() - 1) as f64 * 0.99) as usize];
+    let exposure = if mean > 0.0 { 0.5 / mean } else { 1.0 };
+    let tone = Tone { exposure, white: (p99 * exposure).max(1.0) };
+    RgbImage::from_fn(w, h, |x, y| image::Rgb(tone.map(px[(y * w + x) as usize])))
+}
+
+/// The case drawn for an experiment: the one whose surface normal is nearest +Y (the first
+/// such), or the single sphere case.
+pub fn representative_case(all: &[Case]) -> usize {
+    let mut best = 0;
+    let mut best_dot = f64::NEG_INFINITY;
+    for (i, c) in all.iter().enumerate() {
+        let d = c.normal.map(|n| n.dot(DVec3::Y)).unwrap_or(1.0);
+        if d > best_dot + 1e-12 {
+            best = i;
+            best_dot = d;
+        }
+    }
+    best
+}
+
+/// The figures printed under a row: the table's `exact` rmse, rel_rmse and neg_frac.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RowFigures {
+    pub rmse: f64,
+    pub rel_rmse: f64,
+    pub neg_frac: f64,
+}
+
+impl From<&Scores> for RowFigures {
+    fn from(s: &Scores) -> Self {
+        RowFigures { rmse: s.rmse, rel_rmse: s.rel_rmse, neg_frac: s.neg_frac }
+    }
+}
+
+/// What a sheet drew: the case and each encoder's figures, and where they came from.
+pub struct SheetScores {
+    pub case_label: String,
+    pub effects: String,
+    pub figures: Vec<(String, RowFigures)>,
+    /// "table.csv" or "computed".
+    pub source: &'static str,
+}
+
+/// The figures of every encoder for `case` on `map` from a results table (metric `exact`),
+/// if the table has a row for each.
+pub fn figures_from_table(t: &CsvTable, map: &str, case: &Case, names: &[String]) -> Option<Vec<RowFigures>> {
+    let cols = t.require(&["map", "encoder", "domain", "effects", "metric", "rmse", "rel_rmse", "neg_frac"]).ok()?;
+    let [mc, ec, dc, fc, xc, rc, lc, nc] = cols[..] else { return None };
+    names
+        .iter()
+        .map(|name| {
+            let i = (0..t.rows.len()).find(|&i| {
+                let r = &t.rows[i];
+                r[mc] == map
+                    && r[ec] == *name
+                    && r[dc] == case.domain_label
+                    && r[fc] == case.effects_label
+                    && r[xc] == "exact"
+            })?;
+            Some(RowFigures { rmse: t.num(i, rc).ok()??, rel_rmse: t.num(i, lc).ok()??, neg_frac: t.num(i, nc).ok()?? })
+        })
+        .collect()
+}
+
+/// The comparison sheet of an experiment on one map: its representative case, every encoder
+/// of the experiment through the trait, fitted from the case's [`CaseData`] exactly as the
+/// runner fits it. The figures under each row are the table's when `table` has them (the
+/// runner's rows), else computed here by the same scoring (the `exact` metric over the case's
+/// output grid).
+/// The reference on the discs is evaluated exactly at every pixel's normal. (Interpolating
+/// it from the reference's fast lat-long path was tried: near the terminator of a small bright
+/// source the bilinear error reached 2.7% of the local value at 256x128 and 0.66% at 512x256,
+/// visible on the error spheres; so it is not done.)
+pub fn experiment_sheet(exp: &Experiment, map: &EnvMap, table: Option<&CsvTable>) -> Result<(Sheet, SheetScores)> {
+    let data = MapData::new(map);
+    let all = cases(exp);
+    let ci = representative_case(&all);
+    let case = &all[ci];
+    let cd = CaseData::new(&data, case, exp.polar_nodes);
+    let input = cd.fit_input();
+    let fitted: Vec<Box<dyn Fitted>> = exp.encoders.iter().map(|e| e.encoder.fit(&input)).collect();
+    let names: Vec<String> = exp.encoders.iter().map(|e| e.name.clone()).collect();
+
+    let (figures, source) = match table.and_then(|t| figures_from_table(t, &map.name, case, &names)) {
+        Some(f) => (f, "table.csv"),
+        None => {
+            // The scored grid: the exact metric over the case's domain at the experiment's
+            // resolution, as the runner scores it.
+            let grid = case.domain.output_grid(exp.resolution);
+            let ref_grid = match grid.latlong {
+                Some(ll) => cd.reference.irradiance_latlong(ll),
+                None => cd.reference.irradiance_many(&grid.normals),
+            };
+            let f = fitted
+                .iter()
+                .map(|f| {
+                    let test: Vec<Rgb> = grid.normals.par_iter().with_min_len(256).map(|&n| f.irradiance(n)).collect();
+                    RowFigures::from(&score(&ref_grid, &test, &grid.weights, false))
+                })
+                .collect();
+            (f, "computed")
+        }
+    };
+
+    let views = match &case.domain {
+        Domain::Hemisphere { normal } => {
+            let label = case.domain_label.split(':').nth(1).unwrap_or("N").to_string();
+            vec![View::down(*normal, &label)]
+        }
+        Domain::Sphere => vec![View::front(), View::top()],
+    };
+    let discs: Vec<Disc> = views.iter().map(|v| Disc::new(v, DISC as usize)).collect();
+    let reference: Vec<Vec<Rgb>> = discs.iter().map(|d| cd.reference.irradiance_many(&d.normals)).collect();
+    let values: Vec<Vec<Vec<Rgb>>> = fitted
+        .iter()
+        .map(|f| {
+            discs.iter().map(|d| d.normals.par_iter().with_min_len(256).map(|&n| f.irradiance(n)).collect()).collect()
+        })
+        .collect();
+
+    let drawn: Vec<Rgb> = reference.iter().flatten().copied().collect();
+    let mean_lum = drawn.iter().map(|c| luminance(*c)).sum::<f64>() / drawn.len().max(1) as f64;
+    let max_val = drawn.iter().map(|c| c.max_element()).fold(0.0, f64::max);
+    let tone = Tone::from_reference(mean_lum, max_val);
+    let floor = 0.01 * mean_lum.max(0.0);
+    let mut rel: Vec<f64> = figures.iter().map(|f| f.rel_rmse).filter(|v| v.is_finite()).collect();
+    rel.sort_by(f64::total_cmp);
+    let median = if rel.is_empty() { 0.0 } else { rel[(rel.len() - 1) / 2] };
+    let error = ErrorScale { floor, range: nice_ceil(median) };
+
+    let rows: Vec<SheetRow> = exp
+        .encoders
+        .iter()
+        .zip(values)
+        .zip(&figures)
+        .map(|((e, values), f)| SheetRow {
+            name: e.name.clone(),
+            note: format!("{} scalars", e.encoder.stored_scalars()),
+            values,
+            under_lit: if f.neg_frac > 0.0 { format!("negative on {}", percent(f.neg_frac)) } else { String::new() },
+            under_err: [format!("rmse {}", sig(f.rmse, 4)), format!("rel_rmse {}", percent(f.rel_rmse))],
+        })
+        .collect();
+
+    let (res_w, res_h) = match case.domain {
+        Domain::Sphere => exp.resolution,
+        Domain::Hemisphere { .. } => (exp.resolution.0, exp.resolution.1 / 2),
+    };
+    let mut lines = vec![];
+    if !exp.description.is_empty() {
+        lines.push(exp.description.clone());
+    }
+    lines.push(format!(
+        "case: {} (effects: {}){}",
+        case.domain_label,
+        case.effects_label,
+        if all.len() > 1 {
+            format!("; drawn: the case nearest N = +Y, 1 of {} in the table", all.len())
+        } else {
+            String::new()
+        }
+    ));
+    lines.push(format!("E/pi; reference: {}, at every pixel's normal", cd.reference.describe()));
+    lines.push(format!(
+        "figures: exact metric, solid-angle weighted over {} at {}x{} ({})",
+        if matches!(case.domain, Domain::Sphere) { "the sphere" } else { "the hemisphere about N" },
+        res_w,
+        res_h,
+        if source == "table.csv" { "from table.csv" } else { "computed as the runner does" }
+    ));
+    lines.push(format!("every sphere: {}", tone.describe()));
+    lines.push(format!(
+        "error scale +-{}: the median of the rows' rel_rmse, rounded up to a 1-2-5 step; beyond it saturates",
+        percent(error.range)
+    ));
+    lines.push("(Y = Rec.709 luminance; the denominator is held at >= 1% of the reference's mean Y)".into());
+
+    let sheet = Sheet {
+        title: format!("{} - {}", exp.name, map.name),
+        lines,
+        thumbnail: Some(latlong_thumbnail(map, THUMB_W)),
+        thumbnail_caption: format!(
+            "input map {}x{} (lat-long, +Y up, centre -Z; own exposure)",
+            map.width(),
+            map.height()
+        ),
+        views,
+        discs,
+        reference,
+        tone,
+        error,
+        rows,
+    };
+    let scores = SheetScores {
+        case_label: case.domain_label.clone(),
+        effects: case.effects_label.clone(),
+        figures: names.into_iter().zip(figures).collect(),
+        source,
+    };
+    Ok((sheet, scores))
+}
+
+/// One method's reconstructions along t, for a blending strip.
+pub struct BlendRow<'a> {
+    pub method: String,
+    /// One fitted encoding per t (the same length as the strip's `ts`).
+    pub steps: Vec<&'a dyn Fitted>,
+}
+
+/// Disc diameter in blending strips.
+pub const STRIP_DISC: u32 = 72;
+
+/// A strip of lit hemispheres along t for each blending method: one row per method, one disc
+/// (looking down N) per t. Exposure: the first row's pixel-mean luminance → 0.5 (put the
+/// blended reference first); the same tone curve for every disc. For the lightmap blending
+/// experiment (issue 4), which calls this and writes the PNG next to its `blend.csv`.
+pub fn blend_strip(title: &str, n: DVec3, n_label: &str, ts: &[f64], rows: &[BlendRow]) -> Result<RgbImage> {
+    if rows.iter().any(|r| r.steps.len() != ts.len()) {
+        anyhow::bail!("blend strip '{title}': every method needs one reconstruction per t ({} values)", ts.len());
+    }
+    let view = View::down(n, n_label);
+    let disc = Disc::new(&view, STRIP_DISC as usize);
+    let values: Vec<Vec<Vec<Rgb>>> = rows
+        .iter()
+        .map(|r| r.steps.iter().map(|f| disc.normals.iter().map(|&m| f.irradiance(m)).collect()).collect())
+        .collect();
+    let first: Vec<Rgb> = values.first().map(|r| r.concat()).unwrap_or_default();
+    let mean =
+        if first.is_empty() { 0.0 } else { first.iter().map(|c| luminance(*c)).sum::<f64>() / first.len() as f64 };
+    let max = first.iter().map(|c| c.max_element()).fold(0.0, f64::max);
+    let tone = Tone::from_reference(mean, max);
+    let cell = STRIP_DISC + 8;
+    let (head, label_w) = (MARGIN + 24 + 2 * LINE_H + 18, 150u32);
+    let w = 2 * MARGIN + label_w + ts.len() as u32 * cell;
+    let h = head + rows.len() as u32 * (cell + 4) + MARGIN;
+    let mut img = RgbImage::from_pixel(w, h, image::Rgb(PAPER));
+    let mut labels = vec![
+        Label::new(title, MARGIN, MARGIN, 16.0).bold(),
+        Label::new(format!("E/pi, {}", view.caption), MARGIN, MARGIN + 24, 11.0),
+        Label::new(
+            format!("{}; exposure from the first row's mean", tone.describe()),
+            MARGIN,
+            MARGIN + 24 + LINE_H,
+            11.0,
+        ),
+    ];
+    for (k, t) in ts.iter().enumerate() {
+        let x = MARGIN + label_w + k as u32 * cell + cell / 2;
+        labels.push(Label::new(format!("t = {}", sig(*t, 2)), x, head - 16, 11.0).centre());
+    }
+    for (r, row) in rows.iter().enumerate() {
+        let y = head + r as u32 * (cell + 4);
+        labels.push(Label::new(&row.method, MARGIN, y + cell / 2 - 8, 12.0).bold());
+        for (k, vals) in values[r].iter().enumerate() {
+            let x = MARGIN + label_w + k as u32 * cell;
+            fill(&mut img, x + 1, y, cell - 2, cell, CELL);
+            paint_disc(&mut img, x + 4, y + 4, &disc, CELL, |i| tone.map(vals[i]));
+        }
+    }
+    draw_labels(&mut img, &labels)?;
+    Ok(img)
+}
+
+/// PNG bytes of an image (best compression; deterministic).
+pub fn png_bytes(img: &RgbImage) -> Result<Vec<u8>> {
+    use image::codecs::png::{CompressionType, FilterType, PngEncoder};
+    use image::ImageEncoder;
+    let mut out = Vec::new();
+    PngEncoder::new_with_quality(&mut out, CompressionType::Best, FilterType::Adaptive).write_image(
+        img.as_raw(),
+        img.width(),
+        img.height(),
+        image::ExtendedColorType::Rgb8,
+    )?;
+    Ok(out)
+}
+
+/// Writes an image as PNG, atomically.
+pub fn write_png(path: &Path, img: &RgbImage) -> Result<()> {
+    crate::atomic::write(path, &png_bytes(img)?)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::experiment::ExperimentFile;
+    use std::path::Path;
+
+    fn experiment(toml: &str) -> Experiment {
+        let f: ExperimentFile = toml::from_str(toml).unwrap();
+        Experiment::from_file(f, "t").unwrap()
+    }
+
+    fn scene_map(id: &str, width: usize) -> EnvMap {
+        crate::scenes::generated().into_iter().find(|s| s.id == id).unwrap().map(width)
+    }
+
+    /// Independent sRGB of 0.5 (IEC 61966-2-1): 1.055 · 0.5^(1/2.4) − 0.055 = 0.73536 → 188.
+    #[test]
+    fn constant_map_reference_sphere_is_uniform() {
+        let exp = experiment("maps = ['gen_constant']\nencoders = ['sh1']\nresolution = [32, 16]");
+        let map = scene_map("gen_constant", 64);
+        let (sheet, _) = experiment_sheet(&exp, &map, None).unwrap();
+        // The reference of a constant map of radiance 1 is E/π = 1 everywhere.
+        let dev = sheet.reference.iter().flatten().map(|c| (*c - Rgb::ONE).abs().max_element()).fold(0.0, f64::max);
+        assert!(dev < 1e-4, "reference deviates from 1 by {dev}");
+        let img = sheet.draw().unwrap();
+        let expected = (255.0 * (1.055 * 0.5f64.powf(1.0 / 2.4) - 0.055)).round() as u8;
+        assert_eq!(expected, 188);
+        let lay = sheet.layout();
+        for v in 0..2 {
+            let (x, y) = lay.cell(0, v, 0);
+            let (dx, dy) = (x + (CELL_W - DISC) / 2, y + (CELL_H - DISC) / 2);
+            let disc = &sheet.discs[v as usize];
+            let mut full = 0;
+            for py in 0..disc.d {
+                for px in 0..disc.d {
+                    let p = img.get_pixel(dx + px as u32, dy + py as u32).0;
+                    let cov = disc.coverage[py * disc.d + px];
+                    if cov == 1.0 {
+                        assert_eq!(p, [expected; 3], "view {v} pixel ({px},{py})");
+                        full += 1;
+                    } else if cov == 0.0 {
+                        assert_eq!(p, CELL, "outside the disc is the cell background");
+                    }
+                }
+            }
+            // A disc of diameter D covers about π/4 of its square.
+            assert!((full as f64 / (DISC * DISC) as f64 - std::f64::consts::FRAC_PI_4).abs() < 0.03, "{full}");
+        }
+    }
+
+    #[test]
+    fn sheet_size_follows_rows_and_views() {
+        let mk = |encoders: &str, hemi: bool| {
+            let extra =
+                if hemi { "domain = 'hemisphere'\norientations = ['up']\neffects = ['hemisphere']\n" } else { "" };
+            let exp = experiment(&format!("maps = ['m']\nencoders = [{encoders}]\nresolution = [16, 8]\n{extra}"));
+            let map = scene_map("gen_sun_sky", 32);
+            experiment_sheet(&exp, &map, None).unwrap().0.draw().unwrap().dimensions()
+        };
+        // Expected sizes from the published measures, derived here by hand.
+        let h = |rows: u32| HEADER_H + COLHEAD_H + rows * ROW_H + MARGIN;
+        let w2 = 2 * MARGIN + LABEL_W + 6 * CELL_W + VIEW_GAP;
+        assert_eq!(mk("'sh1'", false), (w2, h(1)));
+        assert_eq!(mk("'sh0','sh1','sh2'", false), (w2, h(3)));
+        let w1 = (2 * MARGIN + LABEL_W + 3 * CELL_W).max(MIN_W);
+        assert_eq!(mk("'sh0','sh2'", true), (w1, h(2)));
+        assert_eq!(h(3) - h(1), 2 * ROW_H);
+    }
+
+    #[test]
+    fn colour_map_is_monotone_and_signed() {
+        let lum = |c: [f64; 3]| 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2];
+        let lum8 = |c: [u8; 3]| lum(c.map(f64::from));
+        assert_eq!(diverging(0.0), [247, 247, 247]);
+        let mut prev_pos = lum(diverging_exact(0.0));
+        let mut prev_neg = prev_pos;
+        for k in 1..=400 {
+            let v = k as f64 / 400.0;
+            let (p, n) = (diverging_exact(v), diverging_exact(-v));
+            assert!(lum(p) < prev_pos && lum(n) < prev_neg, "luminance falls strictly with |v| at {v}");
+            // After rounding to 8 bits, within half a level per channel.
+            assert!((lum8(diverging(v)) - lum(p)).abs() <= 0.5 && (lum8(diverging(-v)) - lum(n)).abs() <= 0.5);
+            let (p, n) = (diverging_exact(v), diverging_exact(-v));
+            assert!(p[0] > p[2] && n[2] > n[0], "positive is red, negative blue at {v}");
+            prev_pos = lum(diverging_exact(v));
+            prev_neg = lum(diverging_exact(-v));
+        }
+        assert!(prev_pos < 100.0 && prev_neg < 100.0, "the ends are dark");
+        assert_eq!(diverging(7.0), diverging(1.0));
+        assert_eq!(diverging(f64::NAN), diverging(0.0));
+    }
+
+    #[test]
+    fn drawn_colour_bar_matches_the_map_left_to_right() {
+        let exp = experiment("maps = ['m']\nencoders = ['sh1']\nresolution = [16, 8]");
+        let (sheet, _) = experiment_sheet(&exp, &scene_map("gen_two_lights", 32), None).unwrap();
+        let img = sheet.draw().unwrap();
+        let (bx, by) = sheet.layout().colour_bar();
+        for x in 0..BAR_W {
+            let v = ((x as f64 + 0.5) / BAR_W as f64) * 2.0 - 1.0;
+            assert_eq!(img.get_pixel(bx + x, by + BAR_H / 2).0, diverging(v), "bar pixel {x}");
+        }
+        assert!(img.get_pixel(bx, by + 2).0[2] > 150, "left end blue (darker than the reference)");
+        assert!(img.get_pixel(bx + BAR_W - 1, by + 2).0[0] > 150, "right end red (brighter)");
+    }
+
+    /// On the hemisphere light (radiance 1 above the horizon), the constant encoder sh0 is
+    /// 0.5 everywhere while the reference is 1 at the top and 0 at the bottom: the lower half
+    /// of its front sphere must be brighter than the reference's and its error red (brighter),
+    /// the top blue (darker).
+    #[test]
+    fn over_brightening_is_brighter_and_red() {
+        let exp = experiment("maps = ['m']\nencoders = ['sh0']\nresolution = [32, 16]");
+        let (sheet, _) = experiment_sheet(&exp, &scene_map("gen_hemisphere", 64), None).unwrap();
+        let img = sheet.draw().unwrap();
+        let lay = sheet.layout();
+        let at = |col: u32, fy: f64| {
+            let (x, y) = lay.cell(0, 0, col);
+            let (dx, dy) = (x + (CELL_W - DISC) / 2, y + (CELL_H - DISC) / 2);
+            img.get_pixel(dx + DISC / 2, dy + (fy * DISC as f64) as u32).0.map(i32::from)
+        };
+        let (ref_low, enc_low, err_low) = (at(0, 0.85), at(1, 0.85), at(2, 0.85));
+        assert!(enc_low[1] > ref_low[1] + 40, "sh0 brighter near the bottom: {enc_low:?} vs {ref_low:?}");
+        assert!(err_low[0] > err_low[2] + 60, "bottom error reads 'brighter' (red): {err_low:?}");
+        let (ref_top, enc_top, err_top) = (at(0, 0.15), at(1, 0.15), at(2, 0.15));
+        assert!(enc_top[1] + 20 < ref_top[1], "sh0 darker near the top: {enc_top:?} vs {ref_top:?}");
+        assert!(err_top[2] > err_top[0] + 40, "top error reads 'darker' (blue): {err_top:?}");
+    }
+
+    #[test]
+    fn sheet_figures_equal_the_runner_table() {
+        let exp = experiment(
+            "maps = ['m']\nencoders = ['sh0', 'sh1', 'sh2']\nresolution = [32, 16]\ndomain = 'hemisphere'\n\
+             orientations = ['axes6']\neffects = ['hemisphere']",
+        );
+        let map = scene_map("gen_sky_sun", 64);
+        let rows = crate::runner::run_map(&exp, &map);
+        let (sheet, s) = experiment_sheet(&exp, &map, None).unwrap();
+        assert_eq!((s.case_label.as_str(), s.source), ("hemisphere:+y", "computed"));
+        assert_eq!(sheet.views.len(), 1);
+        for (name, f) in &s.figures {
+            let row = rows.iter().find(|r| &r.encoder == name && r.domain == s.case_label).unwrap();
+            assert_eq!(RowFigures::from(&row.scores), *f, "{name}");
+        }
+        // Read back from the table's CSV: the same figures to the CSV's round-trip precision.
+        let t = CsvTable::parse(Path::new("table.csv"), &crate::table::to_csv(&rows).unwrap()).unwrap();
+        let (sheet2, s2) = experiment_sheet(&exp, &map, Some(&t)).unwrap();
+        assert_eq!(s2.source, "table.csv");
+        assert_eq!(s2.figures, s.figures);
+        assert_eq!(sheet2.rows[2].under_err, sheet.rows[2].under_err);
+    }
+
+    /// A strip of SH L1 fits of two scenes blended in SH along t: one row per method, one disc
+    /// per t; the ends show the two scenes' own fits.
+    #[test]
+    fn blend_strip_draws_one_disc_per_t() {
+        let sh = |id: &str| crate::projection::project(&scene_map(id, 32));
+        let (a, b) = (sh("gen_hemisphere"), sh("gen_two_lights"));
+        let ts = [0.0, 0.5, 1.0];
+        let blended: Vec<crate::sh::Sh9> = ts.iter().map(|&t| a * (1.0 - t) + b * t).collect();
+        let enc = crate::encoders::build("sh1", None, toml::Table::new()).unwrap().encoder;
+        let fits: Vec<Box<dyn Fitted>> =
+            blended.iter().map(|s| enc.fit(&crate::encoder::FitInput::sphere(s))).collect();
+        let row = BlendRow { method: "sh1 of blended SH".into(), steps: fits.iter().map(|f| f.as_ref()).collect() };
+        let img = blend_strip("test", DVec3::Y, "+y", &ts, &[row]).unwrap();
+        let cell = STRIP_DISC + 8;
+        assert_eq!(img.width(), 2 * MARGIN + 150 + 3 * cell);
+        let head = MARGIN + 24 + 2 * LINE_H + 18;
+        assert_eq!(img.height(), head + (cell + 4) + MARGIN);
+        let centre = |k: u32| img.get_pixel(MARGIN + 150 + k * cell + 4 + STRIP_DISC / 2, head + 4 + STRIP_DISC / 2).0;
+        assert_ne!(centre(0), centre(2), "the two ends differ");
+        let bad = BlendRow { method: "x".into(), steps: vec![fits[0].as_ref()] };
+        assert!(blend_strip("t", DVec3::Y, "+y", &ts, &[bad]).is_err());
+    }
+
+    #[test]
+    fn views_show_the_normals_they_claim() {
+        // Centre of the front view faces the viewer (+Z); of the top view, +Y.
+        assert!((View::front().normal(0.0, 0.0) - DVec3::Z).length() < 1e-12);
+        assert!((View::top().normal(0.0, 0.0) - DVec3::Y).length() < 1e-12);
+        // Top view: screen up is −Z, screen right +X.
+        assert!((View::top().normal(0.0, 0.999_999) - DVec3::NEG_Z).length() < 1e-2);
+        assert!((View::top().normal(0.999_999, 0.0) - DVec3::X).length() < 1e-2);
+        // Looking down N shows exactly the hemisphere about N.
+        let n = DVec3::new(1.0, 2.0, -0.5).normalize();
+        let v = View::down(n, "n");
+        assert!((v.normal(0.0, 0.0) - n).length() < 1e-12);
+        let d = Disc::new(&v, 24);
+        assert!(d.normals.iter().all(|m| m.dot(n) > 0.0));
+    }
+
+    #[test]
+    fn long_text_is_shortened_to_fit() {
+        let long = "a very long header line ".repeat(20);
+        let t = fit_text(&long, 300, 11.5);
+        assert!(t.ends_with("...") && t.len() < long.len());
+        assert_eq!(fit_text("short", 300, 11.5), "short");
+    }
+
+    #[test]
+    fn tone_and_helpers() {
+        let t = Tone::from_reference(2.0, 2.0);
+        assert_eq!(t.exposure, 0.25);
+        assert_eq!(t.white, 1.0);
+        assert_eq!(t.curve(2.0), 0.5);
+        assert_eq!(t.curve(-1.0), 0.0);
+        let t = Tone::from_reference(1.0, 10.0);
+        assert!((t.curve(10.0) - 1.0).abs() < 1e-12, "the reference's max maps to white");
+        assert_eq!(nice_ceil(0.0), 0.001);
+        assert_eq!(nice_ceil(0.03), 0.05);
+        assert_eq!(nice_ceil(0.1), 0.1);
+        assert_eq!(nice_ceil(40.0), 5.0);
+        assert_eq!(sig(0.094552, 3), "0.0946");
+        assert_eq!(percent(0.123), "12%");
+    }
+}
