@@ -243,10 +243,7 @@ pub fn pareto_front(points: &[(f64, f64)]) -> Vec<usize> {
 /// with the Pareto front marked. Needs a `fit_ns` column.
 pub fn error_vs_time(t: &CsvTable, title: &str) -> Result<Outcome> {
     let Some(fc) = t.col("fit_ns") else {
-        return Ok(Outcome::Skipped(
-            "not drawn: this table has no `fit_ns` column (the timing columns come from the timing work, issue 7)"
-                .into(),
-        ));
+        return Ok(Outcome::Skipped("not drawn: no fit times in this table (it has no `fit_ns` column)".into()));
     };
     if t.col("encoder").is_none() || t.col("rmse").is_none() {
         return Ok(Outcome::Skipped("not drawn: the table has no encoder and rmse columns".into()));
@@ -280,7 +277,9 @@ pub fn error_vs_time(t: &CsvTable, title: &str) -> Result<Outcome> {
         }
     }
     if pts.is_empty() {
-        return Ok(Outcome::Skipped("not drawn: the `fit_ns` column holds no positive times".into()));
+        return Ok(Outcome::Skipped(
+            "not drawn: no fit times in this table (the `fit_ns` column is empty: the run had `--no-timing`)".into(),
+        ));
     }
     let front = pareto_front(&pts);
     let (xlo, xhi) = decades(pts.iter().map(|p| p.0)).expect("positive times");
@@ -434,7 +433,13 @@ fn line_panel(
 /// One chart per knob of a sweep CSV (`knob,value,rmse,time_ns,label`): rmse against the
 /// knob's value, one line per label, and beside it rmse against time when `time_ns` is filled.
 pub fn sweep_charts(t: &CsvTable) -> Result<Vec<(String, Outcome)>> {
-    let [kc, vc, rc, lc] = t.require(&["knob", "value", "rmse", "label"])?[..] else { unreachable!() };
+    let [kc, vc, rc] = t.require(&["knob", "value", "rmse"])?[..] else { unreachable!() };
+    // A series per `label`, or per map / encoder / domain where the file has those instead.
+    let label_cols: Vec<usize> = match t.col("label") {
+        Some(c) => vec![c],
+        None => ["map", "encoder", "domain"].iter().filter_map(|h| t.col(h)).collect(),
+    };
+    let label_of = |i: usize| label_cols.iter().map(|&c| t.rows[i][c].as_str()).collect::<Vec<_>>().join(" / ");
     let tc = t.col("time_ns");
     let refc = t.col("reference");
     let all: Vec<usize> = (0..t.rows.len()).collect();
@@ -444,11 +449,23 @@ pub fn sweep_charts(t: &CsvTable) -> Result<Vec<(String, Outcome)>> {
         let mut by_value = Vec::new();
         let mut by_time = Vec::new();
         let mut zero = 0;
-        for (k, label) in distinct(t, &rows, lc).into_iter().enumerate() {
+        let mut labels: Vec<String> = Vec::new();
+        for &i in &rows {
+            let l = label_of(i);
+            if !labels.contains(&l) {
+                labels.push(l);
+            }
+        }
+        let mut unplotted = 0;
+        for (k, label) in labels.into_iter().enumerate() {
             let mut a = Vec::new();
             let mut b = Vec::new();
-            for &i in rows.iter().filter(|&&i| t.rows[i][lc] == label) {
-                let (Some(v), Some(r)) = (t.num(i, vc)?, t.num(i, rc)?) else { continue };
+            for &i in rows.iter().filter(|&&i| label_of(i) == label) {
+                let Some(v) = knob_value(&t.rows[i][vc]) else {
+                    unplotted += 1;
+                    continue;
+                };
+                let Some(r) = t.num(i, rc)? else { continue };
                 if r <= 0.0 {
                     zero += 1;
                 }
@@ -484,13 +501,34 @@ pub fn sweep_charts(t: &CsvTable) -> Result<Vec<(String, Outcome)>> {
             .map(|s| format!("; rmse against {s}"))
             .unwrap_or_default();
         let caption = format!(
-            "convergence sweep of `{knob}`: rmse against the knob's value{}{}",
+            "convergence sweep of `{knob}`: rmse against the knob's value (a W×H value is plotted at W){}{}{}",
             if two { " and against time_ns" } else { " (no time_ns in the file)" },
-            against
+            against,
+            if unplotted > 0 {
+                format!("; {unplotted} row(s) with a non-numeric value (e.g. `full`) are in the CSV, not on the chart")
+            } else {
+                String::new()
+            }
         );
         out.push((knob, Outcome::Drawn { image, caption }));
     }
     Ok(out)
+}
+
+/// A sweep knob's value as a number: a plain number, or the width W of a `W×H` resolution
+/// (`WxH`); None for anything else (e.g. `full`).
+pub fn knob_value(s: &str) -> Option<f64> {
+    let s = s.trim();
+    let v = match s.parse::<f64>() {
+        Ok(v) => v,
+        Err(_) => s.split_once(['x', '×']).and_then(|(w, h)| h.parse::<f64>().ok().and(w.parse::<f64>().ok()))?,
+    };
+    v.is_finite().then_some(v)
+}
+
+/// Whether a CSV is a sweep (it has `knob`, `value` and `rmse` columns), whatever its name.
+pub fn is_sweep(t: &CsvTable) -> bool {
+    ["knob", "value", "rmse"].iter().all(|h| t.col(h).is_some())
 }
 
 /// Irradiance at N along t per blending method, and its rmse along t (lightmap blending, issue
@@ -617,6 +655,26 @@ mod tests {
         assert!(
             matches!(rmse_bars(&t, "x").unwrap(), Outcome::Drawn { caption, .. } if caption.contains("mean over the 2"))
         );
+    }
+
+    #[test]
+    fn knob_values_and_sweeps_without_a_label_column() {
+        assert_eq!(knob_value("12"), Some(12.0));
+        assert_eq!(knob_value("256x128"), Some(256.0));
+        assert_eq!(knob_value("full"), None);
+        assert_eq!(knob_value("NaN"), None);
+        // The committed sweep format: series by map / encoder, W×H values, a `full` row.
+        let s = csv("sweep,knob,value,map,encoder,rmse,time_ns\nr,res,32x16,m,sh1,0.2,10\nr,res,64x32,m,sh1,0.1,40\n\
+             r,res,full,m,sh1,0.05,90\nr,res,32x16,m,reference,0.01,5\n");
+        assert!(is_sweep(&s) && !is_sweep(&csv("knob,rmse\na,1\n")));
+        let charts = sweep_charts(&s).unwrap();
+        assert_eq!(charts.len(), 1);
+        match &charts[0].1 {
+            Outcome::Drawn { caption, .. } => {
+                assert!(caption.contains("1 row(s) with a non-numeric value"), "{caption}")
+            }
+            Outcome::Skipped(w) => panic!("{w}"),
+        }
     }
 
     #[test]

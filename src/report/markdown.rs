@@ -6,7 +6,7 @@ use super::render::sig;
 use anyhow::Result;
 
 /// The columns of a claims file (`results/*/claims.csv`), in this order.
-pub const CLAIMS_COLUMNS: &[&str] = &["id", "claim", "paper_figure", "our_figure", "holds", "notes"];
+pub const CLAIMS_COLUMNS: &[&str] = &["id", "claim", "paper_figure", "our_figure", "holds"];
 
 /// Per-channel columns left to the CSV (the report shows the combined `rmse`).
 const DETAIL_COLUMNS: &[&str] = &["rmse_r", "rmse_g", "rmse_b"];
@@ -203,8 +203,9 @@ pub fn full_table(t: &CsvTable, csv_link: &str) -> String {
     s
 }
 
-/// A claims file as a table (columns `id,claim,paper_figure,our_figure,holds,notes`; other
-/// columns follow). A file without those columns is an error naming the file.
+/// A claims file as a table (columns `id,claim,paper_figure,our_figure,holds`; any other
+/// columns, such as `notes` or `check`, follow). A file without those five is an error naming
+/// the file.
 pub fn claims_table(t: &CsvTable) -> Result<String> {
     let cols = t.require(CLAIMS_COLUMNS)?;
     let extra: Vec<usize> = (0..t.headers.len()).filter(|c| !cols.contains(c)).collect();

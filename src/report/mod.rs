@@ -6,7 +6,7 @@
 //! - the table (`table.csv`) as a map × encoder rmse pivot, a timing summary when `*_ns`
 //!   columns exist, and the whole table;
 //! - charts: rmse bars, error against `fit_ns` (when that column exists), one convergence
-//!   chart per knob of every `sweep*.csv`, the blending chart of every `blend*.csv`;
+//!   chart per knob of every sweep CSV (any CSV with `knob`, `value`, `rmse` columns), the blending chart of every `blend*.csv`;
 //! - comparison sheets (`sheet_<map>.png`), drawn when every map of the experiment is on the
 //!   search path; otherwise the committed sheets are kept and linked;
 //! - other pictures and files found in the folder (e.g. a blending strip) are linked, so work
@@ -193,7 +193,7 @@ pub fn generate(opts: &Options) -> Result<Generated> {
     if !claims.is_empty() {
         doc.push_str("## Claims\n\n");
         doc.push_str(
-            "Each claim of the papers we measured (`*/claims.csv`: id, claim, paper figure, our figure, holds, notes).\n\n",
+            "Each claim of the papers we measured (`*/claims.csv`: id, claim, paper figure, our figure, holds, then notes or how it was checked).\n\n",
         );
         for (name, link, t) in &claims {
             let _ = writeln!(doc, "**{name}** ([claims.csv]({})):\n", href(link));
@@ -325,8 +325,8 @@ fn section(
     // Sweeps and blending.
     for f in all.iter().filter(|f| f.ends_with(".csv")) {
         let stem = f.trim_end_matches(".csv");
-        if f.starts_with("sweep") {
-            let t = CsvTable::read(&dir.join(f))?;
+        let t = CsvTable::read(&dir.join(f))?;
+        if charts::is_sweep(&t) {
             for (knob, o) in charts::sweep_charts(&t)? {
                 let file = format!("chart_{}_{}.png", file_safe(stem), file_safe(&knob));
                 match o {
@@ -347,7 +347,6 @@ fn section(
                 }
             }
         } else if f.starts_with("blend") {
-            let t = CsvTable::read(&dir.join(f))?;
             for (set, o) in charts::blend_charts(&t)? {
                 let file = if set.is_empty() {
                     format!("chart_{}.png", file_safe(stem))
