@@ -347,31 +347,12 @@ pub fn write_results(root: &Path, out: &Path, exp: &Experiment, report: &runner:
     let ok = crate::check::print_stored(exp, out, &stored, report.rows.len());
     if ok {
         let dir = out.join(&exp.name);
-        write_maps_csv(&dir, report)?;
         let summary = exp.summary.as_ref().map(|b| b.as_deref());
         for f in crate::summary::write(&dir, &exp.name, &exp.description, summary, &exp.claims, &report.rows)? {
             eprintln!("wrote {}", dir.join(f).display());
         }
     }
     Ok(ok)
-}
-
-/// Writes results/<name>/maps.csv: the map files the table was computed from, with their
-/// SHA-256 (the report lists them when a map is not on this machine).
-fn write_maps_csv(dir: &Path, report: &runner::RunReport) -> Result<()> {
-    let mut w = csv::Writer::from_writer(Vec::new());
-    w.write_record(["map", "file", "width", "height", "sha256"])?;
-    for m in &report.maps {
-        let file = m.path.as_ref().and_then(|p| p.file_name()).map(|f| f.to_string_lossy().into_owned());
-        w.write_record([
-            m.name.clone(),
-            file.unwrap_or_default(),
-            m.width.to_string(),
-            m.height.to_string(),
-            m.sha256.clone(),
-        ])?;
-    }
-    crate::atomic::write(&dir.join("maps.csv"), &w.into_inner().map_err(|e| anyhow::anyhow!("csv: {e}"))?)
 }
 
 /// The experiment `probelab eval` runs.

@@ -28,6 +28,33 @@ fn run(root: &Path, args: &[&str]) -> Output {
     probelab(root).args(args).output().expect("run probelab")
 }
 
+/// `text` with every ISO 8601 UTC time `YYYY-MM-DDThh:mm:ssZ` replaced by `<date>`.
+fn blank_dates(text: &str) -> String {
+    let shape = |w: &[u8]| {
+        w.len() == 20
+            && w.iter().enumerate().all(|(i, &c)| match i {
+                4 | 7 => c == b'-',
+                10 => c == b'T',
+                13 | 16 => c == b':',
+                19 => c == b'Z',
+                _ => c.is_ascii_digit(),
+            })
+    };
+    let b = text.as_bytes();
+    let (mut out, mut i) = (String::new(), 0);
+    while i < b.len() {
+        if i + 20 <= b.len() && shape(&b[i..i + 20]) {
+            out.push_str("<date>");
+            i += 20;
+        } else {
+            let ch = text[i..].chars().next().unwrap();
+            out.push(ch);
+            i += ch.len_utf8();
+        }
+    }
+    out
+}
+
 /// Every file under `dir` with its bytes (hidden temporary files included).
 fn snapshot(dir: &Path) -> BTreeMap<PathBuf, Vec<u8>> {
     let mut out = BTreeMap::new();
@@ -45,6 +72,10 @@ fn snapshot(dir: &Path) -> BTreeMap<PathBuf, Vec<u8>> {
                     let text = String::from_utf8(bytes).unwrap();
                     bytes =
                         text.lines().filter(|l| !l.starts_with("date = ")).collect::<Vec<_>>().join("\n").into_bytes();
+                }
+                if p.file_name().is_some_and(|n| n == "REPORT.md") {
+                    // The report quotes those dates (from provenance.toml): blank them too.
+                    bytes = blank_dates(&String::from_utf8(bytes).unwrap()).into_bytes();
                 }
                 out.insert(p.strip_prefix(dir).unwrap().to_path_buf(), bytes);
             }

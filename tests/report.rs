@@ -70,7 +70,7 @@ fn report_on_a_scratch_repository() {
         &["--no-timing", "run", &format!("{rs}/experiments/a_sphere.toml"), &format!("{rs}/experiments/b_floor.toml")],
     ));
     let res = root.join("results");
-    assert!(res.join("a_sphere/maps.csv").is_file(), "run records the maps' checksums");
+    assert!(res.join("a_sphere/provenance.toml").is_file(), "run records the maps' checksums");
 
     // Timings filled into one table's (empty, under --no-timing) `fit_ns` column, read by name.
     let t = std::fs::read_to_string(res.join("b_floor/table.csv")).unwrap();

@@ -27,7 +27,6 @@ use anyhow::{Context, Result};
 use charts::Outcome;
 use csvfile::CsvTable;
 use markdown::{anchor, href};
-use sha2::{Digest, Sha256};
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -52,10 +51,6 @@ pub struct Generated {
 /// A file name made of `[A-Za-z0-9._-]`.
 pub fn file_safe(s: &str) -> String {
     s.chars().map(|c| if c.is_ascii_alphanumeric() || matches!(c, '.' | '_' | '-') { c } else { '_' }).collect()
-}
-
-fn hex(b: &[u8]) -> String {
-    b.iter().map(|x| format!("{x:02x}")).collect()
 }
 
 /// One map file as used now.
@@ -123,7 +118,7 @@ pub fn generate(opts: &Options) -> Result<Generated> {
     for s in &sections {
         let Some(exp) = &s.exp else { continue };
         for m in &exp.maps {
-            let entry = maps.entry(m.clone()).or_insert_with(|| map_use(opts.search, m).ok());
+            let entry = maps.entry(m.clone()).or_insert_with(|| map_use(opts.root, opts.search, m).ok());
             if let Some(u) = entry {
                 u.used_by.push(s.name.clone());
             }
@@ -208,15 +203,15 @@ pub fn generate(opts: &Options) -> Result<Generated> {
     Ok(Generated { report, pictures, kept })
 }
 
-fn map_use(search: &SearchPath, name: &str) -> Result<MapUse> {
+fn map_use(root: &Path, search: &SearchPath, name: &str) -> Result<MapUse> {
     let path = search.resolve(name).map_err(|e| anyhow::anyhow!("{e}"))?;
     let bytes = std::fs::read(&path).with_context(|| format!("{}: cannot read", path.display()))?;
     let map = crate::envmap::load::load(&path)?;
     Ok(MapUse {
         file: path.file_name().map(|f| f.to_string_lossy().into_owned()).unwrap_or_default(),
-        dir: path.parent().map(|p| p.display().to_string()).unwrap_or_default(),
+        dir: path.parent().map(|p| shown_dir(root, p)).unwrap_or_default(),
         size: format!("{}x{}", map.width(), map.height()),
-        sha256: hex(&Sha256::digest(&bytes)),
+        sha256: crate::provenance::sha256_hex(&bytes),
         used_by: Vec::new(),
     })
 }
@@ -446,31 +441,16 @@ fn section(
     Ok((md, drawn, claims))
 }
 
-/// Days since 1970-01-01 to (year, month, day) (H. Hinnant's civil_from_days).
-fn civil_from_days(z: i64) -> (i64, u32, u32) {
-    let z = z + 719_468;
-    let era = z.div_euclid(146_097);
-    let doe = z.rem_euclid(146_097);
-    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
-    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
-    let mp = (5 * doy + 2) / 153;
-    let d = (doy - (153 * mp + 2) / 5 + 1) as u32;
-    let m = if mp < 10 { mp + 3 } else { mp - 9 } as u32;
-    (yoe + era * 400 + i64::from(m <= 2), m, d)
-}
-
-/// The current UTC time, ISO 8601.
-pub fn utc_now() -> String {
-    let secs =
-        std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map(|d| d.as_secs()).unwrap_or(0) as i64;
-    let (y, m, d) = civil_from_days(secs.div_euclid(86_400));
-    let s = secs.rem_euclid(86_400);
-    format!("{y:04}-{m:02}-{d:02} {:02}:{:02}:{:02} UTC", s / 3600, s / 60 % 60, s % 60)
-}
-
-fn git(root: &Path, args: &[&str]) -> Option<String> {
-    let o = std::process::Command::new("git").arg("-C").arg(root).args(args).output().ok()?;
-    o.status.success().then(|| String::from_utf8_lossy(&o.stdout).trim().to_string())
+/// A folder as shown in the report: relative to the repository root when inside it (so the
+/// report does not depend on where the checkout lives).
+fn shown_dir(root: &Path, d: &Path) -> String {
+    let root = root.canonicalize().unwrap_or_else(|_| root.to_path_buf());
+    let abs = d.canonicalize().unwrap_or_else(|_| d.to_path_buf());
+    match abs.strip_prefix(&root) {
+        Ok(rel) if rel.as_os_str().is_empty() => ".".into(),
+        Ok(rel) => rel.display().to_string(),
+        Err(_) => d.display().to_string(),
+    }
 }
 
 fn provenance(
@@ -480,24 +460,46 @@ fn provenance(
     out: &Path,
 ) -> Result<String> {
     let mut md = String::from("## How this run was made\n\n");
-    let commit = git(opts.root, &["rev-parse", "HEAD"]);
-    let dirty = git(opts.root, &["status", "--porcelain", "--untracked-files=no", "--", ".", ":(exclude)results"])
-        .map(|s| !s.is_empty());
+    // Everything here comes from the committed files (each table's provenance.toml) and the
+    // maps, not from the clock or the checkout, so the same results give the same report.
+    md.push_str(
+        "Each table was computed by the run its `provenance.toml` records (`probelab run`, `reproduce` or `bless`); \
+         the report was drawn from those tables.\n\n",
+    );
+    let mut rows = Vec::new();
+    for s in sections {
+        let p = out.join(&s.name).join(crate::provenance::FILE_NAME);
+        if !p.is_file() {
+            continue;
+        }
+        let pr = crate::provenance::Provenance::read(&p)?;
+        let short = |c: &str| if c.len() > 12 { c[..12].to_string() } else { c.to_string() };
+        rows.push(vec![
+            s.name.clone(),
+            format!(
+                "`{}`{}",
+                short(&pr.git_commit),
+                if pr.git_dirty == Some(true) { " (with uncommitted changes)" } else { "" }
+            ),
+            pr.date.clone(),
+            format!("probelab {}", pr.probelab_version),
+            format!("`{}`", short(&pr.table_sha256)),
+        ]);
+    }
+    if !rows.is_empty() {
+        let headers: Vec<String> =
+            ["experiment", "commit", "date (UTC)", "version", "table sha256"].iter().map(|s| s.to_string()).collect();
+        md.push_str(&markdown::table_with(&headers, &rows, markdown::text_cell));
+        md.push('\n');
+    }
+    let dirs: Vec<String> = opts.search.dirs().iter().map(|d| format!("`{}`", shown_dir(opts.root, d))).collect();
     let _ = writeln!(
         md,
-        "- Commit: {}{}\n- Date: {}\n- probelab {} ({} build), {} worker thread(s) (`--jobs`; the tables do not depend on it)",
-        commit.map(|c| format!("`{c}`")).unwrap_or_else(|| "unknown (not a git checkout)".into()),
-        match dirty {
-            Some(true) => " with uncommitted changes outside `results/`",
-            _ => "",
-        },
-        utc_now(),
+        "Pictures: probelab {} ({} build). Map search path of this report: {} (`PROBELAB_ENVMAPS` adds folders after `envmaps/`).\n",
         env!("CARGO_PKG_VERSION"),
         if cfg!(debug_assertions) { "debug" } else { "release" },
-        rayon::current_num_threads()
+        dirs.join(", ")
     );
-    let dirs: Vec<String> = opts.search.dirs().iter().map(|d| format!("`{}`", d.display())).collect();
-    let _ = writeln!(md, "- Map search path: {} (`PROBELAB_ENVMAPS` adds folders after `envmaps/`)\n", dirs.join(", "));
 
     md.push_str("**Settings** (each experiment file is echoed in full in its section):\n\n");
     let mut rows = Vec::new();
@@ -540,27 +542,26 @@ fn provenance(
     md.push_str(&markdown::table_with(&headers, &rows, markdown::text_cell));
     md.push('\n');
 
-    md.push_str("**Maps** (SHA-256 of the file read now; `maps.csv` in each experiment folder records the files its table was computed from):\n\n");
-    // What each experiment's table was computed from (maps.csv, written by run/reproduce).
+    md.push_str(
+        "**Maps** (SHA-256 of the file read now; each experiment's `provenance.toml` records the files its table was \
+         computed from):\n\n",
+    );
     let mut recorded: BTreeMap<String, (String, String, String, Vec<String>)> = BTreeMap::new();
     let mut mismatches = Vec::new();
     for s in sections {
-        let p = out.join(&s.name).join("maps.csv");
+        let p = out.join(&s.name).join(crate::provenance::FILE_NAME);
         if !p.is_file() {
             continue;
         }
-        let t = CsvTable::read(&p)?;
-        let Ok(cols) = t.require(&["map", "file", "width", "height", "sha256"]) else { continue };
-        let [mc, fc, wc, hc, sc] = cols[..] else { continue };
-        for r in &t.rows {
-            if let Some(Some(u)) = maps.get(&r[mc]) {
-                if u.sha256 != r[sc] {
-                    mismatches.push(format!("`{}`: its table used a map `{}` with another checksum", s.name, r[mc]));
+        for r in crate::provenance::Provenance::read(&p)?.maps {
+            if let Some(Some(u)) = maps.get(&r.name) {
+                if u.sha256 != r.sha256 {
+                    mismatches.push(format!("`{}`: its table used a map `{}` with another checksum", s.name, r.name));
                 }
             }
             let e = recorded
-                .entry(r[mc].clone())
-                .or_insert_with(|| (r[fc].clone(), format!("{}x{}", r[wc], r[hc]), r[sc].clone(), Vec::new()));
+                .entry(r.name.clone())
+                .or_insert_with(|| (r.file.clone(), format!("{}x{}", r.width, r.height), r.sha256.clone(), Vec::new()));
             e.3.push(s.name.clone());
         }
     }
@@ -576,7 +577,7 @@ fn provenance(
             ]),
             (None, Some((file, size, sha, by))) => rows.push(vec![
                 name.clone(),
-                format!("not found on this machine; the table used `{file}` (from maps.csv)"),
+                format!("not found on this machine; the table used `{file}` (from provenance.toml)"),
                 size.clone(),
                 format!("`{sha}`"),
                 by.join(", "),
@@ -600,10 +601,7 @@ mod tests {
     use super::*;
 
     #[test]
-    fn civil_dates() {
-        assert_eq!(civil_from_days(0), (1970, 1, 1));
-        assert_eq!(civil_from_days(19_723), (2024, 1, 1));
-        assert_eq!(civil_from_days(11_016), (2000, 2, 29));
+    fn file_names_are_safe() {
         assert_eq!(file_safe("a b/c.png"), "a_b_c.png");
     }
 }
