@@ -36,8 +36,11 @@
 //!
 //! The reference is the probe's L2 SH irradiance, E/π = Σ Â_l c_lm Y_lm (FORMULAS §3), over the
 //! whole sphere, solid-angle weighted: rmse = √(mean over RGB of ∫(E_enc − E_ref)² dω / 4π).
-//! - When the fit says it is SH3 ([`crate::encoder::Fitted::sh3`]), the closed form
-//!   √(Σ_i |c_i − r_i|² / (3·4π)) (Parseval; orthonormal basis).
+//! - When the fit has the squared error in closed form
+//!   ([`crate::encoder::Fitted::sphere_sq_error`]): for SH3 fits (SH, ZH3 expanded to SH3,
+//!   quantised SH/ZH3; [`crate::encoder::Fitted::sh3`]) √(Σ_i |c_i − r_i|² / (3·4π))
+//!   (Parseval; orthonormal basis); for Geomerics its SH3 projection and out-of-band energy by
+//!   Funk–Hecke (`geomerics.rs`). Both are exact to rounding.
 //! - Otherwise a fixed product Gauss rule (`--quadrature`, default 6x12): 6 Gauss–Legendre
 //!   nodes in z × 12 azimuths (72 normals), exact for any encoder whose output lies in SH bands
 //!   ≤ 5 (integrand degree ≤ 11) and so exact for every SH3-representable encoder too; the test
@@ -570,13 +573,10 @@ pub enum Method {
 }
 
 /// The sphere RMSE of a fit against the SH3 irradiance `reference` (E/π SH), by the closed form
-/// when the fit is SH3, else by `rule`.
+/// when the fit has one ([`Fitted::sphere_sq_error`]: SH3 fits, Geomerics), else by `rule`.
 pub fn probe_rmse(fit: &dyn Fitted, reference: &Sh9, rule: &SphereRule) -> (f64, Method) {
-    match fit.sh3() {
-        Some(c) => {
-            let se: f64 = (0..N_SH).map(|i| (c[i] - reference[i]).length_squared()).sum();
-            ((se / (3.0 * 4.0 * PI)).sqrt(), Method::ClosedForm)
-        }
+    match fit.sphere_sq_error(reference) {
+        Some(se) => ((se.max(0.0) / (3.0 * 4.0 * PI)).sqrt(), Method::ClosedForm),
         None => {
             let mut se = 0.0;
             for (&(n, w), y) in rule.nodes.iter().zip(&rule.basis) {
@@ -625,7 +625,7 @@ impl EncoderStats {
     /// How errors were computed: closed form, quadrature (rule "NZxNPHI"), or both (with counts).
     pub fn method(&self, rule: &str) -> String {
         match (self.closed_form, self.quadrature) {
-            (_, 0) => "closed-form SH3".into(),
+            (_, 0) => "closed form".into(),
             (0, _) => format!("quadrature ({rule} product Gauss)"),
             (c, q) => format!("mixed ({c} closed-form, {q} quadrature {rule})"),
         }
