@@ -1255,6 +1255,55 @@ mod tests {
         assert!((y6 - 1.0 / (4.0 * PI)).abs() < 1e-14);
     }
 
+    /// Every registered encoder that gives its sphere error in closed form agrees with a fine
+    /// product Gauss rule (64x128) applied to its evaluated output, on synthetic probes: to
+    /// 1e-12 for SH3 outputs (the rule is exact for them), 1e-6 otherwise (Geomerics: its
+    /// (1 + t)^p lobe limits the rule, not the closed form). The registry is iterated, so an
+    /// encoder that claims a closed form is held to it.
+    #[test]
+    fn every_closed_form_error_equals_fine_quadrature() {
+        struct Hidden<'a>(&'a dyn Fitted);
+        impl Fitted for Hidden<'_> {
+            fn irradiance(&self, n: DVec3) -> Rgb {
+                self.0.irradiance(n)
+            }
+        }
+        let s = Synth::new(5, palette());
+        let fine = SphereRule::product_gauss(64, 128);
+        let mut claimed = Vec::new();
+        for k in crate::encoders::REGISTRY {
+            let e = crate::encoders::build(k.id, None, toml::Table::new()).unwrap();
+            for i in 0..12 {
+                let p = s.probe(i);
+                let r = p.convolve_cosine();
+                let fit = e.encoder.fit(&FitInput::sphere(&p));
+                let (a, m) = probe_rmse(fit.as_ref(), &r, &fine);
+                if m != Method::ClosedForm {
+                    continue;
+                }
+                if i == 0 {
+                    claimed.push(k.id);
+                }
+                let (b, _) = probe_rmse(&Hidden(fit.as_ref()), &r, &fine);
+                let tol = if fit.sh3().is_some() { 1e-12 } else { 1e-6 };
+                assert!((a - b).abs() <= tol * (a + sh_rms(&r)), "{} probe {i}: {a} vs {b}", k.id);
+                if let Some(c) = fit.sh3() {
+                    for n in crate::domain::fibonacci_sphere(20) {
+                        let d = (c.eval(n) - fit.irradiance(n)).abs().max_element();
+                        assert!(
+                            d <= 1e-12 * (1.0 + c.eval(n).abs().max_element()),
+                            "{}: sh3() is not the output",
+                            k.id
+                        );
+                    }
+                }
+            }
+        }
+        for id in ["sh1", "sh2", "geomerics", "zh3_hallucinate", "zh3_stored_shared", "zh3_solved_shared", "sh2_q28"] {
+            assert!(claimed.contains(&id), "{id} lost its closed form: {claimed:?}");
+        }
+    }
+
     /// The fixed rule on non-polynomial reconstructions: a Geomerics-style q^p lobe and a
     /// clamped SH, against a fine rule (FORMULAS §6 model, written out here as a test function).
     #[test]

@@ -54,6 +54,9 @@ struct RowCache {
     split: bool,
     /// Per node, each mask's arc on the node's parallel (`masks.len()` per node).
     mask_arcs: Vec<Option<Arc>>,
+    /// Unsplit, and some mask misses the parallel of every node: no mask breakpoint lies
+    /// inside the row, so that mask misses the whole row and it adds nothing for any normal.
+    dark: bool,
 }
 
 /// What one normal needs for every row: its clamped-cosine cap, every breakpoint (the kernel's
@@ -103,7 +106,11 @@ impl<'a> Reference<'a> {
                     nodes.push((s, c, w * s));
                     mask_arcs.extend(masks.iter().map(|m| m.arc(s, c)));
                 });
-                RowCache { nodes, split, mask_arcs }
+                let nm = masks.len();
+                let dark = !split
+                    && nm > 0
+                    && (0..nodes.len()).all(|i| mask_arcs[i * nm..(i + 1) * nm].iter().any(Option::is_none));
+                RowCache { nodes, split, mask_arcs, dark }
             })
             .collect();
         Self { moments, masks, rule, grid, rows }
@@ -164,6 +171,9 @@ impl<'a> Reference<'a> {
     fn add_row(&self, j: usize, k: &Kernel, acc: &mut Rgb) {
         let (p0, p1) = (self.grid.phi_edge(j), self.grid.phi_edge(j + 1));
         let row = &self.rows[j];
+        if row.dark {
+            return;
+        }
         let nm = self.masks.len();
         if k.breaks[..2.min(k.nb)].iter().any(|&b| b > p0 && b < p1) {
             // The kernel's boundary is tangent inside the row: split at every breakpoint,
