@@ -104,6 +104,15 @@ fn probes(c: &mut Criterion) {
     g.bench_function("probe error: closed form (sh1)", |b| {
         b.iter(|| black_box(probe_rmse(fit.as_ref(), black_box(&reference), &rule)))
     });
+    let geo = probelab::encoders::build("geomerics", None, toml::Table::new()).expect("geomerics");
+    let gfit = geo.encoder.fit(&FitInput::sphere(&p));
+    g.bench_function("probe error: closed form (geomerics, Funk-Hecke)", |b| {
+        b.iter(|| black_box(probe_rmse(gfit.as_ref(), black_box(&reference), &rule)))
+    });
+    let ghidden = NoHook(geo.encoder.fit(&FitInput::sphere(&p)));
+    g.bench_function("probe error: 72-normal quadrature (geomerics hidden)", |b| {
+        b.iter(|| black_box(probe_rmse(&ghidden, black_box(&reference), &rule)))
+    });
     let hidden = NoHook(sh1.encoder.fit(&FitInput::sphere(&p)));
     g.bench_function("probe error: 72-normal quadrature (sh1 hidden)", |b| {
         b.iter(|| black_box(probe_rmse(&hidden, black_box(&reference), &rule)))

@@ -36,8 +36,11 @@
 //!
 //! The reference is the probe's L2 SH irradiance, E/π = Σ Â_l c_lm Y_lm (FORMULAS §3), over the
 //! whole sphere, solid-angle weighted: rmse = √(mean over RGB of ∫(E_enc − E_ref)² dω / 4π).
-//! - When the fit says it is SH3 ([`crate::encoder::Fitted::sh3`]), the closed form
-//!   √(Σ_i |c_i − r_i|² / (3·4π)) (Parseval; orthonormal basis).
+//! - When the fit has the squared error in closed form
+//!   ([`crate::encoder::Fitted::sphere_sq_error`]): for SH3 fits (SH, ZH3 expanded to SH3,
+//!   quantised SH/ZH3; [`crate::encoder::Fitted::sh3`]) √(Σ_i |c_i − r_i|² / (3·4π))
+//!   (Parseval; orthonormal basis); for Geomerics its SH3 projection and out-of-band energy by
+//!   Funk–Hecke (`geomerics.rs`). Both are exact to rounding.
 //! - Otherwise a fixed product Gauss rule (`--quadrature`, default 6x12): 6 Gauss–Legendre
 //!   nodes in z × 12 azimuths (72 normals), exact for any encoder whose output lies in SH bands
 //!   ≤ 5 (integrand degree ≤ 11) and so exact for every SH3-representable encoder too; the test
@@ -570,13 +573,10 @@ pub enum Method {
 }
 
 /// The sphere RMSE of a fit against the SH3 irradiance `reference` (E/π SH), by the closed form
-/// when the fit is SH3, else by `rule`.
+/// when the fit has one ([`Fitted::sphere_sq_error`]: SH3 fits, Geomerics), else by `rule`.
 pub fn probe_rmse(fit: &dyn Fitted, reference: &Sh9, rule: &SphereRule) -> (f64, Method) {
-    match fit.sh3() {
-        Some(c) => {
-            let se: f64 = (0..N_SH).map(|i| (c[i] - reference[i]).length_squared()).sum();
-            ((se / (3.0 * 4.0 * PI)).sqrt(), Method::ClosedForm)
-        }
+    match fit.sphere_sq_error(reference) {
+        Some(se) => ((se.max(0.0) / (3.0 * 4.0 * PI)).sqrt(), Method::ClosedForm),
         None => {
             let mut se = 0.0;
             for (&(n, w), y) in rule.nodes.iter().zip(&rule.basis) {
@@ -625,7 +625,7 @@ impl EncoderStats {
     /// How errors were computed: closed form, quadrature (rule "NZxNPHI"), or both (with counts).
     pub fn method(&self, rule: &str) -> String {
         match (self.closed_form, self.quadrature) {
-            (_, 0) => "closed-form SH3".into(),
+            (_, 0) => "closed form".into(),
             (0, _) => format!("quadrature ({rule} product Gauss)"),
             (c, q) => format!("mixed ({c} closed-form, {q} quadrature {rule})"),
         }
@@ -1253,6 +1253,55 @@ mod tests {
         assert!((w - 1.0).abs() < 1e-14);
         let y6: f64 = rule.nodes.iter().map(|&(n, w)| w * crate::sh::basis(n)[6].powi(2)).sum();
         assert!((y6 - 1.0 / (4.0 * PI)).abs() < 1e-14);
+    }
+
+    /// Every registered encoder that gives its sphere error in closed form agrees with a fine
+    /// product Gauss rule (64x128) applied to its evaluated output, on synthetic probes: to
+    /// 1e-12 for SH3 outputs (the rule is exact for them), 1e-6 otherwise (Geomerics: its
+    /// (1 + t)^p lobe limits the rule, not the closed form). The registry is iterated, so an
+    /// encoder that claims a closed form is held to it.
+    #[test]
+    fn every_closed_form_error_equals_fine_quadrature() {
+        struct Hidden<'a>(&'a dyn Fitted);
+        impl Fitted for Hidden<'_> {
+            fn irradiance(&self, n: DVec3) -> Rgb {
+                self.0.irradiance(n)
+            }
+        }
+        let s = Synth::new(5, palette());
+        let fine = SphereRule::product_gauss(64, 128);
+        let mut claimed = Vec::new();
+        for k in crate::encoders::REGISTRY {
+            let e = crate::encoders::build(k.id, None, toml::Table::new()).unwrap();
+            for i in 0..12 {
+                let p = s.probe(i);
+                let r = p.convolve_cosine();
+                let fit = e.encoder.fit(&FitInput::sphere(&p));
+                let (a, m) = probe_rmse(fit.as_ref(), &r, &fine);
+                if m != Method::ClosedForm {
+                    continue;
+                }
+                if i == 0 {
+                    claimed.push(k.id);
+                }
+                let (b, _) = probe_rmse(&Hidden(fit.as_ref()), &r, &fine);
+                let tol = if fit.sh3().is_some() { 1e-12 } else { 1e-6 };
+                assert!((a - b).abs() <= tol * (a + sh_rms(&r)), "{} probe {i}: {a} vs {b}", k.id);
+                if let Some(c) = fit.sh3() {
+                    for n in crate::domain::fibonacci_sphere(20) {
+                        let d = (c.eval(n) - fit.irradiance(n)).abs().max_element();
+                        assert!(
+                            d <= 1e-12 * (1.0 + c.eval(n).abs().max_element()),
+                            "{}: sh3() is not the output",
+                            k.id
+                        );
+                    }
+                }
+            }
+        }
+        for id in ["sh1", "sh2", "geomerics", "zh3_hallucinate", "zh3_stored_shared", "zh3_solved_shared", "sh2_q28"] {
+            assert!(claimed.contains(&id), "{id} lost its closed form: {claimed:?}");
+        }
     }
 
     /// The fixed rule on non-polynomial reconstructions: a Geomerics-style q^p lobe and a

@@ -11,7 +11,7 @@
 //! to the parallel (the only places the integrand is not smooth in φ). Cost per normal:
 //! O(H · nodes). `polar_nodes` is the one accuracy knob; see the convergence test.
 
-use crate::cap::{Arcs, Cap};
+use crate::cap::{Arc, Arcs, Cap};
 use crate::envmap::LatLong;
 use crate::moments::RowMoments;
 use crate::quadrature::{for_each_polar_node, gauss_legendre};
@@ -40,10 +40,38 @@ pub struct Reference<'a> {
     masks: Vec<Cap>,
     rule: Vec<(f64, f64)>,
     grid: LatLong,
-    /// Per row, the (sin φ, cos φ, w·sin φ) of its Gauss–Legendre nodes when no breakpoint
-    /// splits it (the common case).
-    row_nodes: Vec<Vec<(f64, f64, f64)>>,
+    /// Per row, everything that does not depend on the normal (see [`RowCache`]).
+    rows: Vec<RowCache>,
 }
+
+/// What one row contributes independently of the normal: its Gauss–Legendre nodes (split at
+/// the masks' breakpoints inside it, if any) and every mask's arc at each node. The kernel's
+/// own breakpoints depend on the normal; a row they split is integrated on the fly.
+struct RowCache {
+    /// (sin φ, cos φ, w·sin φ) per node.
+    nodes: Vec<(f64, f64, f64)>,
+    /// Whether a mask's breakpoint splits the row (`nodes` are then the split row's).
+    split: bool,
+    /// Per node, each mask's arc on the node's parallel (`masks.len()` per node).
+    mask_arcs: Vec<Option<Arc>>,
+    /// Unsplit, and some mask misses the parallel of every node: no mask breakpoint lies
+    /// inside the row, so that mask misses the whole row and it adds nothing for any normal.
+    dark: bool,
+}
+
+/// What one normal needs for every row: its clamped-cosine cap, every breakpoint (the kernel's
+/// first, then the masks'), and the azimuth of n.
+struct Kernel {
+    cap: Cap,
+    breaks: [f64; 8],
+    nb: usize,
+    sin_t: f64,
+    cos_t: f64,
+}
+
+/// Normals per batch of [`Reference::irradiance_many`]: each batch streams the map's rows once,
+/// so a row's moments stay in cache while every normal of the batch uses them.
+const BATCH: usize = 256;
 
 impl<'a> Reference<'a> {
     /// A reference for the map whose moments are given, with light visible only inside every
@@ -55,17 +83,37 @@ impl<'a> Reference<'a> {
         }
         let rule = gauss_legendre(polar_nodes.max(1));
         let grid = LatLong::new(moments.width(), moments.height());
-        let row_nodes = (0..grid.height)
+        let mut mask_breaks = [0.0f64; 8];
+        let mut nm = 0;
+        for c in &masks {
+            for b in c.breakpoints() {
+                // The kernel's two breakpoints come first in `Kernel::breaks`: room for 6.
+                if nm < mask_breaks.len() - 2 {
+                    mask_breaks[nm] = b;
+                    nm += 1;
+                }
+            }
+        }
+        let mask_breaks = &mask_breaks[..nm];
+        let rows = (0..grid.height)
             .map(|j| {
-                let mut v = Vec::with_capacity(rule.len());
-                for_each_polar_node(grid.phi_edge(j), grid.phi_edge(j + 1), &[], &rule, |phi, w| {
+                let (p0, p1) = (grid.phi_edge(j), grid.phi_edge(j + 1));
+                let split = mask_breaks.iter().any(|&b| b > p0 && b < p1);
+                let mut nodes = Vec::with_capacity(rule.len());
+                let mut mask_arcs = Vec::with_capacity(rule.len() * masks.len());
+                for_each_polar_node(p0, p1, if split { mask_breaks } else { &[] }, &rule, |phi, w| {
                     let (s, c) = phi.sin_cos();
-                    v.push((s, c, w * s));
+                    nodes.push((s, c, w * s));
+                    mask_arcs.extend(masks.iter().map(|m| m.arc(s, c)));
                 });
-                v
+                let nm = masks.len();
+                let dark = !split
+                    && nm > 0
+                    && (0..nodes.len()).all(|i| mask_arcs[i * nm..(i + 1) * nm].iter().any(Option::is_none));
+                RowCache { nodes, split, mask_arcs, dark }
             })
             .collect();
-        Self { moments, masks, rule, grid, row_nodes }
+        Self { moments, masks, rule, grid, rows }
     }
 
     /// The visibility caps this reference integrates under (empty: the whole sphere).
@@ -83,12 +131,11 @@ impl<'a> Reference<'a> {
         )
     }
 
-    /// E/π at unit normal `n`.
-    pub fn irradiance(&self, n: DVec3) -> Rgb {
-        let kernel = Cap::hemisphere(n);
+    fn kernel(&self, n: DVec3) -> Kernel {
+        let cap = Cap::hemisphere(n);
         let mut breaks = [0.0f64; 8];
         let mut nb = 0;
-        for c in std::iter::once(&kernel).chain(&self.masks) {
+        for c in std::iter::once(&cap).chain(&self.masks) {
             for b in c.breakpoints() {
                 if nb < breaks.len() {
                     breaks[nb] = b;
@@ -96,51 +143,100 @@ impl<'a> Reference<'a> {
                 }
             }
         }
-        let breaks = &breaks[..nb];
-        let (sin_t, cos_t) = kernel.theta().sin_cos();
-        let mut acc = Rgb::ZERO;
-        let mut node = |j: usize, s: f64, c: f64, ws: f64| {
-            let mut arcs = Arcs::full().intersect(kernel.arc(s, c));
-            for m in &self.masks {
-                if arcs.is_empty() {
-                    return;
-                }
-                arcs = arcs.intersect(m.arc(s, c));
+        let (sin_t, cos_t) = cap.theta().sin_cos();
+        Kernel { cap, breaks, nb, sin_t, cos_t }
+    }
+
+    /// One node's contribution: the clamped cosine of `k` on the parallel (s, c) of row j,
+    /// integrated exactly in azimuth over its arc inside every mask (`mask_arcs`, one per mask).
+    #[inline]
+    fn add_node(&self, j: usize, k: &Kernel, s: f64, c: f64, ws: f64, mask_arcs: &[Option<Arc>], acc: &mut Rgb) {
+        let mut arcs = Arcs::full().intersect(k.cap.arc(s, c));
+        for m in mask_arcs {
+            if arcs.is_empty() {
+                return;
             }
-            let (a, b) = kernel.dot_coefficients(s, c);
-            for arc in arcs.as_slice() {
-                let m = self.moments.arc01(j, *arc);
-                // ∫ L (a cos(θ − θn) + b) dθ = b·m0 + a·Re(e^{iθn} m1)
-                acc += (m.m0 * b + (m.m1[0] * cos_t - m.m1[1] * sin_t) * a) * ws;
-            }
-        };
-        for j in 0..self.grid.height {
-            let (p0, p1) = (self.grid.phi_edge(j), self.grid.phi_edge(j + 1));
-            if breaks.iter().any(|&b| b > p0 && b < p1) {
-                for_each_polar_node(p0, p1, breaks, &self.rule, |phi, w| {
-                    let (s, c) = phi.sin_cos();
-                    node(j, s, c, w * s);
-                });
+            arcs = arcs.intersect(*m);
+        }
+        let (a, b) = k.cap.dot_coefficients(s, c);
+        for arc in arcs.as_slice() {
+            let m = self.moments.arc01(j, *arc);
+            // ∫ L (a cos(θ − θn) + b) dθ = b·m0 + a·Re(e^{iθn} m1)
+            *acc += (m.m0 * b + (m.m1[0] * k.cos_t - m.m1[1] * k.sin_t) * a) * ws;
+        }
+    }
+
+    /// Adds row j's polar integral for kernel `k` to `acc` (before the 1/π).
+    #[inline]
+    fn add_row(&self, j: usize, k: &Kernel, acc: &mut Rgb) {
+        let (p0, p1) = (self.grid.phi_edge(j), self.grid.phi_edge(j + 1));
+        let row = &self.rows[j];
+        if row.dark {
+            return;
+        }
+        let nm = self.masks.len();
+        if k.breaks[..2.min(k.nb)].iter().any(|&b| b > p0 && b < p1) {
+            // The kernel's boundary is tangent inside the row: split at every breakpoint,
+            // nodes and mask arcs computed here.
+            let (mut buf, mut heap) = ([None; 4], Vec::new());
+            let arcs: &mut [Option<Arc>] = if nm <= buf.len() {
+                &mut buf[..nm]
             } else {
-                // No cap boundary is tangent inside the row: its arcs keep their shape, so a
-                // row the kernel misses at one node is missed at all of them.
-                let nodes = &self.row_nodes[j];
-                let (s, c, _) = nodes[0];
-                if kernel.arc(s, c).is_none() {
-                    continue;
+                heap.resize(nm, None);
+                &mut heap
+            };
+            for_each_polar_node(p0, p1, &k.breaks[..k.nb], &self.rule, |phi, w| {
+                let (s, c) = phi.sin_cos();
+                for (o, m) in arcs.iter_mut().zip(&self.masks) {
+                    *o = m.arc(s, c);
                 }
-                for &(s, c, ws) in nodes {
-                    node(j, s, c, ws);
-                }
+                self.add_node(j, k, s, c, w * s, arcs, acc);
+            });
+        } else if row.split {
+            for (i, &(s, c, ws)) in row.nodes.iter().enumerate() {
+                self.add_node(j, k, s, c, ws, &row.mask_arcs[i * nm..(i + 1) * nm], acc);
             }
+        } else {
+            // No cap boundary is tangent inside the row: its arcs keep their shape, so a row
+            // the kernel misses at one node is missed at all of them.
+            let (s, c, _) = row.nodes[0];
+            if k.cap.arc(s, c).is_none() {
+                return;
+            }
+            for (i, &(s, c, ws)) in row.nodes.iter().enumerate() {
+                self.add_node(j, k, s, c, ws, &row.mask_arcs[i * nm..(i + 1) * nm], acc);
+            }
+        }
+    }
+
+    /// E/π at unit normal `n`.
+    pub fn irradiance(&self, n: DVec3) -> Rgb {
+        let k = self.kernel(n);
+        let mut acc = Rgb::ZERO;
+        for j in 0..self.grid.height {
+            self.add_row(j, &k, &mut acc);
         }
         acc * FRAC_1_PI
     }
 
-    /// E/π at many normals (in parallel; each value is computed independently, so the result
-    /// does not depend on the thread count).
+    /// E/π at many normals, in parallel batches. A batch runs row by row over all its normals
+    /// (the row's moments stay in cache); each normal still adds its rows, nodes and arcs in
+    /// the order of [`Self::irradiance`], so every value equals it bit for bit and does not
+    /// depend on the thread count.
     pub fn irradiance_many(&self, normals: &[DVec3]) -> Vec<Rgb> {
-        normals.par_iter().with_min_len(64).map(|&n| self.irradiance(n)).collect()
+        let mut out = vec![Rgb::ZERO; normals.len()];
+        out.par_chunks_mut(BATCH).zip(normals.par_chunks(BATCH)).for_each(|(acc, ns)| {
+            let kernels: Vec<Kernel> = ns.iter().map(|&n| self.kernel(n)).collect();
+            for j in 0..self.grid.height {
+                for (k, a) in kernels.iter().zip(acc.iter_mut()) {
+                    self.add_row(j, k, a);
+                }
+            }
+            for a in acc.iter_mut() {
+                *a = *a * FRAC_1_PI;
+            }
+        });
+        out
     }
 
     /// E/π at the centres of a lat-long grid of normals (world orientation, row-major). When
@@ -349,6 +445,35 @@ mod tests {
                 let b2 = brute(&map, 32, n, masks);
                 let (e1, e2) = ((ours - b1).abs().max_element(), (ours - b2).abs().max_element());
                 assert!(e2 < e1 && e2 < 2e-4 * ours.max_element(), "{n}: {e1} {e2} {ours}");
+            }
+        }
+    }
+
+    /// The batched row-by-row path equals the per-normal one bit for bit, with no caps, with
+    /// caps whose breakpoints split rows, and with more masks than the on-the-fly buffer holds.
+    #[test]
+    fn batched_path_equals_per_normal_path() {
+        let map = test_map(64);
+        let rm = RowMoments::new(&map);
+        let c = |x: f64, y: f64, z: f64, cos: f64| Cap::new(DVec3::new(x, y, z).normalize(), cos);
+        let sets = [
+            vec![],
+            vec![c(0.0, 1.0, 0.0, 0.0)],
+            vec![c(0.3, 0.8, -0.2, 0.0), c(0.5, 0.7, 0.1, 0.6)],
+            vec![
+                c(0.3, 0.8, -0.2, 0.0),
+                c(0.5, 0.7, 0.1, -0.3),
+                c(0.1, 0.9, 0.0, 0.2),
+                c(0.0, 1.0, 0.2, 0.1),
+                c(0.2, 1.0, 0.0, 0.3),
+            ],
+        ];
+        let normals = crate::domain::fibonacci_sphere(600);
+        for masks in sets {
+            let r = Reference::new(&rm, masks.clone(), 2);
+            let many = r.irradiance_many(&normals);
+            for (n, v) in normals.iter().zip(&many) {
+                assert_eq!(*v, r.irradiance(*n), "{} masks, n {n}", masks.len());
             }
         }
     }

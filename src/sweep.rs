@@ -333,7 +333,10 @@ pub fn run_map_with(
     for case in &all {
         let grid = case.domain.output_grid(exp.resolution);
         let res_label = format!("{}x{}", grid.resolution.0, grid.resolution.1);
-        let converged = || reference_on(&CaseData::new(&full, case, qc).reference, &grid);
+        let converged = || {
+            let _s = crate::profile::span("sweep: converged reference");
+            reference_on(&CaseData::new(&full, case, qc).reference, &grid)
+        };
         let mut push = |value: &toml::Value,
                         encoder: &str,
                         scores: crate::metrics::Scores,
@@ -369,7 +372,10 @@ pub fn run_map_with(
                     let input = reduced.as_ref().unwrap_or(map);
                     let data = MapData::new(input);
                     let cd = CaseData::new(&data, case, q);
-                    let values = reference_on(&cd.reference, &grid);
+                    let values = {
+                        let _s = crate::profile::span("sweep: swept reference");
+                        reference_on(&cd.reference, &grid)
+                    };
                     let s = score(&conv, &values, &grid.weights, false);
                     let what = if sweep.knob == Knob::RefResolution {
                         format!(
@@ -380,6 +386,7 @@ pub fn run_map_with(
                     } else {
                         format!("reference on {res_label} normals ({q} GL nodes)")
                     };
+                    let _timing = crate::profile::span("sweep: timing repeats");
                     let t = if sweep.knob == Knob::RefResolution {
                         time_slow(|| {
                             let m = crate::moments::RowMoments::new(input);
@@ -390,6 +397,7 @@ pub fn run_map_with(
                             black_box(reference_on(&Reference::new(&full.moments, case.masks.clone(), q), &grid));
                         })
                     };
+                    drop(_timing);
                     // The reduced reference against the converged one: the "reference" row.
                     push(v, "reference", s, t, what, &converged_label, &res_label);
                     for named in &exp.encoders {

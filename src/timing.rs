@@ -7,9 +7,9 @@
 //! - `eval_ns`: the median time of one `Fitted::irradiance`, per normal, over (a subsample of at
 //!   most 4096 of) the normals the row was scored on.
 //!
-//! Method: a call is batched k times, k growing until a batch takes ≥ 50 µs (so timer
-//! resolution is negligible); then the median over R batches (5 ≤ R ≤ 15, as many as fit in
-//! about 1 ms), divided by k. A measurement costs about 1–2 ms for fast encoders (and 5 fits
+//! Method: a call is batched k times, k growing until a batch takes ≥ 25 µs (timer resolution,
+//! tens of ns, is then ≤ 0.2%); then the median over R batches (5 ≤ R ≤ 15, as many as fit in
+//! about 0.4 ms), divided by k. A measurement costs about 0.5 ms for fast encoders (and 5 fits
 //! for slow ones), so the pass stays small next to scoring. Measurements run on the calling thread, one at a time, after the
 //! parallel scoring has finished. They are wall-clock figures on a shared machine: they vary
 //! run to run, which is why the regression check ignores [`TIMING_COLUMNS`](crate::table::TIMING_COLUMNS).
@@ -36,9 +36,9 @@ pub fn enabled() -> bool {
 }
 
 /// A batch must last at least this long.
-const MIN_BATCH: Duration = Duration::from_micros(50);
+const MIN_BATCH: Duration = Duration::from_micros(25);
 /// Aim for about this much time in the repeated batches of one measurement.
-const BUDGET: Duration = Duration::from_millis(1);
+const BUDGET: Duration = Duration::from_micros(400);
 const MIN_REPEATS: usize = 5;
 const MAX_REPEATS: usize = 15;
 /// Normals per eval measurement, at most.

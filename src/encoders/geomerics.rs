@@ -18,7 +18,7 @@
 //! TOML keys: none. Degenerate inputs: R0 ≤ 0 gives 0; R1 = 0 gives the constant R0.
 
 use crate::encoder::{Encoder, FitInput, Fitted, Params};
-use crate::sh::{Rgb, Sh9};
+use crate::sh::{basis, Rgb, Sh9, N_SH};
 use anyhow::Result;
 use glam::DVec3;
 use std::f64::consts::PI;
@@ -49,6 +49,46 @@ impl GeomericsChannel {
         let a = (1.0 - rho) / (1.0 + rho);
         self.scale * self.r0 * (a + (1.0 - a) * (p + 1.0) * q.powf(p))
     }
+
+    /// This channel's E/π split into its SH3 projection (the coefficients of Y₀…Y₈, FORMULAS
+    /// §2) and the energy ∫(E − its SH3 projection)² dω of its bands ≥ 3, both in closed form.
+    ///
+    /// E/π = s·R0·(a + b·q^p) with b = (1 − a)(p + 1) is zonal about u = R̂1 in t = u·n, and
+    /// q = (1 + t)/2. By Funk–Hecke its coefficients are 4π·s·R0·I_l·Y_lm(u), with
+    /// I_l = ∫₀¹ (a + b q^p) P_l(2q − 1) dq: I₀ = a + b/(p + 1), I₁ = b·p/((p + 1)(p + 2)),
+    /// I₂ = b·p(p − 1)/((p + 1)(p + 2)(p + 3)). The energy of bands ≥ 3 is
+    /// ∫E² − Σ_l (2l + 1)·4π(sR0)²I_l² = 4π(sR0)²·b²·h(p), with
+    /// h(p) = p²(p − 1)²(p − 2)² / ((p + 1)²(p + 2)²(p + 3)²(2p + 1)) (derived: the a-terms
+    /// cancel exactly, and the factored form keeps full precision; h = 0 at p = 1 and 2, where
+    /// q^p is a polynomial of degree ≤ 2 in t). Same degenerate answers as [`Self::eval`].
+    pub fn sh3_projection(&self) -> ([f64; N_SH], f64) {
+        let mut d = [0.0; N_SH];
+        if self.r0.is_nan() || self.r0 <= 0.0 {
+            return (d, 0.0);
+        }
+        let len = self.r1.length();
+        let k = 4.0 * PI * self.scale * self.r0;
+        // No R1: the constant s·R0 (ρ = 0 gives a = 1, b = 0, so any axis will do).
+        let (rho, u) = if len == 0.0 { (0.0, DVec3::Z) } else { (len / self.r0, self.r1 / len) };
+        let p = 1.0 + 2.0 * rho;
+        let a = (1.0 - rho) / (1.0 + rho);
+        let b = (1.0 - a) * (p + 1.0);
+        let (p1, p2, p3) = (p + 1.0, p + 2.0, p + 3.0);
+        let i = [a + b / p1, b * p / (p1 * p2), b * p * (p - 1.0) / (p1 * p2 * p3)];
+        let y = basis(u);
+        for (m, (dm, ym)) in d.iter_mut().zip(y).enumerate() {
+            let l = if m == 0 {
+                0
+            } else if m < 4 {
+                1
+            } else {
+                2
+            };
+            *dm = k * i[l] * ym;
+        }
+        let h = (p * (p - 1.0) * (p - 2.0) / (p1 * p2 * p3)).powi(2) / (2.0 * p + 1.0);
+        (d, k * self.scale * self.r0 * b * b * h)
+    }
 }
 
 /// Geomerics from radiance SH, correctly normalised (FORMULAS §6).
@@ -72,6 +112,19 @@ struct GeomericsFit([GeomericsChannel; 3]);
 impl Fitted for GeomericsFit {
     fn irradiance(&self, n: DVec3) -> Rgb {
         Rgb::new(self.0[0].eval(n), self.0[1].eval(n), self.0[2].eval(n))
+    }
+    /// Exact (to rounding) by [`GeomericsChannel::sh3_projection`]: the in-band error is the
+    /// coefficient difference (Parseval), the out-of-band energy is the reconstruction's own.
+    fn sphere_sq_error(&self, reference: &Sh9) -> Option<f64> {
+        let mut se = 0.0;
+        for (c, ch) in self.0.iter().enumerate() {
+            let (d, rest) = ch.sh3_projection();
+            se += rest;
+            for (i, di) in d.iter().enumerate() {
+                se += (di - reference[i][c]).powi(2);
+            }
+        }
+        Some(se)
     }
 }
 
@@ -144,6 +197,89 @@ mod tests {
         let pts = crate::domain::fibonacci_sphere(200_000);
         let mean = pts.iter().map(|&n| ch.eval(n)).sum::<f64>() / pts.len() as f64;
         assert!((mean - e / (4.0 * PI)).abs() < 1e-5 * mean, "{mean}");
+    }
+
+    /// ∫ over the sphere of `f(n)` by a rule aligned with `u`: t = u·n = 2s² − 1 (so the
+    /// reconstruction's (1 + t)^p, singular in a derivative at t = −1, becomes the smooth
+    /// s^(2p+1)), 64 Gauss–Legendre nodes in s, 16 azimuths (exact for the azimuthal
+    /// trigonometric polynomials of degree ≤ 4 that products of SH3 with a zonal function are).
+    fn aligned_integral(u: DVec3, f: impl Fn(DVec3) -> f64) -> f64 {
+        let e1 = u.any_orthonormal_vector();
+        let e2 = u.cross(e1);
+        let mut sum = 0.0;
+        for (x, w) in crate::quadrature::gauss_legendre(64) {
+            let s = 0.5 * (x + 1.0);
+            let t = 2.0 * s * s - 1.0;
+            let r = (1.0 - t * t).max(0.0).sqrt();
+            // dt = 4s ds, ds = dx/2; dω = dt dφ.
+            let wt = w * 0.5 * 4.0 * s;
+            for k in 0..16 {
+                let (sp, cp) = (std::f64::consts::TAU * (k as f64 + 0.25) / 16.0).sin_cos();
+                let n = u * t + (e1 * cp + e2 * sp) * r;
+                sum += wt * (std::f64::consts::TAU / 16.0) * f(n);
+            }
+        }
+        sum
+    }
+
+    /// The closed-form SH3 projection, out-of-band energy and squared error against an SH3
+    /// agree with quadrature of the evaluated reconstruction (`powf`), to 1e-12, for ratios
+    /// |R1|/R0 from 0 to 1 (p = 1…3, including p = 2 where the out-of-band energy vanishes),
+    /// the peer variant and a ratio above 1 (possible for inputs with negative radiance).
+    #[test]
+    fn sh3_projection_and_error_match_quadrature() {
+        let u = DVec3::new(0.3, -0.7, 0.5).normalize();
+        let mut reference = Sh9::ZERO;
+        for i in 0..N_SH {
+            reference[i] = Rgb::new(0.3 - 0.07 * i as f64, 0.1 * (i as f64).sin(), 0.05 * i as f64 - 0.2);
+        }
+        for (rho, scale) in [(0.0, 1.0), (1e-3, 1.0), (0.2, 1.0), (0.5, 1.0), (0.77, 1.0 / PI), (1.0, 1.0), (1.4, 1.0)]
+        {
+            let ch = GeomericsChannel { r0: 0.8, r1: u * (0.8 * rho), scale };
+            let (d, rest) = ch.sh3_projection();
+            let axis = if rho == 0.0 { DVec3::Z } else { u };
+            for (i, di) in d.iter().enumerate() {
+                let want = aligned_integral(axis, |n| ch.eval(n) * basis(n)[i]);
+                assert!((di - want).abs() < 1e-12 * ch.r0, "rho {rho} coefficient {i}: {di} vs {want}");
+            }
+            let energy = aligned_integral(axis, |n| ch.eval(n).powi(2));
+            let in_band: f64 = d.iter().map(|x| x * x).sum();
+            assert!((rest - (energy - in_band)).abs() < 1e-12 * energy, "rho {rho}: {rest} vs {}", energy - in_band);
+            if rho == 0.0 || rho == 0.5 {
+                assert!(rest.abs() < 1e-15 * energy, "rho {rho}: q^p is SH3, rest {rest}");
+            } else if rho >= 0.2 {
+                assert!(rest > 1e-9 * energy, "rho {rho}: rest {rest}");
+            }
+            let fit = GeomericsFit([ch; 3]);
+            let se = fit.sphere_sq_error(&reference).unwrap();
+            let want: f64 =
+                (0..3).map(|c| aligned_integral(axis, |n| (ch.eval(n) - reference.eval(n)[c]).powi(2))).sum();
+            assert!((se - want).abs() < 1e-12 * want, "rho {rho}: {se} vs {want}");
+        }
+        // Degenerate: black gives the reference's own energy (Parseval).
+        let black = GeomericsFit([GeomericsChannel { r0: 0.0, r1: DVec3::X, scale: 1.0 }; 3]);
+        let own: f64 = (0..N_SH).map(|i| reference[i].length_squared()).sum();
+        assert_eq!(black.sphere_sq_error(&reference), Some(own));
+    }
+
+    /// Through the encoder on a real fit: error 0 for a constant environment (exactly SH3).
+    #[test]
+    fn closed_form_error_of_fits() {
+        let sh = constant(Rgb::new(0.5, 1.0, 2.0));
+        let f = enc(false, &sh);
+        assert!(f.sphere_sq_error(&sh.convolve_cosine()).unwrap() < 1e-28);
+        let sh =
+            delta_light(DVec3::new(0.1, 0.9, -0.3).normalize(), Rgb::new(3.0, 2.0, 1.0)) + constant(Rgb::splat(0.2));
+        for peer in [false, true] {
+            let f = enc(peer, &sh);
+            let reference = sh.convolve_cosine();
+            let se = f.sphere_sq_error(&reference).unwrap();
+            // An independent check by a dense Fibonacci set (equal-area points).
+            let pts = crate::domain::fibonacci_sphere(400_000);
+            let mc = pts.iter().map(|&n| (f.irradiance(n) - reference.eval(n)).length_squared()).sum::<f64>()
+                * (4.0 * PI / pts.len() as f64);
+            assert!((se - mc).abs() < 1e-4 * mc, "peer {peer}: {se} vs {mc}");
+        }
     }
 
     #[test]

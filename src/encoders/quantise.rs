@@ -146,6 +146,10 @@ impl Fitted for Quantised {
     fn diagnostics(&self) -> Vec<(&'static str, f64)> {
         vec![("bytes", self.1 as f64)]
     }
+    /// The decoded coefficients are an SH irradiance, evaluated as one.
+    fn sh3(&self) -> Option<Sh9> {
+        self.0.sh3()
+    }
 }
 
 pub fn build_sh1_q13(p: &mut Params) -> Result<Box<dyn Encoder>> {

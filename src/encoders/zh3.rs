@@ -225,6 +225,11 @@ impl Fitted for Zh3Fit {
     fn diagnostics(&self) -> Vec<(&'static str, f64)> {
         self.diagnostics.clone()
     }
+    /// Every variant (hallucinated, stored, solved, quantised) is evaluated as its SH3
+    /// expansion (FORMULAS §5), so it is exactly that SH3.
+    fn sh3(&self) -> Option<Sh9> {
+        Some(self.sh)
+    }
 }
 
 impl Zh3Encoder {
