@@ -354,7 +354,6 @@ pub fn write_results(root: &Path, out: &Path, exp: &Experiment, report: &runner:
         }
     }
     Ok(ok)
-
 }
 
 /// Writes results/<name>/maps.csv: the map files the table was computed from, with their

@@ -4,6 +4,7 @@
 pub mod geomerics;
 pub mod probe_occlusion;
 pub mod quantise;
+pub mod self_bounce;
 pub mod sh;
 pub mod zh3;
 pub mod zh3_solve;
@@ -89,6 +90,11 @@ pub const REGISTRY: &[EncoderKind] = &[
         id: "zh3_hallucinate_solved",
         summary: "ZH3 hallucinated from a solved L1, shared axis",
         build: zh3::build_hallucinate_solved,
+    },
+    EncoderKind {
+        id: "with_self_bounce",
+        summary: "inner encoder + (1 - H) albedo I_z self-bounce",
+        build: self_bounce::build,
     },
 ];
 
