@@ -61,7 +61,7 @@ pub fn hemisphere_gram() -> Mat9 {
 
 /// The traceless symmetric M with ω·Mω = Σ_{band 2} f_i·Y_i(ω) on the unit sphere, for one
 /// channel (3z² − 1 = 2z² − x² − y² there).
-fn quadratic_form(f: &Sh9, ch: usize) -> DMat3 {
+pub(crate) fn quadratic_form(f: &Sh9, ch: usize) -> DMat3 {
     let [f4, f5, f6, f7, f8] = [f[4][ch], f[5][ch], f[6][ch], f[7][ch], f[8][ch]];
     let h = 0.5 * k::Y2_XY;
     let (xx, yy, zz) = (-k::Y20 * f6 + k::Y22 * f8, -k::Y20 * f6 - k::Y22 * f8, 2.0 * k::Y20 * f6);

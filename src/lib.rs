@@ -13,6 +13,7 @@ pub mod envmap;
 pub mod experiment;
 pub mod gram;
 pub mod hallucination_fit;
+pub mod lightmap;
 pub mod metrics;
 pub mod moments;
 pub mod probeset;
