@@ -117,3 +117,25 @@ fn committed_generated_maps_are_current() {
         assert_eq!(fresh.texels(), committed.texels(), "{} differs: run `probelab gen-envmaps`", s.id);
     }
 }
+
+/// Every lightmap encoder runs one-off on a hemisphere domain (issue 4), with the same CSV
+/// columns as on the sphere; on the constant map AHD with the hemispherical Gram is exact (H1).
+#[test]
+fn lightmap_encoders_run_on_a_hemisphere_domain() {
+    let all = "ahd_linear_sphere,ahd_linear_hemi,ahd_search_sphere,ahd_search_hemi,ahd_irradz_2018,\
+               hhd_linear_sphere,hhd_linear_hemi,hhd_search_sphere,hhd_search_hemi,hhd_from_sh1";
+    let out = probelab(&["eval", "gen_constant", "--encoders", all, "--domain", "hemisphere:+y"], None);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(text.starts_with("map,encoder,domain,metric,rmse_r,rmse_g,rmse_b,rmse,rel_rmse"));
+    let rows = parse_csv(&text);
+    assert_eq!(rows.len(), 10);
+    for r in &rows {
+        assert_eq!(r["domain"], "hemisphere:+y");
+        let rmse: f64 = r["rmse"].parse().unwrap();
+        assert!(rmse.is_finite());
+        if ["ahd_linear_hemi", "ahd_search_hemi", "ahd_irradz_2018"].contains(&r["encoder"].as_str()) {
+            assert!(rmse < 1e-6, "{}: {rmse}", r["encoder"]);
+        }
+    }
+}

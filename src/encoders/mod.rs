@@ -1,7 +1,10 @@
 //! The encoder registry: one line per encoder kind. Adding an encoder means adding its file
 //! and one entry here; nothing else in the program names an encoder.
 
+pub mod ahd;
 pub mod geomerics;
+pub mod hhd;
+pub mod lightmap;
 pub mod probe_occlusion;
 pub mod quantise;
 pub mod self_bounce;
@@ -91,6 +94,44 @@ pub const REGISTRY: &[EncoderKind] = &[
         summary: "ZH3 hallucinated from a solved L1, shared axis",
         build: zh3::build_hallucinate_solved,
     },
+    EncoderKind { id: "ahd_linear_sphere", summary: "AHD, L1 direction, sphere Gram", build: ahd::build_linear_sphere },
+    EncoderKind { id: "ahd_linear_hemi", summary: "AHD, L1 direction, hemisphere Gram", build: ahd::build_linear_hemi },
+    EncoderKind {
+        id: "ahd_search_sphere",
+        summary: "AHD, golden-section tilt, sphere Gram",
+        build: ahd::build_search_sphere,
+    },
+    EncoderKind {
+        id: "ahd_search_hemi",
+        summary: "AHD, golden-section tilt, hemisphere Gram",
+        build: ahd::build_search_hemi,
+    },
+    EncoderKind {
+        id: "ahd_irradz_2018",
+        summary: "AHD, I_z fixed, 2018 null-space fit",
+        build: ahd::build_irradz_2018,
+    },
+    EncoderKind {
+        id: "hhd_linear_sphere",
+        summary: "HHD IrradZ, L1 direction, sphere Gram",
+        build: hhd::build_linear_sphere,
+    },
+    EncoderKind {
+        id: "hhd_linear_hemi",
+        summary: "HHD IrradZ, L1 direction, hemisphere Gram",
+        build: hhd::build_linear_hemi,
+    },
+    EncoderKind {
+        id: "hhd_search_sphere",
+        summary: "HHD IrradZ, golden-section tilt, sphere Gram",
+        build: hhd::build_search_sphere,
+    },
+    EncoderKind {
+        id: "hhd_search_hemi",
+        summary: "HHD IrradZ, golden-section tilt, hemisphere Gram",
+        build: hhd::build_search_hemi,
+    },
+    EncoderKind { id: "hhd_from_sh1", summary: "HHD from linear SH, talk's closed form", build: hhd::build_from_sh1 },
     EncoderKind {
         id: "with_self_bounce",
         summary: "inner encoder + (1 - H) albedo I_z self-bounce",

@@ -7,6 +7,7 @@
 //! storage), `from_sh1` (HHD from linear SH), `lune` (closed-form moments over the hemisphere,
 //! the sphere and their lunes).
 
+pub mod fit;
 pub mod from_sh1;
 pub mod irradz;
 pub mod lune;
