@@ -212,8 +212,9 @@ mod tests {
             for deg in 1..90 {
                 let alpha = (deg as f64).to_radians();
                 let (tp, peak) = ahd_peak(alpha, rule);
+                // A 1e-4 sampling of t (it misses a sharp peak near 90° by ~½ f″ h², < 1e-5).
                 let best = (0..=10000).map(|i| ahd_at_normal(alpha, rule, i as f64 / 1e4)).fold(0.0, f64::max);
-                assert!(peak >= best - 1e-12 && peak - best < 1e-7, "{rule:?} {deg}: {peak} vs {best}");
+                assert!(peak >= best - 1e-12 && peak - best < 1e-5, "{rule:?} {deg}: {peak} vs {best}");
                 if tp > 0.0 {
                     let h = 1e-5;
                     let d = ahd_at_normal(alpha, rule, tp + h) - ahd_at_normal(alpha, rule, tp - h);
