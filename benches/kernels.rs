@@ -45,6 +45,7 @@ fn encoders(c: &mut Criterion) {
         surface_normal: Some(DVec3::Y),
         cone: None,
         exact_at_normal: Some(inp.exact_at_normal),
+        surface_albedo: None,
     };
     let normals = fibonacci_sphere(1024);
     let mut g = c.benchmark_group("encoder");

@@ -118,6 +118,7 @@ fn ops(c: &mut Criterion<CpuTime>) {
                 surface_normal: Some(n),
                 cone: Some(cone),
                 exact_at_normal: None,
+                surface_albedo: None,
             })
             .collect();
         g.throughput(Throughput::Elements(inputs.len() as u64));
@@ -134,6 +135,7 @@ fn ops(c: &mut Criterion<CpuTime>) {
             surface_normal: Some(shade_n),
             cone: Some((cone_centre(shade_n, 30.0), 0.5)),
             exact_at_normal: None,
+            surface_albedo: None,
         });
         g.throughput(Throughput::Elements(shaded.len() as u64));
         g.bench_function(format!("{id}/eval per normal"), |b| {

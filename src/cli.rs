@@ -125,9 +125,9 @@ pub enum Command {
         #[arg(long, default_value = "rec709")]
         axis: String,
     },
-    /// Measure a set of paper claims (zh3) and write results/<set>_claims/claims.csv and CLAIMS.md.
+    /// Measure a set of paper claims (zh3, lightmap) and write results/<set>_claims/claims.csv and CLAIMS.md.
     Claims {
-        /// The claim set: zh3.
+        /// The claim set: zh3 or lightmap.
         set: String,
         /// Output folder (default: <root>/results).
         #[arg(long)]
@@ -264,6 +264,13 @@ pub fn main_with(cli: Cli) -> Result<i32> {
                 None => None,
             };
             print!("{}", crate::hallucination_fit::run(&search, &maps, probe_file, &axis, cubic)?);
+            Ok(0)
+        }
+        Command::Claims { set, out } if set == "lightmap" => {
+            let dir = results(out).join("lightmap_claims");
+            let report = crate::lightmap_claims::run(&search)?;
+            crate::lightmap_claims::write(&report, &dir)?;
+            eprintln!("wrote {} (claims.csv, CLAIMS.md, fig2*.csv, blend*.csv, real_maps.csv)", dir.display());
             Ok(0)
         }
         Command::Claims { set, out } => {

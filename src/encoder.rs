@@ -29,12 +29,23 @@ pub struct FitInput<'a> {
     pub cone: Option<(DVec3, f64)>,
     /// Exact irradiance E/π at N under the declared effects (a bake's I_z), when N exists.
     pub exact_at_normal: Option<Rgb>,
+    /// The albedo ρ of the surface below the horizon when the `self_bounce` effect is
+    /// declared (the material's, known at shading time; not part of the bake). `None` without
+    /// the effect: encoders that model the bounce then add nothing.
+    pub surface_albedo: Option<f64>,
 }
 
 impl<'a> FitInput<'a> {
     /// The input for a probe on the sphere: no surface, no effects.
     pub fn sphere(sh: &'a Sh9) -> Self {
-        FitInput { probe_sh: sh, visible_sh: sh, surface_normal: None, cone: None, exact_at_normal: None }
+        FitInput {
+            probe_sh: sh,
+            visible_sh: sh,
+            surface_normal: None,
+            cone: None,
+            exact_at_normal: None,
+            surface_albedo: None,
+        }
     }
 }
 
@@ -181,6 +192,13 @@ impl Params {
             }
             Some(v) => bail!("key '{key}': expected [r, g, b] or 'rec709'/'equal', got {v}"),
         }
+    }
+
+    /// The raw value of an optional key (for settings that are themselves tables, such as a
+    /// wrapped encoder), marking it read.
+    pub fn value(&mut self, key: &str) -> Option<toml::Value> {
+        self.used.push(key.into());
+        self.table.get(key).cloned()
     }
 
     /// Fails if any key was not read.

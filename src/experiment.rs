@@ -10,7 +10,7 @@
 //! | `metrics`      | [string]                  | `["exact"]`    | `exact`, `probulator` |
 //! | `domain`       | string                    | `"sphere"`     | `sphere` or `hemisphere` (n′ over the hemisphere about each N) |
 //! | `orientations` | [string]                  | `[]`           | surface normals N: `+x` … `-z`, `up`, `axes6`, `fibonacciN` |
-//! | `effects`      | [string or table]         | `[]`           | `"hemisphere"`, `{ kind = "cone", cos_alpha = [..], tilt_deg = [..] }` |
+//! | `effects`      | [string or table]         | `[]`           | `"hemisphere"`, `{ kind = "cone", cos_alpha = [..], tilt_deg = [..] }`, `{ kind = "self_bounce", albedo = [..] }` (needs `hemisphere`) |
 //! | `resolution`   | [W, H]                    | `[256, 128]`   | output lat-long grid of normals for the `exact` metric |
 //! | `polar_nodes`  | integer                   | 2              | Gauss–Legendre nodes per row piece of the reference |
 //! | `ci`           | bool                      | true           | whether the CI check re-runs it |
@@ -79,6 +79,12 @@ pub enum Effect {
     /// Only light inside the cone of cos α about C counts, C being N tilted by `tilt_deg`
     /// towards the tangent of N's frame (the image of +X under the rotation taking +Y to N).
     Cone { cos_alpha: Vec<f64>, tilt_deg: Vec<f64> },
+    /// Self-bounce (hemispherical-lighting talk): the surface below the horizon is an infinite
+    /// Lambertian plane of albedo ρ lit by the exact I_z, so it reflects the uniform radiance
+    /// ρ·I_z (E/π units) from every direction below the horizon, and the reference gains
+    /// ρ·I_z·(1 − H(n′)), H(n′) = (1 + n′·N)/2 (`runner::CaseData`). One case per albedo;
+    /// needs the `hemisphere` effect.
+    SelfBounce { albedo: Vec<f64> },
 }
 
 /// The domain of output normals.
@@ -207,7 +213,19 @@ impl Experiment {
         let variants = effects.iter().try_fold(orientations.len().max(1), |n: usize, e| match e {
             Effect::Hemisphere => Some(n),
             Effect::Cone { cos_alpha, tilt_deg } => n.checked_mul(cos_alpha.len())?.checked_mul(tilt_deg.len()),
+            Effect::SelfBounce { albedo } => n.checked_mul(albedo.len()),
         });
+        if effects.iter().any(|e| matches!(e, Effect::SelfBounce { .. })) {
+            if !effects.contains(&Effect::Hemisphere) {
+                bail!(
+                    "effects: 'self_bounce' needs the hemisphere effect (the bounce is the light of the surface \
+                     below the horizon); add \"hemisphere\" to effects"
+                );
+            }
+            if effects.iter().filter(|e| matches!(e, Effect::SelfBounce { .. })).count() > 1 {
+                bail!("effects: 'self_bounce' appears twice; list every albedo in one entry");
+            }
+        }
         match variants {
             Some(n) if n <= MAX_CASES => {}
             _ => bail!(
@@ -279,7 +297,10 @@ fn parse_effect(e: EffectEntry) -> Result<Effect> {
     };
     match e {
         EffectEntry::Name(n) if n == "hemisphere" => Ok(Effect::Hemisphere),
-        EffectEntry::Name(n) => bail!("effects: unknown effect '{n}' (valid: hemisphere, cone)"),
+        EffectEntry::Name(n) if n == "self_bounce" => {
+            bail!("effects: 'self_bounce' needs an albedo: {{ kind = \"self_bounce\", albedo = [0.2, 0.5, 0.8] }}")
+        }
+        EffectEntry::Name(n) => bail!("effects: unknown effect '{n}' (valid: hemisphere, cone, self_bounce)"),
         EffectEntry::Table(t) => match t.get("kind").and_then(|v| v.as_str()) {
             Some("hemisphere") if t.len() == 1 => Ok(Effect::Hemisphere),
             Some("cone") => {
@@ -299,8 +320,24 @@ fn parse_effect(e: EffectEntry) -> Result<Effect> {
                 }
                 Ok(Effect::Cone { cos_alpha, tilt_deg })
             }
-            Some(k) => bail!("effects: unknown effect kind '{k}' (valid: hemisphere, cone)"),
-            None => bail!("effects: a table entry needs kind = \"hemisphere\" or \"cone\""),
+            Some("self_bounce") => {
+                if let Some(k) = t.keys().find(|k| !["kind", "albedo"].contains(&k.as_str())) {
+                    bail!("effects: self_bounce has unknown key '{k}' (valid: albedo)");
+                }
+                if !t.contains_key("albedo") {
+                    bail!("effects: 'self_bounce' needs 'albedo' (a number or a list, each in [0, 1])");
+                }
+                let albedo = floats(&t, "albedo")?;
+                if albedo.is_empty() {
+                    bail!("effects: self_bounce 'albedo' needs at least one value");
+                }
+                if let Some(a) = albedo.iter().find(|a| !(0.0..=1.0).contains(*a)) {
+                    bail!("effects: self_bounce 'albedo' {a} must lie in [0, 1]");
+                }
+                Ok(Effect::SelfBounce { albedo })
+            }
+            Some(k) => bail!("effects: unknown effect kind '{k}' (valid: hemisphere, cone, self_bounce)"),
+            None => bail!("effects: a table entry needs kind = \"hemisphere\", \"cone\" or \"self_bounce\""),
         },
     }
 }

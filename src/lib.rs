@@ -14,6 +14,7 @@ pub mod experiment;
 pub mod gram;
 pub mod hallucination_fit;
 pub mod lightmap;
+pub mod lightmap_claims;
 pub mod metrics;
 pub mod moments;
 pub mod probeset;

@@ -36,6 +36,8 @@ pub struct Case {
     pub masks: Vec<Cap>,
     pub normal: Option<DVec3>,
     pub cone: Option<(DVec3, f64)>,
+    /// The albedo ρ of the surface below the horizon under the `self_bounce` effect.
+    pub albedo: Option<f64>,
 }
 
 /// The cases an experiment declares.
@@ -49,6 +51,7 @@ pub fn cases(exp: &Experiment) -> Vec<Case> {
             masks: vec![],
             normal: None,
             cone: None,
+            albedo: None,
         }];
     }
     let mut out = Vec::new();
@@ -59,17 +62,24 @@ pub fn cases(exp: &Experiment) -> Vec<Case> {
             DomainKind::Hemisphere => (Domain::Hemisphere { normal: n }, format!("hemisphere:{}", o.label)),
         };
         // Effect variants: the cartesian product of every effect's parameter lists.
-        let mut variants: Vec<(Vec<Cap>, Vec<String>, Option<(DVec3, f64)>)> = vec![(vec![], vec![], None)];
+        let mut variants: Vec<Variant> = vec![(vec![], vec![], None, None)];
         for e in &exp.effects {
             let mut next = Vec::new();
-            for (masks, labels, cone) in &variants {
+            for (masks, labels, cone, albedo) in &variants {
                 match e {
                     Effect::Hemisphere => {
                         let mut m = masks.clone();
                         m.push(Cap::hemisphere(n));
                         let mut l = labels.clone();
                         l.push("hemisphere".into());
-                        next.push((m, l, *cone));
+                        next.push((m, l, *cone, *albedo));
+                    }
+                    Effect::SelfBounce { albedo: values } => {
+                        for &a in values {
+                            let mut l = labels.clone();
+                            l.push(format!("self_bounce(albedo={a})"));
+                            next.push((masks.clone(), l, *cone, Some(a)));
+                        }
                     }
                     Effect::Cone { cos_alpha, tilt_deg } => {
                         for &t in tilt_deg {
@@ -79,7 +89,7 @@ pub fn cases(exp: &Experiment) -> Vec<Case> {
                                 m.push(Cap::new(c, ca));
                                 let mut l = labels.clone();
                                 l.push(format!("cone(cos={ca},tilt={t}deg)"));
-                                next.push((m, l, Some((c, ca))));
+                                next.push((m, l, Some((c, ca)), *albedo));
                             }
                         }
                     }
@@ -87,7 +97,7 @@ pub fn cases(exp: &Experiment) -> Vec<Case> {
             }
             variants = next;
         }
-        for (masks, labels, cone) in variants {
+        for (masks, labels, cone, albedo) in variants {
             out.push(Case {
                 domain: domain.clone(),
                 domain_label: domain_label.clone(),
@@ -96,11 +106,15 @@ pub fn cases(exp: &Experiment) -> Vec<Case> {
                 masks,
                 normal: Some(n),
                 cone,
+                albedo,
             });
         }
     }
     out
 }
+
+/// One effect combination while the cartesian product is built: caps, labels, cone, albedo.
+type Variant = (Vec<Cap>, Vec<String>, Option<(DVec3, f64)>, Option<f64>);
 
 /// The cone centre: N tilted by `tilt_deg` towards the tangent of N's frame (the image of +X
 /// under the rotation taking +Y to N).
@@ -212,6 +226,42 @@ impl<'a> CaseData<'a> {
             surface_normal: self.case.normal,
             cone: self.case.cone,
             exact_at_normal: self.exact_at_normal,
+            surface_albedo: self.case.albedo,
+        }
+    }
+
+    /// The reference E/π at `normals`: the exact irradiance under the case's caps plus, under
+    /// the `self_bounce` effect, the light of the surface below the horizon.
+    pub fn reference_many(&self, normals: &[DVec3]) -> Vec<Rgb> {
+        let mut v = self.reference.irradiance_many(normals);
+        self.add_self_bounce(normals, &mut v);
+        v
+    }
+
+    /// The reference E/π on an output grid (the fast lat-long path where it applies), with the
+    /// self-bounce as in [`CaseData::reference_many`].
+    pub fn reference_on(&self, grid: &OutputGrid) -> Vec<Rgb> {
+        let mut v = match grid.latlong {
+            Some(ll) => self.reference.irradiance_latlong(ll),
+            None => self.reference.irradiance_many(&grid.normals),
+        };
+        self.add_self_bounce(&grid.normals, &mut v);
+        v
+    }
+
+    /// Self-bounce (hemispherical-lighting talk; `Effect::SelfBounce`). The model: the surface
+    /// below the horizon is an infinite Lambertian plane of albedo ρ, lit by the exact
+    /// irradiance at N (I_z, E/π units, so the plane's irradiance is π·I_z); it reflects the
+    /// uniform radiance ρ·I_z into every direction below the horizon. A uniform radiance L
+    /// over the half-space ω·N < 0 gives E/π = L·(1 − H(n′)) at a normal n′, with
+    /// H(n′) = (1 + n′·N)/2 the hemisphere light; so the reference gains
+    /// ρ·I_z·(1 − H(n′)). Nothing is added without the effect.
+    fn add_self_bounce(&self, normals: &[DVec3], values: &mut [Rgb]) {
+        let (Some(rho), Some(n), Some(iz)) = (self.case.albedo, self.case.normal, self.exact_at_normal) else {
+            return;
+        };
+        for (v, &np) in values.iter_mut().zip(normals) {
+            *v += iz * (rho * (1.0 - np.dot(n)) * 0.5);
         }
     }
 }
@@ -252,10 +302,7 @@ fn run_case(exp: &Experiment, data: &MapData, case: &Case) -> Vec<Row> {
         if !grids.iter().any(|g| g.0 == res && g.1 == sphere) {
             let grid = domain.output_grid(res);
             let _s = crate::profile::span("reference");
-            let values = match grid.latlong {
-                Some(ll) => reference.irradiance_latlong(ll),
-                None => reference.irradiance_many(&grid.normals),
-            };
+            let values = cd.reference_on(&grid);
             grids.push((res, sphere, grid, values));
         }
         let (_, _, grid, ref_values) = grids.iter().find(|g| g.0 == res && g.1 == sphere).expect("grid just added");
@@ -309,6 +356,93 @@ fn run_case(exp: &Experiment, data: &MapData, case: &Case) -> Vec<Row> {
 mod tests {
     use super::*;
     use crate::domain::expand_orientations;
+
+    /// Self-bounce on a constant map of radiance A (FORMULAS §8; `Effect::SelfBounce`). The
+    /// visible light is A over the upper hemisphere about N, so the exact E/π is A·H(n′) with
+    /// H(n′) = (1 + n′·N)/2 and I_z = A·H(N) = A; the bounce adds ρ·A·(1 − H(n′)). So the
+    /// reference is A·(H + ρ(1 − H)) in closed form. The wrapper around sh2 (whose L2 SH
+    /// irradiance of a hemisphere step is exact: its even bands ≥ 2 vanish) is then exact,
+    /// and sh2 alone misses exactly ρ·A·(1 − H), whose solid-angle RMS over the hemisphere
+    /// about N is ρ·A·√(∫₀¹ ((1 − μ)/2)² dμ) = ρ·A/√12.
+    #[test]
+    fn self_bounce_on_a_constant_map_is_the_closed_form() {
+        let a = Rgb::new(0.7, 1.1, 0.4);
+        let (w, h) = (64, 32);
+        let map = EnvMap::new("const", w, h, vec![[a.x as f32, a.y as f32, a.z as f32]; w * h]).unwrap();
+        let a = Rgb::new(0.7f32 as f64, 1.1f32 as f64, 0.4f32 as f64);
+        let text = "maps = ['const']\nencoders = ['sh2', { kind = 'with_self_bounce', inner = 'sh2', name = 'sb' }]\n\
+                    domain = 'hemisphere'\norientations = ['axes6']\nresolution = [64, 32]\npolar_nodes = 8\n\
+                    effects = ['hemisphere', { kind = 'self_bounce', albedo = [0.0, 0.5, 0.8] }]\n";
+        let exp = Experiment::parse(text, std::path::Path::new("t.toml")).unwrap();
+        let data = MapData::new(&map);
+        let all = cases(&exp);
+        assert_eq!(all.len(), 18);
+        for case in &all {
+            let (n, rho) = (case.normal.unwrap(), case.albedo.unwrap());
+            assert_eq!(case.effects_label, format!("hemisphere+self_bounce(albedo={rho})"));
+            let cd = CaseData::new(&data, case, exp.polar_nodes);
+            let grid = case.domain.output_grid(exp.resolution);
+            let plain = cd.reference.irradiance_many(&grid.normals);
+            for ((np, got), p) in grid.normals.iter().zip(cd.reference_on(&grid)).zip(plain) {
+                let hn = 0.5 * (1.0 + np.dot(n));
+                // The added term to rounding; the whole against the closed form within the
+                // reference's polar quadrature where a wall's horizon cuts the rows (8 nodes:
+                // 1.2e-9; the default 2: 1e-6).
+                let bounce = a * (rho * (1.0 - hn));
+                assert!((got - p - bounce).abs().max_element() < 1e-14, "N={n} n'={np}");
+                let want = a * (hn + rho * (1.0 - hn));
+                assert!((got - want).abs().max_element() < 1e-8, "N={n} n'={np}: {got} vs {want}");
+            }
+        }
+        let rows = run_map(&exp, &map);
+        assert_eq!(rows.len(), 36);
+        for r in &rows {
+            let rho: f64 = r.effects.split("albedo=").nth(1).unwrap().trim_end_matches(')').parse().unwrap();
+            let case = all.iter().find(|c| c.domain_label == r.domain && c.albedo == Some(rho)).unwrap();
+            let grid = case.domain.output_grid(exp.resolution);
+            // The missing term's RMS with the grid's own solid-angle weights (the table's
+            // quadrature), and its continuous value ρ·|A|/√3/√12 (the 16-row grid is 1.4e-3 off).
+            let n = case.normal.unwrap();
+            let (mut num, mut den) = (0.0, 0.0);
+            for (np, w) in grid.normals.iter().zip(&grid.weights) {
+                let miss = rho * 0.5 * (1.0 - np.dot(n));
+                num += w * miss * miss;
+                den += w;
+            }
+            let on_grid = (num / den).sqrt() * a.length() / 3f64.sqrt();
+            let continuous = rho * a.length() / 3f64.sqrt() / 12f64.sqrt();
+            assert!((on_grid - continuous).abs() <= 5e-3 * continuous.max(1e-300) + 1e-15, "{on_grid} vs {continuous}");
+            let want = if r.encoder == "sb" { 0.0 } else { on_grid };
+            assert!(
+                (r.scores.rmse - want).abs() < 1e-8,
+                "{} {} {}: {} vs {want}",
+                r.encoder,
+                r.domain,
+                r.effects,
+                r.scores.rmse
+            );
+        }
+    }
+
+    #[test]
+    fn self_bounce_needs_the_hemisphere_and_a_valid_albedo() {
+        let err = |effects: &str| {
+            let text = format!(
+                "maps = ['a']\nencoders = ['sh2']\norientations = ['up']\ndomain = 'hemisphere'\neffects = {effects}\n"
+            );
+            format!("{:#}", Experiment::parse(&text, std::path::Path::new("e.toml")).err().expect("must fail"))
+        };
+        let e = err("[{ kind = 'self_bounce', albedo = 0.5 }]");
+        assert!(e.starts_with("e.toml:5:") && e.contains("needs the hemisphere effect"), "{e}");
+        assert!(err("['hemisphere', { kind = 'self_bounce', albedo = 1.5 }]").contains("must lie in [0, 1]"));
+        assert!(err("['hemisphere', { kind = 'self_bounce' }]").contains("needs 'albedo'"));
+        assert!(err("['hemisphere', { kind = 'self_bounce', albedo = [] }]").contains("at least one"));
+        assert!(err("['hemisphere', { kind = 'self_bounce', albedo = 0.5, x = 1 }]").contains("unknown key 'x'"));
+        assert!(err("['hemisphere', 'self_bounce']").contains("needs an albedo"));
+        let twice =
+            err("['hemisphere', { kind = 'self_bounce', albedo = 0.5 },\n { kind = 'self_bounce', albedo = 0.2 }]");
+        assert!(twice.contains("twice"), "{twice}");
+    }
 
     /// The cone centre is N tilted by exactly `tilt_deg`, for every orientation (including the
     /// poles, where `frame_to` has its degenerate antiparallel case), and unit length.

@@ -335,7 +335,7 @@ pub fn run_map_with(
         let res_label = format!("{}x{}", grid.resolution.0, grid.resolution.1);
         let converged = || {
             let _s = crate::profile::span("sweep: converged reference");
-            reference_on(&CaseData::new(&full, case, qc).reference, &grid)
+            CaseData::new(&full, case, qc).reference_on(&grid)
         };
         let mut push = |value: &toml::Value,
                         encoder: &str,
@@ -374,7 +374,7 @@ pub fn run_map_with(
                     let cd = CaseData::new(&data, case, q);
                     let values = {
                         let _s = crate::profile::span("sweep: swept reference");
-                        reference_on(&cd.reference, &grid)
+                        cd.reference_on(&grid)
                     };
                     let s = score(&conv, &values, &grid.weights, false);
                     let what = if sweep.knob == Knob::RefResolution {
@@ -426,9 +426,9 @@ pub fn run_map_with(
                     let res = parse_res_value(v, false)?.expect("WxH");
                     let grid = case.domain.output_grid(res);
                     let label = format!("{}x{}", grid.resolution.0, grid.resolution.1);
-                    let values = reference_on(&cd.reference, &grid);
+                    let values = cd.reference_on(&grid);
                     // The reference is shared by every encoder: time it once.
-                    let t_ref = time_slow(|| drop(black_box(reference_on(&cd.reference, &grid))));
+                    let t_ref = time_slow(|| drop(black_box(cd.reference_on(&grid))));
                     for (named, fit) in exp.encoders.iter().zip(&fits) {
                         let test: Vec<Rgb> = grid.normals.par_iter().map(|&n| fit.irradiance(n)).collect();
                         let s = score(&values, &test, &grid.weights, false);
@@ -444,7 +444,7 @@ pub fn run_map_with(
             }
             Knob::EncoderKey(_) => {
                 let cd = CaseData::new(&full, case, exp.polar_nodes);
-                let values = reference_on(&cd.reference, &grid);
+                let values = cd.reference_on(&grid);
                 for v in &sweep.values {
                     let encoders = encoders_at(v)?;
                     let input = cd.fit_input();

@@ -917,7 +917,7 @@ pub fn write(r: &ClaimsReport, dir: &Path) -> Result<()> {
 /// The claim sets `probelab claims` knows.
 pub fn check_set(set: &str) -> Result<()> {
     if set != "zh3" {
-        bail!("claims: unknown set '{set}' (known: zh3)");
+        bail!("claims: unknown set '{set}' (known: zh3, lightmap)");
     }
     Ok(())
 }
@@ -949,7 +949,7 @@ mod tests {
 
     #[test]
     fn unknown_set() {
-        assert!(check_set("hemi").unwrap_err().to_string().contains("known: zh3"));
+        assert!(check_set("hemi").unwrap_err().to_string().contains("known: zh3, lightmap"));
         check_set("zh3").unwrap();
     }
 }

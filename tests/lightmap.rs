@@ -214,6 +214,7 @@ fn h6_round_trip_through_the_encoder() {
             surface_normal: Some(n),
             cone: None,
             exact_at_normal: Some(m.i_z()),
+            surface_albedo: None,
         };
         let f = e.fit(&input);
         for w in Domain::Sphere.output_grid((16, 8)).normals {

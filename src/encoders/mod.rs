@@ -7,6 +7,7 @@ pub mod hhd;
 pub mod lightmap;
 pub mod probe_occlusion;
 pub mod quantise;
+pub mod self_bounce;
 pub mod sh;
 pub mod zh3;
 pub mod zh3_solve;
@@ -131,6 +132,11 @@ pub const REGISTRY: &[EncoderKind] = &[
         build: hhd::build_search_hemi,
     },
     EncoderKind { id: "hhd_from_sh1", summary: "HHD from linear SH, talk's closed form", build: hhd::build_from_sh1 },
+    EncoderKind {
+        id: "with_self_bounce",
+        summary: "inner encoder + (1 - H) albedo I_z self-bounce",
+        build: self_bounce::build,
+    },
 ];
 
 /// The ids of every registered encoder, comma-separated (for error messages).

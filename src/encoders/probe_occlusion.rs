@@ -428,7 +428,14 @@ mod tests {
     use crate::sh::constant;
 
     fn input<'a>(sh: &'a Sh9, n: DVec3, cone: Option<(DVec3, f64)>) -> FitInput<'a> {
-        FitInput { probe_sh: sh, visible_sh: sh, surface_normal: Some(n), cone, exact_at_normal: None }
+        FitInput {
+            probe_sh: sh,
+            visible_sh: sh,
+            surface_normal: Some(n),
+            cone,
+            exact_at_normal: None,
+            surface_albedo: None,
+        }
     }
 
     fn enc(id: &str) -> Box<dyn Encoder> {

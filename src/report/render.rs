@@ -696,10 +696,7 @@ pub fn experiment_sheet(exp: &Experiment, map: &EnvMap, table: Option<&CsvTable>
             // The scored grid: the exact metric over the case's domain at the experiment's
             // resolution, as the runner scores it.
             let grid = case.domain.output_grid(exp.resolution);
-            let ref_grid = match grid.latlong {
-                Some(ll) => cd.reference.irradiance_latlong(ll),
-                None => cd.reference.irradiance_many(&grid.normals),
-            };
+            let ref_grid = cd.reference_on(&grid);
             let f = fitted
                 .iter()
                 .map(|f| {
@@ -719,7 +716,7 @@ pub fn experiment_sheet(exp: &Experiment, map: &EnvMap, table: Option<&CsvTable>
         Domain::Sphere => vec![View::front(), View::top()],
     };
     let discs: Vec<Disc> = views.iter().map(|v| Disc::new(v, DISC as usize)).collect();
-    let reference: Vec<Vec<Rgb>> = discs.iter().map(|d| cd.reference.irradiance_many(&d.normals)).collect();
+    let reference: Vec<Vec<Rgb>> = discs.iter().map(|d| cd.reference_many(&d.normals)).collect();
     let values: Vec<Vec<Vec<Rgb>>> = fitted
         .iter()
         .map(|f| {

@@ -247,6 +247,7 @@ impl Input {
             surface_normal: self.surface.as_ref().map(|s| s.normal),
             cone: self.surface.as_ref().and_then(|s| s.cone),
             exact_at_normal: self.exact_at_normal,
+            surface_albedo: None,
         }
     }
 
