@@ -270,3 +270,26 @@ fn search_reports_iterations() {
     assert!(encoder("hhd_search_hemi", "").is_iterative() && !encoder("hhd_linear_hemi", "").is_iterative());
     let _ = PI;
 }
+
+/// The 2-D search is never worse than the θ search in its own objective, so on a scene whose
+/// best direction is off the L1 azimuth (two lights of different colours weighted unequally)
+/// its hemisphere error is no larger (to the grid's error), and it reports more evaluations.
+#[test]
+fn search_2d_is_no_worse_than_theta_only() {
+    let lights = Lighting(vec![
+        Light::Ambient(Rgb::splat(0.2)),
+        Light::Delta { dir: dir(40.0, 0.0), e: Rgb::new(6.0, 0.5, 0.5) },
+        Light::Delta { dir: dir(30.0, 100.0), e: Rgb::new(0.5, 0.5, 6.0) },
+    ]);
+    for n in NORMALS {
+        let input = Input::new(&lights, Some(&Surface::hemisphere(n.normalize())));
+        for kind in ["ahd_search_hemi", "hhd_search_hemi"] {
+            let one = encoder(kind, "").fit(&input.fit_input());
+            let two = encoder(kind, "search = 'theta_phi'").fit(&input.fit_input());
+            let (e1, e2) = (hemi_rmse(one.as_ref(), &input), hemi_rmse(two.as_ref(), &input));
+            assert!(e2 <= e1 * 1.001 + 1e-9, "{kind} N={n}: 2-D {e2} vs θ-only {e1}");
+            let evals = |f: &dyn Fitted| f.diagnostics().into_iter().find(|(k, _)| *k == "evals").unwrap().1;
+            assert!(evals(two.as_ref()) > evals(one.as_ref()));
+        }
+    }
+}

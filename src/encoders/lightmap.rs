@@ -13,6 +13,8 @@
 //! | `direction_weights` | as `weights` | channel weights of the linear L1 direction (default rec709, FORMULAS §4) |
 //! | `iterations` | integer | golden-section iterations, searched encoders (default 30) |
 //! | `tolerance_rad` | > 0 | stop when the θ bracket is narrower (default 1e-6) |
+//! | `search` | `theta`, `theta_phi` | searched encoders: golden section in θ at the L1 azimuth (default), or alternating θ and φ (2-D) |
+//! | `rounds` | integer | `theta_phi`: alternations of φ and θ (default 2) |
 //!
 //! Diagnostics: `theta_deg` (tilt of d from N), and for searched encoders `iters`, `evals`;
 //! `fallback` = 1 when the pure-ambient fallback was used (see `lightmap::fit`).
@@ -85,7 +87,11 @@ pub fn build(id: &'static str, def: Defaults, p: &mut Params) -> Result<Box<dyn 
         if tolerance <= 0.0 {
             bail!("key 'tolerance_rad': expected a positive number, got {tolerance}");
         }
-        Direction::Search { iterations, tolerance }
+        match p.str_or("search", "theta")?.as_str() {
+            "theta" => Direction::Search { iterations, tolerance },
+            "theta_phi" => Direction::Search2d { iterations, tolerance, rounds: p.usize_or("rounds", 2)? },
+            s => bail!("key 'search': expected 'theta' or 'theta_phi', got '{s}'"),
+        }
     } else {
         Direction::Linear
     };
@@ -114,7 +120,7 @@ impl Encoder for LightmapEncoder {
         let r = fit(&self.spec, input);
         let model = Texel::encode(&r.model, self.storage).decode();
         let mut diagnostics = vec![("theta_deg", r.theta.to_degrees())];
-        if matches!(self.spec.direction, Direction::Search { .. }) {
+        if self.is_iterative() {
             diagnostics.push(("iters", r.iterations as f64));
             diagnostics.push(("evals", r.evaluations as f64));
         }
@@ -124,7 +130,7 @@ impl Encoder for LightmapEncoder {
         Box::new(LightmapFit { model, diagnostics })
     }
     fn is_iterative(&self) -> bool {
-        matches!(self.spec.direction, Direction::Search { .. })
+        matches!(self.spec.direction, Direction::Search { .. } | Direction::Search2d { .. })
     }
     /// Colours are clamped non-negative and both basis functions are ≥ 0 on the sphere.
     fn promises_non_negative(&self) -> bool {

@@ -73,6 +73,13 @@ pub enum Direction {
         iterations: usize,
         tolerance: f64,
     },
+    /// The same in θ, then alternating golden sections in the azimuth φ (over ±90° about the
+    /// current azimuth, at the current θ) and in θ, `rounds` times (the 2-D search).
+    Search2d {
+        iterations: usize,
+        tolerance: f64,
+        rounds: usize,
+    },
 }
 
 /// Everything that defines a fit.
@@ -111,6 +118,12 @@ impl Frame {
         };
         let e1 = if e1.is_finite() { e1 } else { n.any_orthonormal_pair().0 };
         Frame { e1, e2: n.cross(e1), e3: n }
+    }
+    /// The frame turned by φ about N.
+    pub fn turned(&self, phi: f64) -> Self {
+        let (s, c) = phi.sin_cos();
+        let e1 = self.e1 * c + self.e2 * s;
+        Frame { e1, e2: self.e3.cross(e1), e3: self.e3 }
     }
     /// d at tilt θ from N towards e1.
     pub fn direction(&self, t: Angle) -> DVec3 {
@@ -337,7 +350,7 @@ pub fn solve(spec: &FitSpec, domain: &Domain, target: &dyn Target, i_z: Rgb, the
             let colour = eval(theta_lin);
             Solved { theta: theta_lin, colour, iterations: 0, evaluations: evals }
         }
-        Direction::Search { iterations, tolerance } => {
+        Direction::Search { iterations, tolerance } | Direction::Search2d { iterations, tolerance, .. } => {
             let (mut a, mut b) = (0.0, spec.max_tilt);
             let mut x1 = b - INV_PHI * (b - a);
             let mut x2 = a + INV_PHI * (b - a);
@@ -429,7 +442,57 @@ pub fn fit(spec: &FitSpec, input: &FitInput) -> FitResult {
     .max(Rgb::ZERO);
     let spec_here = if search { *spec } else { FitSpec { direction: Direction::Linear, ..*spec } };
     let theta_lin = if search { theta_lin } else { 0.0 };
-    let s = solve(&spec_here, &domain, &target, i_z, theta_lin);
+    let mut s = solve(&spec_here, &domain, &target, i_z, theta_lin);
+    let mut frame = frame;
+    if let (true, Direction::Search2d { iterations, tolerance, rounds }) = (search, spec.direction) {
+        let (mut iters, mut evals) = (s.iterations, s.evaluations);
+        for _ in 0..rounds {
+            // φ: golden section over ±90° about the current azimuth at the current θ.
+            let theta = Angle::new(s.theta);
+            let at = |p: f64| {
+                let f = frame.turned(p);
+                colours_at(spec, &domain, &QuadraticTarget::new(&sh, &f, &domain.moments), i_z, theta)
+            };
+            let half = std::f64::consts::FRAC_PI_2;
+            let (mut a, mut b) = (-half, half);
+            let (mut x1, mut x2) = (b - INV_PHI * (b - a), a + INV_PHI * (b - a));
+            let (mut f1, mut f2) = (at(x1), at(x2));
+            evals += 2;
+            let mut k = 0;
+            while k < iterations && b - a > tolerance {
+                k += 1;
+                evals += 1;
+                if f1.objective <= f2.objective {
+                    b = x2;
+                    (x2, f2) = (x1, f1);
+                    x1 = b - INV_PHI * (b - a);
+                    f1 = at(x1);
+                } else {
+                    a = x1;
+                    (x1, f1) = (x2, f2);
+                    x2 = a + INV_PHI * (b - a);
+                    f2 = at(x2);
+                }
+            }
+            iters += k;
+            let (p, fp) = if f1.objective <= f2.objective { (x1, f1) } else { (x2, f2) };
+            if fp.objective >= s.colour.objective {
+                break;
+            }
+            // θ again at the new azimuth.
+            let turned = frame.turned(p);
+            let t2 = QuadraticTarget::new(&sh, &turned, &domain.moments);
+            let s2 = solve(spec, &domain, &t2, i_z, s.theta);
+            iters += s2.iterations;
+            evals += s2.evaluations;
+            let better =
+                if s2.colour.objective <= fp.objective { s2 } else { Solved { theta: s.theta, colour: fp, ..s2 } };
+            frame = turned;
+            s = better;
+        }
+        s.iterations = iters;
+        s.evaluations = evals;
+    }
     let d = frame.direction(Angle::new(s.theta));
     let model = Model {
         basis: spec.basis,
