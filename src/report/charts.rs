@@ -526,6 +526,13 @@ pub fn knob_value(s: &str) -> Option<f64> {
     v.is_finite().then_some(v)
 }
 
+/// Whether a CSV is a blending study: `t`, `method`, and E/π at N (`irradiance_at_n_r/_g/_b`
+/// or `luma_at_normal`), whatever its name.
+pub fn is_blend(t: &CsvTable) -> bool {
+    ["t", "method"].iter().all(|h| t.col(h).is_some())
+        && (t.col("luma_at_normal").is_some() || t.col("irradiance_at_n_r").is_some())
+}
+
 /// Whether a CSV is a sweep (it has `knob`, `value` and `rmse` columns), whatever its name.
 pub fn is_sweep(t: &CsvTable) -> bool {
     ["knob", "value", "rmse"].iter().all(|h| t.col(h).is_some())
@@ -535,10 +542,24 @@ pub fn is_sweep(t: &CsvTable) -> bool {
 /// 4; the 2018 brief's Fig. 2). One chart per `set` value when that column exists. The caption
 /// gives each method's overshoot beyond both endpoints.
 pub fn blend_charts(t: &CsvTable) -> Result<Vec<(String, Outcome)>> {
-    let cols = t.require(&["t", "method", "irradiance_at_n_r", "irradiance_at_n_g", "irradiance_at_n_b"])?;
-    let [tc, mc, r, g, b] = cols[..] else { unreachable!() };
+    let [tc, mc] = t.require(&["t", "method"])?[..] else { unreachable!() };
+    // E/π at N as RGB (luminance taken here) or as a luminance already.
+    let rgb = ["irradiance_at_n_r", "irradiance_at_n_g", "irradiance_at_n_b"].map(|h| t.col(h));
+    let luma = t.col("luma_at_normal");
+    if rgb.iter().any(|c| c.is_none()) && luma.is_none() {
+        t.require(&["irradiance_at_n_r", "irradiance_at_n_g", "irradiance_at_n_b"])?;
+    }
+    let at_n = |i: usize| -> Result<Option<f64>> {
+        if let [Some(r), Some(g), Some(b)] = rgb {
+            let (Some(x), Some(y), Some(z)) = (t.num(i, r)?, t.num(i, g)?, t.num(i, b)?) else { return Ok(None) };
+            return Ok(Some(luminance(Rgb::new(x, y, z))));
+        }
+        t.num(i, luma.expect("checked"))
+    };
+    // The blended reference: a method of its own, or a column beside every method's rows.
+    let refc = t.col("reference_luma_at_normal");
     let rc = t.col("rmse");
-    let sc = t.col("set");
+    let sc = t.col("set").or(t.col("pair"));
     let all: Vec<usize> = (0..t.rows.len()).collect();
     let sets = match sc {
         Some(c) => distinct(t, &all, c),
@@ -550,13 +571,24 @@ pub fn blend_charts(t: &CsvTable) -> Result<Vec<(String, Outcome)>> {
         let mut irr = Vec::new();
         let mut err = Vec::new();
         let mut notes = Vec::new();
-        for (k, m) in distinct(t, &rows, mc).into_iter().enumerate() {
+        let mut methods = distinct(t, &rows, mc);
+        if refc.is_some() {
+            methods.push("reference".into());
+        }
+        let first = methods.first().cloned().unwrap_or_default();
+        for (k, m) in methods.into_iter().enumerate() {
             let mut a = Vec::new();
             let mut e = Vec::new();
-            for &i in rows.iter().filter(|&&i| t.rows[i][mc] == m) {
+            let from_column = refc.is_some() && m == "reference";
+            let picked = if from_column { &first } else { &m };
+            for &i in rows.iter().filter(|&&i| t.rows[i][mc] == *picked) {
                 let Some(tv) = t.num(i, tc)? else { continue };
-                let (Some(x), Some(y), Some(z)) = (t.num(i, r)?, t.num(i, g)?, t.num(i, b)?) else { continue };
-                a.push((tv, luminance(Rgb::new(x, y, z))));
+                let v = if from_column { t.num(i, refc.expect("checked"))? } else { at_n(i)? };
+                let Some(v) = v else { continue };
+                a.push((tv, v));
+                if from_column {
+                    continue;
+                }
                 if let Some(v) = rc.map(|c| t.num(i, c)).transpose()?.flatten() {
                     e.push((tv, v));
                 }
@@ -655,6 +687,24 @@ mod tests {
         assert!(
             matches!(rmse_bars(&t, "x").unwrap(), Outcome::Drawn { caption, .. } if caption.contains("mean over the 2"))
         );
+    }
+
+    #[test]
+    fn blend_csv_of_the_lightmap_study() {
+        // Luminance at N per method, the reference in its own column, sets by `pair`.
+        let b = csv("pair,method,t,rmse,luma_at_normal,reference_luma_at_normal\np,ahd,0,0,1,1\np,ahd,0.5,0.1,1.5,1.1\n\
+             p,ahd,1,0,1.2,1.2\np,sh2,0,0,1,1\np,sh2,0.5,0.05,1.1,1.1\np,sh2,1,0,1.2,1.2\n");
+        let charts = blend_charts(&b).unwrap();
+        assert_eq!(charts.len(), 1);
+        assert_eq!(charts[0].0, "p");
+        match &charts[0].1 {
+            Outcome::Drawn { caption, .. } => {
+                assert!(caption.contains("ahd: overshoot 0.300"), "{caption}");
+                assert!(caption.contains("sh2: overshoot 0") && caption.contains("reference: overshoot 0"), "{caption}");
+            }
+            Outcome::Skipped(w) => panic!("{w}"),
+        }
+        assert!(blend_charts(&csv("t,method\n0,a\n")).unwrap_err().to_string().contains("irradiance_at_n_r"));
     }
 
     #[test]

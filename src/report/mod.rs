@@ -6,7 +6,7 @@
 //! - the table (`table.csv`) as a map × encoder rmse pivot, a timing summary when `*_ns`
 //!   columns exist, and the whole table;
 //! - charts: rmse bars, error against `fit_ns` (when that column exists), one convergence
-//!   chart per knob of every sweep CSV (any CSV with `knob`, `value`, `rmse` columns), the blending chart of every `blend*.csv`;
+//!   chart per knob of every sweep CSV (any CSV with `knob`, `value`, `rmse` columns), the blending chart of every blending CSV (`t`, `method`, E/π at N);
 //! - comparison sheets (`sheet_<map>.png`), drawn when every map of the experiment is on the
 //!   search path; otherwise the committed sheets are kept and linked;
 //! - other pictures and files found in the folder (e.g. a blending strip) are linked, so work
@@ -341,7 +341,7 @@ fn section(
                     }
                 }
             }
-        } else if f.starts_with("blend") {
+        } else if charts::is_blend(&t) {
             for (set, o) in charts::blend_charts(&t)? {
                 let file = if set.is_empty() {
                     format!("chart_{}.png", file_safe(stem))

@@ -806,30 +806,37 @@ pub fn experiment_sheet(exp: &Experiment, map: &EnvMap, table: Option<&CsvTable>
     Ok((sheet, scores))
 }
 
-/// One method's reconstructions along t, for a blending strip.
-pub struct BlendRow<'a> {
+/// One method's reconstructions along t, for a blending strip: E/π at the strip's normals
+/// ([`strip_normals`]), one vector per t.
+pub struct BlendRow {
     pub method: String,
-    /// One fitted encoding per t (the same length as the strip's `ts`).
-    pub steps: Vec<&'a dyn Fitted>,
+    pub values: Vec<Vec<Rgb>>,
 }
 
 /// Disc diameter in blending strips.
 pub const STRIP_DISC: u32 = 72;
 
+/// The normals of a strip's discs (looking down `n`), in the order [`BlendRow::values`] uses:
+/// evaluate every reconstruction, and the blended reference, at these.
+pub fn strip_normals(n: DVec3) -> Vec<DVec3> {
+    Disc::new(&View::down(n, ""), STRIP_DISC as usize).normals
+}
+
 /// A strip of lit hemispheres along t for each blending method: one row per method, one disc
 /// (looking down N) per t. Exposure: the first row's pixel-mean luminance → 0.5 (put the
 /// blended reference first); the same tone curve for every disc. For the lightmap blending
-/// experiment (issue 4), which calls this and writes the PNG next to its `blend.csv`.
+/// study (issue 4), which calls this and writes the PNG next to its `blend.csv`.
 pub fn blend_strip(title: &str, n: DVec3, n_label: &str, ts: &[f64], rows: &[BlendRow]) -> Result<RgbImage> {
-    if rows.iter().any(|r| r.steps.len() != ts.len()) {
-        anyhow::bail!("blend strip '{title}': every method needs one reconstruction per t ({} values)", ts.len());
-    }
     let view = View::down(n, n_label);
     let disc = Disc::new(&view, STRIP_DISC as usize);
-    let values: Vec<Vec<Vec<Rgb>>> = rows
-        .iter()
-        .map(|r| r.steps.iter().map(|f| disc.normals.iter().map(|&m| f.irradiance(m)).collect()).collect())
-        .collect();
+    if rows.iter().any(|r| r.values.len() != ts.len() || r.values.iter().any(|v| v.len() != disc.normals.len())) {
+        anyhow::bail!(
+            "blend strip '{title}': every method needs one reconstruction per t ({} values) at the {} strip normals",
+            ts.len(),
+            disc.normals.len()
+        );
+    }
+    let values: Vec<&Vec<Vec<Rgb>>> = rows.iter().map(|r| &r.values).collect();
     let first: Vec<Rgb> = values.first().map(|r| r.concat()).unwrap_or_default();
     let mean =
         if first.is_empty() { 0.0 } else { first.iter().map(|c| luminance(*c)).sum::<f64>() / first.len() as f64 };
@@ -1047,9 +1054,11 @@ mod tests {
         let ts = [0.0, 0.5, 1.0];
         let blended: Vec<crate::sh::Sh9> = ts.iter().map(|&t| a * (1.0 - t) + b * t).collect();
         let enc = crate::encoders::build("sh1", None, toml::Table::new()).unwrap().encoder;
+        let normals = strip_normals(DVec3::Y);
         let fits: Vec<Box<dyn Fitted>> =
             blended.iter().map(|s| enc.fit(&crate::encoder::FitInput::sphere(s))).collect();
-        let row = BlendRow { method: "sh1 of blended SH".into(), steps: fits.iter().map(|f| f.as_ref()).collect() };
+        let values = fits.iter().map(|f| normals.iter().map(|&m| f.irradiance(m)).collect()).collect();
+        let row = BlendRow { method: "sh1 of blended SH".into(), values };
         let img = blend_strip("test", DVec3::Y, "+y", &ts, &[row]).unwrap();
         let cell = STRIP_DISC + 8;
         assert_eq!(img.width(), 2 * MARGIN + 150 + 3 * cell);
@@ -1057,7 +1066,7 @@ mod tests {
         assert_eq!(img.height(), head + (cell + 4) + MARGIN);
         let centre = |k: u32| img.get_pixel(MARGIN + 150 + k * cell + 4 + STRIP_DISC / 2, head + 4 + STRIP_DISC / 2).0;
         assert_ne!(centre(0), centre(2), "the two ends differ");
-        let bad = BlendRow { method: "x".into(), steps: vec![fits[0].as_ref()] };
+        let bad = BlendRow { method: "x".into(), values: vec![vec![Rgb::ZERO; normals.len()]] };
         assert!(blend_strip("t", DVec3::Y, "+y", &ts, &[bad]).is_err());
     }
 
