@@ -150,7 +150,7 @@ impl<'a> Reference<'a> {
     /// One node's contribution: the clamped cosine of `k` on the parallel (s, c) of row j,
     /// integrated exactly in azimuth over its arc inside every mask (`mask_arcs`, one per mask).
     #[inline]
-    fn add_node(&self, j: usize, k: &Kernel, s: f64, c: f64, ws: f64, mask_arcs: &[Option<Arc>], acc: &mut Rgb) {
+    fn add_node(&self, j: usize, k: &Kernel, (s, c, ws): (f64, f64, f64), mask_arcs: &[Option<Arc>], acc: &mut Rgb) {
         let mut arcs = Arcs::full().intersect(k.cap.arc(s, c));
         for m in mask_arcs {
             if arcs.is_empty() {
@@ -190,11 +190,11 @@ impl<'a> Reference<'a> {
                 for (o, m) in arcs.iter_mut().zip(&self.masks) {
                     *o = m.arc(s, c);
                 }
-                self.add_node(j, k, s, c, w * s, arcs, acc);
+                self.add_node(j, k, (s, c, w * s), arcs, acc);
             });
         } else if row.split {
             for (i, &(s, c, ws)) in row.nodes.iter().enumerate() {
-                self.add_node(j, k, s, c, ws, &row.mask_arcs[i * nm..(i + 1) * nm], acc);
+                self.add_node(j, k, (s, c, ws), &row.mask_arcs[i * nm..(i + 1) * nm], acc);
             }
         } else {
             // No cap boundary is tangent inside the row: its arcs keep their shape, so a row
@@ -204,7 +204,7 @@ impl<'a> Reference<'a> {
                 return;
             }
             for (i, &(s, c, ws)) in row.nodes.iter().enumerate() {
-                self.add_node(j, k, s, c, ws, &row.mask_arcs[i * nm..(i + 1) * nm], acc);
+                self.add_node(j, k, (s, c, ws), &row.mask_arcs[i * nm..(i + 1) * nm], acc);
             }
         }
     }
@@ -233,7 +233,7 @@ impl<'a> Reference<'a> {
                 }
             }
             for a in acc.iter_mut() {
-                *a = *a * FRAC_1_PI;
+                *a *= FRAC_1_PI;
             }
         });
         out
