@@ -157,7 +157,11 @@ fn h1() -> Result<Claim> {
     })
 }
 
-fn h2() -> Result<(Claim, Vec<(f64, f64, f64, f64, f64)>)> {
+/// One tilt of H2: (tilt°, max abs error of hhd_from_sh1, hhd_search_hemi, ahd_search_hemi,
+/// ahd_irradz_2018).
+type H2Row = (f64, f64, f64, f64, f64);
+
+fn h2() -> Result<(Claim, Vec<H2Row>)> {
     let mut rows = Vec::new();
     for deg in [20.0, 50.0, 80.0] {
         let n = DVec3::Y;
@@ -273,7 +277,7 @@ fn mean(v: impl IntoIterator<Item = f64>) -> f64 {
 
 const PLAIN: &str = "hemisphere+self_bounce(albedo=0)";
 
-fn h4(rows: &[Row], h2rows: &[(f64, f64, f64, f64, f64)]) -> Claim {
+fn h4(rows: &[Row], h2rows: &[H2Row]) -> Claim {
     let a = rows_of(rows, "ahd_search_hemi", PLAIN);
     let h = rows_of(rows, "hhd_search_hemi", PLAIN);
     let ratios: Vec<f64> = a.iter().zip(&h).map(|(a, h)| h.scores.rmse / a.scores.rmse).collect();
