@@ -51,6 +51,7 @@ fn main() {
             surface_normal: Some(*n),
             cone: None,
             exact_at_normal: Some(*iz),
+            surface_albedo: None,
         })
         .collect();
     let batches = 300;
