@@ -2,7 +2,8 @@
 //! hemispherical-lighting talk 2024, directional-lightmap brief 2018), measured and written as
 //! `results/lightmap_claims/` by `probelab claims lightmap`: `fig2.csv`, `fig2_summary.csv`
 //! (Fig. 2 in closed form, `fig2.rs`), `blend.csv`, `blend_summary.csv` (five blending pairs,
-//! `blend.rs`), `real_maps.csv` (the five paper probes through the runner), `claims.csv` and
+//! `blend.rs`; `blend_strip_<pair>.png`, lit hemispheres along t per method), `real_maps.csv`
+//! (the five paper probes through the runner), `claims.csv` and
 //! `CLAIMS.md`.
 //!
 //! Unless a figure says otherwise it is E/π, the solid-angle RMSE over the hemisphere about N
@@ -42,7 +43,7 @@ pub struct Claim {
 /// Everything `probelab claims lightmap` writes.
 pub struct Report {
     pub claims: Vec<Claim>,
-    pub files: Vec<(&'static str, Vec<u8>)>,
+    pub files: Vec<(String, Vec<u8>)>,
 }
 
 fn csv_bytes(header: &[&str], rows: impl IntoIterator<Item = Vec<String>>) -> Result<Vec<u8>> {
@@ -518,28 +519,65 @@ fn h5(blends: &[blend::BlendSummary]) -> Claim {
     }
 }
 
+/// The blending strip of one pair (issue 6): lit hemispheres along t = 0, 0.1, …, 1, the
+/// blended exact reference first, then each reconstruction of `blend::METHODS`.
+fn blend_strip(
+    pair: &blend::Pair,
+    bl: &blend::Blend,
+    strip: &[DVec3],
+    ref_a: &[Rgb],
+    ref_b: &[Rgb],
+) -> Result<Vec<u8>> {
+    use crate::report::render::{blend_strip, png_bytes, BlendRow};
+    let ts: Vec<f64> = (0..=10).map(|i| i as f64 / 10.0).collect();
+    let mut rows = vec![BlendRow {
+        method: "reference".into(),
+        values: ts.iter().map(|&t| ref_a.iter().zip(ref_b).map(|(x, y)| *x * (1.0 - t) + *y * t).collect()).collect(),
+    }];
+    for m in blend::METHODS {
+        rows.push(BlendRow {
+            method: m.into(),
+            values: ts
+                .iter()
+                .map(|&t| {
+                    let f = bl.method(m, t);
+                    strip.iter().map(|&n| f(n)).collect()
+                })
+                .collect(),
+        });
+    }
+    let title = format!("blending {}: {}", pair.id, pair.description);
+    png_bytes(&blend_strip(&title, pair.normal, pair.normal_label, &ts, &rows)?)
+}
+
 /// Runs every study (the five paper probes must be on the search path).
 pub fn run(search: &SearchPath) -> Result<Report> {
     crate::timing::set_enabled(false);
     let mut files = Vec::new();
     // Fig. 2.
     let (fig2_csv, fig2_sum_csv, fig2_summary) = fig2_files()?;
-    files.push(("fig2.csv", fig2_csv));
-    files.push(("fig2_summary.csv", fig2_sum_csv));
+    files.push(("fig2.csv".into(), fig2_csv));
+    files.push(("fig2_summary.csv".into(), fig2_sum_csv));
     // Blending.
     let (mut rows, mut sums) = (Vec::new(), Vec::new());
+    let mut strips = Vec::new();
     for pair in blend::pairs() {
         let grid = Domain::Hemisphere { normal: pair.normal }.output_grid(blend::GRID);
-        let a = blend::bake(search, &pair.a, pair.normal, pair.normal_label, &grid.normals)?;
-        let b = blend::bake(search, &pair.b, pair.normal, pair.normal_label, &grid.normals)?;
+        // The scored grid, then the strip's normals (the reference there is drawn, not scored).
+        let strip = crate::report::render::strip_normals(pair.normal);
+        let normals: Vec<DVec3> = grid.normals.iter().chain(&strip).copied().collect();
+        let mut a = blend::bake(search, &pair.a, pair.normal, pair.normal_label, &normals)?;
+        let mut b = blend::bake(search, &pair.b, pair.normal, pair.normal_label, &normals)?;
+        let (strip_a, strip_b) = (a.reference.split_off(grid.normals.len()), b.reference.split_off(grid.normals.len()));
         let bl = blend::Blend::new(pair.normal, a, b);
         let (r, s) = blend::study(&pair, &bl, &grid.normals, &grid.weights);
         rows.extend(r);
         sums.extend(s);
+        strips.push((format!("blend_strip_{}.png", pair.id), blend_strip(&pair, &bl, &strip, &strip_a, &strip_b)?));
     }
     let context = ["exact occluded reference, blended linearly", "hemisphere about N", "solid-angle", "128x32", "E/pi"];
     files.push((
-        "blend.csv",
+        "blend.csv".into(),
         csv_bytes(
             &[
                 "pair",
@@ -575,7 +613,7 @@ pub fn run(search: &SearchPath) -> Result<Report> {
         .map(|p| (p.id.to_string(), format!("{} (N = {})", p.description, p.normal_label)))
         .collect();
     files.push((
-        "blend_summary.csv",
+        "blend_summary.csv".into(),
         csv_bytes(
             &[
                 "pair",
@@ -619,7 +657,7 @@ pub fn run(search: &SearchPath) -> Result<Report> {
     if !report.missing.is_empty() {
         bail!("lightmap claims: map(s) not found: {}", report.missing.join(", "));
     }
-    files.push(("real_maps.csv", crate::table::to_csv(&report.rows)?));
+    files.push(("real_maps.csv".into(), crate::table::to_csv(&report.rows)?));
     // Constructed scenes for D1.
     let scenes: Vec<Scene> = [20.0, 50.0, 80.0]
         .iter()
@@ -639,6 +677,7 @@ pub fn run(search: &SearchPath) -> Result<Report> {
         d1,
         d2,
     ];
+    files.extend(strips);
     Ok(Report { claims, files })
 }
 

@@ -692,7 +692,8 @@ mod tests {
     #[test]
     fn blend_csv_of_the_lightmap_study() {
         // Luminance at N per method, the reference in its own column, sets by `pair`.
-        let b = csv("pair,method,t,rmse,luma_at_normal,reference_luma_at_normal\np,ahd,0,0,1,1\np,ahd,0.5,0.1,1.5,1.1\n\
+        let b =
+            csv("pair,method,t,rmse,luma_at_normal,reference_luma_at_normal\np,ahd,0,0,1,1\np,ahd,0.5,0.1,1.5,1.1\n\
              p,ahd,1,0,1.2,1.2\np,sh2,0,0,1,1\np,sh2,0.5,0.05,1.1,1.1\np,sh2,1,0,1.2,1.2\n");
         let charts = blend_charts(&b).unwrap();
         assert_eq!(charts.len(), 1);
@@ -700,7 +701,10 @@ mod tests {
         match &charts[0].1 {
             Outcome::Drawn { caption, .. } => {
                 assert!(caption.contains("ahd: overshoot 0.300"), "{caption}");
-                assert!(caption.contains("sh2: overshoot 0") && caption.contains("reference: overshoot 0"), "{caption}");
+                assert!(
+                    caption.contains("sh2: overshoot 0") && caption.contains("reference: overshoot 0"),
+                    "{caption}"
+                );
             }
             Outcome::Skipped(w) => panic!("{w}"),
         }
