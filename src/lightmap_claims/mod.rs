@@ -684,11 +684,35 @@ pub fn run(search: &SearchPath) -> Result<Report> {
 /// claims.csv.
 pub fn to_csv(claims: &[Claim]) -> Result<Vec<u8>> {
     csv_bytes(
-        &["id", "claim", "our_figure", "holds", "notes"],
-        claims
-            .iter()
-            .map(|c| vec![c.id.into(), c.claim.into(), c.our_figure.clone(), c.holds.clone(), c.notes.clone()]),
+        &["id", "claim", "paper_figure", "our_figure", "holds", "notes"],
+        claims.iter().map(|c| {
+            vec![
+                c.id.into(),
+                c.claim.into(),
+                paper_figure(c.id).into(),
+                c.our_figure.clone(),
+                c.holds.clone(),
+                c.notes.clone(),
+            ]
+        }),
     )
+}
+
+/// What the papers give for each claim (`shared/papers/`): none of them has a per-map table,
+/// so most are qualitative or a single example.
+pub fn paper_figure(id: &str) -> &'static str {
+    match id {
+        "H1" => "exact: C_a = C_d = A/2, d = N (talk; no number)",
+        "H2" => "AHD inexact, HHD 'trivial and exact' (talk; images)",
+        "H4" => "'really pretty minor'; either can win (talk; no number)",
+        "H5" => "'pretty far' vs 'a much closer match' (talk; images)",
+        "H6" => "closed form, same number of free parameters (talk; no number)",
+        "H7" => "Fig. 2 (2018 brief): blended AHD overshoots, IrradZ is linear in I_z",
+        "H10" => "'costs almost nothing', 'a big difference' for high albedo (talk; images)",
+        "D1" => "exact at the normal (2018 brief, eq. 7)",
+        "D2" => "constrained fit exact at N (2018 brief, Fig. 3; no number)",
+        _ => "-",
+    }
 }
 
 /// CLAIMS.md.
@@ -733,6 +757,13 @@ mod tests {
         let (c, rows) = h2().unwrap();
         assert!(rows.iter().all(|r| r.1 <= 1e-6 && r.3 > 1e-3), "{}", c.our_figure);
         assert_eq!(h6().holds, "yes");
+    }
+
+    #[test]
+    fn every_claim_states_the_papers_figure() {
+        for id in ["H1", "H2", "H4", "H5", "H6", "H7", "H10", "D1", "D2"] {
+            assert_ne!(paper_figure(id), "-", "{id}");
+        }
     }
 
     #[test]
