@@ -219,7 +219,7 @@ impl Params {
 /// Channel weightings by name: `rec709` (0.2126, 0.7152, 0.0722) or `equal` (⅓ each).
 pub fn named_weights(s: &str) -> Result<Rgb> {
     match s {
-        "rec709" => Ok(Rgb::new(0.2126, 0.7152, 0.0722)),
+        "rec709" => Ok(crate::sh::REC709),
         "equal" => Ok(Rgb::splat(1.0 / 3.0)),
         _ => bail!("unknown weighting '{s}' (expected rec709, equal or [r, g, b])"),
     }

@@ -434,7 +434,7 @@ impl Rng {
 
 /// Rec.709 luminance.
 pub fn luminance(c: Rgb) -> f64 {
-    c.dot(Rgb::new(0.2126, 0.7152, 0.0722))
+    c.dot(crate::sh::REC709)
 }
 
 /// The probe synthesiser (see the module doc).

@@ -522,7 +522,7 @@ mod tests {
             exact_i_z: true,
         }
     }
-    const REC709_W: Rgb = Rgb::new(0.2126, 0.7152, 0.0722);
+    const REC709_W: Rgb = crate::sh::REC709;
 
     /// The tangent-space quadratic is the SH irradiance, at random points.
     #[test]

@@ -23,8 +23,7 @@ use crate::sh::{Rgb, Sh9};
 use glam::DVec3;
 use std::f64::consts::PI;
 
-/// Rec.709 luminance weights (FORMULAS §4).
-pub const REC709: Rgb = Rgb::new(0.2126, 0.7152, 0.0722);
+pub use crate::sh::REC709;
 
 /// The HHD whose linear radiance SH is `sh` (bands 0–1 are read), about the unit normal N.
 pub fn hhd_from_linear_sh(sh: &Sh9, normal: DVec3) -> Model {

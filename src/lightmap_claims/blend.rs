@@ -40,8 +40,7 @@ use std::f64::consts::PI;
 
 /// The output grid (lat-long W×H; the hemisphere takes its upper H/2 rows).
 pub const GRID: (usize, usize) = (128, 64);
-/// Rec.709 luminance weights (FORMULAS §4).
-pub const REC709: Rgb = Rgb::new(0.2126, 0.7152, 0.0722);
+pub use crate::sh::REC709;
 
 /// One bake: a map (optionally turned 180° about +Y) and optionally a white delta light.
 #[derive(Clone, Debug)]
@@ -239,23 +238,18 @@ impl Blend {
     /// The reconstruction of `method` at t, as a function of the normal.
     pub fn method(&self, method: &str, t: f64) -> Box<dyn Fn(DVec3) -> Rgb + '_> {
         let lerp_sh = |x: &Sh9, y: &Sh9| *x * (1.0 - t) + *y * t;
+        let texels = match method {
+            "ahd_params" => Some((&self.ahd, Storage::Raw)),
+            "hhd_params" => Some((&self.hhd, Storage::Raw)),
+            "ahd_irradz" => Some((&self.ahd, Storage::IrradzRgb)),
+            "hhd_irradz" => Some((&self.hhd, Storage::IrradzRgb)),
+            _ => None,
+        };
+        if let Some((models, storage)) = texels {
+            let m = Self::lerp_texels(models, storage, t);
+            return Box::new(move |n| m.irradiance(n));
+        }
         match method {
-            "ahd_params" => {
-                let m = Self::lerp_texels(&self.ahd, Storage::Raw, t);
-                Box::new(move |n| m.irradiance(n))
-            }
-            "hhd_params" => {
-                let m = Self::lerp_texels(&self.hhd, Storage::Raw, t);
-                Box::new(move |n| m.irradiance(n))
-            }
-            "ahd_irradz" => {
-                let m = Self::lerp_texels(&self.ahd, Storage::IrradzRgb, t);
-                Box::new(move |n| m.irradiance(n))
-            }
-            "hhd_irradz" => {
-                let m = Self::lerp_texels(&self.hhd, Storage::IrradzRgb, t);
-                Box::new(move |n| m.irradiance(n))
-            }
             "sh1_hhd" => {
                 let m = hhd_from_linear_sh(&lerp_sh(&self.a.visible_sh, &self.b.visible_sh), self.normal);
                 Box::new(move |n| m.irradiance(n))

@@ -234,6 +234,35 @@ fn rel(name: &str, file: &str) -> String {
 
 type Claims = Vec<(String, String, CsvTable)>;
 
+/// The charts of one section: their Markdown and the files drawn.
+struct ChartsOut<'a> {
+    dir: &'a Path,
+    section: &'a str,
+    md: String,
+    made: Vec<String>,
+}
+
+impl ChartsOut<'_> {
+    /// Writes a drawn chart as `file` and links it (captioned, with its source CSV `from`); a
+    /// skipped one is stated as `skip_label: why`, or left out when `skip_label` is None.
+    fn put(&mut self, file: String, o: Outcome, alt: &str, from: Option<&str>, skip_label: Option<&str>) -> Result<()> {
+        match o {
+            Outcome::Drawn { image, caption } => {
+                render::write_png(&self.dir.join(&file), &image)?;
+                let from = from.map(|f| format!(" (from [{f}]({}))", href(&rel(self.section, f)))).unwrap_or_default();
+                let _ = writeln!(self.md, "![{alt}]({})\n\n*{caption}{from}*\n", href(&rel(self.section, &file)));
+                self.made.push(file);
+            }
+            Outcome::Skipped(why) => {
+                if let Some(label) = skip_label {
+                    let _ = writeln!(self.md, "{label}: {why}.\n");
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
 /// One section's Markdown, the number of charts drawn, and its claims tables.
 fn section(
     s: &Section,
@@ -244,7 +273,6 @@ fn section(
     kept: &mut Vec<String>,
 ) -> Result<(String, usize, Claims)> {
     let mut md = String::new();
-    let mut drawn = 0;
     let _ = writeln!(md, "## {}\n", s.name);
     if let Some(exp) = &s.exp {
         if !exp.description.is_empty() {
@@ -266,8 +294,7 @@ fn section(
         }
     }
     let all = files(dir);
-    let mut charts_made: Vec<String> = Vec::new();
-    let mut chart_md = String::new();
+    let mut drawn = ChartsOut { dir, section: &s.name, md: String::new(), made: Vec::new() };
 
     // The table.
     if all.iter().any(|f| f == "table.csv") {
@@ -285,29 +312,19 @@ fn section(
             "<details><summary>The whole table</summary>\n\n{}\n</details>\n",
             markdown::full_table(&t, &link)
         );
-        let mut put = |file: String, o: Outcome, what: &str| -> Result<()> {
-            match o {
-                Outcome::Drawn { image, caption } => {
-                    render::write_png(&dir.join(&file), &image)?;
-                    let _ = writeln!(chart_md, "![{what}]({})\n\n*{caption}*\n", href(&rel(&s.name, &file)));
-                    charts_made.push(file);
-                    drawn += 1;
-                }
-                Outcome::Skipped(why) => {
-                    let _ = writeln!(chart_md, "{what}: {why}.\n");
-                }
-            }
-            Ok(())
-        };
-        put(
+        drawn.put(
             "chart_rmse.png".into(),
             charts::rmse_bars(&t, &format!("{}: rmse per encoder and map", s.name))?,
             "rmse bars",
+            None,
+            Some("rmse bars"),
         )?;
-        put(
+        drawn.put(
             "chart_time.png".into(),
             charts::error_vs_time(&t, &format!("{}: error against fit time", s.name))?,
             "Error against time",
+            None,
+            Some("Error against time"),
         )?;
     } else {
         let _ = writeln!(
@@ -324,22 +341,7 @@ fn section(
         if charts::is_sweep(&t) {
             for (knob, o) in charts::sweep_charts(&t)? {
                 let file = format!("chart_{}_{}.png", file_safe(stem), file_safe(&knob));
-                match o {
-                    Outcome::Drawn { image, caption } => {
-                        render::write_png(&dir.join(&file), &image)?;
-                        let _ = writeln!(
-                            chart_md,
-                            "![sweep {knob}]({})\n\n*{caption} (from [{f}]({}))*\n",
-                            href(&rel(&s.name, &file)),
-                            href(&rel(&s.name, f))
-                        );
-                        charts_made.push(file);
-                        drawn += 1;
-                    }
-                    Outcome::Skipped(why) => {
-                        let _ = writeln!(chart_md, "{f}: {why}.\n");
-                    }
-                }
+                drawn.put(file, o, &format!("sweep {knob}"), Some(f), Some(f))?;
             }
         } else if charts::is_blend(&t) {
             for (set, o) in charts::blend_charts(&t)? {
@@ -348,25 +350,15 @@ fn section(
                 } else {
                     format!("chart_{}_{}.png", file_safe(stem), file_safe(&set))
                 };
-                if let Outcome::Drawn { image, caption } = o {
-                    render::write_png(&dir.join(&file), &image)?;
-                    let _ = writeln!(
-                        chart_md,
-                        "![blending]({})\n\n*{caption} (from [{f}]({}))*\n",
-                        href(&rel(&s.name, &file)),
-                        href(&rel(&s.name, f))
-                    );
-                    charts_made.push(file);
-                    drawn += 1;
-                }
+                drawn.put(file, o, "blending", Some(f), None)?;
             }
         }
     }
     if dir.is_dir() {
-        remove_stale(dir, "chart_", &charts_made)?;
+        remove_stale(dir, "chart_", &drawn.made)?;
     }
-    if !chart_md.is_empty() {
-        let _ = writeln!(md, "### Charts\n\n{chart_md}");
+    if !drawn.md.is_empty() {
+        let _ = writeln!(md, "### Charts\n\n{}", drawn.md);
     }
 
     // Sheets: drawn now, or kept from the committed run.
@@ -438,7 +430,7 @@ fn section(
         let links: Vec<String> = other.iter().map(|f| format!("[{f}]({})", href(&rel(&s.name, f)))).collect();
         let _ = writeln!(md, "Files: {}\n", links.join(" · "));
     }
-    Ok((md, drawn, claims))
+    Ok((md, drawn.made.len(), claims))
 }
 
 /// A folder as shown in the report: relative to the repository root when inside it (so the

@@ -58,7 +58,7 @@ pub fn ensure_font() {
 
 /// Rec.709 luminance of linear RGB.
 pub fn luminance(c: Rgb) -> f64 {
-    0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z
+    c.dot(crate::sh::REC709)
 }
 
 /// The sRGB transfer curve (IEC 61966-2-1) of a linear value in [0, 1].
