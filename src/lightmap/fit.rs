@@ -351,26 +351,8 @@ pub fn solve(spec: &FitSpec, domain: &Domain, target: &dyn Target, i_z: Rgb, the
             Solved { theta: theta_lin, colour, iterations: 0, evaluations: evals }
         }
         Direction::Search { iterations, tolerance } | Direction::Search2d { iterations, tolerance, .. } => {
-            let (mut a, mut b) = (0.0, spec.max_tilt);
-            let mut x1 = b - INV_PHI * (b - a);
-            let mut x2 = a + INV_PHI * (b - a);
-            let (mut f1, mut f2) = (eval(x1), eval(x2));
-            let mut iters = 0;
-            while iters < iterations && b - a > tolerance {
-                iters += 1;
-                if f1.objective <= f2.objective {
-                    b = x2;
-                    (x2, f2) = (x1, f1);
-                    x1 = b - INV_PHI * (b - a);
-                    f1 = eval(x1);
-                } else {
-                    a = x1;
-                    (x1, f1) = (x2, f2);
-                    x2 = a + INV_PHI * (b - a);
-                    f2 = eval(x2);
-                }
-            }
-            let mut best = if f1.objective <= f2.objective { (x1, f1) } else { (x2, f2) };
+            let (x, f, iters) = golden_section(0.0, spec.max_tilt, iterations, tolerance, &mut eval);
+            let mut best = (x, f);
             for th in [0.0, theta_lin] {
                 let f = eval(th);
                 if f.objective < best.1.objective {
@@ -379,6 +361,42 @@ pub fn solve(spec: &FitSpec, domain: &Domain, target: &dyn Target, i_z: Rgb, the
             }
             Solved { theta: best.0, colour: best.1, iterations: iters, evaluations: evals }
         }
+    }
+}
+
+/// Golden-section search for the minimum of `f`'s objective on [a, b]: at most `iterations`
+/// steps, stopping when the bracket is narrower than `tolerance`. Returns the better of the
+/// last two points, its colours, and the number of steps (each costs one evaluation, after
+/// the first two).
+fn golden_section(
+    mut a: f64,
+    mut b: f64,
+    iterations: usize,
+    tolerance: f64,
+    mut f: impl FnMut(f64) -> Colour,
+) -> (f64, Colour, usize) {
+    let mut x1 = b - INV_PHI * (b - a);
+    let mut x2 = a + INV_PHI * (b - a);
+    let (mut f1, mut f2) = (f(x1), f(x2));
+    let mut iters = 0;
+    while iters < iterations && b - a > tolerance {
+        iters += 1;
+        if f1.objective <= f2.objective {
+            b = x2;
+            (x2, f2) = (x1, f1);
+            x1 = b - INV_PHI * (b - a);
+            f1 = f(x1);
+        } else {
+            a = x1;
+            (x1, f1) = (x2, f2);
+            x2 = a + INV_PHI * (b - a);
+            f2 = f(x2);
+        }
+    }
+    if f1.objective <= f2.objective {
+        (x1, f1, iters)
+    } else {
+        (x2, f2, iters)
     }
 }
 
@@ -454,28 +472,9 @@ pub fn fit(spec: &FitSpec, input: &FitInput) -> FitResult {
                 colours_at(spec, &domain, &QuadraticTarget::new(&sh, &f, &domain.moments), i_z, theta)
             };
             let half = std::f64::consts::FRAC_PI_2;
-            let (mut a, mut b) = (-half, half);
-            let (mut x1, mut x2) = (b - INV_PHI * (b - a), a + INV_PHI * (b - a));
-            let (mut f1, mut f2) = (at(x1), at(x2));
-            evals += 2;
-            let mut k = 0;
-            while k < iterations && b - a > tolerance {
-                k += 1;
-                evals += 1;
-                if f1.objective <= f2.objective {
-                    b = x2;
-                    (x2, f2) = (x1, f1);
-                    x1 = b - INV_PHI * (b - a);
-                    f1 = at(x1);
-                } else {
-                    a = x1;
-                    (x1, f1) = (x2, f2);
-                    x2 = a + INV_PHI * (b - a);
-                    f2 = at(x2);
-                }
-            }
+            let (p, fp, k) = golden_section(-half, half, iterations, tolerance, at);
+            evals += 2 + k;
             iters += k;
-            let (p, fp) = if f1.objective <= f2.objective { (x1, f1) } else { (x2, f2) };
             if fp.objective >= s.colour.objective {
                 break;
             }
