@@ -11,14 +11,14 @@
 //! to the parallel (the only places the integrand is not smooth in φ). Cost per normal:
 //! O(H · nodes). `polar_nodes` is the one accuracy knob; see the convergence test.
 
-use crate::cap::{Arc, Arcs, Cap};
+use crate::cap::{Arcs, Cap};
 use crate::envmap::LatLong;
-use crate::moments::RowMoments;
+use crate::moments::{Moments01, RowMoments};
 use crate::quadrature::{for_each_polar_node, gauss_legendre};
 use crate::sh::Rgb;
 use glam::DVec3;
 use rayon::prelude::*;
-use std::f64::consts::{FRAC_1_PI, PI};
+use std::f64::consts::{FRAC_1_PI, PI, TAU};
 
 /// Default Gauss–Legendre nodes per row piece. Chosen from the convergence study in the tests
 /// and `probelab reference-convergence`: 2 nodes agree with 8 to better than 1e-7 relative on
@@ -45,18 +45,73 @@ pub struct Reference<'a> {
 }
 
 /// What one row contributes independently of the normal: its Gauss–Legendre nodes (split at
-/// the masks' breakpoints inside it, if any) and every mask's arc at each node. The kernel's
-/// own breakpoints depend on the normal; a row they split is integrated on the fly.
+/// the masks' breakpoints inside it, if any) and, at each node, the masks' intersection as arc
+/// pieces with the row's cumulative moments at their ends. The kernel's own breakpoints depend
+/// on the normal; a row they split is integrated on the fly.
 struct RowCache {
     /// (sin φ, cos φ, w·sin φ) per node.
     nodes: Vec<(f64, f64, f64)>,
     /// Whether a mask's breakpoint splits the row (`nodes` are then the split row's).
     split: bool,
-    /// Per node, each mask's arc on the node's parallel (`masks.len()` per node).
-    mask_arcs: Vec<Option<Arc>>,
+    /// Per node, the pieces of the masks' intersection on its parallel.
+    visible: Vec<Visible>,
     /// Unsplit, and some mask misses the parallel of every node: no mask breakpoint lies
     /// inside the row, so that mask misses the whole row and it adds nothing for any normal.
     dark: bool,
+}
+
+/// The visible part of one parallel (the intersection of every mask's arc): up to four arc
+/// pieces, each with the cumulative moments F at its ends, and their sum. A kernel arc then
+/// needs F only at its own two ends: the ends it shares with a piece are looked up here.
+#[derive(Clone, Copy)]
+struct Visible {
+    /// The whole circle is visible (no masks, or every mask covers the parallel).
+    full: bool,
+    n: usize,
+    pieces: [Piece; 4],
+    /// Σ over pieces of F(hi) − F(lo): the moments of everything visible on the parallel.
+    total: Moments01,
+}
+
+#[derive(Clone, Copy, Default)]
+struct Piece {
+    lo: f64,
+    len: f64,
+    f_lo: Moments01,
+    f_hi: Moments01,
+}
+
+impl Visible {
+    /// The masks' intersection on the parallel (s, c) of row j, with F at every piece end.
+    fn new(moments: &RowMoments, j: usize, masks: &[Cap], s: f64, c: f64) -> Self {
+        let mut arcs = Arcs::full();
+        for m in masks {
+            if arcs.is_empty() {
+                break;
+            }
+            arcs = arcs.intersect(m.arc(s, c));
+        }
+        let mut v = Visible { full: false, n: 0, pieces: [Piece::default(); 4], total: Moments01::default() };
+        match arcs.as_slice() {
+            [a] if a.len >= TAU => {
+                v.full = true;
+                v.total = moments.row_total01(j);
+            }
+            pieces => {
+                for a in pieces {
+                    let (f_lo, f_hi) = (moments.cumulative01(j, a.lo), moments.cumulative01(j, a.hi()));
+                    v.total += f_hi - f_lo;
+                    v.pieces[v.n] = Piece { lo: a.lo, len: a.len, f_lo, f_hi };
+                    v.n += 1;
+                }
+            }
+        }
+        v
+    }
+
+    fn is_empty(&self) -> bool {
+        !self.full && self.n == 0
+    }
 }
 
 /// What one normal needs for every row: its clamped-cosine cap, every breakpoint (the kernel's
@@ -100,17 +155,18 @@ impl<'a> Reference<'a> {
                 let (p0, p1) = (grid.phi_edge(j), grid.phi_edge(j + 1));
                 let split = mask_breaks.iter().any(|&b| b > p0 && b < p1);
                 let mut nodes = Vec::with_capacity(rule.len());
-                let mut mask_arcs = Vec::with_capacity(rule.len() * masks.len());
+                let mut visible = Vec::with_capacity(rule.len());
+                let mut missed = vec![true; masks.len()];
                 for_each_polar_node(p0, p1, if split { mask_breaks } else { &[] }, &rule, |phi, w| {
                     let (s, c) = phi.sin_cos();
                     nodes.push((s, c, w * s));
-                    mask_arcs.extend(masks.iter().map(|m| m.arc(s, c)));
+                    for (miss, m) in missed.iter_mut().zip(&masks) {
+                        *miss &= m.arc(s, c).is_none();
+                    }
+                    visible.push(Visible::new(moments, j, &masks, s, c));
                 });
-                let nm = masks.len();
-                let dark = !split
-                    && nm > 0
-                    && (0..nodes.len()).all(|i| mask_arcs[i * nm..(i + 1) * nm].iter().any(Option::is_none));
-                RowCache { nodes, split, mask_arcs, dark }
+                let dark = !split && missed.iter().any(|&m| m);
+                RowCache { nodes, split, visible, dark }
             })
             .collect();
         Self { moments, masks, rule, grid, rows }
@@ -148,22 +204,70 @@ impl<'a> Reference<'a> {
     }
 
     /// One node's contribution: the clamped cosine of `k` on the parallel (s, c) of row j,
-    /// integrated exactly in azimuth over its arc inside every mask (`mask_arcs`, one per mask).
+    /// integrated exactly in azimuth over its arc inside the visible part `vis`.
+    ///
+    /// With F the row's cumulative moments (F(θ + 2π) = F(θ) + T, T the row total), the kernel
+    /// arc K = [k0, k0 + kl] meets a piece P = [p0, p0 + pl] in at most two arcs; their ends are
+    /// ends of K (F computed here, at most once each) or of P shifted by whole turns (F from
+    /// the cache plus multiples of T). A piece inside K adds its cached moments; a kernel
+    /// covering the whole parallel adds the cached total.
     #[inline]
-    fn add_node(&self, j: usize, k: &Kernel, (s, c, ws): (f64, f64, f64), mask_arcs: &[Option<Arc>], acc: &mut Rgb) {
-        let mut arcs = Arcs::full().intersect(k.cap.arc(s, c));
-        for m in mask_arcs {
-            if arcs.is_empty() {
-                return;
+    fn add_node(&self, j: usize, k: &Kernel, (s, c, ws): (f64, f64, f64), vis: &Visible, acc: &mut Rgb) {
+        if vis.is_empty() {
+            return;
+        }
+        let Some(ka) = k.cap.arc(s, c) else { return };
+        let m = if ka.len >= TAU {
+            vis.total
+        } else if vis.full {
+            self.moments.cumulative01(j, ka.hi()) - self.moments.cumulative01(j, ka.lo)
+        } else {
+            let (k0, kl) = (ka.lo, ka.len);
+            let (mut f0, mut f1) = (None, None);
+            let mut fk0 = || *f0.get_or_insert_with(|| self.moments.cumulative01(j, k0));
+            let mut fk1 = || *f1.get_or_insert_with(|| self.moments.cumulative01(j, k0 + kl));
+            let total = self.moments.row_total01(j);
+            let mut m = Moments01::default();
+            for p in &vis.pieces[..vis.n] {
+                // The piece's start in K's frame: d = p0 − k0 + 2π·turns, in [0, 2π).
+                let mut d = p.lo - k0;
+                let mut turns = 0.0;
+                while d < 0.0 {
+                    d += TAU;
+                    turns += 1.0;
+                }
+                while d >= TAU {
+                    d -= TAU;
+                    turns -= 1.0;
+                }
+                // F(p0 + 2π·n) = F(p0) + n·T, and k0 + d = p0 + 2π·turns.
+                let shifted = |f: &Moments01, n: f64| {
+                    let mut v = *f;
+                    if n != 0.0 {
+                        v.add_scaled(&total, n);
+                    }
+                    v
+                };
+                if d < kl {
+                    // [k0 + d, k0 + min(d + pl, kl)]
+                    if d + p.len <= kl {
+                        m += p.f_hi - p.f_lo;
+                    } else {
+                        m += fk1() - shifted(&p.f_lo, turns);
+                    }
+                }
+                let wrapped = d + p.len - TAU;
+                if wrapped > 0.0 {
+                    // [k0, k0 + min(d + pl − 2π, kl)]
+                    let hi = if wrapped < kl { shifted(&p.f_hi, turns - 1.0) } else { fk1() };
+                    m += hi - fk0();
+                }
             }
-            arcs = arcs.intersect(*m);
-        }
+            m
+        };
         let (a, b) = k.cap.dot_coefficients(s, c);
-        for arc in arcs.as_slice() {
-            let m = self.moments.arc01(j, *arc);
-            // ∫ L (a cos(θ − θn) + b) dθ = b·m0 + a·Re(e^{iθn} m1)
-            *acc += (m.m0 * b + (m.m1[0] * k.cos_t - m.m1[1] * k.sin_t) * a) * ws;
-        }
+        // ∫ L (a cos(θ − θn) + b) dθ = b·m0 + a·Re(e^{iθn} m1)
+        *acc += (m.m0 * b + (m.m1[0] * k.cos_t - m.m1[1] * k.sin_t) * a) * ws;
     }
 
     /// Adds row j's polar integral for kernel `k` to `acc` (before the 1/π).
@@ -174,27 +278,17 @@ impl<'a> Reference<'a> {
         if row.dark {
             return;
         }
-        let nm = self.masks.len();
         if k.breaks[..2.min(k.nb)].iter().any(|&b| b > p0 && b < p1) {
             // The kernel's boundary is tangent inside the row: split at every breakpoint,
             // nodes and mask arcs computed here.
-            let (mut buf, mut heap) = ([None; 4], Vec::new());
-            let arcs: &mut [Option<Arc>] = if nm <= buf.len() {
-                &mut buf[..nm]
-            } else {
-                heap.resize(nm, None);
-                &mut heap
-            };
             for_each_polar_node(p0, p1, &k.breaks[..k.nb], &self.rule, |phi, w| {
                 let (s, c) = phi.sin_cos();
-                for (o, m) in arcs.iter_mut().zip(&self.masks) {
-                    *o = m.arc(s, c);
-                }
-                self.add_node(j, k, (s, c, w * s), arcs, acc);
+                let vis = Visible::new(self.moments, j, &self.masks, s, c);
+                self.add_node(j, k, (s, c, w * s), &vis, acc);
             });
         } else if row.split {
-            for (i, &(s, c, ws)) in row.nodes.iter().enumerate() {
-                self.add_node(j, k, (s, c, ws), &row.mask_arcs[i * nm..(i + 1) * nm], acc);
+            for (&node, vis) in row.nodes.iter().zip(&row.visible) {
+                self.add_node(j, k, node, vis, acc);
             }
         } else {
             // No cap boundary is tangent inside the row: its arcs keep their shape, so a row
@@ -203,8 +297,8 @@ impl<'a> Reference<'a> {
             if k.cap.arc(s, c).is_none() {
                 return;
             }
-            for (i, &(s, c, ws)) in row.nodes.iter().enumerate() {
-                self.add_node(j, k, (s, c, ws), &row.mask_arcs[i * nm..(i + 1) * nm], acc);
+            for (&node, vis) in row.nodes.iter().zip(&row.visible) {
+                self.add_node(j, k, node, vis, acc);
             }
         }
     }
