@@ -5,11 +5,11 @@
 //! - `fit_ns`: the median time of one `Encoder::fit` on the case's inputs (one probe or texel),
 //!   including allocating and dropping the fitted encoding.
 //! - `eval_ns`: the median time of one `Fitted::irradiance`, per normal, over (a subsample of at
-//!   most 4096 of) the normals the row was scored on.
+//!   most 1024 of) the normals the row was scored on.
 //!
 //! Method: a call is batched k times, k growing until a batch takes ≥ 25 µs (timer resolution,
 //! tens of ns, is then ≤ 0.2%); then the median over R batches (5 ≤ R ≤ 15, as many as fit in
-//! about 0.4 ms), divided by k. A measurement costs about 0.5 ms for fast encoders (and 5 fits
+//! about 0.15 ms), divided by k. A measurement costs about 0.2 ms for fast encoders (and 7 fits
 //! for slow ones), so the pass stays small next to scoring. Measurements run on the calling thread, one at a time, after the
 //! parallel scoring has finished. They are wall-clock figures on a shared machine: they vary
 //! run to run, which is why the regression check ignores [`TIMING_COLUMNS`](crate::table::TIMING_COLUMNS).
@@ -38,11 +38,11 @@ pub fn enabled() -> bool {
 /// A batch must last at least this long.
 const MIN_BATCH: Duration = Duration::from_micros(25);
 /// Aim for about this much time in the repeated batches of one measurement.
-const BUDGET: Duration = Duration::from_micros(400);
+const BUDGET: Duration = Duration::from_micros(150);
 const MIN_REPEATS: usize = 5;
 const MAX_REPEATS: usize = 15;
 /// Normals per eval measurement, at most.
-pub const EVAL_NORMALS: usize = 4096;
+pub const EVAL_NORMALS: usize = 1024;
 
 /// The median time of one call of `f`, in ns (see the module doc for the method).
 pub fn median_ns(mut f: impl FnMut()) -> f64 {
