@@ -27,6 +27,7 @@ use anyhow::{Context, Result};
 use charts::Outcome;
 use csvfile::CsvTable;
 use markdown::{anchor, href};
+use rayon::prelude::*;
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -139,19 +140,31 @@ pub fn generate(opts: &Options) -> Result<Generated> {
         let dir = out.join(&s.name);
         let table_path = dir.join("table.csv");
         let table = if table_path.is_file() { Some(CsvTable::read(&table_path)?) } else { None };
-        let mut names = Vec::new();
-        for m in &exp.maps {
-            progress.message(format!("{} / {m}", s.name));
-            let path = opts.search.resolve(m).map_err(|e| anyhow::anyhow!("{e}"))?;
-            let map = crate::envmap::load::load(&path)?;
-            let (sheet, _) = render::experiment_sheet(exp, &map, table.as_ref())?;
-            let name = format!("sheet_{}.png", file_safe(m));
-            render::write_png(&dir.join(&name), &sheet.draw()?)?;
-            progress.log(format!("wrote {}", dir.join(&name).display()));
-            names.push(name);
-            pictures += 1;
-            progress.inc();
-        }
+        progress.message(s.name.clone());
+        // The sheets of one experiment are independent files: drawn in parallel (each one's
+        // pixels do not depend on the thread count), named in the experiment's map order.
+        let names = exp
+            .maps
+            .par_iter()
+            .map(|m| -> Result<String> {
+                let path = opts.search.resolve(m).map_err(|e| anyhow::anyhow!("{e}"))?;
+                let map = {
+                    let _s = crate::profile::span("report: decode");
+                    crate::envmap::load::load(&path)?
+                };
+                let (sheet, _) = render::experiment_sheet(exp, &map, table.as_ref())?;
+                let name = format!("sheet_{}.png", file_safe(m));
+                let image = {
+                    let _s = crate::profile::span("report: draw");
+                    sheet.draw()?
+                };
+                render::write_png(&dir.join(&name), &image)?;
+                progress.log(format!("wrote {}", dir.join(&name).display()));
+                progress.inc();
+                Ok(name)
+            })
+            .collect::<Result<Vec<String>>>()?;
+        pictures += names.len();
         remove_stale(&dir, "sheet_", &names)?;
         drawn_sheets.insert(s.name.clone(), names);
     }

@@ -716,13 +716,22 @@ pub fn experiment_sheet(exp: &Experiment, map: &EnvMap, table: Option<&CsvTable>
         Domain::Sphere => vec![View::front(), View::top()],
     };
     let discs: Vec<Disc> = views.iter().map(|v| Disc::new(v, DISC as usize)).collect();
-    let reference: Vec<Vec<Rgb>> = discs.iter().map(|d| cd.reference_many(&d.normals)).collect();
-    let values: Vec<Vec<Vec<Rgb>>> = fitted
-        .iter()
-        .map(|f| {
-            discs.iter().map(|d| d.normals.par_iter().with_min_len(256).map(|&n| f.irradiance(n)).collect()).collect()
-        })
-        .collect();
+    let reference: Vec<Vec<Rgb>> = {
+        let _s = crate::profile::span("report: reference (sheets)");
+        discs.iter().map(|d| cd.reference_many(&d.normals)).collect()
+    };
+    let values: Vec<Vec<Vec<Rgb>>> = {
+        let _s = crate::profile::span("report: encoder eval (sheets)");
+        fitted
+            .iter()
+            .map(|f| {
+                discs
+                    .iter()
+                    .map(|d| d.normals.par_iter().with_min_len(256).map(|&n| f.irradiance(n)).collect())
+                    .collect()
+            })
+            .collect()
+    };
 
     let drawn: Vec<Rgb> = reference.iter().flatten().copied().collect();
     let mean_lum = drawn.iter().map(|c| luminance(*c)).sum::<f64>() / drawn.len().max(1) as f64;
@@ -879,6 +888,7 @@ pub fn blend_strip(title: &str, n: DVec3, n_label: &str, ts: &[f64], rows: &[Ble
 pub fn png_bytes(img: &RgbImage) -> Result<Vec<u8>> {
     use image::codecs::png::{CompressionType, FilterType, PngEncoder};
     use image::ImageEncoder;
+    let _s = crate::profile::span("report: PNG encode");
     let mut out = Vec::new();
     PngEncoder::new_with_quality(&mut out, CompressionType::Default, FilterType::Adaptive).write_image(
         img.as_raw(),
