@@ -307,6 +307,40 @@ pub fn store(out: &Path, root: &Path, exp: &Experiment, report: &RunReport) -> R
     Ok(if c.passed() { Stored::Unchanged(c) } else { Stored::Refused(c) })
 }
 
+/// The fresh rows with their scores replaced by the stored table's (`<dir>/table.csv`), for a
+/// run whose table stood within tolerance: what the run writes next to the table (summaries,
+/// claims) is then derived from the table actually kept, and does not drift in the last digits
+/// when code changes move numbers below tolerance. Rows the table lacks, and cells that are
+/// empty or not numbers, keep their fresh values.
+pub fn rows_as_stored(dir: &Path, rows: &[crate::table::Row]) -> Result<Vec<crate::table::Row>> {
+    let stored = Table::read(&dir.join(TABLE))?;
+    let fresh = Table::parse(&crate::table::to_csv(rows)?, &dir.join(TABLE))?;
+    let index: std::collections::HashMap<_, usize> =
+        stored.keys().into_iter().enumerate().map(|(i, k)| (k, i)).collect();
+    let col = |name: &str| stored.columns.iter().position(|c| c == name);
+    let cols =
+        ["rmse_r", "rmse_g", "rmse_b", "rmse", "rel_rmse", "neg_frac", "max_abs_err", "at_normal_abs_err"].map(col);
+    let mut out = rows.to_vec();
+    for (row, key) in out.iter_mut().zip(fresh.keys()) {
+        let Some(&i) = index.get(&key) else { continue };
+        let cell = |c: Option<usize>| c.and_then(|c| stored.rows[i].get(c)).and_then(|v| v.parse::<f64>().ok());
+        let s = &mut row.scores;
+        let [r, g, b] = &mut s.rmse_rgb;
+        let targets: [&mut f64; 7] = [r, g, b, &mut s.rmse, &mut s.rel_rmse, &mut s.neg_frac, &mut s.max_abs];
+        for (t, c) in targets.into_iter().zip(cols) {
+            if let Some(v) = cell(c) {
+                *t = v;
+            }
+        }
+        if row.at_normal_abs_err.is_some() {
+            if let Some(v) = cell(cols[7]) {
+                row.at_normal_abs_err = Some(v);
+            }
+        }
+    }
+    Ok(out)
+}
+
 /// Prints what [`store`] did; returns false when it refused.
 pub fn print_stored(exp: &Experiment, out: &Path, stored: &Stored, rows: usize) -> bool {
     let dir = out.join(&exp.name);
@@ -527,6 +561,48 @@ mod tests {
         assert_eq!(by(d.path().join("experiments/a.toml").to_str().unwrap()), ["a"]);
         let e = format!("{:#}", select(d.path(), &["nope".to_string()], true).err().unwrap());
         assert!(e.contains("experiment 'nope'") && e.contains("known: a, b"), "{e}");
+    }
+
+    /// A table that stood is what the summaries are computed from: the fresh rows' scores are
+    /// replaced cell by cell (round-trip text, so exactly), unknown rows and empty cells kept.
+    #[test]
+    fn rows_as_stored_takes_the_kept_tables_numbers() {
+        use crate::metrics::Scores;
+        use crate::table::Row;
+        let row = |map: &str, rmse: f64, at_n: Option<f64>| Row {
+            map: map.into(),
+            encoder: "sh1".into(),
+            domain: "sphere".into(),
+            metric: "exact".into(),
+            scores: Scores { rmse_rgb: [rmse; 3], rmse, rel_rmse: 2.0 * rmse, neg_frac: 0.0, max_abs: 3.0 * rmse },
+            stored_scalars: 12,
+            orientation_set: String::new(),
+            effects: String::new(),
+            weighting: "solid_angle".into(),
+            resolution: "8x4".into(),
+            units: "E/pi".into(),
+            reference: "exact".into(),
+            diagnostics: String::new(),
+            at_normal_abs_err: at_n,
+            fit_ns: None,
+            eval_ns: None,
+        };
+        let d = tempfile::tempdir().unwrap();
+        let kept = vec![row("a", 0.1, Some(1e-3)), row("b", 0.2, None)];
+        crate::table::write_csv(&d.path().join(TABLE), &kept).unwrap();
+        let nudged = |r: &Row| {
+            let mut r = r.clone();
+            r.scores.rmse *= 1.0 + 1e-13;
+            r.scores.max_abs *= 1.0 + 1e-13;
+            r.at_normal_abs_err = r.at_normal_abs_err.map(|v| v * 1.5);
+            r
+        };
+        let fresh = vec![nudged(&kept[0]), nudged(&kept[1]), row("new", 0.3, None)];
+        assert_ne!(fresh[0], kept[0]);
+        let got = rows_as_stored(d.path(), &fresh).unwrap();
+        assert_eq!(got[0], kept[0]);
+        assert_eq!(got[1], kept[1]);
+        assert_eq!(got[2], fresh[2]);
     }
 
     #[test]

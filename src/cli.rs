@@ -355,7 +355,12 @@ pub fn write_results(root: &Path, out: &Path, exp: &Experiment, report: &runner:
     if ok {
         let dir = out.join(&exp.name);
         let summary = exp.summary.as_ref().map(|b| b.as_deref());
-        for f in crate::summary::write(&dir, &exp.name, &exp.description, summary, &exp.claims, &report.rows)? {
+        // A table that stood within tolerance is the one kept: summarise its numbers.
+        let rows = match stored {
+            crate::check::Stored::Unchanged(_) => crate::check::rows_as_stored(&dir, &report.rows)?,
+            _ => report.rows.clone(),
+        };
+        for f in crate::summary::write(&dir, &exp.name, &exp.description, summary, &exp.claims, &rows)? {
             eprintln!("wrote {}", dir.join(f).display());
         }
     }
