@@ -1051,10 +1051,10 @@ mod tests {
         let o = check(&bounded("at_most", "bound=1\nmaps=['m2']"), &rows());
         assert_eq!((o.holds.as_str(), o.rows), ("yes", 2), "{}", o.figure);
         let c = claim("ratio", "maps=['m2']");
-        let csv = String::from_utf8(claims_csv("e", &[c.clone()], &[check(&c, &rows())]).unwrap()).unwrap();
+        let csv = String::from_utf8(claims_csv("e", std::slice::from_ref(&c), &[check(&c, &rows())]).unwrap()).unwrap();
         assert!(csv.contains("ratio rmse < 1 (every row); maps m2"), "{csv}");
         // CLAIMS.md breaks the claim down over the selected map only.
-        let md = claims_md("e", "", &rows(), &[c.clone()], &[check(&c, &rows())]).unwrap();
+        let md = claims_md("e", "", &rows(), std::slice::from_ref(&c), &[check(&c, &rows())]).unwrap();
         let breakdown = &md[md.find("## c:").unwrap()..];
         assert!(breakdown.contains("| m2 |") && !breakdown.contains("| m1 |"), "{md}");
     }
