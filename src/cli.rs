@@ -125,7 +125,8 @@ pub enum Command {
         #[arg(long, default_value = "rec709")]
         axis: String,
     },
-    /// Measure a set of paper claims (zh3, lightmap) and write results/<set>_claims/claims.csv and CLAIMS.md.
+    /// Measure a set of paper claims (zh3, lightmap) and write claims.csv and CLAIMS.md in results/zh3_claims/ or
+    /// results/lightmap_study/.
     Claims {
         /// The claim set: zh3 or lightmap.
         set: String,
@@ -267,7 +268,7 @@ pub fn main_with(cli: Cli) -> Result<i32> {
             Ok(0)
         }
         Command::Claims { set, out } if set == "lightmap" => {
-            let dir = results(out).join("lightmap_claims");
+            let dir = results(out).join(crate::lightmap_claims::OUTPUT_DIR);
             let report = crate::lightmap_claims::run(&search)?;
             crate::lightmap_claims::write(&report, &dir)?;
             eprintln!("wrote {} (claims.csv, CLAIMS.md, fig2*.csv, blend*.csv, real_maps.csv)", dir.display());

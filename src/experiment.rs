@@ -257,8 +257,11 @@ impl Experiment {
         }
         let names: Vec<String> = built.iter().map(|e| e.name.clone()).collect();
         let summary = f.summary.map(|s| crate::summary::summary_baseline(s, &names)).transpose()?;
-        let claims =
-            f.claims.into_iter().map(|c| crate::summary::Claim::from_file(c, &names)).collect::<Result<Vec<_>>>()?;
+        let claims = f
+            .claims
+            .into_iter()
+            .map(|c| crate::summary::Claim::from_file(c, &names, &f.maps))
+            .collect::<Result<Vec<_>>>()?;
         Ok(Experiment {
             name,
             description: f.description,

@@ -262,7 +262,101 @@ pub fn generated() -> Vec<Scene> {
                 },
             ],
         ),
+        // Claim H2 (experiments/lightmap_claims.toml): seen from a floor (N = +y) the light
+        // lies wholly above the horizon, so the reference is A·H(n) plus the cap's irradiance:
+        // an HHD except within ±sin σ of the light's terminator (`TILTED_LIGHT`).
+        scene(
+            "gen_tilted_light",
+            "ambient (0.3, 0.35, 0.4) plus a 2-degree-radius light tilted 50 deg from +y, E/pi (1.5, 1.4, 1.2) facing it",
+            vec![
+                Component::Constant(TILTED_LIGHT.ambient),
+                Component::Cap {
+                    axis: TILTED_LIGHT.axis(),
+                    half_angle: TILTED_LIGHT.radius_deg * deg,
+                    radiance: TILTED_LIGHT.radiance(),
+                },
+            ],
+        ),
+        // Claim H4 (experiments/lightmap_claims.toml): a sky brighter towards the horizon, the
+        // opposite of the hemisphere light's fall-off; seen from a floor AHD's constant term
+        // fits it better than HHD's H(n) (measured: ahd_search_hemi rmse about 1/9 of hhd_search_hemi's).
+        scene(
+            "gen_horizon_sky",
+            "sky gradient 1 - 0.5*y: twice as bright at the horizon as at the zenith (1.5 below)",
+            vec![Component::Gradient { c0: Rgb::ONE, c1: Rgb::splat(-0.5) }],
+        ),
     ]
+}
+
+/// The parameters of `gen_tilted_light`: ambient radiance A from every direction, and a cap
+/// of angular radius σ whose axis a is tilted θ from +y (towards azimuth φ), of radiance
+/// I/sin²σ, so that its E/π facing it is I (the cap's form factor, [`cap_irradiance`]).
+pub struct TiltedLight {
+    pub ambient: Rgb,
+    pub facing: Rgb,
+    pub radius_deg: f64,
+    pub tilt_deg: f64,
+    pub azimuth_deg: f64,
+}
+
+pub const TILTED_LIGHT: TiltedLight = TiltedLight {
+    ambient: Rgb::new(0.3, 0.35, 0.4),
+    facing: Rgb::new(1.5, 1.4, 1.2),
+    radius_deg: 2.0,
+    tilt_deg: 50.0,
+    azimuth_deg: 30.0,
+};
+
+impl TiltedLight {
+    /// The unit axis a of the light.
+    pub fn axis(&self) -> DVec3 {
+        crate::envmap::direction(self.azimuth_deg.to_radians(), self.tilt_deg.to_radians())
+    }
+    /// The cap's radiance I/sin²σ.
+    pub fn radiance(&self) -> Rgb {
+        self.facing / self.radius_deg.to_radians().sin().powi(2)
+    }
+
+    /// A closed-form bound on the rmse (E/π, solid-angle, over the hemisphere about N = +y,
+    /// the three channels' mean square) of `hhd_from_sh1` on this scene: what a light of
+    /// radius σ > 0 costs the HHD, which is exact for a delta light (claim H2).
+    ///
+    /// 1. Terminator. With t = n·a, the cap gives I·c(t)/sin²σ, c = [`cap_irradiance`], which
+    ///    equals the clamped cosine I·max(0, t) except for |t| < sin σ. The difference
+    ///    D(t) = I·(c(t)/sin²σ − max(0, t)) is even (c(t) − c(−t) = sin²σ·t, the cap's first
+    ///    moment), and the circles t and −t together meet the hemisphere in one full circle,
+    ///    so ∫_hemi D² dω = π∫_{−s}^{s} D² dt exactly: rmse_D = √(½∫_{−s}^{s} D(t)² dt), s = sin σ
+    ///    (≈ 0.088·I·σ^{3/2}; at t = 0, D = I·c(0)/sin²σ ≈ 2Iσ/(3π)).
+    /// 2. Band 0. The cap's band 0 exceeds that of the delta with its band 1 by the factor
+    ///    1 + δ, δ = tan²(σ/2). Solving the talk's quadratic with it moves C_a to A + ε,
+    ///    ε ≈ δ·I/(2 − cos θ) to first order in δ, and off the terminators the HHD then differs
+    ///    from the reference by ε·(1 − n·N)/2, whose rmse over the hemisphere is ε/√12.
+    ///
+    /// The bound is rmse_D + ε/√12 (Minkowski; I as the channels' RMS); the map's cells and
+    /// the output grid are not in it (tests/lightmap_claims.rs compares both).
+    pub fn hhd_rmse_bound(&self) -> f64 {
+        let sigma = self.radius_deg.to_radians();
+        let s2 = sigma.sin().powi(2);
+        let s = sigma.sin();
+        let i_rms = (self.facing.length_squared() / 3.0).sqrt();
+        // ∫_{−s}^{s} D² = 2∫_0^s D² (D even), composite Gauss–Legendre.
+        let rule = gauss_legendre(8);
+        let panels = 64;
+        let mut int = 0.0;
+        for k in 0..panels {
+            let (a, b) = (s * k as f64 / panels as f64, s * (k + 1) as f64 / panels as f64);
+            for &(x, w) in &rule {
+                let t = 0.5 * (a + b) + 0.5 * (b - a) * x;
+                let d = cap_irradiance(t, s2) / s2 - t;
+                int += 0.5 * (b - a) * w * d * d;
+            }
+        }
+        // √(½·∫_{−s}^{s} D²) = √(∫_0^s D²).
+        let rmse_d = i_rms * int.sqrt();
+        let delta = (0.5 * sigma).tan().powi(2);
+        let eps = delta * i_rms / (2.0 - self.tilt_deg.to_radians().cos());
+        rmse_d + eps / 12f64.sqrt()
+    }
 }
 
 #[cfg(test)]

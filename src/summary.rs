@@ -7,14 +7,16 @@
 //! | `[summary] baseline`   | string | optional encoder name; ratios are rmse / its rmse on the same map, domain, effects and metric |
 //! | `[[claims]] id`        | string | claim id (e.g. `H8.hlsh`) |
 //! | `claim`, `paper`       | string | the claim and the paper's figure for it, as text |
-//! | `check`                | string | `ratio` (encoder / baseline on matched rows) or `equal` (two encoders agree) |
-//! | `encoder`, `baseline`  | string | the encoder names compared (`equal`: `encoder` vs `baseline`) |
+//! | `check`                | string | `ratio` (encoder / baseline on matched rows), `equal` (two encoders agree), `at_most` / `at_least` (the encoder's column against an absolute `bound`) |
+//! | `encoder`, `baseline`  | string | the encoder names compared (`equal`: `encoder` vs `baseline`); `at_most`/`at_least` take no `baseline` |
 //! | `column`               | string | `rmse` (default), `rel_rmse`, `max_abs_err`, `at_normal_abs_err` |
 //! | `threshold`            | number | `ratio`: a row passes if ratio < threshold (default 1) |
 //! | `statistic`            | string | `ratio`: `every` (default; holds yes/partly/no by rows) or `mean` (mean ratio < threshold) |
 //! | `tolerance`            | number | `equal`: largest difference allowed relative to max(\|a\|, \|b\|, reference RMS) (default 1e-9) |
 //! | `abs_tolerance`        | number | `equal`: a difference this small passes regardless (default 1e-12; for errors at rounding level) |
+//! | `bound`                | number | `at_most`: a row passes if column ≤ bound; `at_least`: if column ≥ bound (required, finite, ≥ 0) |
 //! | `effects`              | string | only rows with exactly this effects label |
+//! | `maps`                 | [string] | only rows of these maps (each one of the experiment's `maps`, by name or file stem) |
 //! | `note`                 | string | shown under the claims table |
 //!
 //! Output, beside `table.csv`: `summary.csv` when `[summary]` is present, `claims.csv` and
@@ -45,13 +47,15 @@ pub struct ClaimFile {
     pub paper: String,
     pub check: String,
     pub encoder: String,
-    pub baseline: String,
+    pub baseline: Option<String>,
     pub column: Option<String>,
     pub threshold: Option<f64>,
     pub statistic: Option<String>,
     pub tolerance: Option<f64>,
     pub abs_tolerance: Option<f64>,
+    pub bound: Option<f64>,
     pub effects: Option<String>,
+    pub maps: Option<Vec<String>>,
     pub note: Option<String>,
 }
 
@@ -100,6 +104,10 @@ pub enum Check {
     /// column(encoder) and column(baseline) agree on every row: |a − b| ≤ tolerance ·
     /// max(|a|, |b|, RMS of the reference), or |a − b| ≤ abs_tolerance.
     Equal { tolerance: f64, abs_tolerance: f64 },
+    /// column(encoder) ≤ bound on every matched row (no baseline).
+    AtMost { bound: f64 },
+    /// column(encoder) ≥ bound on every matched row (no baseline).
+    AtLeast { bound: f64 },
 }
 
 /// A validated claim.
@@ -110,22 +118,87 @@ pub struct Claim {
     pub paper: String,
     pub check: Check,
     pub encoder: String,
+    /// The encoder compared with (`ratio`, `equal`); empty for `at_most`/`at_least`.
     pub baseline: String,
     pub column: Column,
     pub effects: Option<String>,
+    /// Only rows of these maps (table names: file stems); `None`: every map.
+    pub maps: Option<Vec<String>>,
     pub note: Option<String>,
 }
 
+/// The name a map entry of an experiment gets in tables: its file stem (entries may be paths).
+fn table_map_name(entry: &str) -> String {
+    Path::new(entry).file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| entry.to_string())
+}
+
 impl Claim {
-    /// Validates a claim against the experiment's encoder names.
-    pub fn from_file(f: ClaimFile, encoders: &[String]) -> Result<Self> {
-        for e in [&f.encoder, &f.baseline] {
+    /// Validates a claim against the experiment's encoder names and map entries.
+    pub fn from_file(f: ClaimFile, encoders: &[String], maps: &[String]) -> Result<Self> {
+        let bounded = matches!(f.check.as_str(), "at_most" | "at_least");
+        let baseline = match (&f.baseline, bounded) {
+            (Some(_), true) => {
+                bail!(
+                    "claims: '{}': 'baseline' is not used by check = \"{}\" (it compares with 'bound')",
+                    f.id,
+                    f.check
+                )
+            }
+            (None, true) => String::new(),
+            (Some(b), false) => b.clone(),
+            (None, false) => bail!("claims: '{}': check = \"{}\" needs 'baseline'", f.id, f.check),
+        };
+        for e in std::iter::once(&f.encoder).chain((!bounded).then_some(&baseline)) {
             if !encoders.contains(e) {
                 bail!("claims: '{}' names encoder '{e}', which the experiment does not list", f.id);
             }
         }
+        if !bounded && f.bound.is_some() {
+            bail!("claims: '{}': 'bound' is for check = \"at_most\" or \"at_least\"", f.id);
+        }
+        let maps_filter = match f.maps {
+            None => None,
+            Some(list) => {
+                if list.is_empty() {
+                    bail!("claims: '{}': maps = [] matches no row; list at least one map or drop the key", f.id);
+                }
+                let mut names = Vec::new();
+                for m in &list {
+                    let name = table_map_name(m);
+                    if !maps.iter().any(|e| e == m || table_map_name(e) == name) {
+                        bail!("claims: '{}': maps names '{m}', which is not one of the experiment's maps", f.id);
+                    }
+                    if !names.contains(&name) {
+                        names.push(name);
+                    }
+                }
+                Some(names)
+            }
+        };
         let column = Column::parse(f.column.as_deref().unwrap_or("rmse"))?;
         let check = match f.check.as_str() {
+            "at_most" | "at_least" => {
+                if f.threshold.is_some() || f.statistic.is_some() || f.tolerance.is_some() || f.abs_tolerance.is_some()
+                {
+                    bail!(
+                        "claims: '{}': check = \"{}\" takes 'bound' only ('threshold', 'statistic', 'tolerance' and \
+                         'abs_tolerance' are for ratio/equal)",
+                        f.id,
+                        f.check
+                    );
+                }
+                let Some(bound) = f.bound else {
+                    bail!("claims: '{}': check = \"{}\" needs 'bound' (a number)", f.id, f.check)
+                };
+                if !(bound.is_finite() && bound >= 0.0) {
+                    bail!("claims: '{}': bound must be a finite non-negative number, got {bound}", f.id);
+                }
+                if f.check == "at_most" {
+                    Check::AtMost { bound }
+                } else {
+                    Check::AtLeast { bound }
+                }
+            }
             "ratio" => {
                 if f.tolerance.is_some() || f.abs_tolerance.is_some() {
                     bail!("claims: '{}': 'tolerance'/'abs_tolerance' are for check = \"equal\"", f.id);
@@ -152,7 +225,7 @@ impl Claim {
                 }
                 Check::Equal { tolerance, abs_tolerance }
             }
-            c => bail!("claims: '{}': check '{c}' (expected ratio or equal)", f.id),
+            c => bail!("claims: '{}': check '{c}' (expected ratio, equal, at_most or at_least)", f.id),
         };
         Ok(Claim {
             id: f.id,
@@ -160,9 +233,10 @@ impl Claim {
             paper: f.paper,
             check,
             encoder: f.encoder,
-            baseline: f.baseline,
+            baseline,
             column,
             effects: f.effects,
+            maps: maps_filter,
             note: f.note,
         })
     }
@@ -190,15 +264,24 @@ struct Pair<'a> {
     b: f64,
 }
 
-/// Matched (encoder, baseline) values of `column` on every row of `encoder` (in table order)
-/// that passes the effects filter and has a baseline row.
-fn pairs<'a>(rows: &'a [Row], encoder: &str, baseline: &str, column: Column, effects: Option<&str>) -> Vec<Pair<'a>> {
-    let base: HashMap<_, &Row> = rows.iter().filter(|r| r.encoder == baseline).map(|r| (key(r), r)).collect();
+impl Claim {
+    /// Whether a row of the claim's encoder passes its effects and maps filters.
+    fn selects(&self, r: &Row) -> bool {
+        r.encoder == self.encoder
+            && self.effects.as_deref().is_none_or(|e| r.effects == e)
+            && self.maps.as_ref().is_none_or(|m| m.contains(&r.map))
+    }
+}
+
+/// Matched (encoder, baseline) values of the claim's column on every row of its encoder (in
+/// table order) that passes its filters and has a baseline row.
+fn pairs<'a>(rows: &'a [Row], c: &Claim) -> Vec<Pair<'a>> {
+    let base: HashMap<_, &Row> = rows.iter().filter(|r| r.encoder == c.baseline).map(|r| (key(r), r)).collect();
     rows.iter()
-        .filter(|r| r.encoder == encoder && effects.is_none_or(|e| r.effects == e))
+        .filter(|r| c.selects(r))
         .filter_map(|r| {
             let b = base.get(&key(r))?;
-            Some(Pair { row: r, a: column.get(r)?, b: column.get(b)? })
+            Some(Pair { row: r, a: c.column.get(r)?, b: c.column.get(b)? })
         })
         .collect()
 }
@@ -393,7 +476,16 @@ fn top(v: &[(&str, usize)], n: usize) -> String {
 
 /// Checks one claim on the rows.
 pub fn check(c: &Claim, rows: &[Row]) -> Outcome {
-    let p = pairs(rows, &c.encoder, &c.baseline, c.column, c.effects.as_deref());
+    match c.check {
+        Check::AtMost { bound } => check_bound(c, rows, bound, true),
+        Check::AtLeast { bound } => check_bound(c, rows, bound, false),
+        Check::Ratio { .. } | Check::Equal { .. } => check_pairs(c, rows),
+    }
+}
+
+/// `ratio` and `equal`: the claim's encoder against its baseline on matched rows.
+fn check_pairs(c: &Claim, rows: &[Row]) -> Outcome {
+    let p = pairs(rows, c);
     if p.is_empty() {
         return Outcome {
             figure: format!("no rows of '{}' matched to '{}'", c.encoder, c.baseline),
@@ -449,6 +541,8 @@ pub fn check(c: &Claim, rows: &[Row]) -> Outcome {
                 rows: p.len(),
             }
         }
+        // Not reached through `check`, which sends these to `check_bound`.
+        Check::AtMost { .. } | Check::AtLeast { .. } => check(c, rows),
         Check::Ratio { threshold, every } => {
             let mut v = Vec::new();
             let mut fails: Vec<&Row> = Vec::new();
@@ -513,6 +607,64 @@ pub fn check(c: &Claim, rows: &[Row]) -> Outcome {
     }
 }
 
+/// `at_most` (`upper`) or `at_least`: the claim's column of its encoder against `bound` on
+/// every selected row; a NaN fails either way.
+fn check_bound(c: &Claim, rows: &[Row], bound: f64, upper: bool) -> Outcome {
+    let v: Vec<(&Row, f64)> =
+        rows.iter().filter(|r| c.selects(r)).filter_map(|r| Some((r, c.column.get(r)?))).collect();
+    if v.is_empty() {
+        return Outcome {
+            figure: format!("no rows of '{}' with a {} value", c.encoder, c.column.name()),
+            holds: "not measured".into(),
+            rows: 0,
+        };
+    }
+    let passes = |x: f64| if upper { x <= bound } else { x >= bound };
+    let fails: Vec<&Row> = v.iter().filter(|(_, x)| !passes(*x)).map(|(r, _)| *r).collect();
+    // The extreme towards failing: the largest value for at_most, the smallest for at_least
+    // (a NaN is the most failing of all).
+    let worse = |x: f64, y: f64| x.is_nan() || (!y.is_nan() && if upper { x > y } else { x < y });
+    let (mut worst, mut best) = (v[0], v[0]);
+    for &q in &v[1..] {
+        if worse(q.1, worst.1) {
+            worst = q;
+        }
+        if worse(best.1, q.1) {
+            best = q;
+        }
+    }
+    let at = |r: &Row| format!("{} {} {}", r.map, r.domain, r.effects);
+    let (hi, lo) = if upper { ("largest", "smallest") } else { ("smallest", "largest") };
+    let pass = v.len() - fails.len();
+    let mut figure = format!(
+        "{} of {}: {hi} {} ({}), {lo} {}; {} {} in {}/{} rows",
+        c.column.name(),
+        c.encoder,
+        fmt3(worst.1),
+        at(worst.0),
+        fmt3(best.1),
+        if upper { "<=" } else { ">=" },
+        num(bound),
+        pass,
+        v.len()
+    );
+    if !fails.is_empty() && pass > 0 {
+        figure += &format!(
+            "; fails at orientations {}; maps {}",
+            top(&fail_counts(&fails, |r| r.domain.as_str()), 6),
+            top(&fail_counts(&fails, |r| r.map.as_str()), 6)
+        );
+    }
+    let holds = if fails.is_empty() {
+        "yes".to_string()
+    } else if pass == 0 {
+        "no".to_string()
+    } else {
+        format!("partly ({pass}/{} rows)", v.len())
+    };
+    Outcome { figure, holds, rows: v.len() }
+}
+
 /// Three significant digits.
 fn fmt3(x: f64) -> String {
     if x == 0.0 || !x.is_finite() {
@@ -531,14 +683,22 @@ pub fn claims_csv(experiment: &str, claims: &[Claim], outcomes: &[Outcome]) -> R
     let mut w = csv::Writer::from_writer(Vec::new());
     w.write_record(["id", "claim", "paper_figure", "our_figure", "holds", "check", "experiment", "rows"])?;
     for (c, o) in claims.iter().zip(outcomes) {
-        let check = match c.check {
+        let mut check = match c.check {
             Check::Ratio { threshold, every } => {
                 format!("ratio {} < {} ({})", c.column.name(), num(threshold), if every { "every row" } else { "mean" })
             }
             Check::Equal { tolerance, abs_tolerance } => {
                 format!("equal {} (rel. tol. {}, abs. {})", c.column.name(), num(tolerance), num(abs_tolerance))
             }
+            Check::AtMost { bound } => format!("{} <= {} (every row)", c.column.name(), num(bound)),
+            Check::AtLeast { bound } => format!("{} >= {} (every row)", c.column.name(), num(bound)),
         };
+        if let Some(e) = &c.effects {
+            check += &format!("; effects {e}");
+        }
+        if let Some(m) = &c.maps {
+            check += &format!("; maps {}", m.join(", "));
+        }
         w.write_record([
             c.id.as_str(),
             &c.claim,
@@ -598,7 +758,7 @@ pub fn claims_md(
     }
     for c in claims {
         let Check::Ratio { threshold, .. } = c.check else { continue };
-        let p = pairs(rows, &c.encoder, &c.baseline, c.column, c.effects.as_deref());
+        let p = pairs(rows, c);
         if p.is_empty() {
             continue;
         }
@@ -747,7 +907,18 @@ mod tests {
         let f: ClaimFile =
             toml::from_str(&format!("id='c'\nclaim='x'\ncheck='{check}'\nencoder='op'\nbaseline='base'\n{extra}"))
                 .unwrap();
-        Claim::from_file(f, &["op".into(), "base".into()]).unwrap()
+        Claim::from_file(f, &["op".into(), "base".into()], &maps()).unwrap()
+    }
+
+    fn maps() -> Vec<String> {
+        vec!["m1".into(), "dir/m2.exr".into()]
+    }
+
+    /// A claim without a baseline (`at_most`/`at_least`).
+    fn bounded(check: &str, extra: &str) -> Claim {
+        let f: ClaimFile =
+            toml::from_str(&format!("id='b'\nclaim='x'\ncheck='{check}'\nencoder='op'\n{extra}")).unwrap();
+        Claim::from_file(f, &["op".into(), "base".into()], &maps()).unwrap()
     }
 
     #[test]
@@ -780,7 +951,7 @@ mod tests {
                 "id='e'\nclaim='x'\ncheck='equal'\nencoder='op'\nbaseline='dup'\ntolerance={tol}\nabs_tolerance=1e-15"
             ))
             .unwrap();
-            Claim::from_file(f, &enc).unwrap()
+            Claim::from_file(f, &enc, &maps()).unwrap()
         };
         let o = check(&c("1e-12"), &t);
         assert_eq!((o.holds.as_str(), o.rows), ("yes", 4), "{}", o.figure);
@@ -805,16 +976,87 @@ mod tests {
         let parse = |s: &str| -> String {
             let f: ClaimFile =
                 toml::from_str(&format!("id='c'\nclaim='x'\nencoder='op'\nbaseline='base'\n{s}")).unwrap();
-            format!("{:#}", Claim::from_file(f, &enc).err().unwrap())
+            format!("{:#}", Claim::from_file(f, &enc, &maps()).err().unwrap())
         };
         assert!(parse("check='nope'").contains("check 'nope'"));
         assert!(parse("check='ratio'\ncolumn='speed'").contains("column 'speed'"));
         assert!(parse("check='ratio'\nstatistic='median'").contains("statistic 'median'"));
         assert!(parse("check='equal'\nthreshold=1").contains("threshold"));
+        assert!(parse("check='ratio'\nbound=1").contains("'bound' is for check"));
+        assert!(parse("check='at_most'\nbound=1").contains("'baseline' is not used"));
+        assert!(parse("check='ratio'\nmaps=['m3']").contains("maps names 'm3'"));
+        assert!(parse("check='ratio'\nmaps=[]").contains("maps = [] matches no row"));
+        let parse_nb = |s: &str| -> String {
+            let f: ClaimFile = toml::from_str(&format!("id='c'\nclaim='x'\nencoder='op'\n{s}")).unwrap();
+            format!("{:#}", Claim::from_file(f, &enc, &maps()).err().unwrap())
+        };
+        assert!(parse_nb("check='ratio'").contains("needs 'baseline'"));
+        assert!(parse_nb("check='at_most'").contains("needs 'bound'"));
+        assert!(parse_nb("check='at_least'\nbound=-1").contains("bound must be"));
+        assert!(parse_nb("check='at_most'\nbound=nan").contains("bound must be"));
+        assert!(parse_nb("check='at_most'\nbound=1\nthreshold=2").contains("takes 'bound' only"));
+        // A map is matched by its entry or its table name (file stem).
+        assert_eq!(bounded("at_most", "bound=1\nmaps=['m2', 'dir/m2.exr']").maps, Some(vec!["m2".to_string()]));
         let f: ClaimFile = toml::from_str("id='c'\nclaim='x'\ncheck='ratio'\nencoder='zz'\nbaseline='base'").unwrap();
-        assert!(format!("{:#}", Claim::from_file(f, &enc).err().unwrap()).contains("encoder 'zz'"));
+        assert!(format!("{:#}", Claim::from_file(f, &enc, &maps()).err().unwrap()).contains("encoder 'zz'"));
         assert!(toml::from_str::<ClaimFile>("id='c'\nclaim='x'\ncheck='ratio'\nencoder='a'\nbaseline='b'\nbogus=1")
             .is_err());
+    }
+
+    #[test]
+    fn bound_claims_compare_each_row_with_the_bound() {
+        // op's rmse: 1.0, 1.5 (m1), 1.0, 0.0 (m2).
+        let o = check(&bounded("at_most", "bound=1.5"), &rows());
+        assert_eq!((o.holds.as_str(), o.rows), ("yes", 4), "{}", o.figure);
+        assert!(
+            o.figure.contains("rmse of op: largest 1.50 (m1 hemisphere:+y hemisphere), smallest 0"),
+            "{}",
+            o.figure
+        );
+        assert!(o.figure.contains("<= 1.5 in 4/4 rows"), "{}", o.figure);
+        // Just below the largest value: that row fails.
+        let o = check(&bounded("at_most", "bound=1.4999999"), &rows());
+        assert_eq!(o.holds, "partly (3/4 rows)", "{}", o.figure);
+        assert!(o.figure.contains("fails at orientations hemisphere:+y (1); maps m1 (1)"), "{}", o.figure);
+        assert_eq!(check(&bounded("at_most", "bound=0"), &rows()).holds, "partly (1/4 rows)");
+        // at_least: the zero row fails a positive bound and passes bound 0; the smallest value is named.
+        let o = check(&bounded("at_least", "bound=1"), &rows());
+        assert_eq!(o.holds, "partly (3/4 rows)", "{}", o.figure);
+        assert!(o.figure.contains("smallest 0 (m2 hemisphere:+y hemisphere), largest 1.50"), "{}", o.figure);
+        assert_eq!(check(&bounded("at_least", "bound=0"), &rows()).holds, "yes");
+        assert_eq!(check(&bounded("at_least", "bound=2"), &rows()).holds, "no");
+        // Another column.
+        let mut t = rows();
+        t[1].at_normal_abs_err = Some(3e-13);
+        let o = check(&bounded("at_most", "bound=1e-12\ncolumn='at_normal_abs_err'\nmaps=['m1']"), &t);
+        assert_eq!(o.holds, "partly (1/2 rows)", "{}", o.figure);
+        // A NaN fails both checks.
+        let mut t = rows();
+        t[1].scores.rmse = f64::NAN;
+        assert_eq!(check(&bounded("at_most", "bound=10"), &t).holds, "partly (3/4 rows)");
+        assert_eq!(check(&bounded("at_least", "bound=0"), &t).holds, "partly (3/4 rows)");
+    }
+
+    #[test]
+    fn maps_filter_selects_rows_by_table_name() {
+        // m2 is listed as a path; rows name it by its stem. On m2 the ratios are 0.25 and the
+        // 0/0 tie (1), so all pass below 1.01; on m1 they are 0.5 and 1.5.
+        let on = |m: &str, thr: &str| check(&claim("ratio", &format!("maps=['{m}']\nthreshold={thr}")), &rows());
+        let o = on("m2", "1.01");
+        assert_eq!((o.holds.as_str(), o.rows), ("yes", 2), "{}", o.figure);
+        let o = on("m1", "1");
+        assert_eq!((o.holds.as_str(), o.rows), ("partly (1/2 rows)", 2), "{}", o.figure);
+        // By its path as written in the experiment, too.
+        assert_eq!(on("dir/m2.exr", "1.01").rows, 2);
+        let o = check(&bounded("at_most", "bound=1\nmaps=['m2']"), &rows());
+        assert_eq!((o.holds.as_str(), o.rows), ("yes", 2), "{}", o.figure);
+        let c = claim("ratio", "maps=['m2']");
+        let csv = String::from_utf8(claims_csv("e", std::slice::from_ref(&c), &[check(&c, &rows())]).unwrap()).unwrap();
+        assert!(csv.contains("ratio rmse < 1 (every row); maps m2"), "{csv}");
+        // CLAIMS.md breaks the claim down over the selected map only.
+        let md = claims_md("e", "", &rows(), std::slice::from_ref(&c), &[check(&c, &rows())]).unwrap();
+        let breakdown = &md[md.find("## c:").unwrap()..];
+        assert!(breakdown.contains("| m2 |") && !breakdown.contains("| m1 |"), "{md}");
     }
 
     #[test]

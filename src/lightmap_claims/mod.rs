@@ -1,6 +1,6 @@
 //! The lightmap claims H1, H2, H4, H5, H6, H7, H10, D1 and D2 (`../shared/papers/CLAIMS.md`;
 //! hemispherical-lighting talk 2024, directional-lightmap brief 2018), measured and written as
-//! `results/lightmap_claims/` by `probelab claims lightmap`: `fig2.csv`, `fig2_summary.csv`
+//! `results/lightmap_study/` ([`OUTPUT_DIR`]) by `probelab claims lightmap`: `fig2.csv`, `fig2_summary.csv`
 //! (Fig. 2 in closed form, `fig2.rs`), `blend.csv`, `blend_summary.csv` (five blending pairs,
 //! `blend.rs`; `blend_strip_<pair>.png`, lit hemispheres along t per method), `real_maps.csv`
 //! (the five paper probes through the runner), `claims.csv` and
@@ -15,6 +15,10 @@
 
 pub mod blend;
 pub mod fig2;
+
+/// The folder under `results/` that `probelab claims lightmap` writes. (`results/lightmap_claims/`
+/// belongs to `experiments/lightmap_claims.toml`, the claims on the generated scenes.)
+pub const OUTPUT_DIR: &str = "lightmap_study";
 
 use crate::domain::Domain;
 use crate::encoder::{Encoder, FitInput};
