@@ -40,7 +40,7 @@
 //! The input is scaled by a power of two to order one before fitting (so 1e-300 and 1e+300
 //! inputs neither underflow nor overflow when squared) and the colours scaled back.
 
-use super::lune::{Angle, Angular, Moments, Y_INT};
+use super::lune::{Angle, Clamped, Moments, Y_INT};
 use super::model::{Basis, Model};
 use crate::encoder::FitInput;
 use crate::gram::quadratic_form;
@@ -281,18 +281,19 @@ pub fn colours_at(spec: &FitSpec, domain: &Domain, target: &dyn Target, i_z: Rgb
     out
 }
 
-/// The (a, c) of the angular integrals A(a, c) that ∫ max(0, n·d)·q needs through its sin θ
-/// part (the moments x^{a+1} y^b z^c of [`EVEN_Y`]) and through its cos θ part (x^a y^b z^{c+1}).
-const X_PAIRS: [(usize, usize); 6] = [(1, 0), (2, 0), (1, 1), (3, 0), (1, 2), (2, 1)];
-const Z_PAIRS: [(usize, usize); 6] = [(0, 1), (1, 1), (0, 2), (2, 1), (0, 3), (1, 2)];
+/// The pair (`lune::CLAMPED_PAIRS`) of each monomial of [`EVEN_Y`]: x^a y^b z^c times
+/// max(0, n·d) integrates over the lune to Y(a + c + 1, b)·g_i with
+/// CLAMPED_PAIRS[i] = ((a + 1, c), (a, c + 1)) (1 and y² share one).
+const PAIR_OF: [usize; 7] = [0, 1, 2, 3, 0, 4, 5];
 
 /// [`colours_at`] for the quadratic target as a function of the tilt θ alone, with everything
 /// independent of θ hoisted out: G_aa and ∫ f_a·q (the domain and the target's plain products),
-/// the target's coefficients folded with the moments' Y factors into weights on the lune's ten
-/// angular integrals (`lune::Angular`, so that ∫ max(0, n·d)·q = sin θ·Σ kx·A + cos θ·Σ kz·A),
-/// and 1/I_z. One θ then costs a sin/cos (`Angle::tilt`), the angular integrals, twelve RGB
-/// multiply-adds and the three channels' colour solves at once, with one division per solve
-/// shared by the channels. Equal to [`colours_at`] to rounding (tested).
+/// the target's coefficients folded with the moments' Y factors into six RGB weights k_i
+/// (∫ max(0, n·d)·q = Σ_i k_i·g_i(θ) with the lune's clamped-cosine integrals g_i of
+/// `lune::Clamped`; G_dd and ∫ max(0, n·d)·(1, z) are g's too), and 1/I_z. One θ then costs
+/// a sin/cos (`Angle::tilt`), the six g's (a few flops each), six RGB multiply-adds and the
+/// three channels' colour solves at once, with one division per solve shared by the
+/// channels. Equal to [`colours_at`] to rounding (tested).
 #[derive(Clone, Copy, Debug)]
 pub struct ThetaObjective {
     gram: Gram,
@@ -304,9 +305,7 @@ pub struct ThetaObjective {
     inv_i_z: Rgb,
     gaa: f64,
     ba: Rgb,
-    /// Weights of the A(a, c) of [`X_PAIRS`] and [`Z_PAIRS`].
-    kx: [Rgb; 6],
-    kz: [Rgb; 6],
+    k: [Rgb; 6],
 }
 
 impl ThetaObjective {
@@ -319,15 +318,15 @@ impl ThetaObjective {
                 (0.25 * (md.get(0, 0, 0) + 2.0 * md.get(0, 0, 1) + md.get(0, 0, 2)), 0.5 * (plain[0] + plain[1]))
             }
         };
-        let (mut kx, mut kz) = ([[Rgb::ZERO; 4]; 4], [[Rgb::ZERO; 4]; 4]);
-        for j in EVEN_Y {
+        let mut k = [Rgb::ZERO; 6];
+        for (j, i) in EVEN_Y.into_iter().zip(PAIR_OF) {
             let (a, b, c) = MONO[j];
-            kx[a + 1][c] += target.coef[j] * Y_INT[a + 1 + c][b];
-            kz[a][c + 1] += target.coef[j] * Y_INT[a + c + 1][b];
+            k[i] += target.coef[j] * Y_INT[a + c + 1][b];
         }
-        let kx = X_PAIRS.map(|(a, c)| kx[a][c]);
-        let kz = Z_PAIRS.map(|(a, c)| kz[a][c]);
-        let inv_i_z = Rgb::select(i_z.cmpgt(Rgb::ZERO), Rgb::ONE / i_z, Rgb::ZERO);
+        let inv_i_z = match spec.colours {
+            Colours::IrradZ => Rgb::select(i_z.cmpgt(Rgb::ZERO), Rgb::ONE / i_z, Rgb::ZERO),
+            Colours::Free => Rgb::ZERO,
+        };
         ThetaObjective {
             gram: domain.gram,
             basis: spec.basis,
@@ -337,8 +336,7 @@ impl ThetaObjective {
             inv_i_z,
             gaa,
             ba,
-            kx,
-            kz,
+            k,
         }
     }
 
@@ -354,29 +352,24 @@ impl ThetaObjective {
     pub fn at(&self, theta: f64) -> Colour {
         let t = Angle::tilt(theta);
         let (s, c) = (t.sin, t.cos);
-        let a = match self.gram {
-            Gram::Hemisphere => Angular::hemisphere_lune(t),
-            Gram::Sphere => Angular::sphere_half(t),
+        let g = match self.gram {
+            Gram::Hemisphere => Clamped::hemisphere_lune(t),
+            Gram::Sphere => Clamped::sphere_half(t),
         }
         .0;
-        // G_dd, ∫ max(0, n·d), ∫ z·max(0, n·d) (Y(1, 0) = π/2, Y(2, 0) = 4/3).
-        let y1 = Y_INT[1][0];
-        let y2 = Y_INT[2][0];
-        let fd1 = y1 * (s * a[1][0] + c * a[0][1]);
-        let fdz = y2 * (s * a[1][1] + c * a[0][2]);
-        let gdd = y2 * (s * s * a[2][0] + 2.0 * s * c * a[1][1] + c * c * a[0][2]);
+        // ∫ max(0, n·d) = Y(1, 0)·g₀, ∫ z·max(0, n·d) = Y(2, 0)·g₂ and G_dd = ∫ max(0, n·d)² =
+        // Y(2, 0)·(sin θ·g₁ + cos θ·g₂).
+        let fd1 = Y_INT[1][0] * g[0];
+        let fdz = Y_INT[2][0] * g[2];
+        let gdd = Y_INT[2][0] * (s * g[1] + c * g[2]);
         let gad = match self.basis {
             Basis::Ahd => fd1,
             Basis::Hhd => 0.5 * (fd1 + fdz),
         };
-        let (mut x, mut z) = (Rgb::ZERO, Rgb::ZERO);
-        for (w, (i, k)) in self.kx.iter().zip(X_PAIRS) {
-            x += *w * a[i][k];
+        let mut bd = Rgb::ZERO;
+        for (k, g) in self.k.iter().zip(g) {
+            bd += *k * g;
         }
-        for (w, (i, k)) in self.kz.iter().zip(Z_PAIRS) {
-            z += *w * a[i][k];
-        }
-        let bd = x * s + z * c;
         let (c_a, c_d, j) = match self.colours {
             Colours::Free => nnls2_rgb(self.gaa, gad, gdd, self.ba, bd),
             Colours::IrradZ => irradz_rgb(self.gaa, gad, gdd, self.ba, bd, self.i_z, self.inv_i_z, c),
@@ -816,6 +809,15 @@ mod tests {
             }
         }
         assert!(fallbacks > 0, "the cases exercise the NNLS fallback");
+    }
+
+    /// The pair table: EVEN_Y[k] = x^a y^b z^c goes with (A(a + 1, c), A(a, c + 1)).
+    #[test]
+    fn pairs_match_the_monomials() {
+        for (j, i) in EVEN_Y.into_iter().zip(PAIR_OF) {
+            let (a, _, c) = MONO[j];
+            assert_eq!(crate::lightmap::lune::CLAMPED_PAIRS[i], ((a + 1, c), (a, c + 1)), "monomial {:?}", MONO[j]);
+        }
     }
 
     /// The two-variable NNLS is the minimum over the feasible quadrant (grid search check).
