@@ -419,6 +419,10 @@ fn irradz_rgb(gaa: f64, gad: f64, gdd: f64, ba: Rgb, bd: Rgb, i_z: Rgb, inv_i_z:
         Rgb::splat(0.5)
     };
     let j = (i_z * i_z * (w * (2.0 * ug) + w * w * uu + gdd) - i_z * (bd * dz + w * uq) * 2.0) * inv_dz2;
+    // At w = 1 (pure ambient, C_d = 0) J is I_z²·G_aa − 2 I_z·b_a, independent of d: taken
+    // exactly, so that a search over such a plateau sees exact ties (as the NNLS's ambient-only
+    // fallback does), not rounding noise.
+    let j = Rgb::select(w.cmpeq(Rgb::ONE), i_z * i_z * gaa - i_z * ba * 2.0, j);
     let on = i_z.cmpgt(Rgb::ZERO);
     (
         Rgb::select(on, w * i_z, Rgb::ZERO),
@@ -458,7 +462,12 @@ fn irradz(gaa: f64, gad: f64, gdd: f64, ba: f64, bd: f64, i_z: f64, dz: f64) -> 
     let uu = gaa - 2.0 * gad * inv + gg;
     let (uq, gq) = (ba - bd * inv, bd * inv);
     let w = if uu > 1e-300 { ((uq - i_z * ug) / (i_z * uu)).clamp(0.0, 1.0) } else { 0.5 };
-    let j = i_z * i_z * (gg + 2.0 * w * ug + w * w * uu) - 2.0 * i_z * (gq + w * uq);
+    // w = 1: J without d, exactly (see `irradz_rgb`).
+    let j = if w == 1.0 {
+        i_z * i_z * gaa - 2.0 * i_z * ba
+    } else {
+        i_z * i_z * (gg + 2.0 * w * ug + w * w * uu) - 2.0 * i_z * (gq + w * uq)
+    };
     (w * i_z, (1.0 - w) * i_z * inv, j)
 }
 
