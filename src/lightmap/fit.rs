@@ -303,6 +303,8 @@ pub struct ThetaObjective {
     i_z: Rgb,
     /// 1/I_z where I_z > 0, else 0 (those channels are zero, [`irradz`]).
     inv_i_z: Rgb,
+    /// The IrradZ objective at w = 1 (pure ambient), I_z²·G_aa − 2 I_z·b_a: d plays no part.
+    j_ambient: Rgb,
     gaa: f64,
     ba: Rgb,
     k: [Rgb; 6],
@@ -334,6 +336,7 @@ impl ThetaObjective {
             weights: spec.weights,
             i_z,
             inv_i_z,
+            j_ambient: i_z * i_z * gaa - i_z * ba * 2.0,
             gaa,
             ba,
             k,
@@ -372,9 +375,45 @@ impl ThetaObjective {
         }
         let (c_a, c_d, j) = match self.colours {
             Colours::Free => nnls2_rgb(self.gaa, gad, gdd, self.ba, bd),
-            Colours::IrradZ => irradz_rgb(self.gaa, gad, gdd, self.ba, bd, self.i_z, self.inv_i_z, c),
+            Colours::IrradZ => self.irradz_rgb(gad, gdd, bd, c),
         };
         Colour { c_a, c_d, objective: self.weights.dot(j) }
+    }
+
+    /// [`irradz`] for three channels sharing the Gram and d_z, with its terms multiplied through
+    /// by d_z² so that the weight w needs one division (by d_z²·u·u, shared by the channels) and
+    /// 1/d_z² runs alongside it: d_z²·u·u = G_aa d_z² − 2 G_ad d_z + G_dd, d_z²·u·g = G_ad d_z − G_dd,
+    /// d_z²·u·q = d_z (b_a d_z − b_d). Channels with I_z ≤ 0 are zero.
+    #[inline]
+    fn irradz_rgb(&self, gad: f64, gdd: f64, bd: Rgb, dz: f64) -> (Rgb, Rgb, Rgb) {
+        let (gaa, ba, i_z, inv_i_z) = (self.gaa, self.ba, self.i_z, self.inv_i_z);
+        if dz <= 0.0 {
+            return (Rgb::ZERO, Rgb::ZERO, Rgb::ZERO);
+        }
+        let dz2 = dz * dz;
+        let inv_dz2 = 1.0 / dz2;
+        let uu = gaa * dz2 - 2.0 * gad * dz + gdd;
+        let ug = gad * dz - gdd;
+        let uq = (ba * dz - bd) * dz;
+        let w = if uu > 1e-300 * dz2 {
+            ((uq * inv_i_z - Rgb::splat(ug)) * (1.0 / uu)).clamp(Rgb::ZERO, Rgb::ONE)
+        } else {
+            Rgb::splat(0.5)
+        };
+        // J about w = 1 (pure ambient, C_d = 0): with v = 1 − w, I = I_z·(f_a − v·u) and
+        // J = I_z²·G_aa − 2 I_z·b_a + I_z²·(v²·u·u − 2v·f_a·u) + 2 I_z·v·u·q, d_z²·f_a·u =
+        // G_aa d_z² − G_ad d_z. At v = 0 J is the precomputed constant exactly, so that a search
+        // over such a plateau (d plays no part) sees exact ties, as with the NNLS's ambient-only
+        // fallback, not rounding noise.
+        let v = Rgb::ONE - w;
+        let fu = gaa * dz2 - gad * dz;
+        let j = self.j_ambient + (i_z * i_z * (v * v * uu - v * (2.0 * fu)) + i_z * v * uq * 2.0) * inv_dz2;
+        let on = i_z.cmpgt(Rgb::ZERO);
+        (
+            Rgb::select(on, w * i_z, Rgb::ZERO),
+            Rgb::select(on, v * i_z * (dz * inv_dz2), Rgb::ZERO),
+            Rgb::select(on, j, Rgb::ZERO),
+        )
     }
 }
 
@@ -397,38 +436,6 @@ fn nnls2_rgb(gaa: f64, gad: f64, gdd: f64, ba: Rgb, bd: Rgb) -> (Rgb, Rgb, Rgb) 
         (out.0[ch], out.1[ch], out.2[ch]) = nnls2(gaa, gad, gdd, ba[ch], bd[ch]);
     }
     out
-}
-
-/// [`irradz`] for three channels sharing the Gram and d_z, with its terms multiplied through
-/// by d_z² so that the weight w needs one division (by d_z²·u·u, shared by the channels) and
-/// 1/d_z² runs alongside it: d_z²·u·u = G_aa d_z² − 2 G_ad d_z + G_dd, d_z²·u·g = G_ad d_z − G_dd,
-/// d_z²·u·q = d_z (b_a d_z − b_d). Channels with I_z ≤ 0 are zero.
-#[inline]
-fn irradz_rgb(gaa: f64, gad: f64, gdd: f64, ba: Rgb, bd: Rgb, i_z: Rgb, inv_i_z: Rgb, dz: f64) -> (Rgb, Rgb, Rgb) {
-    if dz <= 0.0 {
-        return (Rgb::ZERO, Rgb::ZERO, Rgb::ZERO);
-    }
-    let dz2 = dz * dz;
-    let inv_dz2 = 1.0 / dz2;
-    let uu = gaa * dz2 - 2.0 * gad * dz + gdd;
-    let ug = gad * dz - gdd;
-    let uq = (ba * dz - bd) * dz;
-    let w = if uu > 1e-300 * dz2 {
-        ((uq * inv_i_z - Rgb::splat(ug)) * (1.0 / uu)).clamp(Rgb::ZERO, Rgb::ONE)
-    } else {
-        Rgb::splat(0.5)
-    };
-    let j = (i_z * i_z * (w * (2.0 * ug) + w * w * uu + gdd) - i_z * (bd * dz + w * uq) * 2.0) * inv_dz2;
-    // At w = 1 (pure ambient, C_d = 0) J is I_z²·G_aa − 2 I_z·b_a, independent of d: taken
-    // exactly, so that a search over such a plateau sees exact ties (as the NNLS's ambient-only
-    // fallback does), not rounding noise.
-    let j = Rgb::select(w.cmpeq(Rgb::ONE), i_z * i_z * gaa - i_z * ba * 2.0, j);
-    let on = i_z.cmpgt(Rgb::ZERO);
-    (
-        Rgb::select(on, w * i_z, Rgb::ZERO),
-        Rgb::select(on, (Rgb::ONE - w) * i_z * (dz * inv_dz2), Rgb::ZERO),
-        Rgb::select(on, j, Rgb::ZERO),
-    )
 }
 
 /// min over ca, cd ≥ 0 of J = gaa ca² + 2 gad ca cd + gdd cd² − 2 ba ca − 2 bd cd.
