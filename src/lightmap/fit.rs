@@ -630,7 +630,7 @@ pub fn fit(spec: &FitSpec, input: &FitInput) -> FitResult {
         0.0
     };
     let domain = Domain::new(gram);
-    let target = QuadraticTarget::new(&sh, &frame, &domain.moments);
+    let target = QuadraticTarget::new(&sh, &frame, domain.moments);
     let i_z = match i_z_exact {
         Some(v) => scale.times(v),
         None => sh.eval(n),
@@ -648,8 +648,7 @@ pub fn fit(spec: &FitSpec, input: &FitInput) -> FitResult {
             let theta = s.theta;
             let at = |p: f64| {
                 let f = frame.turned(p);
-                ThetaObjective::new(spec, &domain, &QuadraticTarget::new(&sh, &f, &domain.moments), i_z)
-                    .objective(theta)
+                ThetaObjective::new(spec, &domain, &QuadraticTarget::new(&sh, &f, domain.moments), i_z).objective(theta)
             };
             let half = std::f64::consts::FRAC_PI_2;
             let (p, fp, k) = golden_section(-half, half, iterations, tolerance, at);
@@ -660,7 +659,7 @@ pub fn fit(spec: &FitSpec, input: &FitInput) -> FitResult {
             }
             // θ again at the new azimuth.
             let turned = frame.turned(p);
-            let t2 = ThetaObjective::new(spec, &domain, &QuadraticTarget::new(&sh, &turned, &domain.moments), i_z);
+            let t2 = ThetaObjective::new(spec, &domain, &QuadraticTarget::new(&sh, &turned, domain.moments), i_z);
             let s2 = solve_by(spec, s.theta, |th| t2.objective(th), |th| t2.at(th));
             iters += s2.iterations;
             evals += s2.evaluations;
@@ -755,7 +754,7 @@ mod tests {
                     for colours in [Colours::Free, Colours::IrradZ] {
                         let sp = spec(basis, gram, colours);
                         let dom = Domain::new(gram);
-                        let target = QuadraticTarget::new(&e, &f, &dom.moments);
+                        let target = QuadraticTarget::new(&e, &f, dom.moments);
                         let got = colours_at(&sp, &dom, &target, i_z, t);
                         for ch in 0..3 {
                             let (ca, cd, _) = match colours {
@@ -793,12 +792,12 @@ mod tests {
             }
             for gram in [Gram::Hemisphere, Gram::Sphere] {
                 let dom = Domain::new(gram);
-                let target = QuadraticTarget::new(&e, &f, &dom.moments);
+                let target = QuadraticTarget::new(&e, &f, dom.moments);
                 for basis in [Basis::Ahd, Basis::Hhd] {
                     for colours in [Colours::Free, Colours::IrradZ] {
                         let sp = FitSpec { weights: Rgb::new(0.2, 0.5, 0.3), ..spec(basis, gram, colours) };
                         let obj = ThetaObjective::new(&sp, &dom, &target, i_z);
-                        for th in [0.0, 0.01, 0.3, 0.7853981633974483, 1.1, 1.55] {
+                        for th in [0.0, 0.01, 0.3, std::f64::consts::FRAC_PI_4, 1.1, 1.55] {
                             let (got, want) = (obj.at(th), colours_at(&sp, &dom, &target, i_z, Angle::new(th)));
                             let scale = 1.0 + want.c_a.abs().max_element() + want.c_d.abs().max_element();
                             let close = |x: f64, y: f64| (x - y).abs() <= 1e-12 * scale;
@@ -855,7 +854,7 @@ mod tests {
             let i_z = sh.eval(n).max(Rgb::ZERO);
             for gram in [Gram::Hemisphere, Gram::Sphere] {
                 let dom = Domain::new(gram);
-                let target = QuadraticTarget::new(&sh, &frame, &dom.moments);
+                let target = QuadraticTarget::new(&sh, &frame, dom.moments);
                 for basis in [Basis::Ahd, Basis::Hhd] {
                     for colours in [Colours::Free, Colours::IrradZ] {
                         let sp = FitSpec {

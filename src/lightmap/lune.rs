@@ -41,10 +41,10 @@ impl Angle {
     /// outside [0, π/2] (or NaN) it is [`Angle::new`].
     #[inline]
     pub fn tilt(a: f64) -> Self {
-        // π/2 = PIO2_HI + PIO2_LO (fdlibm's split); PIO2_HI − a is exact for a ∈ [π/4, π/2]
-        // (Sterbenz).
-        const PIO2_HI: f64 = 1.570_796_326_794_896_558;
-        const PIO2_LO: f64 = 6.123_233_995_736_766_036e-17;
+        // π/2 = PIO2_HI + PIO2_LO (fdlibm's split: PIO2_HI is the f64 nearest π/2); PIO2_HI − a
+        // is exact for a ∈ [π/4, π/2] (Sterbenz).
+        const PIO2_HI: f64 = std::f64::consts::FRAC_PI_2;
+        const PIO2_LO: f64 = 6.123_233_995_736_766e-17;
         if (0.0..=std::f64::consts::FRAC_PI_4).contains(&a) {
             Angle { a, sin: kernel_sin(a), cos: kernel_cos(a) }
         } else if a > std::f64::consts::FRAC_PI_4 && a <= PIO2_HI {
@@ -59,12 +59,12 @@ impl Angle {
 /// sin x for |x| ≤ π/4 (fdlibm `__kernel_sin`, tail y = 0).
 #[inline]
 fn kernel_sin(x: f64) -> f64 {
-    const S1: f64 = -1.666_666_666_666_663_243_48e-01;
-    const S2: f64 = 8.333_333_333_322_489_461_24e-03;
-    const S3: f64 = -1.984_126_982_985_794_931_34e-04;
-    const S4: f64 = 2.755_731_370_707_006_767_89e-06;
-    const S5: f64 = -2.505_076_025_340_686_341_95e-08;
-    const S6: f64 = 1.589_690_995_211_550_102_21e-10;
+    const S1: f64 = -1.666_666_666_666_663_2e-1;
+    const S2: f64 = 8.333_333_333_322_49e-3;
+    const S3: f64 = -1.984_126_982_985_795e-4;
+    const S4: f64 = 2.755_731_370_707_006_8e-6;
+    const S5: f64 = -2.505_076_025_340_686_3e-8;
+    const S6: f64 = 1.589_690_995_211_55e-10;
     let z = x * x;
     let w = z * z;
     let r = S2 + z * (S3 + z * S4) + z * w * (S5 + z * S6);
@@ -75,12 +75,12 @@ fn kernel_sin(x: f64) -> f64 {
 /// cos x for |x| ≤ π/4 (fdlibm `__kernel_cos`, tail y = 0).
 #[inline]
 fn kernel_cos(x: f64) -> f64 {
-    const C1: f64 = 4.166_666_666_666_660_190_37e-02;
-    const C2: f64 = -1.388_888_888_887_410_957_49e-03;
-    const C3: f64 = 2.480_158_728_947_672_941_78e-05;
-    const C4: f64 = -2.755_731_435_139_066_330_35e-07;
-    const C5: f64 = 2.087_572_321_298_174_827_90e-09;
-    const C6: f64 = -1.135_964_755_778_819_482_65e-11;
+    const C1: f64 = 4.166_666_666_666_66e-2;
+    const C2: f64 = -1.388_888_888_887_411e-3;
+    const C3: f64 = 2.480_158_728_947_673e-5;
+    const C4: f64 = -2.755_731_435_139_066_3e-7;
+    const C5: f64 = 2.087_572_321_298_175e-9;
+    const C6: f64 = -1.135_964_755_778_819_5e-11;
     let z = x * x;
     let w = z * z;
     let r = z * (C1 + z * (C2 + z * C3)) + w * w * (C4 + z * (C5 + z * C6));
