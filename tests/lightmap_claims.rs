@@ -10,7 +10,7 @@ use probelab::scenes::{cap_irradiance, Component, TILTED_LIGHT};
 use probelab::sh::Rgb;
 use probelab::summary::Check;
 use std::collections::HashMap;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::Command;
 
 fn repo() -> PathBuf {
@@ -77,19 +77,25 @@ fn h2_claim_uses_the_derived_bound() {
     assert_eq!(h2.maps.as_deref(), Some(&["gen_tilted_light".to_string()][..]));
 }
 
+/// Runs the committed experiment (no timing, generated maps only) with results under `out`;
+/// returns the claims.csv it wrote.
+fn run_into(out: &Path) -> String {
+    let o = Command::new(env!("CARGO_BIN_EXE_probelab"))
+        .args(["--no-timing", "run", "experiments/lightmap_claims.toml", "--out", out.to_str().unwrap()])
+        .current_dir(repo())
+        .env_remove("PROBELAB_ENVMAPS")
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    std::fs::read_to_string(out.join("lightmap_claims/claims.csv")).unwrap()
+}
+
 /// Every claim of the committed experiment holds when re-run, and the committed claims.csv is
 /// what `run` writes today.
 #[test]
 fn committed_experiment_claims_hold() {
     let dir = tempfile::tempdir().unwrap();
-    let out = Command::new(env!("CARGO_BIN_EXE_probelab"))
-        .args(["--no-timing", "run", "experiments/lightmap_claims.toml", "--out", dir.path().to_str().unwrap()])
-        .current_dir(repo())
-        .env_remove("PROBELAB_ENVMAPS")
-        .output()
-        .unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    let fresh = std::fs::read_to_string(dir.path().join("lightmap_claims/claims.csv")).unwrap();
+    let fresh = run_into(dir.path());
     let claims = parse_csv(&fresh);
     let ids: Vec<&str> = claims.iter().map(|c| c["id"].as_str()).collect();
     for id in ["H1", "H2", "H2.ahd", "H4.hhd_wins", "H4.ahd_wins", "D1"] {
@@ -107,14 +113,7 @@ fn committed_experiment_claims_hold() {
     for f in ["table.csv", "provenance.toml"] {
         std::fs::copy(src.join(f), kept.path().join("lightmap_claims").join(f)).unwrap();
     }
-    let out = Command::new(env!("CARGO_BIN_EXE_probelab"))
-        .args(["--no-timing", "run", "experiments/lightmap_claims.toml", "--out", kept.path().to_str().unwrap()])
-        .current_dir(repo())
-        .env_remove("PROBELAB_ENVMAPS")
-        .output()
-        .unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    let written = std::fs::read_to_string(kept.path().join("lightmap_claims/claims.csv")).unwrap();
+    let written = run_into(kept.path());
     let committed = std::fs::read_to_string(src.join("claims.csv")).unwrap();
     assert!(
         committed == written,
