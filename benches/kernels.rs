@@ -3,17 +3,17 @@
 //! kernels (synthesis, SH rotation, per-probe error, statistics). Figures: benches/README.md.
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use glam::DVec3;
-use probelab::cap::Cap;
-use probelab::domain::fibonacci_sphere;
-use probelab::encoder::{FitInput, Fitted, Params};
+use probelab::encoders::encoder::{FitInput, Fitted, Params};
 use probelab::encoders::REGISTRY;
-use probelab::moments::RowMoments;
-use probelab::probeset::{probe_rmse, SphereRule, Synth};
-use probelab::projection::{project, project_visible};
-use probelab::reference::{Reference, DEFAULT_POLAR_NODES};
-use probelab::sh::{Rgb, Sh9};
-use probelab::sh_rotation::{uniform_rotation, ShRotation};
-use probelab::stats::Summary;
+use probelab::envmap::moments::RowMoments;
+use probelab::math::cap::Cap;
+use probelab::math::sh::{Rgb, Sh9};
+use probelab::math::sh_rotation::{uniform_rotation, ShRotation};
+use probelab::math::stats::Summary;
+use probelab::pipeline::probeset::{probe_rmse, SphereRule, Synth};
+use probelab::reference::domain::fibonacci_sphere;
+use probelab::reference::exact::{Reference, DEFAULT_POLAR_NODES};
+use probelab::reference::projection::{project, project_visible};
 use std::hint::black_box;
 
 /// The inputs every encoder is fitted from: the generated sky-and-sun scene seen by a probe
@@ -25,7 +25,7 @@ struct Inputs {
 }
 
 fn inputs() -> Inputs {
-    let scene = probelab::scenes::generated().into_iter().find(|s| s.id == "gen_sky_sun").expect("scene");
+    let scene = probelab::reference::scenes::generated().into_iter().find(|s| s.id == "gen_sky_sun").expect("scene");
     let map = scene.map(256);
     let rm = RowMoments::new(&map);
     let caps = vec![Cap::hemisphere(DVec3::Y)];
@@ -82,7 +82,7 @@ impl Fitted for NoHook {
 
 fn probes(c: &mut Criterion) {
     let palette: Vec<(String, Sh9)> =
-        probelab::scenes::generated().into_iter().map(|s| (s.id.clone(), s.sh())).collect();
+        probelab::reference::scenes::generated().into_iter().map(|s| (s.id.clone(), s.sh())).collect();
     let synth = Synth::new(1, palette);
     let mut g = c.benchmark_group("probes");
     g.throughput(Throughput::Elements(1));

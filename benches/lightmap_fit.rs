@@ -10,14 +10,14 @@
 //! `cargo bench --bench lightmap_fit` prints `min-of-N` lines: ns per texel per core.
 
 use glam::DVec3;
-use probelab::cap::Cap;
-use probelab::domain::fibonacci_sphere;
-use probelab::encoder::{FitInput, Params};
+use probelab::encoders::encoder::{FitInput, Params};
 use probelab::encoders::REGISTRY;
-use probelab::moments::RowMoments;
-use probelab::projection::{project, project_visible};
-use probelab::reference::{Reference, DEFAULT_POLAR_NODES};
-use probelab::sh::{Rgb, Sh9};
+use probelab::envmap::moments::RowMoments;
+use probelab::math::cap::Cap;
+use probelab::math::sh::{Rgb, Sh9};
+use probelab::reference::domain::fibonacci_sphere;
+use probelab::reference::exact::{Reference, DEFAULT_POLAR_NODES};
+use probelab::reference::projection::{project, project_visible};
 use std::hint::black_box;
 
 fn thread_cpu_ns() -> u64 {
@@ -29,7 +29,7 @@ fn thread_cpu_ns() -> u64 {
 
 fn main() {
     let filter: Option<String> = std::env::args().skip(1).find(|a| !a.starts_with('-'));
-    let scene = probelab::scenes::generated().into_iter().find(|s| s.id == "gen_sky_sun").expect("scene");
+    let scene = probelab::reference::scenes::generated().into_iter().find(|s| s.id == "gen_sky_sun").expect("scene");
     let map = scene.map(256);
     let rm = RowMoments::new(&map);
     let probe = project(&map);

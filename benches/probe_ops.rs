@@ -14,13 +14,13 @@
 use criterion::measurement::{Measurement, ValueFormatter};
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use glam::DVec3;
-use probelab::cap::Cap;
-use probelab::encoder::FitInput;
+use probelab::encoders::encoder::FitInput;
+use probelab::envmap::moments::RowMoments;
 use probelab::envmap::EnvMap;
-use probelab::moments::RowMoments;
-use probelab::projection::project_visible;
-use probelab::reference::{Reference, DEFAULT_POLAR_NODES};
-use probelab::runner::cone_centre;
+use probelab::math::cap::Cap;
+use probelab::pipeline::runner::cone_centre;
+use probelab::reference::exact::{Reference, DEFAULT_POLAR_NODES};
+use probelab::reference::projection::project_visible;
 use std::hint::black_box;
 
 const OPS: &[&str] = &[
@@ -95,12 +95,12 @@ impl ValueFormatter for NsFormatter {
 
 /// Deterministic unit vectors (spherical Fibonacci).
 fn directions(n: usize) -> Vec<DVec3> {
-    probelab::domain::fibonacci_sphere(n)
+    probelab::reference::domain::fibonacci_sphere(n)
 }
 
 fn ops(c: &mut Criterion<CpuTime>) {
     // A realistic probe: the generated sun-and-sky scene's closed-form L2 SH.
-    let scene = probelab::scenes::generated().into_iter().find(|s| s.id == "gen_sun_sky").expect("scene");
+    let scene = probelab::reference::scenes::generated().into_iter().find(|s| s.id == "gen_sun_sky").expect("scene");
     let sh = scene.sh();
     let normals: Vec<DVec3> = directions(64);
     let cones: Vec<(DVec3, f64)> = normals.iter().map(|&n| (cone_centre(n, 30.0), 0.5)).collect();

@@ -2,13 +2,13 @@
 //! the 2-core machine, issue 2), the general capped path (a cone-AO case, 4096 hemisphere
 //! normals), and the SH projection of a 1024×512 map (target ≤ 5 ms).
 use criterion::{criterion_group, criterion_main, Criterion};
-use probelab::cap::Cap;
-use probelab::domain::Domain;
+use probelab::envmap::moments::RowMoments;
 use probelab::envmap::{EnvMap, LatLong};
-use probelab::moments::RowMoments;
-use probelab::projection::project;
-use probelab::reference::{Reference, DEFAULT_POLAR_NODES};
-use probelab::runner::cone_centre;
+use probelab::math::cap::Cap;
+use probelab::pipeline::runner::cone_centre;
+use probelab::reference::domain::Domain;
+use probelab::reference::exact::{Reference, DEFAULT_POLAR_NODES};
+use probelab::reference::projection::project;
 use std::hint::black_box;
 
 fn synthetic(w: usize) -> EnvMap {

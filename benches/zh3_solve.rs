@@ -15,11 +15,11 @@
 use criterion::measurement::{Measurement, ValueFormatter};
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use glam::DVec3;
+use probelab::encoders::zh3::solve::{Formulation, SolverSettings, Zonal};
 use probelab::encoders::zh3::{solved, AxisRule};
-use probelab::encoders::zh3_solve::{Formulation, SolverSettings, Zonal};
 use probelab::envmap::search::SearchPath;
-use probelab::scenes::Component;
-use probelab::sh::{constant, Rgb, Sh9};
+use probelab::math::sh::{constant, Rgb, Sh9};
+use probelab::reference::scenes::Component;
 use std::hint::black_box;
 
 /// Thread CPU time (CLOCK_THREAD_CPUTIME_ID): the machine is shared, so wall time measures the
@@ -113,7 +113,7 @@ fn probes() -> Vec<(String, Sh9)> {
     let mut out = Vec::new();
     for p in PROBES {
         match search.load(p) {
-            Ok(map) => out.push((p.to_string(), probelab::projection::project(&map).convolve_cosine())),
+            Ok(map) => out.push((p.to_string(), probelab::reference::projection::project(&map).convolve_cosine())),
             Err(_) => eprintln!("zh3_solve bench: {p} not found (set PROBELAB_ENVMAPS); skipped"),
         }
     }
@@ -136,7 +136,7 @@ fn distribution(
     f: fn(&Sh9, &SolverSettings) -> probelab::encoders::zh3::Solved,
 ) {
     let stats: Vec<_> = set.iter().map(|irr| f(irr, s).stats).collect();
-    let col = |g: &dyn Fn(&probelab::encoders::zh3_solve::SolveStats) -> u32| {
+    let col = |g: &dyn Fn(&probelab::encoders::zh3::solve::SolveStats) -> u32| {
         let mut v: Vec<u32> = stats.iter().map(g).collect();
         v.sort();
         let mean = v.iter().map(|&x| x as f64).sum::<f64>() / v.len() as f64;

@@ -1,10 +1,11 @@
 //! The command line: a thin layer over the library. IO happens here and in `runner`/`atomic`.
 
-use crate::domain::parse_axis;
+use crate::encoders;
 use crate::envmap::search::SearchPath;
-use crate::experiment::{list_experiments, DomainKind, Effect, Experiment};
-use crate::metrics::Metric;
-use crate::{encoders, runner, table};
+use crate::pipeline::experiment::{list_experiments, DomainKind, Effect, Experiment};
+use crate::pipeline::{runner, table};
+use crate::reference::domain::parse_axis;
+use crate::reference::metrics::Metric;
 use anyhow::{bail, Context, Result};
 use clap::{Parser, Subcommand};
 use std::path::{Path, PathBuf};
@@ -71,7 +72,7 @@ pub enum Command {
         #[arg(long, default_value = "256x128")]
         resolution: String,
         /// Gauss–Legendre nodes per row piece of the reference.
-        #[arg(long, default_value_t = crate::reference::DEFAULT_POLAR_NODES)]
+        #[arg(long, default_value_t = crate::reference::exact::DEFAULT_POLAR_NODES)]
         polar_nodes: usize,
     },
     /// Write the analytic scenes into envmaps/ as f32 EXR.
@@ -139,11 +140,11 @@ pub enum Command {
     /// Show the map search path and which maps it finds.
     Maps,
     /// Score encoders over a probe set (a file, or --synth N), in chunks and optionally sharded.
-    Probes(crate::probeset::ProbesArgs),
+    Probes(crate::pipeline::probeset::ProbesArgs),
     /// Merge shard statistics written by `probes --out`.
-    Merge(crate::probeset::MergeArgs),
+    Merge(crate::pipeline::probeset::MergeArgs),
     /// Vary one accuracy knob and record error against time (experiments/sweeps/*.toml).
-    Sweep(crate::sweep::SweepArgs),
+    Sweep(crate::pipeline::sweep::SweepArgs),
 }
 
 /// Runs the command line; returns the process exit code.
@@ -152,10 +153,10 @@ pub fn main_with(cli: Cli) -> Result<i32> {
         rayon::ThreadPoolBuilder::new().num_threads(j.max(1)).build_global().context("--jobs")?;
     }
     if cli.profile {
-        crate::profile::enable();
+        crate::pipeline::profile::enable();
     }
-    crate::timing::set_enabled(!cli.no_timing);
-    let _profile_report = crate::profile::ReportOnDrop(std::time::Instant::now());
+    crate::pipeline::timing::set_enabled(!cli.no_timing);
+    let _profile_report = crate::pipeline::profile::ReportOnDrop(std::time::Instant::now());
     let root = cli.root.clone();
     let search = SearchPath::from_env(root.join("envmaps"));
     let results = |out: Option<PathBuf>| out.unwrap_or_else(|| root.join("results"));
@@ -185,7 +186,7 @@ pub fn main_with(cli: Cli) -> Result<i32> {
                     refused.push(exp.name.clone());
                 }
             }
-            Ok(crate::check::refused_exit(&refused))
+            Ok(crate::regression::check::refused_exit(&refused))
         }
         Command::Reproduce { out } => {
             let out = results(out);
@@ -193,7 +194,7 @@ pub fn main_with(cli: Cli) -> Result<i32> {
             let exps = list_experiments(&dir)?.iter().map(|p| Experiment::load(p)).collect::<Result<Vec<_>>>()?;
             let (mut skipped, mut refused) = (Vec::new(), Vec::new());
             let mut done = Vec::new();
-            let progress = crate::progress::Progress::new(exps.len() as u64, "experiments");
+            let progress = crate::pipeline::progress::Progress::new(exps.len() as u64, "experiments");
             for exp in &exps {
                 progress.message(exp.name.clone());
                 let report = runner::run(exp, &search)?;
@@ -221,17 +222,17 @@ pub fn main_with(cli: Cli) -> Result<i32> {
                 );
             }
             write_report(&root, &out, &search)?;
-            Ok(crate::check::refused_exit(&refused))
+            Ok(crate::regression::check::refused_exit(&refused))
         }
         Command::Report { out } => {
             write_report(&root, &results(out), &search)?;
             Ok(0)
         }
         Command::Check { experiments, all, allow_missing, out } => {
-            crate::check::check_command(&root, &search, &results(out), &experiments, all, allow_missing)
+            crate::regression::check::check_command(&root, &search, &results(out), &experiments, all, allow_missing)
         }
         Command::Bless { experiments, force, out } => {
-            crate::check::bless_command(&root, &search, &results(out), &experiments, force)
+            crate::regression::check::bless_command(&root, &search, &results(out), &experiments, force)
         }
         Command::Eval { maps, encoders: list, domain, metric, resolution, polar_nodes } => {
             let exp = eval_experiment(maps, &list, &domain, &metric, &resolution, polar_nodes)?;
@@ -249,7 +250,7 @@ pub fn main_with(cli: Cli) -> Result<i32> {
             }
             let out = out.unwrap_or_else(|| root.join("envmaps"));
             std::fs::create_dir_all(&out).with_context(|| format!("{}: cannot create folder", out.display()))?;
-            for s in crate::scenes::generated() {
+            for s in crate::reference::scenes::generated() {
                 let path = out.join(format!("{}.exr", s.id));
                 crate::envmap::load::write_exr(&path, &s.map(width))?;
                 println!("{}  {}", path.display(), s.description);
@@ -264,21 +265,21 @@ pub fn main_with(cli: Cli) -> Result<i32> {
                 )),
                 None => None,
             };
-            print!("{}", crate::hallucination_fit::run(&search, &maps, probe_file, &axis, cubic)?);
+            print!("{}", crate::pipeline::hallucination_fit::run(&search, &maps, probe_file, &axis, cubic)?);
             Ok(0)
         }
         Command::Claims { set, out } if set == "lightmap" => {
-            let dir = results(out).join(crate::lightmap_claims::OUTPUT_DIR);
-            let report = crate::lightmap_claims::run(&search)?;
-            crate::lightmap_claims::write(&report, &dir)?;
+            let dir = results(out).join(crate::claims::lightmap::OUTPUT_DIR);
+            let report = crate::claims::lightmap::run(&search)?;
+            crate::claims::lightmap::write(&report, &dir)?;
             eprintln!("wrote {} (claims.csv, CLAIMS.md, fig2*.csv, blend*.csv, real_maps.csv)", dir.display());
             Ok(0)
         }
         Command::Claims { set, out } => {
-            crate::zh3_claims::check_set(&set)?;
+            crate::claims::zh3::check_set(&set)?;
             let dir = results(out).join(format!("{set}_claims"));
-            let report = crate::zh3_claims::run(&search)?;
-            crate::zh3_claims::write(&report, &dir)?;
+            let report = crate::claims::zh3::run(&search)?;
+            crate::claims::zh3::write(&report, &dir)?;
             eprintln!("wrote {} and {}", dir.join("claims.csv").display(), dir.join("CLAIMS.md").display());
             Ok(0)
         }
@@ -307,9 +308,9 @@ pub fn main_with(cli: Cli) -> Result<i32> {
             }
             Ok(0)
         }
-        Command::Probes(args) => crate::probeset::command(args, &search),
-        Command::Merge(args) => crate::probeset::merge_command(args),
-        Command::Sweep(args) => crate::sweep::command(args, &root, &search),
+        Command::Probes(args) => crate::pipeline::probeset::command(args, &search),
+        Command::Merge(args) => crate::pipeline::probeset::merge_command(args),
+        Command::Sweep(args) => crate::pipeline::sweep::command(args, &root, &search),
     }
 }
 
@@ -350,18 +351,20 @@ fn write_report(root: &Path, out: &Path, search: &SearchPath) -> Result<()> {
 /// returns false, printing the differences, if its numbers moved (`check::store`). When the
 /// table stands, the summary files derived from it (summary.csv, claims) are written too.
 pub fn write_results(root: &Path, out: &Path, exp: &Experiment, report: &runner::RunReport) -> Result<bool> {
-    let _s = crate::profile::span("write");
-    let stored = crate::check::store(out, root, exp, report)?;
-    let ok = crate::check::print_stored(exp, out, &stored, report.rows.len());
+    let _s = crate::pipeline::profile::span("write");
+    let stored = crate::regression::check::store(out, root, exp, report)?;
+    let ok = crate::regression::check::print_stored(exp, out, &stored, report.rows.len());
     if ok {
         let dir = out.join(&exp.name);
         let summary = exp.summary.as_ref().map(|b| b.as_deref());
         // A table that stood within tolerance is the one kept: summarise its numbers.
         let rows = match stored {
-            crate::check::Stored::Unchanged(_) => crate::check::rows_as_stored(&dir, &report.rows)?,
+            crate::regression::check::Stored::Unchanged(_) => {
+                crate::regression::check::rows_as_stored(&dir, &report.rows)?
+            }
             _ => report.rows.clone(),
         };
-        for f in crate::summary::write(&dir, &exp.name, &exp.description, summary, &exp.claims, &rows)? {
+        for f in crate::pipeline::summary::write(&dir, &exp.name, &exp.description, summary, &exp.claims, &rows)? {
             eprintln!("wrote {}", dir.join(f).display());
         }
     }
@@ -383,7 +386,7 @@ fn eval_experiment(
         (DomainKind::Sphere, vec![], vec![])
     } else if let Some(axis) = domain.strip_prefix("hemisphere:") {
         parse_axis(axis).with_context(|| format!("--domain {domain}"))?;
-        (DomainKind::Hemisphere, crate::domain::expand_orientations(axis)?, vec![Effect::Hemisphere])
+        (DomainKind::Hemisphere, crate::reference::domain::expand_orientations(axis)?, vec![Effect::Hemisphere])
     } else {
         bail!("--domain '{domain}': expected sphere or hemisphere:AXIS (AXIS one of +x, -x, +y, -y, +z, -z)");
     };

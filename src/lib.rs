@@ -1,38 +1,28 @@
-//! probelab: a research harness for compact diffuse-lighting encodings.
-//! See ARCHITECTURE.md for the module map.
+//! probelab: a research harness for compact diffuse-lighting encodings (SH, ZH3, Geomerics,
+//! AHD/HHD in IrradZ, HLSH), each measured against an exact reference over real HDR maps.
+//!
+//! The crate is layered; each folder's `mod.rs` says what its layer is and what it may use,
+//! and `ARCHITECTURE.md` holds the table that `tests/architecture.rs` checks every
+//! `use crate::` line against. From the bottom up:
+//!
+//! | layer | what |
+//! |---|---|
+//! | [`math`] | SH basis and rotation, Gram matrices, quadrature, caps and arcs, the direction convention, exact statistics |
+//! | [`envmap`] | lat-long maps, loading, the search path, row moments |
+//! | [`reference`] | the exact reference, SH projection, analytic scenes, output domains, metrics |
+//! | [`encoders`] | the `Encoder` trait, the registry, one file (or folder) per family |
+//! | [`pipeline`] | experiments, the runner, timing, tables, summaries, sweeps, probe sets |
+//! | [`claims`] | where the papers' claims are measured |
+//! | [`regression`] | check, bless, baselines, provenance, tolerances |
+//! | [`report`] | pictures, charts and `results/REPORT.md` |
+//! | [`cli`] | the `probelab` command line |
 
-pub mod atomic;
-pub mod baseline;
-pub mod cap;
-pub mod check;
+pub mod claims;
 pub mod cli;
-pub mod domain;
-pub mod encoder;
 pub mod encoders;
 pub mod envmap;
-pub mod experiment;
-pub mod gram;
-pub mod hallucination_fit;
-pub mod lightmap;
-pub mod lightmap_claims;
-pub mod metrics;
-pub mod moments;
-pub mod probeset;
-pub mod profile;
-pub mod progress;
-pub mod projection;
-pub mod provenance;
-pub mod quadrature;
+pub mod math;
+pub mod pipeline;
 pub mod reference;
+pub mod regression;
 pub mod report;
-pub mod runner;
-pub mod scenes;
-pub mod sh;
-pub mod sh_rotation;
-pub mod stats;
-pub mod summary;
-pub mod sweep;
-pub mod table;
-pub mod timing;
-pub mod tolerance;
-pub mod zh3_claims;

@@ -110,7 +110,7 @@ fn committed_generated_maps_are_current() {
     let dir = tempfile::tempdir().unwrap();
     let out = probelab(&["gen-envmaps", "--out", dir.path().to_str().unwrap()], None);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    for s in probelab::scenes::generated() {
+    for s in probelab::reference::scenes::generated() {
         let fresh = probelab::envmap::load::load(&dir.path().join(format!("{}.exr", s.id))).unwrap();
         let committed = probelab::envmap::load::load(&repo().join("envmaps").join(format!("{}.exr", s.id)))
             .unwrap_or_else(|e| panic!("{e} (run `probelab gen-envmaps`)"));

@@ -4,10 +4,10 @@
 //! counters see no other work.
 
 use probelab::envmap::EnvMap;
-use probelab::experiment::{Experiment, ExperimentFile};
-use probelab::projection::masked_projection_count;
-use probelab::reference::capped_reference_count;
-use probelab::runner::{cases, run_map, CaseData, MapData};
+use probelab::pipeline::experiment::{Experiment, ExperimentFile};
+use probelab::pipeline::runner::{cases, run_map, CaseData, MapData};
+use probelab::reference::exact::capped_reference_count;
+use probelab::reference::projection::masked_projection_count;
 
 fn experiment(extra: &str) -> Experiment {
     let text = format!("maps = ['t']\nencoders = ['sh2', 'hlsh']\nresolution = [16, 8]\n{extra}");
@@ -28,7 +28,7 @@ fn undeclared_effects_cost_nothing() {
     let map = EnvMap::from_fn("t", 32, 16, |i, j| [(i % 5) as f32 + 0.5, j as f32 * 0.1, 1.0]).unwrap();
     // The timing pass (a separate pass after scoring) prepares each case again; count only the
     // scoring pass here.
-    probelab::timing::set_enabled(false);
+    probelab::pipeline::timing::set_enabled(false);
 
     // Hemisphere domain over six walls/floors/ceilings, no effect: nothing masked.
     let none = experiment("domain = 'hemisphere'\norientations = ['axes6']");

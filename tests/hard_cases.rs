@@ -51,8 +51,8 @@ mod common;
 
 use common::*;
 use glam::DVec3;
-use probelab::domain::Domain;
-use probelab::sh::{Rgb, Sh9};
+use probelab::math::sh::{Rgb, Sh9};
+use probelab::reference::domain::Domain;
 use std::f64::consts::PI;
 
 /// Output grid of the checks.
@@ -337,7 +337,7 @@ fn scale_in_range(sh: &Sh9, k: f64) -> bool {
 }
 
 /// Runs every check of the contract for one case and one encoder; returns failure messages.
-fn check(case: &Case, id: &str, enc: &dyn probelab::encoder::Encoder) -> Vec<String> {
+fn check(case: &Case, id: &str, enc: &dyn probelab::encoders::encoder::Encoder) -> Vec<String> {
     let mut fails = Vec::new();
     let mut fail = |m: String| fails.push(format!("{id} on {} ({}): {m}", case.name, case.why));
     let mut input = Input::new(&case.lighting, case.surface.as_ref());
@@ -469,7 +469,7 @@ fn least_squares_on_a_grid_tolerance() {
     let g = Domain::Sphere.output_grid(RES);
     let mut gram = [[0.0f64; 9]; 9];
     for (n, w) in g.normals.iter().zip(&g.weights) {
-        let y = probelab::sh::basis(*n);
+        let y = probelab::math::sh::basis(*n);
         for a in 0..9 {
             for b in 0..9 {
                 gram[a][b] += w * y[a] * y[b];
@@ -535,7 +535,9 @@ fn cases_have_the_claimed_trouble() {
     // 2π(1 − cos α) = 2π·1e-12.
     let cone = by_name("cone_cos_1e-12@cone");
     assert!(
-        (cone.visible_sh[0].x - (probelab::sh::k::Y00 * PI + 2.0 * PI * 1e-12 * probelab::sh::k::Y00)).abs() < 1e-15
+        (cone.visible_sh[0].x - (probelab::math::sh::k::Y00 * PI + 2.0 * PI * 1e-12 * probelab::math::sh::k::Y00))
+            .abs()
+            < 1e-15
     );
     // The scaled cases are the sun and sky scaled.
     let base = Lighting(sun_sky()).sh()[0].x;
@@ -547,7 +549,7 @@ fn cases_have_the_claimed_trouble() {
 /// and a delta light's E/π is e·max(0, n·d)/π.
 #[test]
 fn common_lights_agree_with_scenes() {
-    use probelab::scenes::Component;
+    use probelab::reference::scenes::Component;
     let axis = DVec3::new(0.2, -0.7, 0.4).normalize();
     for half in [1e-3, 0.3, 1.2, 2.5] {
         let ours = Light::Cap { axis, half_angle: half, radiance: Rgb::new(1.0, 2.0, 3.0) };
@@ -585,7 +587,7 @@ fn fallback_bound_is_the_error_of_the_mean() {
 #[test]
 fn tiny_hard_maps_score_finite_through_the_pipeline() {
     use probelab::envmap::EnvMap;
-    use probelab::experiment::Experiment;
+    use probelab::pipeline::experiment::Experiment;
     use std::path::Path;
     let ids: Vec<String> = probelab::encoders::REGISTRY.iter().map(|k| format!("'{}'", k.id)).collect();
     let ids = ids.join(", ");
@@ -611,7 +613,7 @@ fn tiny_hard_maps_score_finite_through_the_pipeline() {
     for text in &exps {
         let exp = Experiment::parse(text, Path::new("hard.toml")).unwrap();
         for m in &maps {
-            let rows = probelab::runner::run_map(&exp, m);
+            let rows = probelab::pipeline::runner::run_map(&exp, m);
             assert!(!rows.is_empty());
             for r in &rows {
                 let s = &r.scores;
@@ -625,7 +627,7 @@ fn tiny_hard_maps_score_finite_through_the_pipeline() {
                     r.effects
                 );
             }
-            let csv = String::from_utf8(probelab::table::to_csv(&rows).unwrap()).unwrap();
+            let csv = String::from_utf8(probelab::pipeline::table::to_csv(&rows).unwrap()).unwrap();
             assert!(!csv.contains("nonfinite"), "{}: {csv}", m.name);
         }
     }
@@ -634,7 +636,7 @@ fn tiny_hard_maps_score_finite_through_the_pipeline() {
 /// The contract can fail: deliberately broken encoders, each breaking one rule, are caught.
 mod broken {
     use super::*;
-    use probelab::encoder::{Encoder, FitInput, Fitted};
+    use probelab::encoders::encoder::{Encoder, FitInput, Fitted};
 
     #[derive(Clone, Copy, PartialEq, Debug)]
     pub enum Flaw {

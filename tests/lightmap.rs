@@ -6,12 +6,12 @@ mod common;
 
 use common::*;
 use glam::DVec3;
-use probelab::domain::Domain;
-use probelab::encoder::Fitted;
-use probelab::lightmap::fit::{fit, solve, Colours, Direction, FitSpec, Gram, Target};
-use probelab::lightmap::lune::{Angle, Moments};
-use probelab::lightmap::{linear_sh_of, Basis, Model};
-use probelab::sh::Rgb;
+use probelab::encoders::encoder::Fitted;
+use probelab::encoders::lightmap::fit::{fit, solve, Colours, Direction, FitSpec, Gram, Target};
+use probelab::encoders::lightmap::lune::{Angle, Moments};
+use probelab::encoders::lightmap::{linear_sh_of, Basis, Model};
+use probelab::math::sh::Rgb;
+use probelab::reference::domain::Domain;
 use std::f64::consts::PI;
 
 fn spec(basis: Basis, colours: Colours, search: bool) -> FitSpec {
@@ -27,7 +27,7 @@ fn spec(basis: Basis, colours: Colours, search: bool) -> FitSpec {
     }
 }
 
-fn encoder(kind: &str, keys: &str) -> Box<dyn probelab::encoder::Encoder> {
+fn encoder(kind: &str, keys: &str) -> Box<dyn probelab::encoders::encoder::Encoder> {
     probelab::encoders::build(kind, None, toml::from_str(keys).unwrap()).unwrap().encoder
 }
 
@@ -70,7 +70,7 @@ fn h1_constant_ambient_gives_the_hemisphere_light() {
 /// so the region is |φ| ≤ min h_i. Gauss–Legendre in z between the breakpoints 0, sin τ_i and
 /// in φ over the arc: accurate to ~1e-9 for the smooth integrands here.
 fn lune_integral(tilts: &[f64], f: &dyn Fn(DVec3) -> f64) -> f64 {
-    let (gz, gp) = (probelab::quadrature::gauss_legendre(300), probelab::quadrature::gauss_legendre(32));
+    let (gz, gp) = (probelab::math::quadrature::gauss_legendre(300), probelab::math::quadrature::gauss_legendre(32));
     let mut cuts = vec![0.0, 1.0];
     cuts.extend(tilts.iter().map(|t| t.sin().abs()));
     cuts.sort_by(f64::total_cmp);
@@ -151,7 +151,7 @@ fn h2_ambient_plus_tilted_light_is_exactly_hhd() {
         let (amb, e) = (Rgb::new(0.3, 0.4, 0.5), Rgb::new(3.0, 2.0, 1.0));
         let target = Exact { a: amb, s: e / PI, tau_l: t };
         let i_z = input.exact_at_normal.unwrap();
-        let dom = probelab::lightmap::fit::Domain::new(Gram::Hemisphere);
+        let dom = probelab::encoders::lightmap::fit::Domain::new(Gram::Hemisphere);
         let g = Domain::Hemisphere { normal: DVec3::Z }.output_grid((256, 128));
         let truth = |v: DVec3| amb * (0.5 * (1.0 + v.z)) + e / PI * v.dot(DVec3::new(t.sin(), 0.0, t.cos())).max(0.0);
         let mut errs = Vec::new();
@@ -208,7 +208,7 @@ fn h6_round_trip_through_the_encoder() {
             d,
         };
         let sh = linear_sh_of(&m);
-        let input = probelab::encoder::FitInput {
+        let input = probelab::encoders::encoder::FitInput {
             probe_sh: &sh,
             visible_sh: &sh,
             surface_normal: Some(n),

@@ -2,13 +2,13 @@
 //! The H2 bound of `scenes::TiltedLight` against quadrature of the closed forms, and the
 //! committed experiment's claims, re-run through the binary.
 
-use probelab::domain::Domain;
-use probelab::experiment::Experiment;
-use probelab::lightmap::hhd_from_linear_sh;
-use probelab::metrics::score;
-use probelab::scenes::{cap_irradiance, Component, TILTED_LIGHT};
-use probelab::sh::Rgb;
-use probelab::summary::Check;
+use probelab::encoders::lightmap::hhd_from_linear_sh;
+use probelab::math::sh::Rgb;
+use probelab::pipeline::experiment::Experiment;
+use probelab::pipeline::summary::Check;
+use probelab::reference::domain::Domain;
+use probelab::reference::metrics::score;
+use probelab::reference::scenes::{cap_irradiance, Component, TILTED_LIGHT};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -50,8 +50,8 @@ fn tilted_light_bound_holds_against_quadrature() {
     println!("hhd_from_sh1 on the closed forms: rmse {rmse:.4e}, bound {bound:.4e}");
     assert!(rmse <= bound && rmse >= 0.85 * bound, "rmse {rmse:e} vs bound {bound:e}");
     // The same light as a delta (E/π I facing it): the HHD is exact.
-    let delta =
-        Component::UpperHemisphere(t.ambient).sh() + probelab::sh::delta_light(a, t.facing * std::f64::consts::PI);
+    let delta = Component::UpperHemisphere(t.ambient).sh()
+        + probelab::math::sh::delta_light(a, t.facing * std::f64::consts::PI);
     let m = hhd_from_linear_sh(&delta, n);
     let worst = grid
         .normals

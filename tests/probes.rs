@@ -30,7 +30,7 @@ fn parse_csv(text: &str) -> Vec<std::collections::HashMap<String, String>> {
 
 /// The summary without the run-dependent columns (timings, memory, shard list, source).
 fn figures(csv: &str) -> Vec<Vec<(String, String)>> {
-    let skip = probelab::probeset::SUMMARY_TIMING_COLUMNS;
+    let skip = probelab::pipeline::probeset::SUMMARY_TIMING_COLUMNS;
     parse_csv(csv)
         .into_iter()
         .map(|r| {

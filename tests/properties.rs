@@ -17,15 +17,15 @@ mod common;
 
 use common::*;
 use glam::{DQuat, DVec3};
-use probelab::domain::Domain;
-use probelab::encoder::Encoder;
+use probelab::encoders::encoder::Encoder;
 use probelab::encoders::sh::ShEncoder;
+use probelab::envmap::moments::RowMoments;
 use probelab::envmap::LatLong;
-use probelab::moments::RowMoments;
-use probelab::projection::project;
-use probelab::reference::Reference;
-use probelab::scenes::{Component, Scene};
-use probelab::sh::Rgb;
+use probelab::math::sh::Rgb;
+use probelab::reference::domain::Domain;
+use probelab::reference::exact::Reference;
+use probelab::reference::projection::project;
+use probelab::reference::scenes::{Component, Scene};
 use proptest::prelude::*;
 use std::f64::consts::PI;
 
@@ -199,7 +199,7 @@ proptest! {
         let truth = reference.irradiance_latlong(LatLong::new(128, 64));
         let scale = max_abs(&truth).max(1e-300);
         let err = |e: &dyn Encoder| {
-            let f = e.fit(&probelab::encoder::FitInput::sphere(&sh));
+            let f = e.fit(&probelab::encoders::encoder::FitInput::sphere(&sh));
             rmse_scaled(&truth, &eval(f.as_ref(), &grid), &grid, scale)
         };
         let by_order: Vec<f64> = (0..3).map(|l| err(&ShEncoder::new(l))).collect();
@@ -229,7 +229,7 @@ fn sh_error_gaps_are_large_on_a_sun_and_sky() {
     let grid = Domain::Sphere.output_grid((128, 64));
     let e: Vec<f64> = (0..3)
         .map(|l| {
-            let f = ShEncoder::new(l).fit(&probelab::encoder::FitInput::sphere(&sh));
+            let f = ShEncoder::new(l).fit(&probelab::encoders::encoder::FitInput::sphere(&sh));
             rmse_scaled(&truth, &eval(f.as_ref(), &grid), &grid, 1.0)
         })
         .collect();

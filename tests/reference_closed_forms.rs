@@ -4,15 +4,15 @@
 //! convergence.
 
 use glam::DVec3;
-use probelab::cap::Cap;
-use probelab::domain::fibonacci_sphere;
-use probelab::moments::RowMoments;
-use probelab::reference::{Reference, DEFAULT_POLAR_NODES};
-use probelab::scenes::generated;
-use probelab::sh::Rgb;
+use probelab::envmap::moments::RowMoments;
+use probelab::math::cap::Cap;
+use probelab::math::sh::Rgb;
+use probelab::reference::domain::fibonacci_sphere;
+use probelab::reference::exact::{Reference, DEFAULT_POLAR_NODES};
+use probelab::reference::scenes::generated;
 
 /// Worst error over 200 Fibonacci normals, relative to the RMS of the closed form.
-fn worst_relative(width: usize, scene: &probelab::scenes::Scene) -> f64 {
+fn worst_relative(width: usize, scene: &probelab::reference::scenes::Scene) -> f64 {
     let map = scene.map(width);
     let rm = RowMoments::new(&map);
     let r = Reference::new(&rm, vec![], DEFAULT_POLAR_NODES);

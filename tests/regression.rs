@@ -3,15 +3,15 @@
 //! ulp beyond its tolerance; `run` refuses to overwrite a moved baseline; `bless` rewrites it
 //! atomically and prints the same differences as `check`.
 
-use probelab::baseline::Table;
-use probelab::check::{compare_with_baseline, Finding};
-use probelab::encoder::{Encoder, FitInput, Fitted};
+use probelab::encoders::encoder::{Encoder, FitInput, Fitted};
 use probelab::encoders::NamedEncoder;
 use probelab::envmap::search::SearchPath;
-use probelab::experiment::Experiment;
-use probelab::provenance::{sha256_hex, Provenance};
-use probelab::sh::band_of;
-use probelab::tolerance::{EncoderClass, Tolerance, Tolerances};
+use probelab::math::sh::band_of;
+use probelab::pipeline::experiment::Experiment;
+use probelab::regression::baseline::Table;
+use probelab::regression::check::{compare_with_baseline, Finding};
+use probelab::regression::provenance::{sha256_hex, Provenance};
+use probelab::regression::tolerance::{EncoderClass, Tolerance, Tolerances};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
@@ -151,7 +151,7 @@ fn check_catches_a_changed_band_scale() {
     let i = exp.encoders.iter().position(|e| e.name == "sh1").expect("generated_scenes has sh1");
     exp.encoders[i] = NamedEncoder { name: "sh1".into(), encoder: Box::new(BrokenSh1) };
     let search = SearchPath::new(vec![repo().join("envmaps")]);
-    let report = probelab::runner::run(&exp, &search).unwrap();
+    let report = probelab::pipeline::runner::run(&exp, &search).unwrap();
     let tolerances = Tolerances::load(&repo()).unwrap();
     let c = compare_with_baseline(&repo().join("results/generated_scenes"), &exp, &report, &tolerances, false).unwrap();
     let report_text = c.report();
@@ -160,7 +160,7 @@ fn check_catches_a_changed_band_scale() {
     let mut maps = std::collections::BTreeSet::new();
     for f in &c.findings {
         match f {
-            Finding::Change(probelab::baseline::Change::Moved { key, .. }) if key.encoder == "sh1" => {
+            Finding::Change(probelab::regression::baseline::Change::Moved { key, .. }) if key.encoder == "sh1" => {
                 maps.insert(key.map.clone());
             }
             other => panic!("unexpected finding: {other}"),
@@ -272,7 +272,7 @@ fn run_check_bless_cycle() {
         edge = edge.next_down();
     }
     let beyond = edge.next_up();
-    let (edge_s, beyond_s) = (probelab::table::num(edge), probelab::table::num(beyond));
+    let (edge_s, beyond_s) = (probelab::pipeline::table::num(edge), probelab::pipeline::table::num(beyond));
     assert_eq!((edge_s.parse::<f64>().unwrap(), beyond_s.parse::<f64>().unwrap()), (edge, beyond));
     let perturbed = with_cell(&table0, "gen_sun_sky", "sh2", "rmse", &beyond_s);
 
@@ -288,8 +288,10 @@ fn run_check_bless_cycle() {
     assert_eq!(code, Some(1), "{check_out}");
     let lines = finding_lines(&check_out, "cyc");
     assert_eq!(lines.len(), 1, "{check_out}");
-    let want =
-        format!("cyc: moved    gen_sun_sky  sh2  sphere  exact  rmse  {beyond_s} -> {}  (", probelab::table::num(v));
+    let want = format!(
+        "cyc: moved    gen_sun_sky  sh2  sphere  exact  rmse  {beyond_s} -> {}  (",
+        probelab::pipeline::table::num(v)
+    );
     assert!(lines[0].starts_with(&want), "{}\nwanted: {want}", lines[0]);
     assert!(check_out.contains("FAILED: 1 number(s) moved"), "{check_out}");
 

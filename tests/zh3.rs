@@ -59,8 +59,8 @@ fn grace_matches_the_peer_tool() {
 #[test]
 fn fit_hallucination_from_a_probe_file() {
     use glam::DVec3;
-    use probelab::scenes::Component;
-    use probelab::sh::{constant, Rgb};
+    use probelab::math::sh::{constant, Rgb};
+    use probelab::reference::scenes::Component;
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("probes.csv");
     let mut text = String::from("# caps of several sizes and colours\n");

@@ -37,7 +37,7 @@ fuzz_target!(init: init(), |data: &[u8]| {
             assert!(map.width() <= MAX_WIDTH && map.height() <= MAX_HEIGHT);
             assert!(map.texels().iter().flatten().all(|v| v.is_finite() && *v >= 0.0));
             if map.width() <= 64 {
-                assert!(probelab::projection::project(&map).is_finite());
+                assert!(probelab::reference::projection::project(&map).is_finite());
             }
         }
         Err(e) => {

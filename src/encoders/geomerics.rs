@@ -17,8 +17,8 @@
 //!
 //! TOML keys: none. Degenerate inputs: R0 ≤ 0 gives 0; R1 = 0 gives the constant R0.
 
-use crate::encoder::{Encoder, FitInput, Fitted, Params};
-use crate::sh::{basis, Rgb, Sh9, N_SH};
+use crate::encoders::encoder::{Encoder, FitInput, Fitted, Params};
+use crate::math::sh::{basis, Rgb, Sh9, N_SH};
 use anyhow::Result;
 use glam::DVec3;
 use std::f64::consts::PI;
@@ -165,7 +165,7 @@ pub fn build_geomerics_peer(p: &mut Params) -> Result<Box<dyn Encoder>> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sh::{constant, delta_light};
+    use crate::math::sh::{constant, delta_light};
 
     fn enc(peer: bool, sh: &Sh9) -> Box<dyn Fitted> {
         Geomerics { peer }.fit(&FitInput::sphere(sh))
@@ -174,7 +174,7 @@ mod tests {
     #[test]
     fn constant_environment_gives_exactly_one() {
         let f = enc(false, &constant(Rgb::ONE));
-        for n in crate::domain::fibonacci_sphere(50) {
+        for n in crate::reference::domain::fibonacci_sphere(50) {
             assert_eq!(f.irradiance(n), Rgb::ONE * 1.0, "{n}");
         }
         // The peer's variant carries 2/√π.
@@ -194,7 +194,7 @@ mod tests {
         assert!((ch.r1.length() / ch.r0 - 1.0).abs() < 1e-14);
         assert!((ch.eval(d) - 4.0 * e / (4.0 * PI)).abs() < 1e-14);
         assert!(ch.eval(-d).abs() < 1e-14);
-        let pts = crate::domain::fibonacci_sphere(200_000);
+        let pts = crate::reference::domain::fibonacci_sphere(200_000);
         let mean = pts.iter().map(|&n| ch.eval(n)).sum::<f64>() / pts.len() as f64;
         assert!((mean - e / (4.0 * PI)).abs() < 1e-5 * mean, "{mean}");
     }
@@ -207,7 +207,7 @@ mod tests {
         let e1 = u.any_orthonormal_vector();
         let e2 = u.cross(e1);
         let mut sum = 0.0;
-        for (x, w) in crate::quadrature::gauss_legendre(64) {
+        for (x, w) in crate::math::quadrature::gauss_legendre(64) {
             let s = 0.5 * (x + 1.0);
             let t = 2.0 * s * s - 1.0;
             let r = (1.0 - t * t).max(0.0).sqrt();
@@ -275,7 +275,7 @@ mod tests {
             let reference = sh.convolve_cosine();
             let se = f.sphere_sq_error(&reference).unwrap();
             // An independent check by a dense Fibonacci set (equal-area points).
-            let pts = crate::domain::fibonacci_sphere(400_000);
+            let pts = crate::reference::domain::fibonacci_sphere(400_000);
             let mc = pts.iter().map(|&n| (f.irradiance(n) - reference.eval(n)).length_squared()).sum::<f64>()
                 * (4.0 * PI / pts.len() as f64);
             assert!((se - mc).abs() < 1e-4 * mc, "peer {peer}: {se} vs {mc}");

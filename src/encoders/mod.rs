@@ -1,19 +1,18 @@
 //! The encoder registry: one line per encoder kind. Adding an encoder means adding its file
 //! and one entry here; nothing else in the program names an encoder.
 
-pub mod ahd;
+pub mod encoder;
 pub mod geomerics;
-pub mod hhd;
 pub mod lightmap;
 pub mod probe_occlusion;
 pub mod quantise;
 pub mod self_bounce;
 pub mod sh;
 pub mod zh3;
-pub mod zh3_solve;
 
-use crate::encoder::{Encoder, Params};
+use crate::encoders::encoder::{Encoder, Params};
 use anyhow::{bail, Context, Result};
+use lightmap::{ahd, hhd};
 use probe_occlusion as occ;
 
 /// A kind of encoder: its id, a one-line summary, and its factory from TOML settings.

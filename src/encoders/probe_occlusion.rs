@@ -44,10 +44,10 @@
 //! operator is `probe_unoccluded` and reports `no_normal=1`; with no declared cone the cone
 //! operators use the hemisphere about N (cos α = 0, C = N, visibility 1).
 
-use crate::encoder::{named_weights, Encoder, FitInput, Fitted, Params};
+use crate::encoders::encoder::{named_weights, Encoder, FitInput, Fitted, Params};
 use crate::encoders::sh::ShIrradiance;
-use crate::gram::{axial_parts, multiply_full, multiply_to_linear, AxialGram, AxialParts};
-use crate::sh::{k, Rgb, Sh9};
+use crate::math::gram::{axial_parts, multiply_full, multiply_to_linear, AxialGram, AxialParts};
+use crate::math::sh::{k, Rgb, Sh9};
 use anyhow::{bail, Result};
 use glam::DVec3;
 use std::f64::consts::PI;
@@ -354,9 +354,9 @@ pub fn cone_visibility(n: DVec3, centre: DVec3, cos_alpha: f64) -> f64 {
         return if c > 0.0 { 0.0 } else { 1.0 };
     }
     if c >= 0.0 {
-        crate::scenes::cap_irradiance(n.dot(centre), s2)
+        crate::reference::scenes::cap_irradiance(n.dot(centre), s2)
     } else {
-        1.0 - crate::scenes::cap_irradiance(-n.dot(centre), s2)
+        1.0 - crate::reference::scenes::cap_irradiance(-n.dot(centre), s2)
     }
 }
 
@@ -422,10 +422,10 @@ pub fn build_bent_normal(p: &mut Params) -> Result<Box<dyn Encoder>> {
 #[allow(clippy::needless_range_loop)]
 mod tests {
     use super::*;
-    use crate::gram::tests::Rng;
-    use crate::gram::{multiply, rotated_gram};
-    use crate::quadrature::gauss_legendre;
-    use crate::sh::constant;
+    use crate::math::gram::tests::Rng;
+    use crate::math::gram::{multiply, rotated_gram};
+    use crate::math::quadrature::gauss_legendre;
+    use crate::math::sh::constant;
 
     fn input<'a>(sh: &'a Sh9, n: DVec3, cone: Option<(DVec3, f64)>) -> FitInput<'a> {
         FitInput {
@@ -464,7 +464,7 @@ mod tests {
         let mut s = constant(Rgb::new(0.3, 0.4, 0.5));
         for _ in 0..3 {
             let e = Rgb::new(rng.next().abs(), rng.next().abs(), rng.next().abs()) * 4.0;
-            s = s + crate::sh::delta_light(rng.unit(), e);
+            s = s + crate::math::sh::delta_light(rng.unit(), e);
         }
         s
     }
@@ -679,7 +679,7 @@ mod tests {
             }
             let (ca, cd) = (rng.next().abs() * 2.0, rng.next().abs() * 3.0);
             let hemi = multiply(&constant(Rgb::splat(ca)), &rotated_gram(0.0, n));
-            let sh = hemi + crate::sh::delta_light(d, Rgb::splat(PI * cd));
+            let sh = hemi + crate::math::sh::delta_light(d, Rgb::splat(PI * cd));
             let (got, flags) = hhd_from_linear_sh(sh[0].x, sh.l1_vector(0), n);
             assert!(!flags.disc_clamped && !flags.ca_clamped, "{flags:?}");
             assert!((got.ca - ca).abs() < 1e-10 && (got.cd - cd).abs() < 1e-10, "{got:?} vs {ca} {cd}");

@@ -21,9 +21,9 @@
 //!
 //! TOML keys: none. ZH3 encoders take `quantise = "ratio8"` (see `zh3.rs`).
 
-use crate::encoder::{Encoder, FitInput, Fitted, Params};
+use crate::encoders::encoder::{Encoder, FitInput, Fitted, Params};
 use crate::encoders::sh::ShIrradiance;
-use crate::sh::{Rgb, Sh9};
+use crate::math::sh::{Rgb, Sh9};
 use anyhow::Result;
 
 /// Bytes of a quantised L1, ZH3 and L2 probe (FORMULAS §11).
@@ -164,7 +164,7 @@ pub fn build_sh2_q28(p: &mut Params) -> Result<Box<dyn Encoder>> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sh::{basis, delta_light};
+    use crate::math::sh::{basis, delta_light};
     use glam::DVec3;
 
     /// The bounds are the largest |Y_lm(d)|/Y₀₀ over directions (a delta light), found by a
@@ -172,7 +172,7 @@ mod tests {
     #[test]
     fn bounds_are_attained_by_delta_lights() {
         let mut best = [0.0f64; 9];
-        for d in crate::domain::fibonacci_sphere(200_000) {
+        for d in crate::reference::domain::fibonacci_sphere(200_000) {
             let y = basis(d);
             for i in 1..9 {
                 best[i] = best[i].max((y[i] / y[0]).abs());

@@ -15,8 +15,8 @@
 //! added only when the input has both N and an albedo; otherwise the wrapper is exactly its
 //! inner encoder. It stores nothing extra (ρ is the material's albedo, I_z is the inner's).
 
-use crate::encoder::{Encoder, FitInput, Fitted, Params};
-use crate::sh::Rgb;
+use crate::encoders::encoder::{Encoder, FitInput, Fitted, Params};
+use crate::math::sh::Rgb;
 use anyhow::{bail, Result};
 use glam::DVec3;
 
@@ -112,7 +112,7 @@ impl Encoder for WithSelfBounce {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sh::{constant, Sh9};
+    use crate::math::sh::{constant, Sh9};
 
     fn enc(settings: &str) -> Box<dyn Encoder> {
         crate::encoders::build("with_self_bounce", None, toml::from_str(settings).unwrap()).unwrap().encoder
@@ -128,7 +128,7 @@ mod tests {
         // Visible SH of A·[ω·N > 0]: the constant times the hemisphere cap (FORMULAS §9),
         // which is exact here because the product is a band-0 input times the cap's Gram.
         let full: Sh9 = constant(a);
-        let visible = crate::gram::multiply_full(&full, 0.0, n);
+        let visible = crate::math::gram::multiply_full(&full, 0.0, n);
         let rho = 0.8;
         let input = FitInput {
             probe_sh: &full,

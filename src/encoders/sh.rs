@@ -13,8 +13,8 @@
 //! Degenerate inputs need no fallback: the fit is a linear map of the coefficients (black in,
 //! black out; a 1e-300 L1 band stays 1e-300), so every finite input gives a finite output.
 
-use crate::encoder::{Encoder, FitInput, Fitted, Params};
-use crate::sh::{Rgb, Sh9};
+use crate::encoders::encoder::{Encoder, FitInput, Fitted, Params};
+use crate::math::sh::{Rgb, Sh9};
 use anyhow::Result;
 use glam::DVec3;
 
@@ -88,7 +88,7 @@ pub fn build_sh2(p: &mut Params) -> Result<Box<dyn Encoder>> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sh::{constant, delta_light};
+    use crate::math::sh::{constant, delta_light};
     use std::f64::consts::PI;
 
     /// For a delta light of unit intensity along d, SH irradiance at n = d is the truncated

@@ -9,8 +9,10 @@
 //! point samples at their centres.
 
 pub mod load;
+pub mod moments;
 pub mod search;
 
+use crate::math::convention::direction;
 use glam::DVec3;
 use std::f64::consts::PI;
 use std::path::PathBuf;
@@ -172,21 +174,6 @@ impl LatLong {
     }
 }
 
-/// The unit direction of azimuth θ and polar angle φ (FORMULAS §1):
-/// (sin φ sin θ, cos φ, −sin φ cos θ).
-pub fn direction(theta: f64, phi: f64) -> DVec3 {
-    let (st, ct) = theta.sin_cos();
-    let (sp, cp) = phi.sin_cos();
-    DVec3::new(sp * st, cp, -sp * ct)
-}
-
-/// The (θ, φ) of a unit direction, inverse of [`direction`]; θ in [−π, π], φ in [0, π].
-pub fn angles(d: DVec3) -> (f64, f64) {
-    let phi = d.y.clamp(-1.0, 1.0).acos();
-    let theta = d.x.atan2(-d.z);
-    (theta, phi)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -211,14 +198,6 @@ mod tests {
         assert!(g.direction(128, eq).dot(DVec3::NEG_Z) > 0.99);
         assert!(g.direction(192, eq).dot(DVec3::X) > 0.99);
         assert!(g.direction(64, eq).dot(DVec3::NEG_X) > 0.99);
-    }
-
-    #[test]
-    fn angles_inverts_direction() {
-        for &(t, p) in &[(0.3, 0.2), (-2.9, 1.5), (3.0, 3.0), (-0.1, 0.7)] {
-            let (t2, p2) = angles(direction(t, p));
-            assert!((t - t2).abs() < 1e-12 && (p - p2).abs() < 1e-12);
-        }
     }
 
     #[test]

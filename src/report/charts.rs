@@ -13,7 +13,7 @@
 
 use super::csvfile::CsvTable;
 use super::render::{ensure_font, luminance, sig, FONT};
-use crate::sh::Rgb;
+use crate::math::sh::Rgb;
 use anyhow::{anyhow, Result};
 use image::RgbImage;
 use plotters::coord::Shift;

@@ -21,8 +21,8 @@ pub mod markdown;
 pub mod render;
 
 use crate::envmap::search::SearchPath;
-use crate::experiment::{list_experiments, Experiment};
-use crate::progress::Progress;
+use crate::pipeline::experiment::{list_experiments, Experiment};
+use crate::pipeline::progress::Progress;
 use anyhow::{Context, Result};
 use charts::Outcome;
 use csvfile::CsvTable;
@@ -149,13 +149,13 @@ pub fn generate(opts: &Options) -> Result<Generated> {
             .map(|m| -> Result<String> {
                 let path = opts.search.resolve(m).map_err(|e| anyhow::anyhow!("{e}"))?;
                 let map = {
-                    let _s = crate::profile::span("report: decode");
+                    let _s = crate::pipeline::profile::span("report: decode");
                     crate::envmap::load::load(&path)?
                 };
                 let (sheet, _) = render::experiment_sheet(exp, &map, table.as_ref())?;
                 let name = format!("sheet_{}.png", file_safe(m));
                 let image = {
-                    let _s = crate::profile::span("report: draw");
+                    let _s = crate::pipeline::profile::span("report: draw");
                     sheet.draw()?
                 };
                 render::write_png(&dir.join(&name), &image)?;
@@ -212,7 +212,7 @@ pub fn generate(opts: &Options) -> Result<Generated> {
     doc.push_str(&body);
     doc.push_str(&provenance(opts, &sections, &maps, out)?);
     let report = out.join("REPORT.md");
-    crate::atomic::write(&report, doc.as_bytes())?;
+    crate::pipeline::atomic::write(&report, doc.as_bytes())?;
     Ok(Generated { report, pictures, kept })
 }
 
@@ -224,7 +224,7 @@ fn map_use(root: &Path, search: &SearchPath, name: &str) -> Result<MapUse> {
         file: path.file_name().map(|f| f.to_string_lossy().into_owned()).unwrap_or_default(),
         dir: path.parent().map(|p| shown_dir(root, p)).unwrap_or_default(),
         size: format!("{}x{}", map.width(), map.height()),
-        sha256: crate::provenance::sha256_hex(&bytes),
+        sha256: crate::regression::provenance::sha256_hex(&bytes),
         used_by: Vec::new(),
     })
 }
@@ -473,11 +473,11 @@ fn provenance(
     );
     let mut rows = Vec::new();
     for s in sections {
-        let p = out.join(&s.name).join(crate::provenance::FILE_NAME);
+        let p = out.join(&s.name).join(crate::regression::provenance::FILE_NAME);
         if !p.is_file() {
             continue;
         }
-        let pr = crate::provenance::Provenance::read(&p)?;
+        let pr = crate::regression::provenance::Provenance::read(&p)?;
         let short = |c: &str| if c.len() > 12 { c[..12].to_string() } else { c.to_string() };
         rows.push(vec![
             s.name.clone(),
@@ -528,7 +528,7 @@ fn provenance(
             if orient.is_empty() { "-".into() } else { orient.join(", ") },
             {
                 let mut labels: Vec<String> = Vec::new();
-                for c in crate::runner::cases(e) {
+                for c in crate::pipeline::runner::cases(e) {
                     if !labels.contains(&c.effects_label) {
                         labels.push(c.effects_label);
                     }
@@ -554,11 +554,11 @@ fn provenance(
     let mut recorded: BTreeMap<String, (String, String, String, Vec<String>)> = BTreeMap::new();
     let mut mismatches = Vec::new();
     for s in sections {
-        let p = out.join(&s.name).join(crate::provenance::FILE_NAME);
+        let p = out.join(&s.name).join(crate::regression::provenance::FILE_NAME);
         if !p.is_file() {
             continue;
         }
-        for r in crate::provenance::Provenance::read(&p)?.maps {
+        for r in crate::regression::provenance::Provenance::read(&p)?.maps {
             if let Some(Some(u)) = maps.get(&r.name) {
                 if u.sha256 != r.sha256 {
                     mismatches.push(format!("`{}`: its table used a map `{}` with another checksum", s.name, r.name));

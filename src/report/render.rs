@@ -26,13 +26,13 @@
 //! Text is drawn with plotters and the bundled DejaVu Sans (no system font is needed).
 
 use super::csvfile::CsvTable;
-use crate::domain::{frame_to, Domain};
-use crate::encoder::Fitted;
+use crate::encoders::encoder::Fitted;
 use crate::envmap::EnvMap;
-use crate::experiment::Experiment;
-use crate::metrics::{score, Scores};
-use crate::runner::{cases, Case, CaseData, MapData};
-use crate::sh::Rgb;
+use crate::math::sh::Rgb;
+use crate::pipeline::experiment::Experiment;
+use crate::pipeline::runner::{cases, Case, CaseData, MapData};
+use crate::reference::domain::{frame_to, Domain};
+use crate::reference::metrics::{score, Scores};
 use anyhow::{anyhow, Result};
 use glam::{DQuat, DVec3};
 use image::RgbImage;
@@ -58,7 +58,7 @@ pub fn ensure_font() {
 
 /// Rec.709 luminance of linear RGB.
 pub fn luminance(c: Rgb) -> f64 {
-    c.dot(crate::sh::REC709)
+    c.dot(crate::math::sh::REC709)
 }
 
 /// The sRGB transfer curve (IEC 61966-2-1) of a linear value in [0, 1].
@@ -717,11 +717,11 @@ pub fn experiment_sheet(exp: &Experiment, map: &EnvMap, table: Option<&CsvTable>
     };
     let discs: Vec<Disc> = views.iter().map(|v| Disc::new(v, DISC as usize)).collect();
     let reference: Vec<Vec<Rgb>> = {
-        let _s = crate::profile::span("report: reference (sheets)");
+        let _s = crate::pipeline::profile::span("report: reference (sheets)");
         discs.iter().map(|d| cd.reference_many(&d.normals)).collect()
     };
     let values: Vec<Vec<Vec<Rgb>>> = {
-        let _s = crate::profile::span("report: encoder eval (sheets)");
+        let _s = crate::pipeline::profile::span("report: encoder eval (sheets)");
         fitted
             .iter()
             .map(|f| {
@@ -888,7 +888,7 @@ pub fn blend_strip(title: &str, n: DVec3, n_label: &str, ts: &[f64], rows: &[Ble
 pub fn png_bytes(img: &RgbImage) -> Result<Vec<u8>> {
     use image::codecs::png::{CompressionType, FilterType, PngEncoder};
     use image::ImageEncoder;
-    let _s = crate::profile::span("report: PNG encode");
+    let _s = crate::pipeline::profile::span("report: PNG encode");
     let mut out = Vec::new();
     PngEncoder::new_with_quality(&mut out, CompressionType::Default, FilterType::Adaptive).write_image(
         img.as_raw(),
@@ -901,13 +901,13 @@ pub fn png_bytes(img: &RgbImage) -> Result<Vec<u8>> {
 
 /// Writes an image as PNG, atomically.
 pub fn write_png(path: &Path, img: &RgbImage) -> Result<()> {
-    crate::atomic::write(path, &png_bytes(img)?)
+    crate::pipeline::atomic::write(path, &png_bytes(img)?)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::experiment::ExperimentFile;
+    use crate::pipeline::experiment::ExperimentFile;
     use std::path::Path;
 
     fn experiment(toml: &str) -> Experiment {
@@ -916,7 +916,7 @@ mod tests {
     }
 
     fn scene_map(id: &str, width: usize) -> EnvMap {
-        crate::scenes::generated().into_iter().find(|s| s.id == id).unwrap().map(width)
+        crate::reference::scenes::generated().into_iter().find(|s| s.id == id).unwrap().map(width)
     }
 
     /// Independent sRGB of 0.5 (IEC 61966-2-1): 1.055 · 0.5^(1/2.4) − 0.055 = 0.73536 → 188.
@@ -1040,7 +1040,7 @@ mod tests {
              orientations = ['axes6']\neffects = ['hemisphere']",
         );
         let map = scene_map("gen_sky_sun", 64);
-        let rows = crate::runner::run_map(&exp, &map);
+        let rows = crate::pipeline::runner::run_map(&exp, &map);
         let (sheet, s) = experiment_sheet(&exp, &map, None).unwrap();
         assert_eq!((s.case_label.as_str(), s.source), ("hemisphere:+y", "computed"));
         assert_eq!(sheet.views.len(), 1);
@@ -1049,7 +1049,7 @@ mod tests {
             assert_eq!(RowFigures::from(&row.scores), *f, "{name}");
         }
         // Read back from the table's CSV: the same figures to the CSV's round-trip precision.
-        let t = CsvTable::parse(Path::new("table.csv"), &crate::table::to_csv(&rows).unwrap()).unwrap();
+        let t = CsvTable::parse(Path::new("table.csv"), &crate::pipeline::table::to_csv(&rows).unwrap()).unwrap();
         let (sheet2, s2) = experiment_sheet(&exp, &map, Some(&t)).unwrap();
         assert_eq!(s2.source, "table.csv");
         assert_eq!(s2.figures, s.figures);
@@ -1060,14 +1060,14 @@ mod tests {
     /// per t; the ends show the two scenes' own fits.
     #[test]
     fn blend_strip_draws_one_disc_per_t() {
-        let sh = |id: &str| crate::projection::project(&scene_map(id, 32));
+        let sh = |id: &str| crate::reference::projection::project(&scene_map(id, 32));
         let (a, b) = (sh("gen_hemisphere"), sh("gen_two_lights"));
         let ts = [0.0, 0.5, 1.0];
-        let blended: Vec<crate::sh::Sh9> = ts.iter().map(|&t| a * (1.0 - t) + b * t).collect();
+        let blended: Vec<crate::math::sh::Sh9> = ts.iter().map(|&t| a * (1.0 - t) + b * t).collect();
         let enc = crate::encoders::build("sh1", None, toml::Table::new()).unwrap().encoder;
         let normals = strip_normals(DVec3::Y);
         let fits: Vec<Box<dyn Fitted>> =
-            blended.iter().map(|s| enc.fit(&crate::encoder::FitInput::sphere(s))).collect();
+            blended.iter().map(|s| enc.fit(&crate::encoders::encoder::FitInput::sphere(s))).collect();
         let values = fits.iter().map(|f| normals.iter().map(|&m| f.irradiance(m)).collect()).collect();
         let row = BlendRow { method: "sh1 of blended SH".into(), values };
         let img = blend_strip("test", DVec3::Y, "+y", &ts, &[row]).unwrap();

@@ -8,12 +8,12 @@
 #![allow(dead_code)]
 
 use glam::{DQuat, DVec3};
-use probelab::domain::{Domain, OutputGrid};
-use probelab::encoder::{Encoder, FitInput, Fitted, Params};
+use probelab::encoders::encoder::{Encoder, FitInput, Fitted, Params};
 use probelab::encoders::REGISTRY;
-use probelab::metrics::score;
-use probelab::scenes::cap_irradiance;
-use probelab::sh::{band_of, basis, constant, delta_light, Rgb, Sh9};
+use probelab::math::sh::{band_of, basis, constant, delta_light, Rgb, Sh9};
+use probelab::reference::domain::{Domain, OutputGrid};
+use probelab::reference::metrics::score;
+use probelab::reference::scenes::cap_irradiance;
 use std::f64::consts::PI;
 
 /// One light.
@@ -291,8 +291,8 @@ pub fn registry_encoders() -> Vec<(String, Box<dyn Encoder>)> {
 pub fn all_encoders() -> Vec<(String, Box<dyn Encoder>)> {
     let mut out = registry_encoders();
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("experiments");
-    for path in probelab::experiment::list_experiments(&dir).expect("experiments/ lists") {
-        let exp = probelab::experiment::Experiment::load(&path).unwrap_or_else(|e| panic!("{e:#}"));
+    for path in probelab::pipeline::experiment::list_experiments(&dir).expect("experiments/ lists") {
+        let exp = probelab::pipeline::experiment::Experiment::load(&path).unwrap_or_else(|e| panic!("{e:#}"));
         let file = path.file_name().unwrap().to_string_lossy().into_owned();
         for named in exp.encoders {
             out.push((format!("{} in {file}", named.name), named.encoder));
@@ -333,5 +333,5 @@ pub fn sh_projection(input: &Input, l: usize) -> Sh9 {
 
 /// A direction from elevation above the xz-plane and azimuth, in degrees (maps' convention: +Y up).
 pub fn dir(elev_deg: f64, azim_deg: f64) -> DVec3 {
-    probelab::envmap::direction(azim_deg.to_radians(), (90.0 - elev_deg).to_radians())
+    probelab::math::convention::direction(azim_deg.to_radians(), (90.0 - elev_deg).to_radians())
 }

@@ -1,0 +1,15 @@
+//! The math layer: pure functions and small value types with no knowledge of maps, encoders
+//! or files. SH basis and band scales (`sh`), SH rotation (`sh_rotation`), Gram matrices over
+//! hemispheres and cones (`gram`), Gauss–Legendre quadrature (`quadrature`), spherical caps
+//! and their arcs on a parallel (`cap`), the direction convention (`convention`), and exact
+//! mergeable statistics (`stats`).
+//!
+//! May use: nothing else in the crate.
+
+pub mod cap;
+pub mod convention;
+pub mod gram;
+pub mod quadrature;
+pub mod sh;
+pub mod sh_rotation;
+pub mod stats;

@@ -1,0 +1,494 @@
+//! Experiment files: TOML in `experiments/` declaring maps, encoders, domain, effects and
+//! metrics. An experiment is data; the runner (`runner.rs`) is the only code that executes it.
+//!
+//! | key            | type                      | default        | meaning |
+//! |----------------|---------------------------|----------------|---------|
+//! | `name`         | string                    | file stem      | results go to `results/<name>/` |
+//! | `description`  | string                    | ""             | shown in the report |
+//! | `maps`         | [string]                  | required       | map names on the search path, or file paths |
+//! | `encoders`     | [string or table]         | required       | `"sh2"` or `{ kind = "…", name = "…", <settings> }` |
+//! | `metrics`      | [string]                  | `["exact"]`    | `exact`, `probulator` |
+//! | `domain`       | string                    | `"sphere"`     | `sphere` or `hemisphere` (n′ over the hemisphere about each N) |
+//! | `orientations` | [string]                  | `[]`           | surface normals N: `+x` … `-z`, `up`, `axes6`, `fibonacciN` |
+//! | `effects`      | [string or table]         | `[]`           | `"hemisphere"`, `{ kind = "cone", cos_alpha = [..], tilt_deg = [..] }`, `{ kind = "self_bounce", albedo = [..] }` (needs `hemisphere`) |
+//! | `resolution`   | [W, H]                    | `[256, 128]`   | output lat-long grid of normals for the `exact` metric |
+//! | `polar_nodes`  | integer                   | 2              | Gauss–Legendre nodes per row piece of the reference |
+//! | `ci`           | bool                      | true           | whether the CI check re-runs it |
+//! | `summary`      | table                     | none           | `summary.csv` per orientation/map/set, ratios to `baseline` (`summary.rs`) |
+//! | `claims`       | [table]                   | `[]`           | claims checked on the rows: `claims.csv`, `CLAIMS.md` (`summary.rs`) |
+//!
+//! Unknown keys are errors that name the key and the line.
+
+use crate::encoders::{self, NamedEncoder};
+use crate::reference::domain::{expand_orientations, Orientation};
+use crate::reference::exact::DEFAULT_POLAR_NODES;
+use crate::reference::metrics::Metric;
+use anyhow::{bail, Context, Result};
+use serde::Deserialize;
+use std::path::{Path, PathBuf};
+
+/// The most cases (surface normals × effect parameter combinations) one experiment may declare.
+pub const MAX_CASES: usize = 1 << 20;
+
+/// An encoder entry: a kind, or a table with a kind and settings.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(untagged)]
+pub enum EncoderEntry {
+    Kind(String),
+    Table(toml::Table),
+}
+
+/// An effect entry.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(untagged)]
+pub enum EffectEntry {
+    Name(String),
+    Table(toml::Table),
+}
+
+/// The file as written.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ExperimentFile {
+    pub name: Option<String>,
+    #[serde(default)]
+    pub description: String,
+    pub maps: Vec<String>,
+    pub encoders: Vec<EncoderEntry>,
+    #[serde(default)]
+    pub metrics: Vec<String>,
+    #[serde(default)]
+    pub domain: Option<String>,
+    #[serde(default)]
+    pub orientations: Vec<String>,
+    #[serde(default)]
+    pub effects: Vec<EffectEntry>,
+    pub resolution: Option<[usize; 2]>,
+    pub polar_nodes: Option<usize>,
+    pub ci: Option<bool>,
+    pub summary: Option<crate::pipeline::summary::SummaryFile>,
+    #[serde(default)]
+    pub claims: Vec<crate::pipeline::summary::ClaimFile>,
+}
+
+/// A visibility effect applied to the radiance before it reaches the surface.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Effect {
+    /// Only light with ω·N > 0 counts.
+    Hemisphere,
+    /// Only light inside the cone of cos α about C counts, C being N tilted by `tilt_deg`
+    /// towards the tangent of N's frame (the image of +X under the rotation taking +Y to N).
+    Cone { cos_alpha: Vec<f64>, tilt_deg: Vec<f64> },
+    /// Self-bounce (hemispherical-lighting talk): the surface below the horizon is an infinite
+    /// Lambertian plane of albedo ρ lit by the exact I_z, so it reflects the uniform radiance
+    /// ρ·I_z (E/π units) from every direction below the horizon, and the reference gains
+    /// ρ·I_z·(1 − H(n′)), H(n′) = (1 + n′·N)/2 (`runner::CaseData`). One case per albedo;
+    /// needs the `hemisphere` effect.
+    SelfBounce { albedo: Vec<f64> },
+}
+
+/// The domain of output normals.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DomainKind {
+    Sphere,
+    Hemisphere,
+}
+
+/// A validated experiment.
+pub struct Experiment {
+    pub name: String,
+    pub description: String,
+    pub source: Option<PathBuf>,
+    pub maps: Vec<String>,
+    pub encoders: Vec<NamedEncoder>,
+    pub metrics: Vec<Metric>,
+    pub domain: DomainKind,
+    pub orientations: Vec<Orientation>,
+    pub effects: Vec<Effect>,
+    pub resolution: (usize, usize),
+    pub polar_nodes: usize,
+    pub ci: bool,
+    /// `Some(baseline)` when a per-orientation summary is declared.
+    pub summary: Option<Option<String>>,
+    pub claims: Vec<crate::pipeline::summary::Claim>,
+}
+
+impl Experiment {
+    /// Reads and validates an experiment file; errors name the file and the line (see
+    /// [`Experiment::parse`]).
+    pub fn load(path: &Path) -> Result<Self> {
+        let text = std::fs::read_to_string(path)
+            .with_context(|| format!("{}: cannot read experiment file", path.display()))?;
+        Self::parse(&text, path)
+    }
+
+    /// Parses and validates the text of an experiment file read from `path` (which names it in
+    /// errors and gives the default name). Every error starts with `path:LINE:` when the line
+    /// is known: from TOML's own span for syntax and type errors, otherwise the line where the
+    /// offending value or key is written ([`find_line`]); the line itself is quoted after the
+    /// message. Never panics, whatever the text.
+    pub fn parse(text: &str, path: &Path) -> Result<Self> {
+        let file: ExperimentFile = toml::from_str(text).map_err(|e| {
+            let at = e.span().map(|s| line_col(text, s.start));
+            let msg = e.message().trim_end();
+            match at {
+                Some((line, col)) => {
+                    anyhow::anyhow!("{}:{line}:{col}: {msg}{}", path.display(), quote_line(text, line))
+                }
+                None => anyhow::anyhow!("{}: {msg}", path.display()),
+            }
+        })?;
+        let stem = path.file_stem().and_then(|s| s.to_str()).unwrap_or("experiment").to_string();
+        let mut exp = Self::from_file(file, &stem).map_err(|e| match find_line(text, &e) {
+            Some(l) => anyhow::anyhow!("{}:{l}: {:#}{}", path.display(), e, quote_line(text, l)),
+            None => anyhow::anyhow!("{}: {:#}", path.display(), e),
+        })?;
+        exp.source = Some(path.to_path_buf());
+        Ok(exp)
+    }
+
+    /// The line of the experiment's source file where `value` is written as a string (e.g. a
+    /// map name), for errors found after loading, such as a map that is not on the search path.
+    pub fn source_line(&self, value: &str) -> Option<usize> {
+        let text = std::fs::read_to_string(self.source.as_ref()?).ok()?;
+        find_value_or_key(&text, value)
+    }
+
+    /// Validates a parsed file.
+    pub fn from_file(f: ExperimentFile, default_name: &str) -> Result<Self> {
+        let name = f.name.unwrap_or_else(|| default_name.to_string());
+        if name.is_empty() || !name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-') {
+            bail!("name '{name}': use letters, digits, '_' or '-' (it names a folder under results/)");
+        }
+        if f.maps.is_empty() {
+            bail!("maps: list at least one map");
+        }
+        if f.encoders.is_empty() {
+            bail!("encoders: list at least one encoder (valid: {})", encoders::known_ids());
+        }
+        let mut built = Vec::new();
+        for e in f.encoders {
+            built.push(match e {
+                EncoderEntry::Kind(k) => encoders::build(&k, None, toml::Table::new())?,
+                EncoderEntry::Table(mut t) => {
+                    let kind = match t.remove("kind") {
+                        Some(toml::Value::String(k)) => k,
+                        _ => bail!(
+                            "encoders: a table entry needs kind = \"<encoder>\" (valid: {})",
+                            encoders::known_ids()
+                        ),
+                    };
+                    let name = match t.remove("name") {
+                        Some(toml::Value::String(n)) => Some(n),
+                        None => None,
+                        Some(v) => bail!("encoders: name must be a string, got {v}"),
+                    };
+                    encoders::build(&kind, name.as_deref(), t)?
+                }
+            });
+        }
+        for (i, e) in built.iter().enumerate() {
+            if built[..i].iter().any(|o| o.name == e.name) {
+                bail!("encoders: '{}' appears twice; give variants distinct names with name = \"…\"", e.name);
+            }
+        }
+        let metrics = if f.metrics.is_empty() {
+            vec![Metric::Exact]
+        } else {
+            f.metrics.iter().map(|m| Metric::parse(m).context("metrics")).collect::<Result<_>>()?
+        };
+        let domain = match f.domain.as_deref().unwrap_or("sphere") {
+            "sphere" => DomainKind::Sphere,
+            "hemisphere" => DomainKind::Hemisphere,
+            d => bail!("domain '{d}': expected sphere or hemisphere"),
+        };
+        let mut orientations = Vec::new();
+        for o in &f.orientations {
+            orientations.extend(expand_orientations(o).context("orientations")?);
+        }
+        let mut effects = Vec::new();
+        for e in f.effects {
+            effects.push(parse_effect(e)?);
+        }
+        let variants = effects.iter().try_fold(orientations.len().max(1), |n: usize, e| match e {
+            Effect::Hemisphere => Some(n),
+            Effect::Cone { cos_alpha, tilt_deg } => n.checked_mul(cos_alpha.len())?.checked_mul(tilt_deg.len()),
+            Effect::SelfBounce { albedo } => n.checked_mul(albedo.len()),
+        });
+        if effects.iter().any(|e| matches!(e, Effect::SelfBounce { .. })) {
+            if !effects.contains(&Effect::Hemisphere) {
+                bail!(
+                    "effects: 'self_bounce' needs the hemisphere effect (the bounce is the light of the surface \
+                     below the horizon); add \"hemisphere\" to effects"
+                );
+            }
+            if effects.iter().filter(|e| matches!(e, Effect::SelfBounce { .. })).count() > 1 {
+                bail!("effects: 'self_bounce' appears twice; list every albedo in one entry");
+            }
+        }
+        match variants {
+            Some(n) if n <= MAX_CASES => {}
+            _ => bail!(
+                "orientations: the orientations and effect parameters make more than {MAX_CASES} cases (one per \
+                 normal and parameter combination); split the experiment"
+            ),
+        }
+        let needs_normal = domain == DomainKind::Hemisphere || !effects.is_empty();
+        if needs_normal && orientations.is_empty() {
+            bail!(
+                "orientations: a hemisphere domain or an effect needs surface normals (e.g. orientations = [\"up\"])"
+            );
+        }
+        if !needs_normal && !orientations.is_empty() {
+            bail!("orientations: only a hemisphere domain or an effect uses surface normals; remove them or set domain = \"hemisphere\"");
+        }
+        if domain == DomainKind::Hemisphere && metrics.contains(&Metric::Probulator) {
+            bail!(
+                "metrics: 'probulator' scores the whole sphere at 256x128; it cannot be used with a hemisphere domain"
+            );
+        }
+        let resolution = f.resolution.map(|[w, h]| (w, h)).unwrap_or((256, 128));
+        if resolution.0 != 2 * resolution.1 || resolution.1 < 2 || resolution.1 > 4096 {
+            bail!("resolution {:?}: expected [2H, H] with 2 <= H <= 4096", resolution);
+        }
+        let polar_nodes = f.polar_nodes.unwrap_or(DEFAULT_POLAR_NODES);
+        if !(1..=16).contains(&polar_nodes) {
+            bail!("polar_nodes {polar_nodes}: expected 1..=16");
+        }
+        let names: Vec<String> = built.iter().map(|e| e.name.clone()).collect();
+        let summary = f.summary.map(|s| crate::pipeline::summary::summary_baseline(s, &names)).transpose()?;
+        let claims = f
+            .claims
+            .into_iter()
+            .map(|c| crate::pipeline::summary::Claim::from_file(c, &names, &f.maps))
+            .collect::<Result<Vec<_>>>()?;
+        Ok(Experiment {
+            name,
+            description: f.description,
+            source: None,
+            maps: f.maps,
+            encoders: built,
+            metrics,
+            domain,
+            orientations,
+            effects,
+            resolution,
+            polar_nodes,
+            ci: f.ci.unwrap_or(true),
+            summary,
+            claims,
+        })
+    }
+}
+
+fn parse_effect(e: EffectEntry) -> Result<Effect> {
+    let floats = |t: &toml::Table, key: &str| -> Result<Vec<f64>> {
+        match t.get(key) {
+            None => bail!("effects: cone needs '{key}'"),
+            Some(toml::Value::Float(f)) => Ok(vec![*f]),
+            Some(toml::Value::Integer(i)) => Ok(vec![*i as f64]),
+            Some(toml::Value::Array(a)) => a
+                .iter()
+                .map(|v| match v {
+                    toml::Value::Float(f) => Ok(*f),
+                    toml::Value::Integer(i) => Ok(*i as f64),
+                    _ => bail!("effects: '{key}' must hold numbers"),
+                })
+                .collect(),
+            Some(v) => bail!("effects: '{key}' must be a number or a list, got {v}"),
+        }
+    };
+    match e {
+        EffectEntry::Name(n) if n == "hemisphere" => Ok(Effect::Hemisphere),
+        EffectEntry::Name(n) if n == "self_bounce" => {
+            bail!("effects: 'self_bounce' needs an albedo: {{ kind = \"self_bounce\", albedo = [0.2, 0.5, 0.8] }}")
+        }
+        EffectEntry::Name(n) => bail!("effects: unknown effect '{n}' (valid: hemisphere, cone, self_bounce)"),
+        EffectEntry::Table(t) => match t.get("kind").and_then(|v| v.as_str()) {
+            Some("hemisphere") if t.len() == 1 => Ok(Effect::Hemisphere),
+            Some("cone") => {
+                if let Some(k) = t.keys().find(|k| !["kind", "cos_alpha", "tilt_deg"].contains(&k.as_str())) {
+                    bail!("effects: cone has unknown key '{k}' (valid: cos_alpha, tilt_deg)");
+                }
+                let cos_alpha = floats(&t, "cos_alpha")?;
+                if cos_alpha.iter().any(|c| !(-1.0..1.0).contains(c)) {
+                    bail!("effects: cone cos_alpha must lie in [-1, 1)");
+                }
+                let tilt_deg = if t.contains_key("tilt_deg") { floats(&t, "tilt_deg")? } else { vec![0.0] };
+                if tilt_deg.iter().any(|t| !t.is_finite()) {
+                    bail!("effects: cone tilt_deg must be finite");
+                }
+                if cos_alpha.is_empty() || tilt_deg.is_empty() {
+                    bail!("effects: cone cos_alpha and tilt_deg need at least one value each");
+                }
+                Ok(Effect::Cone { cos_alpha, tilt_deg })
+            }
+            Some("self_bounce") => {
+                if let Some(k) = t.keys().find(|k| !["kind", "albedo"].contains(&k.as_str())) {
+                    bail!("effects: self_bounce has unknown key '{k}' (valid: albedo)");
+                }
+                if !t.contains_key("albedo") {
+                    bail!("effects: 'self_bounce' needs 'albedo' (a number or a list, each in [0, 1])");
+                }
+                let albedo = floats(&t, "albedo")?;
+                if albedo.is_empty() {
+                    bail!("effects: self_bounce 'albedo' needs at least one value");
+                }
+                if let Some(a) = albedo.iter().find(|a| !(0.0..=1.0).contains(*a)) {
+                    bail!("effects: self_bounce 'albedo' {a} must lie in [0, 1]");
+                }
+                Ok(Effect::SelfBounce { albedo })
+            }
+            Some(k) => bail!("effects: unknown effect kind '{k}' (valid: hemisphere, cone, self_bounce)"),
+            None => bail!("effects: a table entry needs kind = \"hemisphere\", \"cone\" or \"self_bounce\""),
+        },
+    }
+}
+
+/// The line of an error in the source text. The message's quoted words ('…') are tried from
+/// the last (the most specific: "encoder 'sh1': unknown key(s) 'bogus'" points at `bogus`) to
+/// the first, each looked up as a string literal ("w" or 'w') or as a key (`w =`). Failing
+/// that, a message starting with a key ("maps: …", "resolution (…)") points at its line.
+pub fn find_line(text: &str, e: &anyhow::Error) -> Option<usize> {
+    let msg = format!("{e:#}");
+    let quoted: Vec<&str> = msg.split('\'').skip(1).step_by(2).filter(|q| !q.is_empty()).collect();
+    if let Some(l) = quoted.iter().rev().find_map(|q| find_value_or_key(text, q)) {
+        return Some(l);
+    }
+    let key: String = msg.chars().take_while(|c| c.is_ascii_alphanumeric() || *c == '_').collect();
+    if key.is_empty() {
+        return None;
+    }
+    find_key(text, &key)
+}
+
+/// The first line holding `w` as a string literal, else as a key.
+fn find_value_or_key(text: &str, w: &str) -> Option<usize> {
+    let literal = [format!("\"{w}\""), format!("'{w}'")];
+    text.lines()
+        .position(|l| literal.iter().any(|q| l.contains(q.as_str())))
+        .map(|i| i + 1)
+        .or_else(|| find_key(text, w))
+}
+
+/// The first line where `key` is assigned (`key =`, at the start of a line or inside an
+/// inline table after `{` or `,`).
+fn find_key(text: &str, key: &str) -> Option<usize> {
+    text.lines()
+        .position(|l| {
+            l.match_indices(key).any(|(i, _)| {
+                let before = l[..i].trim_end();
+                let after = l[i + key.len()..].trim_start();
+                (before.is_empty() || before.ends_with('{') || before.ends_with(',')) && after.starts_with('=')
+            })
+        })
+        .map(|i| i + 1)
+}
+
+/// 1-based line and column of byte offset `at`.
+fn line_col(text: &str, at: usize) -> (usize, usize) {
+    let mut at = at.min(text.len());
+    while !text.is_char_boundary(at) {
+        at -= 1;
+    }
+    let before = &text[..at];
+    let line = before.matches('\n').count() + 1;
+    let col = before.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
+    (line, col)
+}
+
+/// The source line `line` (1-based), quoted for an error message.
+fn quote_line(text: &str, line: usize) -> String {
+    match text.lines().nth(line.wrapping_sub(1)) {
+        Some(l) if !l.trim().is_empty() => format!("\n  {line} | {}", l.trim_end()),
+        _ => String::new(),
+    }
+}
+
+/// Every `*.toml` in a folder, sorted by name.
+pub fn list_experiments(dir: &Path) -> Result<Vec<PathBuf>> {
+    let mut out: Vec<PathBuf> = std::fs::read_dir(dir)
+        .with_context(|| format!("{}: cannot list experiments", dir.display()))?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|x| x == "toml"))
+        .collect();
+    out.sort();
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn parse(s: &str) -> Result<Experiment> {
+        Experiment::from_file(toml::from_str(s)?, "t")
+    }
+
+    #[test]
+    fn minimal_file_gets_defaults() {
+        let e = parse("maps = ['a']\nencoders = ['sh1', 'sh2']").unwrap();
+        assert_eq!(e.name, "t");
+        assert_eq!(e.metrics, vec![Metric::Exact]);
+        assert_eq!(e.resolution, (256, 128));
+        assert_eq!(e.encoders.len(), 2);
+    }
+
+    #[test]
+    fn errors_are_specific() {
+        let e = |s: &str| format!("{:#}", parse(s).err().unwrap());
+        assert!(e("maps=['a']\nencoders=['shx']").contains("valid encoders"));
+        assert!(e("maps=['a']\nencoders=['sh1']\nbogus=1").contains("bogus"));
+        assert!(e("maps=['a']\nencoders=['sh1']\neffects=['fog']").contains("unknown effect 'fog'"));
+        assert!(e("maps=['a']\nencoders=['sh1']\ndomain='hemisphere'").contains("orientations"));
+        assert!(e("maps=['a']\nencoders=['sh1','sh1']").contains("twice"));
+        assert!(e("maps=['a']\nencoders=['sh1']\nmetrics=['l1']").contains("unknown metric"));
+    }
+
+    #[test]
+    fn load_reports_file_and_line() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("x.toml");
+        std::fs::write(&p, "maps = ['a']\nencoders = ['sh1',\n  'nope']\n").unwrap();
+        let msg = format!("{:#}", Experiment::load(&p).err().unwrap());
+        assert!(msg.contains("x.toml:3: ") && msg.contains("nope") && msg.contains("3 |   'nope']"), "{msg}");
+        std::fs::write(&p, "maps = ['a'\nencoders = 3\n").unwrap();
+        let msg = format!("{:#}", Experiment::load(&p).err().unwrap());
+        assert!(msg.contains("x.toml:2:"), "{msg}");
+    }
+
+    /// Each validation error points at the line that causes it (not at an earlier line that
+    /// merely contains the same word).
+    #[test]
+    fn errors_point_at_the_offending_line() {
+        let line = |text: &str| {
+            let e = Experiment::parse(text, Path::new("e.toml")).err().expect("must fail");
+            let msg = format!("{e:#}");
+            let l = msg.strip_prefix("e.toml:").and_then(|r| r.split(':').next()).and_then(|n| n.parse().ok());
+            (l.unwrap_or(0usize), msg)
+        };
+        let cases: &[(&str, usize)] = &[
+            // The description mentions sh: the literal 'sh' on line 3 is the culprit.
+            ("description = 'sh and sh1'\nmaps = ['a']\nencoders = ['sh1', 'sh']\n", 3),
+            ("maps = ['a']\nencoders = ['sh1']\neffects = ['hemisphere',\n 'fog']\norientations = ['up']\n", 4),
+            ("maps = ['a']\nencoders = ['sh1']\norientations = ['up']\neffects = [{ kind = 'cone', cos_alpha = 0.5, bogus = 1 }]\n", 4),
+            ("maps = ['a']\nencoders = [\n  { kind = 'sh1', bogus = 2 },\n]\n", 3),
+            ("maps = ['a']\nencoders = [{ kind = 'zz9' }]\n", 2),
+            ("maps = []\nencoders = ['sh1']\n", 1),
+            ("maps = ['a']\nencoders = ['sh1']\nmetrics = ['exact', 'l2']\n", 3),
+            ("maps = ['a']\n\nencoders = ['sh1']\nwhat = 1\n", 4),
+            ("maps = ['a']\nencoders = ['sh1'\n", 2),
+            ("maps = ['a']\nencoders = ['sh1']\nresolution = [100, 10]\n", 3),
+        ];
+        for (text, want) in cases {
+            let (got, msg) = line(text);
+            assert_eq!(got, *want, "{msg}");
+        }
+    }
+
+    #[test]
+    fn line_col_handles_multibyte_text() {
+        assert_eq!(line_col("a\nbé c", 5), (2, 3));
+        assert_eq!(line_col("é", 1), (1, 1));
+        assert_eq!(line_col("", 10), (1, 1));
+    }
+}

@@ -1,0 +1,462 @@
+//! The experiment runner: owns the order of work. Per map it loads the map once and computes
+//! the shared data once (row moments, the probe's SH); per case (surface orientation × effect
+//! parameters) the visible SH and the exact reference on each output grid; then fits and scores
+//! every encoder through the one trait. It never names an encoder.
+//!
+//! Only declared effects are simulated: with no effect the reference has no caps and the
+//! visible SH is the probe SH (no masked projection is computed).
+
+use crate::encoders::encoder::FitInput;
+use crate::envmap::moments::RowMoments;
+use crate::envmap::search::SearchPath;
+use crate::envmap::EnvMap;
+use crate::math::cap::Cap;
+use crate::math::sh::{Rgb, Sh9};
+use crate::pipeline::experiment::{DomainKind, Effect, Experiment};
+use crate::pipeline::table::Row;
+use crate::reference::domain::{frame_to, Domain, OutputGrid};
+use crate::reference::exact::Reference;
+use crate::reference::metrics::{score, Metric};
+use crate::reference::projection::{project, project_visible};
+use anyhow::{Context, Result};
+use glam::DVec3;
+use rayon::prelude::*;
+use sha2::{Digest, Sha256};
+use std::path::PathBuf;
+
+/// One surface configuration to score: where n′ ranges and what light is visible.
+#[derive(Clone, Debug)]
+pub struct Case {
+    pub domain: Domain,
+    /// "sphere" or "hemisphere:<orientation>" (or "sphere@<orientation>" for a sphere domain
+    /// with effects about N).
+    pub domain_label: String,
+    pub orientation_set: String,
+    pub effects_label: String,
+    pub masks: Vec<Cap>,
+    pub normal: Option<DVec3>,
+    pub cone: Option<(DVec3, f64)>,
+    /// The albedo ρ of the surface below the horizon under the `self_bounce` effect.
+    pub albedo: Option<f64>,
+}
+
+/// The cases an experiment declares.
+pub fn cases(exp: &Experiment) -> Vec<Case> {
+    if exp.orientations.is_empty() {
+        return vec![Case {
+            domain: Domain::Sphere,
+            domain_label: "sphere".into(),
+            orientation_set: "-".into(),
+            effects_label: "none".into(),
+            masks: vec![],
+            normal: None,
+            cone: None,
+            albedo: None,
+        }];
+    }
+    let mut out = Vec::new();
+    for o in &exp.orientations {
+        let n = o.normal;
+        let (domain, domain_label) = match exp.domain {
+            DomainKind::Sphere => (Domain::Sphere, format!("sphere@{}", o.label)),
+            DomainKind::Hemisphere => (Domain::Hemisphere { normal: n }, format!("hemisphere:{}", o.label)),
+        };
+        // Effect variants: the cartesian product of every effect's parameter lists.
+        let mut variants: Vec<Variant> = vec![(vec![], vec![], None, None)];
+        for e in &exp.effects {
+            let mut next = Vec::new();
+            for (masks, labels, cone, albedo) in &variants {
+                match e {
+                    Effect::Hemisphere => {
+                        let mut m = masks.clone();
+                        m.push(Cap::hemisphere(n));
+                        let mut l = labels.clone();
+                        l.push("hemisphere".into());
+                        next.push((m, l, *cone, *albedo));
+                    }
+                    Effect::SelfBounce { albedo: values } => {
+                        for &a in values {
+                            let mut l = labels.clone();
+                            l.push(format!("self_bounce(albedo={a})"));
+                            next.push((masks.clone(), l, *cone, Some(a)));
+                        }
+                    }
+                    Effect::Cone { cos_alpha, tilt_deg } => {
+                        for &t in tilt_deg {
+                            let c = cone_centre(n, t);
+                            for &ca in cos_alpha {
+                                let mut m = masks.clone();
+                                m.push(Cap::new(c, ca));
+                                let mut l = labels.clone();
+                                l.push(format!("cone(cos={ca},tilt={t}deg)"));
+                                next.push((m, l, Some((c, ca)), *albedo));
+                            }
+                        }
+                    }
+                }
+            }
+            variants = next;
+        }
+        for (masks, labels, cone, albedo) in variants {
+            out.push(Case {
+                domain: domain.clone(),
+                domain_label: domain_label.clone(),
+                orientation_set: o.set.clone(),
+                effects_label: if labels.is_empty() { "none".into() } else { labels.join("+") },
+                masks,
+                normal: Some(n),
+                cone,
+                albedo,
+            });
+        }
+    }
+    out
+}
+
+/// One effect combination while the cartesian product is built: caps, labels, cone, albedo.
+type Variant = (Vec<Cap>, Vec<String>, Option<(DVec3, f64)>, Option<f64>);
+
+/// The cone centre: N tilted by `tilt_deg` towards the tangent of N's frame (the image of +X
+/// under the rotation taking +Y to N).
+pub fn cone_centre(n: DVec3, tilt_deg: f64) -> DVec3 {
+    let t = tilt_deg.to_radians();
+    let tangent = frame_to(n) * DVec3::X;
+    (n * t.cos() + tangent * t.sin()).normalize()
+}
+
+/// Identity of a map used in a run (for provenance).
+#[derive(Clone, Debug)]
+pub struct MapInfo {
+    pub name: String,
+    pub path: Option<PathBuf>,
+    pub width: usize,
+    pub height: usize,
+    pub sha256: String,
+}
+
+/// What a run produced.
+pub struct RunReport {
+    pub rows: Vec<Row>,
+    pub maps: Vec<MapInfo>,
+    /// Maps not found on the search path (their rows are absent).
+    pub missing: Vec<String>,
+}
+
+/// Runs an experiment over the maps the search path finds. Maps that are not found are listed
+/// in `missing`; a map that is found but cannot be read is an error.
+pub fn run(exp: &Experiment, search: &SearchPath) -> Result<RunReport> {
+    let mut rows = Vec::new();
+    let mut maps = Vec::new();
+    let mut missing = Vec::new();
+    for name in &exp.maps {
+        let path = match search.resolve(name) {
+            Ok(p) => p,
+            Err(_) => {
+                missing.push(name.clone());
+                continue;
+            }
+        };
+        // Load first: the loader refuses what is not a regular file (reading a FIFO would block).
+        let map = {
+            let _s = crate::pipeline::profile::span("decode");
+            crate::envmap::load::load(&path)?
+        };
+        let digest = {
+            let _s = crate::pipeline::profile::span("read + sha256");
+            Sha256::digest(std::fs::read(&path).with_context(|| format!("{}: cannot read", path.display()))?)
+        };
+        maps.push(MapInfo {
+            name: map.name.clone(),
+            path: Some(path),
+            width: map.width(),
+            height: map.height(),
+            sha256: hex(&digest),
+        });
+        rows.extend(run_map(exp, &map));
+    }
+    Ok(RunReport { rows, maps, missing })
+}
+
+fn hex(b: &[u8]) -> String {
+    b.iter().map(|x| format!("{x:02x}")).collect()
+}
+
+/// Per-map data computed once and shared by every case: the row moments (for the reference
+/// and masked projections) and the probe's L2 SH.
+pub struct MapData<'m> {
+    pub map: &'m EnvMap,
+    pub moments: RowMoments,
+    pub probe_sh: Sh9,
+}
+
+impl<'m> MapData<'m> {
+    pub fn new(map: &'m EnvMap) -> Self {
+        MapData { map, moments: RowMoments::new(map), probe_sh: project(map) }
+    }
+}
+
+/// Per-case data: the visible SH, the exact reference under the case's caps, and the exact
+/// irradiance at N. Renders and timing use this too, so everything scores the same inputs.
+pub struct CaseData<'a> {
+    pub case: &'a Case,
+    pub probe_sh: Sh9,
+    pub visible_sh: Sh9,
+    pub reference: Reference<'a>,
+    pub exact_at_normal: Option<Rgb>,
+}
+
+impl<'a> CaseData<'a> {
+    /// Only the declared effects are simulated: with no caps the visible SH is the probe SH.
+    pub fn new(data: &'a MapData, case: &'a Case, polar_nodes: usize) -> Self {
+        let visible_sh = if case.masks.is_empty() {
+            data.probe_sh
+        } else {
+            project_visible(&data.moments, &case.masks, polar_nodes)
+        };
+        let reference = Reference::new(&data.moments, case.masks.clone(), polar_nodes);
+        let exact_at_normal = case.normal.map(|n| reference.irradiance(n));
+        CaseData { case, probe_sh: data.probe_sh, visible_sh, reference, exact_at_normal }
+    }
+
+    /// What every encoder is fitted from.
+    pub fn fit_input(&self) -> FitInput<'_> {
+        FitInput {
+            probe_sh: &self.probe_sh,
+            visible_sh: &self.visible_sh,
+            surface_normal: self.case.normal,
+            cone: self.case.cone,
+            exact_at_normal: self.exact_at_normal,
+            surface_albedo: self.case.albedo,
+        }
+    }
+
+    /// The reference E/π at `normals`: the exact irradiance under the case's caps plus, under
+    /// the `self_bounce` effect, the light of the surface below the horizon.
+    pub fn reference_many(&self, normals: &[DVec3]) -> Vec<Rgb> {
+        let mut v = self.reference.irradiance_many(normals);
+        self.add_self_bounce(normals, &mut v);
+        v
+    }
+
+    /// The reference E/π on an output grid (the fast lat-long path where it applies), with the
+    /// self-bounce as in [`CaseData::reference_many`].
+    pub fn reference_on(&self, grid: &OutputGrid) -> Vec<Rgb> {
+        let mut v = match grid.latlong {
+            Some(ll) => self.reference.irradiance_latlong(ll),
+            None => self.reference.irradiance_many(&grid.normals),
+        };
+        self.add_self_bounce(&grid.normals, &mut v);
+        v
+    }
+
+    /// Self-bounce (hemispherical-lighting talk; `Effect::SelfBounce`). The model: the surface
+    /// below the horizon is an infinite Lambertian plane of albedo ρ, lit by the exact
+    /// irradiance at N (I_z, E/π units, so the plane's irradiance is π·I_z); it reflects the
+    /// uniform radiance ρ·I_z into every direction below the horizon. A uniform radiance L
+    /// over the half-space ω·N < 0 gives E/π = L·(1 − H(n′)) at a normal n′, with
+    /// H(n′) = (1 + n′·N)/2 the hemisphere light; so the reference gains
+    /// ρ·I_z·(1 − H(n′)). Nothing is added without the effect.
+    fn add_self_bounce(&self, normals: &[DVec3], values: &mut [Rgb]) {
+        let (Some(rho), Some(n), Some(iz)) = (self.case.albedo, self.case.normal, self.exact_at_normal) else {
+            return;
+        };
+        for (v, &np) in values.iter_mut().zip(normals) {
+            *v += iz * (rho * (1.0 - np.dot(n)) * 0.5);
+        }
+    }
+}
+
+/// Scores every encoder of the experiment on one in-memory map.
+pub fn run_map(exp: &Experiment, map: &EnvMap) -> Vec<Row> {
+    let data = {
+        let _s = crate::pipeline::profile::span("row moments + SH projection");
+        MapData::new(map)
+    };
+    let all = cases(exp);
+    let mut per_case: Vec<Vec<Row>> = all.par_iter().map(|case| run_case(exp, &data, case)).collect();
+    crate::pipeline::timing::fill(exp, &data, &all, &mut per_case);
+    per_case.into_iter().flatten().collect()
+}
+
+fn run_case(exp: &Experiment, data: &MapData, case: &Case) -> Vec<Row> {
+    let map = data.map;
+    let cd = {
+        let _s = crate::pipeline::profile::span("case setup (visible SH)");
+        CaseData::new(data, case, exp.polar_nodes)
+    };
+    let reference = &cd.reference;
+    let input = cd.fit_input();
+    let fitted: Vec<_> = {
+        let _s = crate::pipeline::profile::span("fit");
+        exp.encoders.iter().map(|e| e.encoder.fit(&input)).collect()
+    };
+    let mut rows = Vec::new();
+    // One output grid (and one reference evaluation) per distinct metric grid.
+    let mut grids: Vec<((usize, usize), bool, OutputGrid, Vec<Rgb>)> = Vec::new();
+    for metric in &exp.metrics {
+        let (res, domain) = match metric.fixed_resolution() {
+            Some(r) => (r, Domain::Sphere),
+            None => (exp.resolution, case.domain.clone()),
+        };
+        let sphere = matches!(domain, Domain::Sphere);
+        if !grids.iter().any(|g| g.0 == res && g.1 == sphere) {
+            let grid = domain.output_grid(res);
+            let _s = crate::pipeline::profile::span("reference");
+            let values = cd.reference_on(&grid);
+            grids.push((res, sphere, grid, values));
+        }
+        let (_, _, grid, ref_values) = grids.iter().find(|g| g.0 == res && g.1 == sphere).expect("grid just added");
+        let weights: Vec<f64> = match metric {
+            Metric::Exact => grid.weights.clone(),
+            Metric::Probulator => vec![1.0; grid.normals.len()],
+        };
+        for (named, fit) in exp.encoders.iter().zip(&fitted) {
+            let test: Vec<Rgb> = {
+                let _s = crate::pipeline::profile::span("render (encoder eval)");
+                grid.normals.par_iter().with_min_len(256).map(|&n| fit.irradiance(n)).collect()
+            };
+            let clamp = *metric == Metric::Probulator && named.encoder.peer_clamps();
+            let scores = {
+                let _s = crate::pipeline::profile::span("score");
+                score(ref_values, &test, &weights, clamp)
+            };
+            let diagnostics = fit
+                .diagnostics()
+                .iter()
+                .map(|(k, v)| format!("{k}={}", crate::pipeline::table::num(*v)))
+                .collect::<Vec<_>>()
+                .join(";");
+            rows.push(Row {
+                map: map.name.clone(),
+                encoder: named.name.clone(),
+                domain: case.domain_label.clone(),
+                metric: metric.name().into(),
+                scores,
+                stored_scalars: named.encoder.stored_scalars(),
+                orientation_set: case.orientation_set.clone(),
+                effects: case.effects_label.clone(),
+                weighting: metric.weighting().into(),
+                resolution: format!("{}x{}", grid.resolution.0, grid.resolution.1),
+                units: "E/pi".into(),
+                reference: reference.describe(),
+                diagnostics,
+                at_normal_abs_err: case
+                    .normal
+                    .zip(cd.exact_at_normal)
+                    .map(|(n, e)| (fit.irradiance(n) - e).abs().max_element()),
+                fit_ns: None,
+                eval_ns: None,
+            });
+        }
+    }
+    rows
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::reference::domain::expand_orientations;
+
+    /// Self-bounce on a constant map of radiance A (FORMULAS §8; `Effect::SelfBounce`). The
+    /// visible light is A over the upper hemisphere about N, so the exact E/π is A·H(n′) with
+    /// H(n′) = (1 + n′·N)/2 and I_z = A·H(N) = A; the bounce adds ρ·A·(1 − H(n′)). So the
+    /// reference is A·(H + ρ(1 − H)) in closed form. The wrapper around sh2 (whose L2 SH
+    /// irradiance of a hemisphere step is exact: its even bands ≥ 2 vanish) is then exact,
+    /// and sh2 alone misses exactly ρ·A·(1 − H), whose solid-angle RMS over the hemisphere
+    /// about N is ρ·A·√(∫₀¹ ((1 − μ)/2)² dμ) = ρ·A/√12.
+    #[test]
+    fn self_bounce_on_a_constant_map_is_the_closed_form() {
+        let a = Rgb::new(0.7, 1.1, 0.4);
+        let (w, h) = (64, 32);
+        let map = EnvMap::new("const", w, h, vec![[a.x as f32, a.y as f32, a.z as f32]; w * h]).unwrap();
+        let a = Rgb::new(0.7f32 as f64, 1.1f32 as f64, 0.4f32 as f64);
+        let text = "maps = ['const']\nencoders = ['sh2', { kind = 'with_self_bounce', inner = 'sh2', name = 'sb' }]\n\
+                    domain = 'hemisphere'\norientations = ['axes6']\nresolution = [64, 32]\npolar_nodes = 8\n\
+                    effects = ['hemisphere', { kind = 'self_bounce', albedo = [0.0, 0.5, 0.8] }]\n";
+        let exp = Experiment::parse(text, std::path::Path::new("t.toml")).unwrap();
+        let data = MapData::new(&map);
+        let all = cases(&exp);
+        assert_eq!(all.len(), 18);
+        for case in &all {
+            let (n, rho) = (case.normal.unwrap(), case.albedo.unwrap());
+            assert_eq!(case.effects_label, format!("hemisphere+self_bounce(albedo={rho})"));
+            let cd = CaseData::new(&data, case, exp.polar_nodes);
+            let grid = case.domain.output_grid(exp.resolution);
+            let plain = cd.reference.irradiance_many(&grid.normals);
+            for ((np, got), p) in grid.normals.iter().zip(cd.reference_on(&grid)).zip(plain) {
+                let hn = 0.5 * (1.0 + np.dot(n));
+                // The added term to rounding; the whole against the closed form within the
+                // reference's polar quadrature where a wall's horizon cuts the rows (8 nodes:
+                // 1.2e-9; the default 2: 1e-6).
+                let bounce = a * (rho * (1.0 - hn));
+                assert!((got - p - bounce).abs().max_element() < 1e-14, "N={n} n'={np}");
+                let want = a * (hn + rho * (1.0 - hn));
+                assert!((got - want).abs().max_element() < 1e-8, "N={n} n'={np}: {got} vs {want}");
+            }
+        }
+        let rows = run_map(&exp, &map);
+        assert_eq!(rows.len(), 36);
+        for r in &rows {
+            let rho: f64 = r.effects.split("albedo=").nth(1).unwrap().trim_end_matches(')').parse().unwrap();
+            let case = all.iter().find(|c| c.domain_label == r.domain && c.albedo == Some(rho)).unwrap();
+            let grid = case.domain.output_grid(exp.resolution);
+            // The missing term's RMS with the grid's own solid-angle weights (the table's
+            // quadrature), and its continuous value ρ·|A|/√3/√12 (the 16-row grid is 1.4e-3 off).
+            let n = case.normal.unwrap();
+            let (mut num, mut den) = (0.0, 0.0);
+            for (np, w) in grid.normals.iter().zip(&grid.weights) {
+                let miss = rho * 0.5 * (1.0 - np.dot(n));
+                num += w * miss * miss;
+                den += w;
+            }
+            let on_grid = (num / den).sqrt() * a.length() / 3f64.sqrt();
+            let continuous = rho * a.length() / 3f64.sqrt() / 12f64.sqrt();
+            assert!((on_grid - continuous).abs() <= 5e-3 * continuous.max(1e-300) + 1e-15, "{on_grid} vs {continuous}");
+            let want = if r.encoder == "sb" { 0.0 } else { on_grid };
+            assert!(
+                (r.scores.rmse - want).abs() < 1e-8,
+                "{} {} {}: {} vs {want}",
+                r.encoder,
+                r.domain,
+                r.effects,
+                r.scores.rmse
+            );
+        }
+    }
+
+    #[test]
+    fn self_bounce_needs_the_hemisphere_and_a_valid_albedo() {
+        let err = |effects: &str| {
+            let text = format!(
+                "maps = ['a']\nencoders = ['sh2']\norientations = ['up']\ndomain = 'hemisphere'\neffects = {effects}\n"
+            );
+            format!("{:#}", Experiment::parse(&text, std::path::Path::new("e.toml")).err().expect("must fail"))
+        };
+        let e = err("[{ kind = 'self_bounce', albedo = 0.5 }]");
+        assert!(e.starts_with("e.toml:5:") && e.contains("needs the hemisphere effect"), "{e}");
+        assert!(err("['hemisphere', { kind = 'self_bounce', albedo = 1.5 }]").contains("must lie in [0, 1]"));
+        assert!(err("['hemisphere', { kind = 'self_bounce' }]").contains("needs 'albedo'"));
+        assert!(err("['hemisphere', { kind = 'self_bounce', albedo = [] }]").contains("at least one"));
+        assert!(err("['hemisphere', { kind = 'self_bounce', albedo = 0.5, x = 1 }]").contains("unknown key 'x'"));
+        assert!(err("['hemisphere', 'self_bounce']").contains("needs an albedo"));
+        let twice =
+            err("['hemisphere', { kind = 'self_bounce', albedo = 0.5 },\n { kind = 'self_bounce', albedo = 0.2 }]");
+        assert!(twice.contains("twice"), "{twice}");
+    }
+
+    /// The cone centre is N tilted by exactly `tilt_deg`, for every orientation (including the
+    /// poles, where `frame_to` has its degenerate antiparallel case), and unit length.
+    #[test]
+    fn cone_centre_is_n_tilted_by_the_angle() {
+        let mut normals: Vec<DVec3> = expand_orientations("axes6").unwrap().into_iter().map(|o| o.normal).collect();
+        normals.extend(expand_orientations("fibonacci32").unwrap().into_iter().map(|o| o.normal));
+        for n in normals {
+            for t in [0.0f64, 10.0, 30.0, 90.0] {
+                let c = cone_centre(n, t);
+                assert!((c.length() - 1.0).abs() < 1e-12);
+                let angle = c.dot(n).clamp(-1.0, 1.0).acos().to_degrees();
+                assert!((angle - t).abs() < 1e-6, "N={n} tilt {t}: {angle}");
+            }
+        }
+    }
+}

@@ -1,0 +1,119 @@
+//! Result rows and their CSV form. Every row states its reference, domain, weighting,
+//! resolution and units. The first nine columns are fixed (issue 2); later columns are added
+//! after them.
+
+use crate::reference::metrics::Scores;
+use anyhow::Result;
+use std::path::Path;
+
+/// The CSV header.
+pub const COLUMNS: &[&str] = &[
+    "map",
+    "encoder",
+    "domain",
+    "metric",
+    "rmse_r",
+    "rmse_g",
+    "rmse_b",
+    "rmse",
+    "rel_rmse",
+    "neg_frac",
+    "max_abs_err",
+    "stored_scalars",
+    "orientation_set",
+    "effects",
+    "weighting",
+    "resolution",
+    "units",
+    "reference",
+    "diagnostics",
+    "at_normal_abs_err",
+    "fit_ns",
+    "eval_ns",
+];
+
+/// Columns that are wall-clock measurements (`timing.rs`): they vary from run to run, so
+/// comparisons of tables ignore them by name. Empty when timing is off (`--no-timing`).
+pub const TIMING_COLUMNS: &[&str] = &["fit_ns", "eval_ns"];
+
+/// One scored (map, encoder, domain, metric).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Row {
+    pub map: String,
+    pub encoder: String,
+    pub domain: String,
+    pub metric: String,
+    pub scores: Scores,
+    pub stored_scalars: usize,
+    pub orientation_set: String,
+    pub effects: String,
+    pub weighting: String,
+    pub resolution: String,
+    pub units: String,
+    pub reference: String,
+    pub diagnostics: String,
+    /// |E_encoder(N) − E_exact(N)|, the largest channel, at the surface normal N (the IrradZ
+    /// point); `None` without a surface normal.
+    pub at_normal_abs_err: Option<f64>,
+    /// Median ns to fit one probe/texel (timing pass; None when timing is off).
+    pub fit_ns: Option<f64>,
+    /// Median ns per evaluated normal (timing pass; None when timing is off).
+    pub eval_ns: Option<f64>,
+}
+
+/// Shortest round-trip form of an f64 (so baselines compare exactly); never NaN/Inf in output.
+pub fn num(v: f64) -> String {
+    if v == 0.0 || (v.is_finite() && (1e-4..1e6).contains(&v.abs())) {
+        format!("{v}")
+    } else if v.is_finite() {
+        format!("{v:e}")
+    } else {
+        // A non-finite score is a bug upstream; make it loud in the table rather than silent.
+        "nonfinite".to_string()
+    }
+}
+
+impl Row {
+    pub fn fields(&self) -> Vec<String> {
+        let s = &self.scores;
+        vec![
+            self.map.clone(),
+            self.encoder.clone(),
+            self.domain.clone(),
+            self.metric.clone(),
+            num(s.rmse_rgb[0]),
+            num(s.rmse_rgb[1]),
+            num(s.rmse_rgb[2]),
+            num(s.rmse),
+            num(s.rel_rmse),
+            num(s.neg_frac),
+            num(s.max_abs),
+            self.stored_scalars.to_string(),
+            self.orientation_set.clone(),
+            self.effects.clone(),
+            self.weighting.clone(),
+            self.resolution.clone(),
+            self.units.clone(),
+            self.reference.clone(),
+            self.diagnostics.clone(),
+            self.at_normal_abs_err.map(num).unwrap_or_default(),
+            self.fit_ns.map(|v| format!("{v:.1}")).unwrap_or_default(),
+            self.eval_ns.map(|v| format!("{v:.2}")).unwrap_or_default(),
+        ]
+    }
+}
+
+/// The rows as CSV text with the header.
+pub fn to_csv(rows: &[Row]) -> Result<Vec<u8>> {
+    let mut w = csv::Writer::from_writer(Vec::new());
+    w.write_record(COLUMNS)?;
+    for r in rows {
+        w.write_record(r.fields())?;
+    }
+    Ok(w.into_inner().map_err(|e| anyhow::anyhow!("csv: {e}"))?)
+}
+
+/// Writes the rows to `path` atomically.
+pub fn write_csv(path: &Path, rows: &[Row]) -> Result<()> {
+    crate::pipeline::atomic::write(path, &to_csv(rows)?)
+}

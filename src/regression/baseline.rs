@@ -1,0 +1,495 @@
+//! Baselines: the committed tables under `results/<experiment>/`, the comparison of a fresh
+//! table with one, and the atomic rewrite of an experiment's baseline files.
+//!
+//! Tables are compared as CSV text, column by column by name, so columns added later (timings,
+//! new scores) are handled without code here knowing them. Rows are matched by their key
+//! ([`KEY_COLUMNS`]); every other cell is compared under its [`Tolerance`]: numbers within
+//! tolerance, text exactly. The `diagnostics` cell (`key=value;…`) is compared one key at a
+//! time, as columns named `diagnostics.<key>`.
+
+use crate::regression::tolerance::Tolerance;
+use anyhow::{bail, Context, Result};
+use std::collections::HashMap;
+use std::fmt;
+use std::io::Write;
+use std::path::Path;
+
+/// The table's file name inside `results/<experiment>/`.
+pub const TABLE: &str = "table.csv";
+
+/// The columns that identify a row (those present in a table are used).
+pub const KEY_COLUMNS: &[&str] = &["map", "encoder", "domain", "effects", "metric"];
+
+/// A CSV table as text: the header and the records.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Table {
+    pub columns: Vec<String>,
+    pub rows: Vec<Vec<String>>,
+}
+
+impl Table {
+    /// Parses CSV with a header; `origin` names the source in errors.
+    pub fn parse(bytes: &[u8], origin: &Path) -> Result<Table> {
+        let mut r = csv::ReaderBuilder::new().has_headers(true).from_reader(bytes);
+        let columns: Vec<String> = r
+            .headers()
+            .with_context(|| format!("{}: cannot read the CSV header", origin.display()))?
+            .iter()
+            .map(String::from)
+            .collect();
+        if columns.is_empty() || columns.iter().all(|c| c.is_empty()) {
+            bail!("{}: empty table (no header)", origin.display());
+        }
+        for (i, c) in columns.iter().enumerate() {
+            if columns[..i].contains(c) {
+                bail!("{}: column '{c}' appears twice in the header", origin.display());
+            }
+        }
+        let mut rows = Vec::new();
+        for rec in r.records() {
+            let rec = rec.with_context(|| format!("{}: malformed CSV", origin.display()))?;
+            rows.push(rec.iter().map(String::from).collect());
+        }
+        Ok(Table { columns, rows })
+    }
+
+    /// Reads a table file.
+    pub fn read(path: &Path) -> Result<Table> {
+        let bytes = std::fs::read(path).with_context(|| format!("{}: cannot read", path.display()))?;
+        Self::parse(&bytes, path)
+    }
+
+    fn col(&self, name: &str) -> Option<usize> {
+        self.columns.iter().position(|c| c == name)
+    }
+
+    /// The row keys, in row order; identical keys get ordinals 1, 2, … in order of appearance.
+    pub fn keys(&self) -> Vec<RowKey> {
+        let idx: Vec<Option<usize>> = KEY_COLUMNS.iter().map(|k| self.col(k)).collect();
+        let mut seen: HashMap<[String; 5], usize> = HashMap::new();
+        self.rows
+            .iter()
+            .map(|r| {
+                let f: [String; 5] = std::array::from_fn(|i| idx[i].map(|c| r[c].clone()).unwrap_or_default());
+                let n = seen.entry(f.clone()).or_insert(0);
+                let ordinal = *n;
+                *n += 1;
+                let [map, encoder, domain, effects, metric] = f;
+                RowKey { map, encoder, domain, effects, metric, ordinal }
+            })
+            .collect()
+    }
+
+    /// The comparable cells of row `i`: every non-key column, with `diagnostics` split into
+    /// `diagnostics.<key>` cells.
+    fn cells(&self, i: usize) -> Vec<(String, String)> {
+        let mut out = Vec::new();
+        for (c, v) in self.columns.iter().zip(&self.rows[i]) {
+            if KEY_COLUMNS.contains(&c.as_str()) {
+                continue;
+            }
+            if c == "diagnostics" {
+                for item in v.split(';').filter(|s| !s.is_empty()) {
+                    match item.split_once('=') {
+                        Some((k, x)) => out.push((format!("diagnostics.{k}"), x.to_string())),
+                        None => out.push((format!("diagnostics.{item}"), String::new())),
+                    }
+                }
+            } else {
+                out.push((c.clone(), v.clone()));
+            }
+        }
+        out
+    }
+}
+
+/// What identifies a row: map, encoder, domain, effects, metric (and an ordinal when a table
+/// repeats a key).
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+pub struct RowKey {
+    pub map: String,
+    pub encoder: String,
+    pub domain: String,
+    pub effects: String,
+    pub metric: String,
+    pub ordinal: usize,
+}
+
+impl fmt::Display for RowKey {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}  {}  {}", self.map, self.encoder, self.domain)?;
+        if !self.effects.is_empty() && self.effects != "none" {
+            write!(f, " [{}]", self.effects)?;
+        }
+        write!(f, "  {}", self.metric)?;
+        if self.ordinal > 0 {
+            write!(f, " #{}", self.ordinal + 1)?;
+        }
+        Ok(())
+    }
+}
+
+/// One difference between a baseline table and a fresh one.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Change {
+    /// A number moved beyond its tolerance. `rel` = (new − old)/|old| (infinite when old = 0).
+    Moved {
+        key: RowKey,
+        column: String,
+        old: String,
+        new: String,
+        rel: f64,
+        tolerance: Tolerance,
+    },
+    /// A text cell (or a number that became text, or the reverse) changed.
+    Text {
+        key: RowKey,
+        column: String,
+        old: String,
+        new: String,
+    },
+    RowAdded(RowKey),
+    RowRemoved(RowKey),
+    ColumnAdded(String),
+    ColumnRemoved(String),
+}
+
+impl fmt::Display for Change {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Change::Moved { key, column, old, new, rel, tolerance } => {
+                let rel = if rel.is_finite() { format!("{rel:+.3e} relative") } else { "from 0".to_string() };
+                write!(f, "moved    {key}  {column}  {old} -> {new}  ({rel}; tolerance {tolerance})")
+            }
+            Change::Text { key, column, old, new } => write!(f, "changed  {key}  {column}  '{old}' -> '{new}'"),
+            Change::RowAdded(k) => write!(f, "row added    {k}"),
+            Change::RowRemoved(k) => write!(f, "row removed  {k}"),
+            Change::ColumnAdded(c) => write!(f, "column added    {c}"),
+            Change::ColumnRemoved(c) => write!(f, "column removed  {c}"),
+        }
+    }
+}
+
+/// The result of comparing two tables.
+#[derive(Clone, Debug, Default)]
+pub struct Comparison {
+    pub changes: Vec<Change>,
+    /// Rows present in both tables and compared.
+    pub rows: usize,
+    /// Numeric cells compared (equal, within tolerance, or moved).
+    pub numbers: usize,
+    /// Numbers that differ but within tolerance.
+    pub within: usize,
+    /// Cells not compared because their column is ignored.
+    pub ignored: usize,
+}
+
+/// Compares a fresh table with its baseline. Rows whose map `skip` accepts (missing on this
+/// machine, or with a changed checksum) are left out on both sides; `tolerance` gives the rule
+/// for a cell of a row (by key and column).
+pub fn compare(
+    old: &Table,
+    new: &Table,
+    skip: &dyn Fn(&str) -> bool,
+    tolerance: &dyn Fn(&RowKey, &str) -> Tolerance,
+) -> Comparison {
+    let mut out = Comparison::default();
+    for c in &new.columns {
+        if !old.columns.contains(c) {
+            out.changes.push(Change::ColumnAdded(c.clone()));
+        }
+    }
+    for c in &old.columns {
+        if !new.columns.contains(c) {
+            out.changes.push(Change::ColumnRemoved(c.clone()));
+        }
+    }
+    // Cells are compared only in columns both tables have (others are reported above).
+    let common = |name: &str| {
+        let base = if name.starts_with("diagnostics.") { "diagnostics" } else { name };
+        old.columns.iter().any(|c| c == base) && new.columns.iter().any(|c| c == base)
+    };
+    let old_keys = old.keys();
+    let old_index: HashMap<&RowKey, usize> = old_keys.iter().enumerate().map(|(i, k)| (k, i)).collect();
+    let mut matched = vec![false; old.rows.len()];
+    for (ni, key) in new.keys().into_iter().enumerate() {
+        if skip(&key.map) {
+            continue;
+        }
+        let Some(&oi) = old_index.get(&key) else {
+            out.changes.push(Change::RowAdded(key));
+            continue;
+        };
+        matched[oi] = true;
+        out.rows += 1;
+        let (oc, nc) = (old.cells(oi), new.cells(ni));
+        let mut names: Vec<&String> = nc.iter().map(|(n, _)| n).collect();
+        names.extend(oc.iter().map(|(n, _)| n).filter(|n| !nc.iter().any(|(m, _)| m == *n)));
+        for name in names {
+            if !common(name) {
+                continue;
+            }
+            let get = |cells: &[(String, String)]| cells.iter().find(|(n, _)| n == name).map(|(_, v)| v.clone());
+            let (ov, nv) = (get(&oc).unwrap_or_default(), get(&nc).unwrap_or_default());
+            let tol = tolerance(&key, name);
+            if tol == Tolerance::Ignore {
+                out.ignored += 1;
+                continue;
+            }
+            let parse = |s: &str| s.parse::<f64>().ok().filter(|v| v.is_finite());
+            match (parse(&ov), parse(&nv)) {
+                (Some(o), Some(n)) => {
+                    out.numbers += 1;
+                    if ov == nv || o == n {
+                        continue;
+                    }
+                    if tol.accepts(o, n) {
+                        out.within += 1;
+                    } else {
+                        let rel = if o != 0.0 { (n - o) / o.abs() } else { f64::INFINITY };
+                        out.changes.push(Change::Moved {
+                            key: key.clone(),
+                            column: name.clone(),
+                            old: ov,
+                            new: nv,
+                            rel,
+                            tolerance: tol,
+                        });
+                    }
+                }
+                _ if ov != nv => {
+                    out.changes.push(Change::Text { key: key.clone(), column: name.clone(), old: ov, new: nv })
+                }
+                _ => {}
+            }
+        }
+    }
+    for (k, m) in old_keys.into_iter().zip(matched) {
+        if !m && !skip(&k.map) {
+            out.changes.push(Change::RowRemoved(k));
+        }
+    }
+    out
+}
+
+/// Writes several files into `dir` as one baseline: every file is first written to a
+/// temporary file and synced; only then are they renamed into place, in the order given (put
+/// the file that vouches for the others — the provenance — last). If a rename fails, the
+/// files already renamed are restored from hard-linked copies of their old versions, so the
+/// old baseline stays whole. (A kill between two renames cannot be rolled back; the
+/// provenance's table checksum then exposes the mismatch to `probelab check`.)
+pub fn write_all(dir: &Path, files: &[(String, Vec<u8>)]) -> Result<()> {
+    write_all_inner(dir, files, None)
+}
+
+fn write_all_inner(dir: &Path, files: &[(String, Vec<u8>)], fail_after_renames: Option<usize>) -> Result<()> {
+    std::fs::create_dir_all(dir).with_context(|| format!("{}: cannot create folder", dir.display()))?;
+    let pid = std::process::id();
+    let target = |n: &str| dir.join(n);
+    let tmp = |n: &str| dir.join(format!(".{n}.tmp-{pid}"));
+    let bak = |n: &str| dir.join(format!(".{n}.old-{pid}"));
+    let cleanup = |names: &[&String], f: &dyn Fn(&str) -> std::path::PathBuf| {
+        for n in names {
+            let _ = std::fs::remove_file(f(n));
+        }
+    };
+    let names: Vec<&String> = files.iter().map(|(n, _)| n).collect();
+    // 1. Every temporary file, synced, and a link to every old version.
+    let staged = (|| -> Result<()> {
+        for (n, bytes) in files {
+            let p = tmp(n);
+            let mut f = std::fs::File::create(&p).with_context(|| format!("{}: cannot create", p.display()))?;
+            f.write_all(bytes).with_context(|| format!("{}: cannot write", p.display()))?;
+            f.sync_all().with_context(|| format!("{}: cannot sync", p.display()))?;
+        }
+        for n in &names {
+            let t = target(n);
+            match std::fs::symlink_metadata(&t) {
+                Err(_) => {}
+                Ok(m) if m.is_file() => {
+                    let _ = std::fs::remove_file(bak(n));
+                    std::fs::hard_link(&t, bak(n))
+                        .or_else(|_| std::fs::copy(&t, bak(n)).map(|_| ()))
+                        .with_context(|| format!("{}: cannot keep the old version", t.display()))?;
+                }
+                Ok(_) => bail!("{}: exists and is not a regular file", t.display()),
+            }
+        }
+        Ok(())
+    })();
+    if let Err(e) = staged {
+        cleanup(&names, &tmp);
+        cleanup(&names, &bak);
+        return Err(e);
+    }
+    // 2. Renames, in order; on failure, put back what was replaced.
+    for (i, n) in names.iter().enumerate() {
+        let r = if fail_after_renames == Some(i) {
+            Err(std::io::Error::other("injected failure (test)"))
+        } else {
+            std::fs::rename(tmp(n), target(n))
+        };
+        if let Err(e) = r {
+            for done in &names[..i] {
+                if bak(done).exists() {
+                    let _ = std::fs::rename(bak(done), target(done));
+                } else {
+                    let _ = std::fs::remove_file(target(done));
+                }
+            }
+            cleanup(&names, &tmp);
+            cleanup(&names, &bak);
+            return Err(e).with_context(|| {
+                format!("{}: cannot move into place; the previous baseline was kept", target(n).display())
+            });
+        }
+    }
+    cleanup(&names, &bak);
+    if let Ok(d) = std::fs::File::open(dir) {
+        let _ = d.sync_all();
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::regression::tolerance::Tolerance;
+
+    const HEADER: &str = "map,encoder,domain,metric,rmse,label,diagnostics\n";
+
+    fn table(rows: &[&str]) -> Table {
+        let text = format!("{HEADER}{}", rows.iter().map(|r| format!("{r}\n")).collect::<String>());
+        Table::parse(text.as_bytes(), Path::new("t.csv")).unwrap()
+    }
+
+    fn diff(old: &Table, new: &Table, tol: Tolerance) -> Comparison {
+        compare(old, new, &|_| false, &|_, _| tol)
+    }
+
+    /// rel = 2⁻³⁰ about rmse = 1: 1 + 2⁻³⁰ passes, the next double up is reported with the
+    /// row key, column, both values and the relative change.
+    #[test]
+    fn one_ulp_beyond_tolerance_is_reported() {
+        let rel = 2f64.powi(-30);
+        let tol = Tolerance::Within { rel, abs: 0.0 };
+        let base = table(&["m,sh1,sphere,exact,1,a,"]);
+        let edge = 1.0 + rel;
+        let ok = diff(&base, &table(&[&format!("m,sh1,sphere,exact,{edge},a,")]), tol);
+        assert!(ok.changes.is_empty(), "{:?}", ok.changes);
+        assert_eq!((ok.numbers, ok.within, ok.rows), (1, 1, 1));
+        let beyond = edge.next_up();
+        let bad = diff(&base, &table(&[&format!("m,sh1,sphere,exact,{beyond},a,")]), tol);
+        assert_eq!(bad.changes.len(), 1);
+        match &bad.changes[0] {
+            Change::Moved { key, column, old, new, rel: r, .. } => {
+                assert_eq!((key.map.as_str(), key.encoder.as_str(), key.metric.as_str()), ("m", "sh1", "exact"));
+                assert_eq!((column.as_str(), old.as_str()), ("rmse", "1"));
+                assert_eq!(new.parse::<f64>().unwrap(), beyond);
+                assert_eq!(*r, beyond - 1.0);
+            }
+            c => panic!("{c:?}"),
+        }
+        let line = bad.changes[0].to_string();
+        assert!(line.contains("m  sh1  sphere  exact  rmse  1 -> 1.00000000093132"), "{line}");
+    }
+
+    #[test]
+    fn text_rows_columns_and_diagnostics() {
+        let base = table(&["m,sh1,sphere,exact,1,a,iters=3;res=0.5", "m,sh2,sphere,exact,2,a,"]);
+        let new = table(&["m,sh1,sphere,exact,1,b,iters=4;res=0.5", "n,sh2,sphere,exact,2,a,"]);
+        let c = diff(&base, &new, Tolerance::EXACT);
+        let s: Vec<String> = c.changes.iter().map(|c| c.to_string()).collect();
+        assert!(s[0].starts_with("changed  m  sh1  sphere  exact  label  'a' -> 'b'"), "{s:?}");
+        assert!(s[1].starts_with("moved    m  sh1  sphere  exact  diagnostics.iters  3 -> 4"), "{s:?}");
+        assert_eq!(s[2], "row added    n  sh2  sphere  exact");
+        assert_eq!(s[3], "row removed  m  sh2  sphere  exact");
+        assert_eq!(s.len(), 4);
+        // A number that became non-numeric is a text change, whatever the tolerance.
+        let nf = diff(&base, &table(&["m,sh1,sphere,exact,nonfinite,a,iters=3;res=0.5", "m,sh2,sphere,exact,2,a,"]), {
+            Tolerance::Within { rel: 1.0, abs: 1.0 }
+        });
+        assert!(matches!(&nf.changes[..], [Change::Text { column, .. }] if column == "rmse"), "{:?}", nf.changes);
+    }
+
+    #[test]
+    fn columns_added_removed_and_ignored() {
+        let base = table(&["m,sh1,sphere,exact,1,a,"]);
+        let text = "map,encoder,domain,metric,rmse,diagnostics,fit_ns\nm,sh1,sphere,exact,1,,123\n";
+        let new = Table::parse(text.as_bytes(), Path::new("n.csv")).unwrap();
+        let c = compare(&base, &new, &|_| false, &|_, col| {
+            if col == "fit_ns" {
+                Tolerance::Ignore
+            } else {
+                Tolerance::EXACT
+            }
+        });
+        let s: Vec<String> = c.changes.iter().map(|c| c.to_string()).collect();
+        assert_eq!(s, ["column added    fit_ns", "column removed  label"]);
+        // Between two tables that both have it, an ignored column never moves.
+        let c2 = compare(
+            &new,
+            &Table {
+                rows: vec![vec![
+                    "m".into(),
+                    "sh1".into(),
+                    "sphere".into(),
+                    "exact".into(),
+                    "1".into(),
+                    "".into(),
+                    "999".into(),
+                ]],
+                ..new.clone()
+            },
+            &|_| false,
+            &|_, col| if col == "fit_ns" { Tolerance::Ignore } else { Tolerance::EXACT },
+        );
+        assert!(c2.changes.is_empty() && c2.ignored == 1, "{:?}", c2.changes);
+    }
+
+    #[test]
+    fn skipped_maps_and_repeated_keys() {
+        let base = table(&["m,sh1,sphere,exact,1,a,", "m,sh1,sphere,exact,2,a,", "gone,sh1,sphere,exact,1,a,"]);
+        let new = table(&["m,sh1,sphere,exact,1,a,", "m,sh1,sphere,exact,3,a,"]);
+        let c = compare(&base, &new, &|m| m == "gone", &|_, _| Tolerance::EXACT);
+        assert_eq!(c.changes.len(), 1, "{:?}", c.changes);
+        assert!(c.changes[0].to_string().contains("exact #2  rmse  2 -> 3"), "{}", c.changes[0]);
+        // Old zero: the relative change is infinite and said so.
+        let z = diff(&table(&["m,sh1,sphere,exact,0,a,"]), &table(&["m,sh1,sphere,exact,1e-300,a,"]), Tolerance::EXACT);
+        assert!(z.changes[0].to_string().contains("(from 0;"), "{}", z.changes[0]);
+    }
+
+    #[test]
+    fn malformed_tables_are_errors_naming_the_file() {
+        let e = |s: &str| format!("{:#}", Table::parse(s.as_bytes(), Path::new("bad.csv")).err().unwrap());
+        assert!(e("a,b\n1,2,3\n").contains("bad.csv"));
+        assert!(e("a,a\n1,2\n").contains("twice"));
+        assert!(e("").contains("bad.csv"));
+    }
+
+    #[test]
+    fn write_all_replaces_every_file_or_none() {
+        let d = tempfile::tempdir().unwrap();
+        let files = |t: &str| vec![("table.csv".to_string(), t.as_bytes().to_vec()), ("p.toml".into(), t.into())];
+        write_all(d.path(), &files("old")).unwrap();
+        // A failure after the first rename: the first file is restored, the second untouched.
+        assert!(write_all_inner(d.path(), &files("new"), Some(1)).is_err());
+        for n in ["table.csv", "p.toml"] {
+            assert_eq!(std::fs::read_to_string(d.path().join(n)).unwrap(), "old", "{n}");
+        }
+        // A target that cannot be replaced is found before anything is renamed.
+        std::fs::remove_file(d.path().join("p.toml")).unwrap();
+        std::fs::create_dir(d.path().join("p.toml")).unwrap();
+        assert!(write_all(d.path(), &files("new")).is_err());
+        assert_eq!(std::fs::read_to_string(d.path().join("table.csv")).unwrap(), "old");
+        std::fs::remove_dir(d.path().join("p.toml")).unwrap();
+        // No temporary or backup file is left behind by the failures.
+        let left: Vec<_> = std::fs::read_dir(d.path()).unwrap().map(|e| e.unwrap().file_name()).collect();
+        assert_eq!(left, ["table.csv"], "{left:?}");
+        write_all(d.path(), &files("new")).unwrap();
+        for n in ["table.csv", "p.toml"] {
+            assert_eq!(std::fs::read_to_string(d.path().join(n)).unwrap(), "new", "{n}");
+        }
+        assert_eq!(std::fs::read_dir(d.path()).unwrap().count(), 2);
+    }
+}

@@ -1,0 +1,627 @@
+//! Regression on the numbers: `probelab check`, `probelab bless`, and the guard that keeps
+//! `run`/`reproduce` from overwriting a baseline whose numbers moved.
+//!
+//! A baseline is `results/<experiment>/table.csv` with its `provenance.toml`. Baselines change
+//! only through `bless`:
+//! - `check` re-runs experiments and compares every number with the baseline
+//!   ([`crate::regression::baseline::compare`], tolerances from `tolerances.toml`), reports every moved
+//!   number, added or removed row or column, changed map checksum, and missing map; exit 1 if
+//!   anything is reported, 0 if nothing moved.
+//! - `bless` re-runs, prints the same report, and rewrites the baselines that differ (all of
+//!   an experiment's files, atomically: [`crate::regression::baseline::write_all`]).
+//! - `run`/`reproduce` write a table freely when none exists yet; when one exists they leave
+//!   it untouched if nothing moved, and refuse (exit 1, printing the report) if something did.
+
+use crate::envmap::search::SearchPath;
+use crate::pipeline::experiment::{list_experiments, Experiment};
+use crate::pipeline::runner::{self, RunReport};
+use crate::regression::baseline::{self, Comparison, Table, TABLE};
+use crate::regression::provenance::{self, sha256_hex, Provenance};
+use crate::regression::tolerance::{EncoderClass, Tolerance, Tolerances};
+use anyhow::{bail, Result};
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+/// A problem found when checking one experiment against its baseline.
+#[derive(Clone, Debug)]
+pub enum Finding {
+    /// No `table.csv` in the baseline folder.
+    NoBaseline,
+    /// A table but no (readable) provenance: map checksums cannot be verified.
+    NoProvenance(String),
+    /// The table's sha256 is not the one its provenance records (edited by hand, merged, or
+    /// an interrupted bless).
+    TableEdited { recorded: String, actual: String },
+    /// A map of the experiment is not on this machine's search path.
+    MapMissing { map: String, allowed: bool },
+    /// A map's file differs from the one the baseline was computed from; its rows are not
+    /// compared.
+    MapChanged { map: String, old: String, new: String },
+    /// The table has rows of a map the provenance does not list; they are not compared.
+    MapUnrecorded { map: String },
+    /// A difference in the table.
+    Change(baseline::Change),
+}
+
+impl Finding {
+    /// Whether this finding fails the check.
+    pub fn fails(&self) -> bool {
+        !matches!(self, Finding::MapMissing { allowed: true, .. })
+    }
+}
+
+impl fmt::Display for Finding {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Finding::NoBaseline => write!(f, "no baseline {TABLE}: nothing to compare with"),
+            Finding::NoProvenance(why) => {
+                write!(f, "no usable {}: {why}; map checksums cannot be verified", provenance::FILE_NAME)
+            }
+            Finding::TableEdited { recorded, actual } => write!(
+                f,
+                "{TABLE} is not the table {} vouches for (sha256 {} recorded, {} found): edited outside \
+                 `probelab bless`, or a bless was interrupted",
+                provenance::FILE_NAME,
+                &recorded[..recorded.len().min(12)],
+                &actual[..actual.len().min(12)]
+            ),
+            Finding::MapMissing { map, allowed: false } => {
+                write!(f, "map {map} not found on this machine: its rows were not checked (--allow-missing to accept)")
+            }
+            Finding::MapMissing { map, allowed: true } => {
+                write!(f, "map {map} not found on this machine: its rows were not checked (allowed)")
+            }
+            Finding::MapChanged { map, old, new } => {
+                write!(
+                    f,
+                    "map {map} is not the file the baseline used ({old} then, {new} now): its rows were not compared"
+                )
+            }
+            Finding::MapUnrecorded { map } => write!(
+                f,
+                "map {map} has rows in the baseline but no checksum in {}: its rows were not compared",
+                provenance::FILE_NAME
+            ),
+            Finding::Change(c) => write!(f, "{c}"),
+        }
+    }
+}
+
+/// The outcome of checking one experiment.
+#[derive(Clone, Debug)]
+pub struct ExperimentCheck {
+    pub experiment: String,
+    /// The baseline folder.
+    pub dir: PathBuf,
+    pub findings: Vec<Finding>,
+    pub comparison: Comparison,
+    pub baseline: Option<Provenance>,
+}
+
+impl ExperimentCheck {
+    /// True when nothing fails.
+    pub fn passed(&self) -> bool {
+        !self.findings.iter().any(Finding::fails)
+    }
+
+    /// The moved numbers.
+    pub fn moved(&self) -> usize {
+        self.findings.iter().filter(|f| matches!(f, Finding::Change(baseline::Change::Moved { .. }))).count()
+    }
+
+    /// Maps not on this machine (their rows were not compared).
+    pub fn unchecked_maps(&self) -> usize {
+        self.findings.iter().filter(|f| matches!(f, Finding::MapMissing { .. })).count()
+    }
+
+    /// The report: one line per finding, each starting with the experiment's name, then a
+    /// verdict line. `check` and `bless` print exactly this.
+    pub fn report(&self) -> String {
+        let mut s = String::new();
+        for f in &self.findings {
+            s += &format!("{}: {f}\n", self.experiment);
+        }
+        let c = &self.comparison;
+        let from = match &self.baseline {
+            Some(p) => format!(
+                "baseline of {} from {}{}",
+                p.date,
+                &p.git_commit[..p.git_commit.len().min(12)],
+                if p.git_dirty == Some(true) { " (uncommitted changes)" } else { "" }
+            ),
+            None => "baseline".to_string(),
+        };
+        let counts = format!(
+            "{} rows, {} numbers compared with the {from} in {}; {} within tolerance, {} ignored",
+            c.rows,
+            c.numbers,
+            self.dir.display(),
+            c.within,
+            c.ignored
+        );
+        let unchecked = self.unchecked_maps();
+        if self.passed() && unchecked > 0 {
+            s += &format!(
+                "{}: ok in the rows checked, but {unchecked} map(s) were not on this machine and their rows \
+                 were not checked ({counts})\n",
+                self.experiment
+            );
+        } else if self.passed() {
+            s += &format!("{}: ok, nothing moved ({counts})\n", self.experiment);
+        } else {
+            let mut parts = Vec::new();
+            let count = |p: &dyn Fn(&Finding) -> bool| self.findings.iter().filter(|f| p(f)).count();
+            use baseline::Change as C;
+            for (n, what) in [
+                (self.moved(), "number(s) moved"),
+                (count(&|f| matches!(f, Finding::Change(C::Text { .. }))), "text cell(s) changed"),
+                (count(&|f| matches!(f, Finding::Change(C::RowAdded(_)))), "row(s) added"),
+                (count(&|f| matches!(f, Finding::Change(C::RowRemoved(_)))), "row(s) removed"),
+                (
+                    count(&|f| matches!(f, Finding::Change(C::ColumnAdded(_) | C::ColumnRemoved(_)))),
+                    "column(s) added or removed",
+                ),
+                (
+                    count(&|f| {
+                        matches!(
+                            f,
+                            Finding::MapChanged { .. } | Finding::MapUnrecorded { .. } | Finding::MapMissing { .. }
+                        ) && f.fails()
+                    }),
+                    "map(s) changed, unrecorded or missing",
+                ),
+                (
+                    count(&|f| {
+                        matches!(f, Finding::NoBaseline | Finding::NoProvenance(_) | Finding::TableEdited { .. })
+                    }),
+                    "baseline problem(s)",
+                ),
+            ] {
+                if n > 0 {
+                    parts.push(format!("{n} {what}"));
+                }
+            }
+            s += &format!("{}: FAILED: {} ({counts})\n", self.experiment, parts.join(", "));
+        }
+        s
+    }
+}
+
+/// The file-stem name a map entry gets in tables (entries may be paths).
+fn map_table_name(entry: &str) -> String {
+    Path::new(entry).file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| entry.to_string())
+}
+
+/// Compares a fresh run with the baseline in `dir`. Maps missing from this machine are
+/// findings (failing unless `allow_missing`), and their rows are not compared.
+pub fn compare_with_baseline(
+    dir: &Path,
+    exp: &Experiment,
+    report: &RunReport,
+    tolerances: &Tolerances,
+    allow_missing: bool,
+) -> Result<ExperimentCheck> {
+    let mut findings = Vec::new();
+    let fresh_bytes = crate::pipeline::table::to_csv(&report.rows)?;
+    let fresh = Table::parse(&fresh_bytes, Path::new("(fresh table)"))?;
+    let mut skip: Vec<String> = Vec::new();
+    for m in &report.missing {
+        findings.push(Finding::MapMissing { map: m.clone(), allowed: allow_missing });
+        skip.push(m.clone());
+        skip.push(map_table_name(m));
+    }
+    let table_path = dir.join(TABLE);
+    if !table_path.exists() {
+        findings.push(Finding::NoBaseline);
+        return Ok(ExperimentCheck {
+            experiment: exp.name.clone(),
+            dir: dir.to_path_buf(),
+            findings,
+            comparison: Comparison::default(),
+            baseline: None,
+        });
+    }
+    let old_bytes =
+        std::fs::read(&table_path).map_err(|e| anyhow::anyhow!("{}: cannot read: {e}", table_path.display()))?;
+    let old = Table::parse(&old_bytes, &table_path)?;
+    let prov_path = dir.join(provenance::FILE_NAME);
+    let prov = if prov_path.exists() {
+        match Provenance::read(&prov_path) {
+            Ok(p) => Some(p),
+            Err(e) => {
+                findings.push(Finding::NoProvenance(format!("{e:#}")));
+                None
+            }
+        }
+    } else {
+        findings.push(Finding::NoProvenance(format!("{} does not exist", prov_path.display())));
+        None
+    };
+    if let Some(p) = &prov {
+        let actual = sha256_hex(&old_bytes);
+        if p.table_sha256 != actual {
+            findings.push(Finding::TableEdited { recorded: p.table_sha256.clone(), actual });
+        }
+        let old_maps: Vec<String> = old.keys().into_iter().map(|k| k.map).collect();
+        for m in &report.maps {
+            match p.map(&m.name) {
+                Some(r) if r.sha256 == m.sha256 && (r.width, r.height) == (m.width, m.height) => {}
+                Some(r) => {
+                    findings.push(Finding::MapChanged {
+                        map: m.name.clone(),
+                        old: format!("{}x{} sha256 {}", r.width, r.height, &r.sha256[..r.sha256.len().min(12)]),
+                        new: format!("{}x{} sha256 {}", m.width, m.height, &m.sha256[..m.sha256.len().min(12)]),
+                    });
+                    skip.push(m.name.clone());
+                }
+                None if old_maps.contains(&m.name) => {
+                    findings.push(Finding::MapUnrecorded { map: m.name.clone() });
+                    skip.push(m.name.clone());
+                }
+                None => {}
+            }
+        }
+    }
+    // Tolerances are looked up by the row's encoder name → the configured encoder's kind and
+    // class; rows of encoders the experiment no longer has are only ever added or removed.
+    let tolerance = |key: &baseline::RowKey, column: &str| -> Tolerance {
+        let class = exp
+            .encoders
+            .iter()
+            .find(|e| e.name == key.encoder)
+            .map(|e| EncoderClass { kind: e.encoder.id(), iterative: e.encoder.is_iterative() });
+        tolerances.get(column, class)
+    };
+    let comparison = baseline::compare(&old, &fresh, &|m| skip.iter().any(|s| s == m), &tolerance);
+    findings.extend(comparison.changes.iter().cloned().map(Finding::Change));
+    Ok(ExperimentCheck { experiment: exp.name.clone(), dir: dir.to_path_buf(), findings, comparison, baseline: prov })
+}
+
+/// The files of an experiment's baseline, in the order [`baseline::write_all`] renames them:
+/// the table, then the provenance that vouches for it.
+pub fn baseline_files(exp: &Experiment, report: &RunReport, root: &Path) -> Result<Vec<(String, Vec<u8>)>> {
+    let table = crate::pipeline::table::to_csv(&report.rows)?;
+    let prov = Provenance::new(exp, report, &table, root).to_toml()?;
+    Ok(vec![(TABLE.to_string(), table), (provenance::FILE_NAME.to_string(), prov.into_bytes())])
+}
+
+/// What `run`/`reproduce` did with an experiment's table.
+pub enum Stored {
+    /// No baseline existed: table and provenance written.
+    New,
+    /// A baseline exists and nothing moved: left untouched.
+    Unchanged(ExperimentCheck),
+    /// A baseline exists and something moved: nothing written.
+    Refused(ExperimentCheck),
+}
+
+/// The overwrite guard of `run`/`reproduce`: writes `<out>/<name>/` when it holds no table;
+/// otherwise compares and writes nothing (see [`Stored`]). The run must have found every map.
+pub fn store(out: &Path, root: &Path, exp: &Experiment, report: &RunReport) -> Result<Stored> {
+    let dir = out.join(&exp.name);
+    if !dir.join(TABLE).exists() {
+        baseline::write_all(&dir, &baseline_files(exp, report, root)?)?;
+        return Ok(Stored::New);
+    }
+    let c = compare_with_baseline(&dir, exp, report, &Tolerances::load(root)?, false)?;
+    Ok(if c.passed() { Stored::Unchanged(c) } else { Stored::Refused(c) })
+}
+
+/// The fresh rows with their scores replaced by the stored table's (`<dir>/table.csv`), for a
+/// run whose table stood within tolerance: what the run writes next to the table (summaries,
+/// claims) is then derived from the table actually kept, and does not drift in the last digits
+/// when code changes move numbers below tolerance. Rows the table lacks, and cells that are
+/// empty or not numbers, keep their fresh values.
+pub fn rows_as_stored(dir: &Path, rows: &[crate::pipeline::table::Row]) -> Result<Vec<crate::pipeline::table::Row>> {
+    let stored = Table::read(&dir.join(TABLE))?;
+    let fresh = Table::parse(&crate::pipeline::table::to_csv(rows)?, &dir.join(TABLE))?;
+    let index: std::collections::HashMap<_, usize> =
+        stored.keys().into_iter().enumerate().map(|(i, k)| (k, i)).collect();
+    let col = |name: &str| stored.columns.iter().position(|c| c == name);
+    let cols =
+        ["rmse_r", "rmse_g", "rmse_b", "rmse", "rel_rmse", "neg_frac", "max_abs_err", "at_normal_abs_err"].map(col);
+    let mut out = rows.to_vec();
+    for (row, key) in out.iter_mut().zip(fresh.keys()) {
+        let Some(&i) = index.get(&key) else { continue };
+        let cell = |c: Option<usize>| c.and_then(|c| stored.rows[i].get(c)).and_then(|v| v.parse::<f64>().ok());
+        let s = &mut row.scores;
+        let [r, g, b] = &mut s.rmse_rgb;
+        let targets: [&mut f64; 7] = [r, g, b, &mut s.rmse, &mut s.rel_rmse, &mut s.neg_frac, &mut s.max_abs];
+        for (t, c) in targets.into_iter().zip(cols) {
+            if let Some(v) = cell(c) {
+                *t = v;
+            }
+        }
+        if row.at_normal_abs_err.is_some() {
+            if let Some(v) = cell(cols[7]) {
+                row.at_normal_abs_err = Some(v);
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// Prints what [`store`] did; returns false when it refused.
+pub fn print_stored(exp: &Experiment, out: &Path, stored: &Stored, rows: usize) -> bool {
+    let dir = out.join(&exp.name);
+    match stored {
+        Stored::New => {
+            eprintln!("wrote {} ({rows} rows) and {} (new baseline)", dir.join(TABLE).display(), provenance::FILE_NAME);
+            true
+        }
+        Stored::Unchanged(c) => {
+            eprintln!(
+                "{}: matches the baseline ({} numbers compared); left unchanged",
+                dir.join(TABLE).display(),
+                c.comparison.numbers
+            );
+            true
+        }
+        Stored::Refused(c) => {
+            eprint!("{}", c.report());
+            eprintln!(
+                "{}: NOT overwritten: the baseline changes only through `probelab bless`",
+                dir.join(TABLE).display()
+            );
+            false
+        }
+    }
+}
+
+/// The exit code of `run`/`reproduce` after [`store`]: 1 (with advice) if any was refused.
+pub fn refused_exit(refused: &[String]) -> i32 {
+    if refused.is_empty() {
+        return 0;
+    }
+    eprintln!(
+        "{} experiment(s) differ from their baselines and were not written: {}.\n\
+         Review the differences above; if they are intended, run `probelab bless {}` and quote its \
+         output in the commit message.",
+        refused.len(),
+        refused.join(", "),
+        refused.join(" ")
+    );
+    1
+}
+
+/// Finds an experiment file by path, by file stem in `<root>/experiments/`, or by its `name`.
+pub fn resolve_experiment(root: &Path, name: &str) -> Result<PathBuf> {
+    let p = Path::new(name);
+    if p.is_file() {
+        return Ok(p.to_path_buf());
+    }
+    let dir = root.join("experiments");
+    let by_stem = dir.join(format!("{name}.toml"));
+    if by_stem.is_file() {
+        return Ok(by_stem);
+    }
+    let all = list_experiments(&dir)?;
+    for f in &all {
+        if Experiment::load(f).is_ok_and(|e| e.name == name) {
+            return Ok(f.clone());
+        }
+    }
+    let known: Vec<String> =
+        all.iter().filter_map(|f| f.file_stem().map(|s| s.to_string_lossy().into_owned())).collect();
+    bail!(
+        "experiment '{name}': no such file, and no experiment of that name in {} (known: {})",
+        dir.display(),
+        known.join(", ")
+    )
+}
+
+/// The experiments named, or by default every experiment in `<root>/experiments/` (only those
+/// with `ci = true` when `ci_only`). Returns them and the names left out for `ci = false`.
+pub fn select(root: &Path, names: &[String], ci_only: bool) -> Result<(Vec<Experiment>, Vec<String>)> {
+    if !names.is_empty() {
+        let exps = names.iter().map(|n| Experiment::load(&resolve_experiment(root, n)?)).collect::<Result<_>>()?;
+        return Ok((exps, vec![]));
+    }
+    let (mut chosen, mut left) = (Vec::new(), Vec::new());
+    for f in list_experiments(&root.join("experiments"))? {
+        let e = Experiment::load(&f)?;
+        if ci_only && !e.ci {
+            left.push(e.name);
+        } else {
+            chosen.push(e);
+        }
+    }
+    Ok((chosen, left))
+}
+
+/// `probelab check`: exit 0 when nothing moved in any selected experiment, 1 otherwise.
+pub fn check_command(
+    root: &Path,
+    search: &SearchPath,
+    out: &Path,
+    names: &[String],
+    all: bool,
+    allow_missing: bool,
+) -> Result<i32> {
+    let tolerances = Tolerances::load(root)?;
+    let (exps, left) = select(root, names, !all)?;
+    if exps.is_empty() {
+        bail!("no experiments to check in {}", root.join("experiments").display());
+    }
+    let start = std::time::Instant::now();
+    let mut failed = Vec::new();
+    let (mut numbers, mut moved, mut unchecked) = (0, 0, 0);
+    for exp in &exps {
+        let t = std::time::Instant::now();
+        let report = runner::run(exp, search)?;
+        let c = compare_with_baseline(&out.join(&exp.name), exp, &report, &tolerances, allow_missing)?;
+        print!("{}", c.report());
+        eprintln!("  ({}: {:.1} s)", exp.name, t.elapsed().as_secs_f64());
+        numbers += c.comparison.numbers;
+        moved += c.moved();
+        unchecked += c.unchecked_maps();
+        if !c.passed() {
+            failed.push(exp.name.clone());
+        }
+    }
+    if !left.is_empty() {
+        println!("not checked (ci = false): {}; `probelab check --all` includes them", left.join(", "));
+    }
+    let elapsed = start.elapsed().as_secs_f64();
+    if failed.is_empty() {
+        let note =
+            if unchecked > 0 { format!("; {unchecked} map(s) missing here were NOT checked") } else { String::new() };
+        println!(
+            "check: ok: {} experiment(s), {numbers} numbers compared, nothing moved{note} ({elapsed:.1} s)",
+            exps.len()
+        );
+        Ok(0)
+    } else {
+        println!(
+            "check: FAILED: {} of {} experiment(s) differ from their baselines ({}); {moved} number(s) moved. \
+             If intended, run `probelab bless {}` and quote its output in the commit message. ({elapsed:.1} s)",
+            failed.len(),
+            exps.len(),
+            failed.join(", "),
+            failed.join(" ")
+        );
+        Ok(1)
+    }
+}
+
+/// `probelab bless`: re-runs the experiments (by default all of them), prints the same report
+/// as `check`, and rewrites the baselines that differ (all of them with `force`, which
+/// refreshes the provenance and ignored columns such as timings). Every experiment is run and compared
+/// before anything is written. A named experiment whose maps are missing is an error (nothing
+/// is written); by default such experiments are skipped and listed.
+pub fn bless_command(root: &Path, search: &SearchPath, out: &Path, names: &[String], force: bool) -> Result<i32> {
+    let tolerances = Tolerances::load(root)?;
+    let (exps, _) = select(root, names, false)?;
+    let mut staged = Vec::new();
+    let mut skipped = Vec::new();
+    for exp in &exps {
+        let report = runner::run(exp, search)?;
+        if !report.missing.is_empty() {
+            if !names.is_empty() {
+                bail!(
+                    "{}: map(s) not found: {}; nothing blessed (a baseline needs every map)",
+                    exp.name,
+                    report.missing.join(", ")
+                );
+            }
+            skipped.push(format!("{} (missing {})", exp.name, report.missing.join(", ")));
+            continue;
+        }
+        let c = compare_with_baseline(&out.join(&exp.name), exp, &report, &tolerances, false)?;
+        print!("{}", c.report());
+        let files = if c.passed() && !force { None } else { Some(baseline_files(exp, &report, root)?) };
+        staged.push((exp.name.clone(), c.passed(), files));
+    }
+    for (name, passed, files) in staged {
+        let dir = out.join(&name);
+        match files {
+            None => println!("bless {name}: nothing moved; {} left unchanged", dir.display()),
+            Some(files) => {
+                baseline::write_all(&dir, &files)?;
+                let list: Vec<&str> = files.iter().map(|(n, _)| n.as_str()).collect();
+                let why = if passed { " (nothing moved; rewritten because of --force)" } else { "" };
+                println!("bless {name}: wrote {} in {}{why}", list.join(", "), dir.display());
+            }
+        }
+    }
+    if !skipped.is_empty() {
+        println!("not blessed, maps not found on this machine: {}", skipped.join("; "));
+    }
+    Ok(0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn root_with(files: &[(&str, &str)]) -> tempfile::TempDir {
+        let d = tempfile::tempdir().unwrap();
+        std::fs::create_dir(d.path().join("experiments")).unwrap();
+        for (n, t) in files {
+            std::fs::write(d.path().join("experiments").join(n), t).unwrap();
+        }
+        d
+    }
+
+    #[test]
+    fn default_selection_honours_ci_and_names_resolve() {
+        let d = root_with(&[
+            ("a.toml", "maps = ['m']\nencoders = ['sh1']\n"),
+            ("b.toml", "name = 'slow_one'\nmaps = ['m']\nencoders = ['sh1']\nci = false\n"),
+        ]);
+        let names = |v: &[Experiment]| v.iter().map(|e| e.name.clone()).collect::<Vec<_>>();
+        let (ci, left) = select(d.path(), &[], true).unwrap();
+        assert_eq!((names(&ci), left), (vec!["a".to_string()], vec!["slow_one".to_string()]));
+        let (all, left) = select(d.path(), &[], false).unwrap();
+        assert_eq!((names(&all), left.len()), (vec!["a".to_string(), "slow_one".to_string()], 0));
+        // By file stem, by name, by path; an explicit ci = false experiment is selected.
+        let by = |n: &str| names(&select(d.path(), &[n.to_string()], true).unwrap().0);
+        assert_eq!(by("b"), ["slow_one"]);
+        assert_eq!(by("slow_one"), ["slow_one"]);
+        assert_eq!(by(d.path().join("experiments/a.toml").to_str().unwrap()), ["a"]);
+        let e = format!("{:#}", select(d.path(), &["nope".to_string()], true).err().unwrap());
+        assert!(e.contains("experiment 'nope'") && e.contains("known: a, b"), "{e}");
+    }
+
+    /// A table that stood is what the summaries are computed from: the fresh rows' scores are
+    /// replaced cell by cell (round-trip text, so exactly), unknown rows and empty cells kept.
+    #[test]
+    fn rows_as_stored_takes_the_kept_tables_numbers() {
+        use crate::pipeline::table::Row;
+        use crate::reference::metrics::Scores;
+        let row = |map: &str, rmse: f64, at_n: Option<f64>| Row {
+            map: map.into(),
+            encoder: "sh1".into(),
+            domain: "sphere".into(),
+            metric: "exact".into(),
+            scores: Scores { rmse_rgb: [rmse; 3], rmse, rel_rmse: 2.0 * rmse, neg_frac: 0.0, max_abs: 3.0 * rmse },
+            stored_scalars: 12,
+            orientation_set: String::new(),
+            effects: String::new(),
+            weighting: "solid_angle".into(),
+            resolution: "8x4".into(),
+            units: "E/pi".into(),
+            reference: "exact".into(),
+            diagnostics: String::new(),
+            at_normal_abs_err: at_n,
+            fit_ns: None,
+            eval_ns: None,
+        };
+        let d = tempfile::tempdir().unwrap();
+        let kept = vec![row("a", 0.1, Some(1e-3)), row("b", 0.2, None)];
+        crate::pipeline::table::write_csv(&d.path().join(TABLE), &kept).unwrap();
+        let nudged = |r: &Row| {
+            let mut r = r.clone();
+            r.scores.rmse *= 1.0 + 1e-13;
+            r.scores.max_abs *= 1.0 + 1e-13;
+            r.at_normal_abs_err = r.at_normal_abs_err.map(|v| v * 1.5);
+            r
+        };
+        let fresh = vec![nudged(&kept[0]), nudged(&kept[1]), row("new", 0.3, None)];
+        assert_ne!(fresh[0], kept[0]);
+        let got = rows_as_stored(d.path(), &fresh).unwrap();
+        assert_eq!(got[0], kept[0]);
+        assert_eq!(got[1], kept[1]);
+        assert_eq!(got[2], fresh[2]);
+    }
+
+    #[test]
+    fn allowed_missing_maps_are_notes_and_say_their_rows_were_not_checked() {
+        let c = ExperimentCheck {
+            experiment: "x".into(),
+            dir: PathBuf::from("results/x"),
+            findings: vec![Finding::MapMissing { map: "m".into(), allowed: true }],
+            comparison: Comparison::default(),
+            baseline: None,
+        };
+        assert!(c.passed());
+        assert!(
+            c.report().contains("x: ok in the rows checked, but 1 map(s) were not on this machine"),
+            "{}",
+            c.report()
+        );
+        let strict = ExperimentCheck { findings: vec![Finding::MapMissing { map: "m".into(), allowed: false }], ..c };
+        assert!(!strict.passed());
+        assert!(strict.report().contains("x: FAILED: 1 map(s) changed, unrecorded or missing"), "{}", strict.report());
+    }
+}

@@ -1,0 +1,11 @@
+//! The regression layer: guarding the committed numbers. Tables as text and the cell-by-cell
+//! comparison (`baseline`), per-column tolerances (`tolerance`), the provenance written beside
+//! each table (`provenance`), and the `check`/`bless` commands with the guard that keeps a run
+//! off a moved baseline (`check`).
+//!
+//! May use: `math`, `envmap`, `reference`, `encoders`, `pipeline`.
+
+pub mod baseline;
+pub mod check;
+pub mod provenance;
+pub mod tolerance;
