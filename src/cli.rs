@@ -380,7 +380,7 @@ fn eval_experiment(
     resolution: &str,
     polar_nodes: usize,
 ) -> Result<Experiment> {
-    let res = parse_resolution(resolution)?;
+    let res = crate::pipeline::experiment::parse_resolution(resolution)?;
     let metric = Metric::parse(metric)?;
     let (kind, orientations, effects) = if domain == "sphere" {
         (DomainKind::Sphere, vec![], vec![])
@@ -412,14 +412,4 @@ fn eval_experiment(
         summary: None,
         claims: vec![],
     })
-}
-
-/// Parses "WxH" with W = 2H.
-pub fn parse_resolution(s: &str) -> Result<(usize, usize)> {
-    let (w, h) = s.split_once('x').with_context(|| format!("resolution '{s}': expected WxH, e.g. 256x128"))?;
-    let (w, h): (usize, usize) = (w.parse()?, h.parse()?);
-    if w != 2 * h || h < 2 || h > 4096 {
-        bail!("resolution '{s}': expected W = 2H with 2 <= H <= 4096");
-    }
-    Ok((w, h))
 }

@@ -422,10 +422,10 @@ pub fn build_bent_normal(p: &mut Params) -> Result<Box<dyn Encoder>> {
 #[allow(clippy::needless_range_loop)]
 mod tests {
     use super::*;
-    use crate::math::gram::tests::Rng;
     use crate::math::gram::{multiply, rotated_gram};
     use crate::math::quadrature::gauss_legendre;
     use crate::math::sh::constant;
+    use crate::math::test_rng::Rng;
 
     fn input<'a>(sh: &'a Sh9, n: DVec3, cone: Option<(DVec3, f64)>) -> FitInput<'a> {
         FitInput {

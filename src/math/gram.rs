@@ -238,39 +238,12 @@ pub fn multiply_to_linear(parts: &AxialParts, g: &AxialGram) -> Sh9 {
 
 #[cfg(test)]
 #[allow(clippy::needless_range_loop)] // matrices are indexed by (i, j) as in FORMULAS §9
-pub(crate) mod tests {
+mod tests {
     use super::*;
     use crate::math::quadrature::gauss_legendre;
     use crate::math::sh::basis;
+    use crate::math::test_rng::Rng;
     use std::f64::consts::PI;
-
-    /// Deterministic pseudo-random numbers in [−1, 1) (xorshift), for test inputs.
-    pub(crate) struct Rng(u64);
-    impl Rng {
-        pub(crate) fn new(seed: u64) -> Self {
-            Rng(seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1)
-        }
-        pub(crate) fn next(&mut self) -> f64 {
-            self.0 ^= self.0 << 13;
-            self.0 ^= self.0 >> 7;
-            self.0 ^= self.0 << 17;
-            (self.0 >> 11) as f64 / (1u64 << 52) as f64 - 1.0
-        }
-        pub(crate) fn unit(&mut self) -> DVec3 {
-            loop {
-                let v = DVec3::new(self.next(), self.next(), self.next());
-                if v.length_squared() > 0.01 && v.length_squared() <= 1.0 {
-                    return v.normalize();
-                }
-            }
-        }
-        pub(crate) fn sh(&mut self) -> Sh9 {
-            Sh9(std::array::from_fn(|_| Rgb::new(self.next(), self.next(), self.next())))
-        }
-        pub(crate) fn rotation(&mut self) -> DMat3 {
-            DMat3::from_quat(DQuat::from_axis_angle(self.unit(), PI * self.next()))
-        }
-    }
 
     /// ∫ over the cap {ω·axis > c} of Y_i·Y_k, by Gauss–Legendre in t = ω·axis on [c, 1] and the
     /// trapezoid rule in azimuth (exact for the degree-4 polynomials involved), in an orthonormal

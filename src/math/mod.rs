@@ -13,3 +13,5 @@ pub mod quadrature;
 pub mod sh;
 pub mod sh_rotation;
 pub mod stats;
+#[cfg(test)]
+pub(crate) mod test_rng;

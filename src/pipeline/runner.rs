@@ -6,7 +6,7 @@
 //! Only declared effects are simulated: with no effect the reference has no caps and the
 //! visible SH is the probe SH (no masked projection is computed).
 
-use crate::encoders::encoder::FitInput;
+use crate::encoders::encoder::{Encoder, FitInput, Fitted};
 use crate::envmap::moments::RowMoments;
 use crate::envmap::search::SearchPath;
 use crate::envmap::EnvMap;
@@ -14,9 +14,10 @@ use crate::math::cap::Cap;
 use crate::math::sh::{Rgb, Sh9};
 use crate::pipeline::experiment::{DomainKind, Effect, Experiment};
 use crate::pipeline::table::Row;
+use crate::pipeline::timing;
 use crate::reference::domain::{frame_to, Domain, OutputGrid};
 use crate::reference::exact::Reference;
-use crate::reference::metrics::{score, Metric};
+use crate::reference::metrics::{score, Metric, Scores};
 use crate::reference::projection::{project, project_visible};
 use anyhow::{Context, Result};
 use glam::DVec3;
@@ -274,8 +275,30 @@ pub fn run_map(exp: &Experiment, map: &EnvMap) -> Vec<Row> {
     };
     let all = cases(exp);
     let mut per_case: Vec<Vec<Row>> = all.par_iter().map(|case| run_case(exp, &data, case)).collect();
-    crate::pipeline::timing::fill(exp, &data, &all, &mut per_case);
+    fill_timing(exp, &data, &all, &mut per_case);
     per_case.into_iter().flatten().collect()
+}
+
+/// Fills `fit_ns` and `eval_ns` of the rows of one map, `rows[c]` being the rows of
+/// `cases[c]`: sequentially, after scoring, so timing never touches the numbers
+/// ([`crate::pipeline::timing`]). Each case's inputs are rebuilt exactly as scoring built them.
+fn fill_timing(exp: &Experiment, data: &MapData, cases: &[Case], rows: &mut [Vec<Row>]) {
+    if !timing::enabled() {
+        return;
+    }
+    let _span = crate::pipeline::profile::span("timing pass");
+    for (case, rows) in cases.iter().zip(rows.iter_mut()) {
+        let cd = CaseData::new(data, case, exp.polar_nodes);
+        let input = cd.fit_input();
+        let normals = timing::subsample(&case.domain.output_grid(exp.resolution).normals, timing::EVAL_NORMALS);
+        for named in &exp.encoders {
+            let (fit_ns, eval_ns) = timing::measure(named.encoder.as_ref(), &input, &normals);
+            for r in rows.iter_mut().filter(|r| r.encoder == named.name) {
+                r.fit_ns = Some(fit_ns);
+                r.eval_ns = Some(eval_ns);
+            }
+        }
+    }
 }
 
 fn run_case(exp: &Experiment, data: &MapData, case: &Case) -> Vec<Row> {
@@ -306,20 +329,8 @@ fn run_case(exp: &Experiment, data: &MapData, case: &Case) -> Vec<Row> {
             grids.push((res, sphere, grid, values));
         }
         let (_, _, grid, ref_values) = grids.iter().find(|g| g.0 == res && g.1 == sphere).expect("grid just added");
-        let weights: Vec<f64> = match metric {
-            Metric::Exact => grid.weights.clone(),
-            Metric::Probulator => vec![1.0; grid.normals.len()],
-        };
         for (named, fit) in exp.encoders.iter().zip(&fitted) {
-            let test: Vec<Rgb> = {
-                let _s = crate::pipeline::profile::span("render (encoder eval)");
-                grid.normals.par_iter().with_min_len(256).map(|&n| fit.irradiance(n)).collect()
-            };
-            let clamp = *metric == Metric::Probulator && named.encoder.peer_clamps();
-            let scores = {
-                let _s = crate::pipeline::profile::span("score");
-                score(ref_values, &test, &weights, clamp)
-            };
+            let scores = score_fit(named.encoder.as_ref(), fit.as_ref(), grid, ref_values, *metric);
             let diagnostics = fit
                 .diagnostics()
                 .iter()
@@ -350,6 +361,32 @@ fn run_case(exp: &Experiment, data: &MapData, case: &Case) -> Vec<Row> {
         }
     }
     rows
+}
+
+/// Evaluates a fit at every normal: E/π, in parallel, in the normals' order.
+pub fn evaluate(fit: &dyn Fitted, normals: &[DVec3]) -> Vec<Rgb> {
+    let _s = crate::pipeline::profile::span("render (encoder eval)");
+    normals.par_iter().with_min_len(256).map(|&n| fit.irradiance(n)).collect()
+}
+
+/// The one scoring step every table, sweep, claim and sheet goes through: `fit` (of
+/// `encoder`) evaluated on `grid` against the reference values there, under `metric`'s
+/// weighting (solid angle for `exact`, one per pixel for `probulator`) and, under
+/// `probulator`, the peer's clamp of negative output where the encoder's shader clamps.
+pub fn score_fit(
+    encoder: &dyn Encoder,
+    fit: &dyn Fitted,
+    grid: &OutputGrid,
+    reference: &[Rgb],
+    metric: Metric,
+) -> Scores {
+    let test = evaluate(fit, &grid.normals);
+    let _s = crate::pipeline::profile::span("score");
+    let clamp = metric == Metric::Probulator && encoder.peer_clamps();
+    match metric {
+        Metric::Exact => score(reference, &test, &grid.weights, clamp),
+        Metric::Probulator => score(reference, &test, &vec![1.0; grid.normals.len()], clamp),
+    }
 }
 
 #[cfg(test)]

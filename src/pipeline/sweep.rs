@@ -99,7 +99,7 @@ fn value_text(v: &toml::Value) -> String {
 fn parse_res_value(v: &toml::Value, allow_full: bool) -> Result<Option<(usize, usize)>> {
     match v {
         toml::Value::String(s) if allow_full && s == "full" => Ok(None),
-        toml::Value::String(s) => crate::cli::parse_resolution(s).map(Some),
+        toml::Value::String(s) => crate::pipeline::experiment::parse_resolution(s).map(Some),
         _ => bail!("value {v}: expected \"WxH\"{}", if allow_full { " or \"full\"" } else { "" }),
     }
 }

@@ -15,10 +15,7 @@
 //! run to run, which is why the regression check ignores [`TIMING_COLUMNS`](crate::pipeline::table::TIMING_COLUMNS).
 //! `--no-timing` leaves the columns empty.
 
-use crate::pipeline::experiment::Experiment;
-use crate::pipeline::runner::{Case, CaseData, MapData};
-use crate::pipeline::table::Row;
-use crate::reference::domain::Domain;
+use crate::encoders::encoder::{Encoder, FitInput};
 use glam::DVec3;
 use std::hint::black_box;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -95,34 +92,15 @@ pub fn eval_ns(fit: &dyn crate::encoders::encoder::Fitted, normals: &[DVec3]) ->
     per_batch / normals.len() as f64
 }
 
-/// Fills `fit_ns` and `eval_ns` of the rows of one map, `rows[c]` being the rows of `cases[c]`
-/// (as `runner::run_map` produces them). Runs sequentially after scoring.
-pub fn fill(exp: &Experiment, data: &MapData, cases: &[Case], rows: &mut [Vec<Row>]) {
-    if !enabled() {
-        return;
-    }
-    let _span = crate::pipeline::profile::span("timing pass");
-    for (case, rows) in cases.iter().zip(rows.iter_mut()) {
-        let cd = CaseData::new(data, case, exp.polar_nodes);
-        let input = cd.fit_input();
-        let normals = subsample(&scored_normals(&case.domain, exp.resolution), EVAL_NORMALS);
-        for named in &exp.encoders {
-            let fit_ns = median_ns(|| {
-                black_box(named.encoder.fit(black_box(&input)));
-            });
-            let fitted = named.encoder.fit(&input);
-            let eval = eval_ns(fitted.as_ref(), &normals);
-            for r in rows.iter_mut().filter(|r| r.encoder == named.name) {
-                r.fit_ns = Some(fit_ns);
-                r.eval_ns = Some(eval);
-            }
-        }
-    }
-}
-
-/// The normals a case's rows are scored on (the experiment's output grid over its domain).
-fn scored_normals(domain: &Domain, resolution: (usize, usize)) -> Vec<DVec3> {
-    domain.output_grid(resolution).normals
+/// The `fit_ns` and `eval_ns` of one encoder on one case: the median time of one fit from
+/// `input`, and the median time per normal of evaluating that fit over `normals` (the caller
+/// passes at most [`EVAL_NORMALS`] of the normals the row was scored on, see [`subsample`]).
+pub fn measure(encoder: &dyn Encoder, input: &FitInput, normals: &[DVec3]) -> (f64, f64) {
+    let fit_ns = median_ns(|| {
+        black_box(encoder.fit(black_box(input)));
+    });
+    let fitted = encoder.fit(input);
+    (fit_ns, eval_ns(fitted.as_ref(), normals))
 }
 
 #[cfg(test)]

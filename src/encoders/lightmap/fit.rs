@@ -686,7 +686,7 @@ pub fn fit(spec: &FitSpec, input: &FitInput) -> FitResult {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::math::gram::tests::Rng;
+    use crate::math::test_rng::Rng;
     use crate::reference::domain::Domain as Out;
 
     fn spec(basis: Basis, gram: Gram, colours: Colours) -> FitSpec {

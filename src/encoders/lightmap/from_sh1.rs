@@ -52,7 +52,7 @@ pub fn hhd_from_linear_sh(sh: &Sh9, normal: DVec3) -> Model {
 mod tests {
     use super::*;
     use crate::encoders::lightmap::model::linear_sh_of;
-    use crate::math::gram::tests::Rng;
+    use crate::math::test_rng::Rng;
 
     /// The discriminant identity Δ = (b_c − 2I_z)² + 3|b⊥|² for I_z = b·N, on random data.
     #[test]

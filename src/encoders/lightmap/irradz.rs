@@ -159,7 +159,7 @@ impl Texel {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::math::gram::tests::Rng;
+    use crate::math::test_rng::Rng;
 
     fn random_model(r: &mut Rng, basis: Basis) -> Model {
         let n = r.unit();

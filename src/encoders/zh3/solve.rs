@@ -841,31 +841,13 @@ mod tests {
     use super::*;
     use crate::math::sh::{basis, delta_light};
 
-    /// A deterministic pseudo-random generator for test data (xorshift64*).
-    struct Rng(u64);
-    impl Rng {
-        fn next(&mut self) -> f64 {
-            self.0 ^= self.0 >> 12;
-            self.0 ^= self.0 << 25;
-            self.0 ^= self.0 >> 27;
-            (self.0.wrapping_mul(0x2545_f491_4f6c_dd1d) >> 11) as f64 / (1u64 << 53) as f64
-        }
-        fn dir(&mut self) -> DVec3 {
-            loop {
-                let v = DVec3::new(2.0 * self.next() - 1.0, 2.0 * self.next() - 1.0, 2.0 * self.next() - 1.0);
-                if v.length_squared() > 1e-3 && v.length_squared() <= 1.0 {
-                    return v.normalize();
-                }
-            }
-        }
-    }
+    use crate::math::test_rng::Rng;
 
-    /// Radiance SH of a few coloured delta lights plus a constant: non-negative lighting.
     fn random_lighting(rng: &mut Rng, lights: usize) -> Sh9 {
-        let mut s = crate::math::sh::constant(Rgb::new(rng.next(), rng.next(), rng.next()) * 0.2);
+        let mut s = crate::math::sh::constant(Rgb::new(rng.uniform01(), rng.uniform01(), rng.uniform01()) * 0.2);
         for _ in 0..lights {
-            let e = Rgb::new(rng.next(), rng.next(), rng.next()) * 5.0;
-            s = s + delta_light(rng.dir(), e);
+            let e = Rgb::new(rng.uniform01(), rng.uniform01(), rng.uniform01()) * 5.0;
+            s = s + delta_light(rng.unit(), e);
         }
         s
     }
@@ -885,11 +867,11 @@ mod tests {
     /// problems (stored and hallucinated, per channel and shared, unequal weights).
     #[test]
     fn gradient_matches_finite_differences() {
-        let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
+        let mut rng = Rng::new(0x9e37_79b9_7f4a_7c15);
         for t in targets(&mut rng) {
             let n = 3 * t.channels;
             for _ in 0..5 {
-                let x: Vec<f64> = (0..n).map(|_| 2.0 * rng.next() - 1.0).collect();
+                let x: Vec<f64> = (0..n).map(|_| 2.0 * rng.uniform01() - 1.0).collect();
                 let mut g = vec![0.0; n];
                 t.eval(&x, Some(&mut g));
                 for i in 0..n {
@@ -910,7 +892,7 @@ mod tests {
     /// axis lines beats (random perturbations keeping Σ w^axis v ∥ a).
     #[test]
     fn reduced_objective_is_the_minimum_over_l1() {
-        let mut rng = Rng(77);
+        let mut rng = Rng::new(77);
         for _ in 0..6 {
             let irr = random_lighting(&mut rng, 3).convolve_cosine();
             for t in [
@@ -919,7 +901,7 @@ mod tests {
                 Target::shared(&irr, Rgb::new(0.2, 0.5, 0.3), Rgb::new(0.3, 0.3, 0.4), Zonal::Stored),
             ] {
                 let na = t.n_axes();
-                let u: Vec<f64> = (0..na).flat_map(|_| (rng.dir() * (0.5 + rng.next())).to_array()).collect();
+                let u: Vec<f64> = (0..na).flat_map(|_| (rng.unit() * (0.5 + rng.uniform01())).to_array()).collect();
                 let mut g = vec![0.0; 3 * na];
                 let f = t.eval_axes(&u, Some(&mut g));
                 for k in 0..3 * na {
@@ -944,7 +926,7 @@ mod tests {
                     let mut v2 = v;
                     for (i, g) in t.groups().iter().enumerate() {
                         let a = DVec3::new(u[3 * i], u[3 * i + 1], u[3 * i + 2]).normalize();
-                        let d: Vec<DVec3> = g.iter().map(|_| rng.dir() * 0.05).collect();
+                        let d: Vec<DVec3> = g.iter().map(|_| rng.unit() * 0.05).collect();
                         let w: Vec<f64> = g.iter().map(|&c| t.w_axis(g, c)).collect();
                         let sd: DVec3 = d.iter().zip(&w).map(|(d, w)| *d * *w).sum();
                         // Remove the part that would tilt the axis: Σ w d ∥ a.
@@ -1032,7 +1014,7 @@ mod tests {
     /// minimum found independently by a dense search of the reduced 2-D problem.
     #[test]
     fn solve_reaches_the_global_minimum() {
-        let mut rng = Rng(12345);
+        let mut rng = Rng::new(12345);
         for trial in 0..16 {
             let irr = random_lighting(&mut rng, 2 + trial % 3).convolve_cosine();
             let formulation = if trial % 2 == 0 { Formulation::Axis } else { Formulation::L1 };
@@ -1072,12 +1054,12 @@ mod tests {
     /// many random lights (this is what lets the faster setting stand in for the paper's).
     #[test]
     fn screened_solve_matches_the_full_multistart() {
-        let mut rng = Rng(2024);
+        let mut rng = Rng::new(2024);
         let full = SolverSettings { screen: 0, ..SolverSettings::default() };
         let screened = SolverSettings { screen: 64, ..SolverSettings::default() };
         for trial in 0..300 {
             let irr = random_lighting(&mut rng, 1 + trial % 5).convolve_cosine();
-            let w = Rgb::new(0.2 + rng.next(), 0.2 + rng.next(), 0.2 + rng.next());
+            let w = Rgb::new(0.2 + rng.uniform01(), 0.2 + rng.uniform01(), 0.2 + rng.uniform01());
             for t in [Target::per_channel(&irr, Zonal::Stored), Target::shared(&irr, w, w, Zonal::Stored)] {
                 let (a, b) = (solve(&t, &full).stats, solve(&t, &screened).stats);
                 let scale = t.l0.iter().fold(0.0f64, |m, x| m.max(*x)).powi(2);
