@@ -18,7 +18,8 @@ use glam::DVec3;
 use probelab::encoders::zh3::solve::{Formulation, SolverSettings, Zonal};
 use probelab::encoders::zh3::{solved, AxisRule};
 use probelab::envmap::search::SearchPath;
-use probelab::math::sh::{constant, Rgb, Sh9};
+use probelab::math::colour::Rgb;
+use probelab::math::sh::{constant, Sh9};
 use probelab::reference::scenes::Component;
 use std::hint::black_box;
 

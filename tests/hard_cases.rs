@@ -51,7 +51,8 @@ mod common;
 
 use common::*;
 use glam::DVec3;
-use probelab::math::sh::{Rgb, Sh9};
+use probelab::math::colour::Rgb;
+use probelab::math::sh::Sh9;
 use probelab::reference::domain::Domain;
 use std::f64::consts::PI;
 

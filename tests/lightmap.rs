@@ -10,7 +10,7 @@ use probelab::encoders::encoder::Fitted;
 use probelab::encoders::lightmap::fit::{fit, solve, Colours, Direction, FitSpec, Gram, Target};
 use probelab::encoders::lightmap::lune::{Angle, Moments};
 use probelab::encoders::lightmap::{linear_sh_of, Basis, Model};
-use probelab::math::sh::Rgb;
+use probelab::math::colour::Rgb;
 use probelab::reference::domain::Domain;
 use std::f64::consts::PI;
 

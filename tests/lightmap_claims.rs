@@ -3,7 +3,7 @@
 //! committed experiment's claims, re-run through the binary.
 
 use probelab::encoders::lightmap::hhd_from_linear_sh;
-use probelab::math::sh::Rgb;
+use probelab::math::colour::Rgb;
 use probelab::pipeline::experiment::Experiment;
 use probelab::pipeline::summary::Check;
 use probelab::reference::domain::Domain;

@@ -21,7 +21,7 @@ use probelab::encoders::encoder::Encoder;
 use probelab::encoders::sh::ShEncoder;
 use probelab::envmap::moments::RowMoments;
 use probelab::envmap::LatLong;
-use probelab::math::sh::Rgb;
+use probelab::math::colour::Rgb;
 use probelab::reference::domain::Domain;
 use probelab::reference::exact::Reference;
 use probelab::reference::projection::project;

@@ -6,7 +6,7 @@
 use glam::DVec3;
 use probelab::envmap::moments::RowMoments;
 use probelab::math::cap::Cap;
-use probelab::math::sh::Rgb;
+use probelab::math::colour::Rgb;
 use probelab::reference::domain::fibonacci_sphere;
 use probelab::reference::exact::{Reference, DEFAULT_POLAR_NODES};
 use probelab::reference::scenes::generated;

@@ -59,7 +59,8 @@ fn grace_matches_the_peer_tool() {
 #[test]
 fn fit_hallucination_from_a_probe_file() {
     use glam::DVec3;
-    use probelab::math::sh::{constant, Rgb};
+    use probelab::math::colour::Rgb;
+    use probelab::math::sh::constant;
     use probelab::reference::scenes::Component;
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("probes.csv");

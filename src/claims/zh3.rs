@@ -16,7 +16,9 @@ use crate::encoders::zh3::{hallucinate, stored, AxisRule};
 use crate::envmap::moments::RowMoments;
 use crate::envmap::search::SearchPath;
 use crate::envmap::LatLong;
-use crate::math::sh::{delta_light, Rgb, Sh9};
+use crate::math::colour::Rgb;
+use crate::math::colour::REC709;
+use crate::math::sh::{delta_light, Sh9};
 use crate::reference::domain::Domain;
 use crate::reference::exact::{Reference, DEFAULT_POLAR_NODES};
 use crate::reference::metrics::{score, Scores};
@@ -414,7 +416,7 @@ fn z3(grid: &Grid, cases: &[Case]) -> Result<(Claim, String)> {
 
 /// Z4: axis weights must match error weights.
 fn z4(grid: &Grid, cases: &[Case]) -> Result<(Claim, String)> {
-    let rec = [0.2126, 0.7152, 0.0722];
+    let rec = REC709.to_array();
     let blue_heavy = [0.1, 0.1, 0.8];
     let matched =
         enc("zh3_solved_shared", &[("axis_weights", weights_value(rec)), ("error_weights", weights_value(rec))])?;
@@ -759,8 +761,8 @@ fn z9(grid: &Grid) -> Result<(Claim, String)> {
     // (b) expand each to SH3, blend: exact for these zonal probes.
     let sh3_blend = half(za.to_sh() + zb.to_sh());
     // (c) hallucinate from the blended L1.
-    let hall = hallucinate(&sh_blend, AxisRule::Shared(Rgb::new(0.2126, 0.7152, 0.0722)), Curve::PAPER);
-    let hall_a = hallucinate(&sa, AxisRule::Shared(Rgb::new(0.2126, 0.7152, 0.0722)), Curve::PAPER);
+    let hall = hallucinate(&sh_blend, AxisRule::Shared(REC709), Curve::PAPER);
+    let hall_a = hallucinate(&sa, AxisRule::Shared(REC709), Curve::PAPER);
     // The zonal coefficient the blend should have: the least-squares fit of its L2 about its axis.
     let axis = zc.axes[0].expect("blended L1 is non-zero");
     let k_true = zonal_fit(axis, &crate::encoders::zh3::solve::l2_band(&sh_blend, 0));

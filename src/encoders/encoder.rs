@@ -9,7 +9,8 @@
 //! (the band-0 answer); a loose sanity bound everywhere; and each promise below that the
 //! encoder makes.
 
-use crate::math::sh::{Rgb, Sh9};
+use crate::math::colour::Rgb;
+use crate::math::sh::Sh9;
 use anyhow::{bail, Result};
 use glam::DVec3;
 
@@ -219,7 +220,7 @@ impl Params {
 /// Channel weightings by name: `rec709` (0.2126, 0.7152, 0.0722) or `equal` (⅓ each).
 pub fn named_weights(s: &str) -> Result<Rgb> {
     match s {
-        "rec709" => Ok(crate::math::sh::REC709),
+        "rec709" => Ok(crate::math::colour::REC709),
         "equal" => Ok(Rgb::splat(1.0 / 3.0)),
         _ => bail!("unknown weighting '{s}' (expected rec709, equal or [r, g, b])"),
     }

@@ -18,7 +18,8 @@
 //! TOML keys: none. Degenerate inputs: R0 ≤ 0 gives 0; R1 = 0 gives the constant R0.
 
 use crate::encoders::encoder::{Encoder, FitInput, Fitted, Params};
-use crate::math::sh::{basis, Rgb, Sh9, N_SH};
+use crate::math::colour::Rgb;
+use crate::math::sh::{basis, Sh9, N_SH};
 use anyhow::Result;
 use glam::DVec3;
 use std::f64::consts::PI;

@@ -46,8 +46,9 @@
 
 use crate::encoders::encoder::{named_weights, Encoder, FitInput, Fitted, Params};
 use crate::encoders::sh::ShIrradiance;
+use crate::math::colour::Rgb;
 use crate::math::gram::{axial_parts, multiply_full, multiply_to_linear, AxialGram, AxialParts};
-use crate::math::sh::{k, Rgb, Sh9};
+use crate::math::sh::{k, Sh9};
 use anyhow::{bail, Result};
 use glam::DVec3;
 use std::f64::consts::PI;

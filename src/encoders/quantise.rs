@@ -23,7 +23,8 @@
 
 use crate::encoders::encoder::{Encoder, FitInput, Fitted, Params};
 use crate::encoders::sh::ShIrradiance;
-use crate::math::sh::{Rgb, Sh9};
+use crate::math::colour::Rgb;
+use crate::math::sh::Sh9;
 use anyhow::Result;
 
 /// Bytes of a quantised L1, ZH3 and L2 probe (FORMULAS §11).

@@ -16,7 +16,7 @@
 //! inner encoder. It stores nothing extra (ρ is the material's albedo, I_z is the inner's).
 
 use crate::encoders::encoder::{Encoder, FitInput, Fitted, Params};
-use crate::math::sh::Rgb;
+use crate::math::colour::Rgb;
 use anyhow::{bail, Result};
 use glam::DVec3;
 

@@ -14,7 +14,8 @@
 //! black out; a 1e-300 L1 band stays 1e-300), so every finite input gives a finite output.
 
 use crate::encoders::encoder::{Encoder, FitInput, Fitted, Params};
-use crate::math::sh::{Rgb, Sh9};
+use crate::math::colour::Rgb;
+use crate::math::sh::Sh9;
 use anyhow::Result;
 use glam::DVec3;
 

@@ -8,7 +8,7 @@
 
 use crate::envmap::EnvMap;
 use crate::math::cap::Arc;
-use crate::math::sh::Rgb;
+use crate::math::colour::Rgb;
 use rayon::prelude::*;
 use std::f64::consts::{PI, TAU};
 

@@ -15,7 +15,8 @@
 //!   the m = ±1 parts, which are world vectors perpendicular to A: b⊥ and (MA)⊥. See
 //!   [`AxialParts`] and [`multiply_to_linear`].
 
-use crate::math::sh::{k, Rgb, Sh9, N_SH};
+use crate::math::colour::Rgb;
+use crate::math::sh::{k, Sh9, N_SH};
 use glam::{DMat3, DQuat, DVec3};
 
 /// A 9×9 matrix over the SH indices of FORMULAS §2.

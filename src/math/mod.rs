@@ -1,12 +1,13 @@
 //! The math layer: pure functions and small value types with no knowledge of maps, encoders
 //! or files. SH basis and band scales (`sh`), SH rotation (`sh_rotation`), Gram matrices over
 //! hemispheres and cones (`gram`), Gauss–Legendre quadrature (`quadrature`), spherical caps
-//! and their arcs on a parallel (`cap`), the direction convention (`convention`), and exact
+//! and their arcs on a parallel (`cap`), linear RGB and Rec.709 luminance (`colour`), the direction convention (`convention`), and exact
 //! mergeable statistics (`stats`).
 //!
 //! May use: nothing else in the crate.
 
 pub mod cap;
+pub mod colour;
 pub mod convention;
 pub mod gram;
 pub mod quadrature;

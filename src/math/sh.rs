@@ -6,15 +6,10 @@
 //!
 //! Band scales: FORMULAS §3, Â = (1, 2/3, 1/4) for E/π (Ramamoorthi–Hanrahan 2001).
 
+use crate::math::colour::Rgb;
 use glam::DVec3;
 use std::f64::consts::PI;
 use std::ops::{Add, Index, IndexMut, Mul, Sub};
-
-/// Linear RGB value (radiance, or irradiance as E/π). Components are R, G, B.
-pub type Rgb = DVec3;
-
-/// Rec.709 luminance weights (FORMULAS §4): L(c) = REC709 · c.
-pub const REC709: Rgb = Rgb::new(0.2126, 0.7152, 0.0722);
 
 /// Number of coefficients of SH through band 2.
 pub const N_SH: usize = 9;

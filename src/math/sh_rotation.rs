@@ -11,7 +11,8 @@
 //! rotating light directions). This is exact, with no sampling: a 3×3 and a 5×5 matrix per
 //! rotation, applied to all three channels.
 
-use crate::math::sh::{k, Rgb, Sh9};
+use crate::math::colour::Rgb;
+use crate::math::sh::{k, Sh9};
 use glam::{DMat3, DQuat, DVec3};
 
 /// The band-1 and band-2 matrices of one rotation.

@@ -2,7 +2,8 @@
 //! same on every machine. Test-only; the probe synthesiser has its own generator
 //! (`pipeline::probeset`), which is part of the product.
 
-use crate::math::sh::{Rgb, Sh9};
+use crate::math::colour::Rgb;
+use crate::math::sh::Sh9;
 use glam::{DMat3, DQuat, DVec3};
 use std::f64::consts::PI;
 

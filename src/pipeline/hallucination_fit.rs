@@ -275,7 +275,8 @@ pub fn format_report(r: &Report) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::math::sh::{constant, delta_light, Rgb};
+    use crate::math::colour::Rgb;
+    use crate::math::sh::{constant, delta_light};
     use crate::reference::scenes::Component;
     use glam::DVec3;
 

@@ -51,7 +51,9 @@
 
 use crate::encoders::encoder::{FitInput, Fitted};
 use crate::encoders::NamedEncoder;
-use crate::math::sh::{constant, delta_light, Rgb, Sh9, N_SH};
+use crate::math::colour::luminance;
+use crate::math::colour::Rgb;
+use crate::math::sh::{constant, delta_light, Sh9, N_SH};
 use crate::math::sh_rotation::{uniform_rotation, ShRotation};
 use crate::math::stats::{Summary, SummaryState};
 use crate::reference::scenes::Component;
@@ -430,11 +432,6 @@ impl Rng {
         let c = Rgb::new(self.f64(), self.f64(), self.f64()).map(|u| (1.0 + s * (2.0 * u - 1.0)).max(0.05));
         c / luminance(c)
     }
-}
-
-/// Rec.709 luminance.
-pub fn luminance(c: Rgb) -> f64 {
-    c.dot(crate::math::sh::REC709)
 }
 
 /// The probe synthesiser (see the module doc).

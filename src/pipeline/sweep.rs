@@ -31,7 +31,7 @@
 
 use crate::envmap::search::SearchPath;
 use crate::envmap::{EnvMap, LatLong};
-use crate::math::sh::Rgb;
+use crate::math::colour::Rgb;
 use crate::pipeline::experiment::{Experiment, ExperimentFile};
 use crate::pipeline::runner::{cases, Case, CaseData, MapData};
 use crate::pipeline::timing::median_ns_with;

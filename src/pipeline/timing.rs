@@ -83,7 +83,7 @@ pub fn eval_ns(fit: &dyn crate::encoders::encoder::Fitted, normals: &[DVec3]) ->
         return 0.0;
     }
     let per_batch = median_ns(|| {
-        let mut acc = crate::math::sh::Rgb::ZERO;
+        let mut acc = crate::math::colour::Rgb::ZERO;
         for &n in normals {
             acc += fit.irradiance(black_box(n));
         }

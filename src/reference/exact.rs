@@ -14,8 +14,8 @@
 use crate::envmap::moments::{Moments01, RowMoments};
 use crate::envmap::LatLong;
 use crate::math::cap::{Arcs, Cap};
+use crate::math::colour::Rgb;
 use crate::math::quadrature::{for_each_polar_node, gauss_legendre};
-use crate::math::sh::Rgb;
 use glam::DVec3;
 use rayon::prelude::*;
 use std::f64::consts::{FRAC_1_PI, PI, TAU};

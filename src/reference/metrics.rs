@@ -7,7 +7,7 @@
 //!   at ≥ 0 (unless the encoder says its peer counterpart is unclamped) — but computed against
 //!   our exact reference, not Monte Carlo.
 
-use crate::math::sh::Rgb;
+use crate::math::colour::Rgb;
 use anyhow::{bail, Result};
 
 /// Which scoring rule.

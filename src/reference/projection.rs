@@ -9,8 +9,9 @@
 use crate::envmap::moments::{Moments, RowMoments};
 use crate::envmap::EnvMap;
 use crate::math::cap::{Arcs, Cap};
+use crate::math::colour::Rgb;
 use crate::math::quadrature::{for_each_polar_node, gauss_legendre};
-use crate::math::sh::{k, Rgb, Sh9};
+use crate::math::sh::{k, Sh9};
 use rayon::prelude::*;
 
 /// Azimuth integrals of one row (or arc): ∫L, ∫L cos θ, ∫L sin θ, ∫L cos 2θ, ∫L sin 2θ.

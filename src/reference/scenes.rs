@@ -8,8 +8,9 @@
 
 use crate::envmap::{EnvMap, LatLong};
 use crate::math::cap::Cap;
+use crate::math::colour::Rgb;
 use crate::math::quadrature::{for_each_polar_node, gauss_legendre};
-use crate::math::sh::{basis, Rgb, Sh9};
+use crate::math::sh::{basis, Sh9};
 use glam::DVec3;
 use std::f64::consts::{PI, TAU};
 

@@ -12,8 +12,9 @@
 //!   `rmse` may be empty; an optional `set` column gives one chart per lighting set.
 
 use super::csvfile::CsvTable;
-use super::render::{ensure_font, luminance, sig, FONT};
-use crate::math::sh::Rgb;
+use super::render::{ensure_font, sig, FONT};
+use crate::math::colour::luminance;
+use crate::math::colour::Rgb;
 use anyhow::{anyhow, Result};
 use image::RgbImage;
 use plotters::coord::Shift;

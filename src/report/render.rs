@@ -28,7 +28,8 @@
 use super::csvfile::CsvTable;
 use crate::encoders::encoder::Fitted;
 use crate::envmap::EnvMap;
-use crate::math::sh::Rgb;
+use crate::math::colour::luminance;
+use crate::math::colour::Rgb;
 use crate::pipeline::experiment::Experiment;
 use crate::pipeline::runner::{cases, Case, CaseData, MapData};
 use crate::reference::domain::{frame_to, Domain};
@@ -54,11 +55,6 @@ pub fn ensure_font() {
         let _ = plotters::style::register_font(FONT, FontStyle::Normal, dejavu::sans::regular());
         let _ = plotters::style::register_font(FONT, FontStyle::Bold, dejavu::sans::bold());
     });
-}
-
-/// Rec.709 luminance of linear RGB.
-pub fn luminance(c: Rgb) -> f64 {
-    c.dot(crate::math::sh::REC709)
 }
 
 /// The sRGB transfer curve (IEC 61966-2-1) of a linear value in [0, 1].
@@ -975,7 +971,7 @@ mod tests {
 
     #[test]
     fn colour_map_is_monotone_and_signed() {
-        let lum = |c: [f64; 3]| 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2];
+        let lum = |c: [f64; 3]| luminance(Rgb::from_array(c));
         let lum8 = |c: [u8; 3]| lum(c.map(f64::from));
         assert_eq!(diverging(0.0), [247, 247, 247]);
         let mut prev_pos = lum(diverging_exact(0.0));

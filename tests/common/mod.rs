@@ -10,7 +10,8 @@
 use glam::{DQuat, DVec3};
 use probelab::encoders::encoder::{Encoder, FitInput, Fitted, Params};
 use probelab::encoders::REGISTRY;
-use probelab::math::sh::{band_of, basis, constant, delta_light, Rgb, Sh9};
+use probelab::math::colour::Rgb;
+use probelab::math::sh::{band_of, basis, constant, delta_light, Sh9};
 use probelab::reference::domain::{Domain, OutputGrid};
 use probelab::reference::metrics::score;
 use probelab::reference::scenes::cap_irradiance;

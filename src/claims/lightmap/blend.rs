@@ -29,7 +29,8 @@ use crate::encoders::lightmap::{hhd_from_linear_sh, Basis, Model, Storage, Texel
 use crate::envmap::search::SearchPath;
 use crate::envmap::EnvMap;
 use crate::math::cap::Cap;
-use crate::math::sh::{delta_light, Rgb, Sh9};
+use crate::math::colour::Rgb;
+use crate::math::sh::{delta_light, Sh9};
 use crate::pipeline::runner::{Case, CaseData, MapData};
 use crate::reference::domain::Domain;
 use crate::reference::exact::DEFAULT_POLAR_NODES;
@@ -40,7 +41,7 @@ use std::f64::consts::PI;
 
 /// The output grid (lat-long W×H; the hemisphere takes its upper H/2 rows).
 pub const GRID: (usize, usize) = (128, 64);
-pub use crate::math::sh::REC709;
+use crate::math::colour::REC709;
 
 /// One bake: a map (optionally turned 180° about +Y) and optionally a white delta light.
 #[derive(Clone, Debug)]

@@ -161,7 +161,7 @@ pub fn summary() -> Vec<Fig2Summary> {
 mod tests {
     use super::*;
     use crate::encoders::lightmap::{Basis, Model, Storage, Texel};
-    use crate::math::sh::Rgb;
+    use crate::math::colour::Rgb;
     use glam::DVec3;
 
     /// The two texels of the figure as models on a surface with an arbitrary N, "left" being

@@ -22,7 +22,7 @@
 use crate::encoders::encoder::{named_weights, Encoder, FitInput, Fitted, Params};
 use crate::encoders::lightmap::fit::{fit, Colours, Direction, FitSpec, Gram};
 use crate::encoders::lightmap::{Basis, Model, Storage, Texel};
-use crate::math::sh::Rgb;
+use crate::math::colour::Rgb;
 use anyhow::{bail, Result};
 use glam::DVec3;
 

@@ -43,8 +43,9 @@
 use super::lune::{Angle, Clamped, Moments, Y_INT};
 use super::model::{Basis, Model};
 use crate::encoders::encoder::FitInput;
+use crate::math::colour::Rgb;
 use crate::math::gram::quadratic_form;
-use crate::math::sh::{k, Rgb, Sh9};
+use crate::math::sh::{k, Sh9};
 use glam::{DMat3, DVec3};
 use std::sync::LazyLock;
 
@@ -697,11 +698,10 @@ mod tests {
             direction: Direction::Linear,
             max_tilt: 89f64.to_radians(),
             weights: Rgb::splat(1.0 / 3.0),
-            direction_weights: REC709_W,
+            direction_weights: crate::math::colour::REC709,
             exact_i_z: true,
         }
     }
-    const REC709_W: Rgb = crate::math::sh::REC709;
 
     /// The tangent-space quadratic is the SH irradiance, at random points.
     #[test]
@@ -847,7 +847,7 @@ mod tests {
             }
             let sh = rad.convolve_cosine();
             let n = r.unit();
-            let l1 = sh.l1_vector_weighted(REC709_W);
+            let l1 = sh.l1_vector_weighted(crate::math::colour::REC709);
             let frame = Frame::new(n, l1);
             let tl = frame.to_tangent(l1);
             let theta_lin = (tl.x * tl.x + tl.y * tl.y).sqrt().atan2(tl.z);

@@ -19,11 +19,12 @@
 //! or black) d = N and C_d = 0.
 
 use super::model::{Basis, Model};
-use crate::math::sh::{Rgb, Sh9};
+use crate::math::colour::Rgb;
+use crate::math::sh::Sh9;
 use glam::DVec3;
 use std::f64::consts::PI;
 
-pub use crate::math::sh::REC709;
+use crate::math::colour::REC709;
 
 /// The HHD whose linear radiance SH is `sh` (bands 0–1 are read), about the unit normal N.
 pub fn hhd_from_linear_sh(sh: &Sh9, normal: DVec3) -> Model {

@@ -19,9 +19,10 @@
 use super::encoder::{build, Defaults, LightmapFit};
 use crate::encoders::encoder::{Encoder, FitInput, Fitted, Params};
 use crate::encoders::lightmap::fit::{Colours, Gram};
-use crate::encoders::lightmap::from_sh1::REC709;
 use crate::encoders::lightmap::{hhd_from_linear_sh, Basis, Model, Storage, Texel};
-use crate::math::sh::{k, Rgb, Sh9};
+use crate::math::colour::Rgb;
+use crate::math::colour::REC709;
+use crate::math::sh::{k, Sh9};
 use anyhow::Result;
 use glam::DVec3;
 

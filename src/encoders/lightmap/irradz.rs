@@ -16,9 +16,9 @@
 //! its azimuth) so that the decode's division is bounded; `raw` keeps any d with d_z ≥ 0 and
 //! mirrors a d below the horizon onto it (tangent xy cannot say "below").
 
-use super::from_sh1::REC709;
 use super::model::{Basis, Model};
-use crate::math::sh::Rgb;
+use crate::math::colour::luminance as luma;
+use crate::math::colour::Rgb;
 use anyhow::{bail, Result};
 use glam::DVec3;
 
@@ -65,10 +65,6 @@ pub struct Texel {
 /// The tangent frame (t₁, t₂) of N (Duff et al.'s branchless ONB, glam).
 pub fn tangent_frame(n: DVec3) -> (DVec3, DVec3) {
     n.any_orthonormal_pair()
-}
-
-fn luma(c: Rgb) -> f64 {
-    c.dot(REC709)
 }
 
 impl Texel {
@@ -200,7 +196,7 @@ mod tests {
                 let rel = ((back.i_z() - m.i_z()) / m.i_z()).abs().max_element();
                 assert!(rel < 1e-14, "{rel}");
                 assert!((0.0..=1.0).contains(&t.scalars[0]));
-                let want_ratio = m.c_a.dot(REC709) / m.i_z().dot(REC709);
+                let want_ratio = luma(m.c_a) / luma(m.i_z());
                 assert!((t.scalars[0] - want_ratio.min(1.0)).abs() < 1e-14);
             }
         }

@@ -7,7 +7,8 @@
 //! IrradZ axis, I_z = I(N)); on a sphere probe with no surface it is the axis the encoder chose
 //! (see `fit`).
 
-use crate::math::sh::{delta_light, k, Rgb, Sh9};
+use crate::math::colour::Rgb;
+use crate::math::sh::{delta_light, k, Sh9};
 use glam::DVec3;
 use std::f64::consts::PI;
 

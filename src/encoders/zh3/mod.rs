@@ -48,7 +48,8 @@ use crate::encoders::quantise;
 use crate::encoders::zh3::solve::{
     self as zh3_solve, band2, zonal_fit, Curve, Formulation, SolverSettings, Target, Zonal,
 };
-use crate::math::sh::{Rgb, Sh9};
+use crate::math::colour::Rgb;
+use crate::math::sh::Sh9;
 use anyhow::{bail, Result};
 use glam::DVec3;
 
@@ -492,7 +493,7 @@ mod tests {
         let sh = delta_light(DVec3::new(0.1, 0.9, 0.3).normalize(), Rgb::new(1.0, 3.0, 0.5))
             + delta_light(DVec3::new(-0.8, 0.1, 0.2).normalize(), Rgb::new(4.0, 1.0, 2.0))
             + constant(Rgb::new(0.3, 0.2, 0.1));
-        let lum = Rgb::new(0.2126, 0.7152, 0.0722);
+        let lum = crate::math::colour::REC709;
         let l1 = |c: usize| DVec3::new(-sh[3][c], -sh[1][c], sh[2][c]);
         let axis = (l1(0) * lum.x + l1(1) * lum.y + l1(2) * lum.z).normalize();
         let f = fit("zh3_hallucinate", &sh);
@@ -516,7 +517,7 @@ mod tests {
     fn ratio_range() {
         let d = DVec3::new(-0.2, 0.4, 0.89).normalize();
         let irr = delta_light(d, Rgb::new(1.0, 2.0, 0.5)).convolve_cosine();
-        for rule in [AxisRule::Channel, AxisRule::Shared(Rgb::new(0.2126, 0.7152, 0.0722))] {
+        for rule in [AxisRule::Channel, AxisRule::Shared(crate::math::colour::REC709)] {
             let r = hallucinate(&irr, rule, Curve::PAPER).ratios();
             assert!((r - Rgb::splat(3f64.sqrt())).abs().max_element() < 1e-14, "{r}");
         }

@@ -29,7 +29,8 @@
 //! **Degenerate input.** Where u = 0 there is no axis: the zonal term is dropped (k = 0) and the
 //! gradient of the L2 part is taken as 0. A start with u = 0 is evaluated but not optimised.
 
-use crate::math::sh::{k as shk, Rgb, Sh9};
+use crate::math::colour::Rgb;
+use crate::math::sh::{k as shk, Sh9};
 use argmin::core::{CostFunction, Error, Executor, Gradient, State};
 use argmin::solver::linesearch::MoreThuenteLineSearch;
 use argmin::solver::quasinewton::LBFGS;
