@@ -44,6 +44,7 @@
 //! operator is `probe_unoccluded` and reports `no_normal=1`; with no declared cone the cone
 //! operators use the hemisphere about N (cos α = 0, C = N, visibility 1).
 
+use crate::encoders::lightmap::from_sh1::solve_channel;
 use crate::encoders::encoder::{named_weights, Encoder, FitInput, Fitted, Params};
 use crate::encoders::sh::ShIrradiance;
 use crate::math::colour::Rgb;
@@ -248,44 +249,28 @@ pub struct Hhd {
     pub d: DVec3,
 }
 
-/// What the closed-form solve had to repair.
+/// What the probe path had to repair after the closed form.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct HhdFlags {
-    /// The discriminant was negative (data not from a hemisphere light plus a delta): set to 0.
-    pub disc_clamped: bool,
     /// C_a fell outside [0, I_z] and was clamped, keeping I_z exact and d above the horizon.
     pub ca_clamped: bool,
 }
 
-/// HHD from the linear radiance SH (l₀, band-1 vector (−l₁,₁, −l₁,₋₁, l₁,₀)) of light over the
-/// hemisphere about N, in closed form (FORMULAS §8, the talk's "HHD and linear SH" slide):
-/// b_c = (2/√π)·l₀, b = (2/√π)·l₁/√3, I_z = b·N,
-/// C_a = ((2b_c − I_z) − √((2b_c − I_z)² − 3(b_c² − |b|²)))/3, C_d = |b − C_a·N|,
-/// d = (b − C_a·N)/C_d.
-///
-/// Minimal local copy for the probe path; the lightmap work (issue 4) has its own HHD solver
-/// and the two should be merged. Decisions where the slide is silent: a negative discriminant
-/// is taken as 0; C_a is clamped to [0, max(I_z, 0)] (so d·N ≥ 0 and b·N = I_z stays exact);
-/// C_d = 0 gives d = N.
-pub fn hhd_from_linear_sh(l0: f64, l1: DVec3, n: DVec3) -> (Hhd, HhdFlags) {
-    let s = 2.0 / PI.sqrt();
-    let bc = s * l0;
-    let b = l1 * (s / 3f64.sqrt());
-    let iz = b.dot(n);
-    let p = 2.0 * bc - iz;
-    let mut disc = p * p - 3.0 * (bc * bc - b.length_squared());
+/// The single-channel HHD of the probe path, from the linear radiance SH (l₀, band-1 vector
+/// (−l₁,₁, −l₁,₋₁, l₁,₀)) of light over the hemisphere about N: the talk's closed form
+/// ([`solve_channel`], FORMULAS §8), then C_d = |b − C_a·N|, d = (b − C_a·N)/C_d.
+/// Where the slide is silent: C_a is clamped to [0, max(I_z, 0)] (so d·N ≥ 0 and b·N = I_z
+/// stays exact); C_d = 0 gives d = N.
+pub fn clamped_hhd(l0: f64, l1: DVec3, n: DVec3) -> (Hhd, HhdFlags) {
+    let ch = solve_channel(l0, l1, n);
     let mut flags = HhdFlags::default();
-    if disc < 0.0 {
-        disc = 0.0;
-        flags.disc_clamped = true;
-    }
-    let mut ca = (p - disc.sqrt()) / 3.0;
-    let hi = iz.max(0.0);
+    let mut ca = ch.c_a;
+    let hi = ch.i_z.max(0.0);
     if !(0.0..=hi).contains(&ca) {
         ca = ca.clamp(0.0, hi);
         flags.ca_clamped = true;
     }
-    let v = b - n * ca;
+    let v = ch.b - n * ca;
     let cd = v.length();
     let d = if cd > 1e-300 { v / cd } else { n };
     (Hhd { ca, cd, d }, flags)
@@ -314,7 +299,7 @@ impl HhdLum {
     fn fit(lin: &Sh9, n: DVec3, w: Rgb) -> Self {
         let l0 = lin[0].dot(w);
         let l1 = lin.l1_vector_weighted(w);
-        let (hhd, flags) = hhd_from_linear_sh(l0, l1, n);
+        let (hhd, flags) = clamped_hhd(l0, l1, n);
         // I_z per channel from the same linear SH: b·N = (2/√(3π))·l₁·N.
         let to_iz = 2.0 / (3.0 * PI).sqrt();
         let iz = Rgb::new(lin.l1_vector(0).dot(n), lin.l1_vector(1).dot(n), lin.l1_vector(2).dot(n)) * to_iz;
@@ -331,9 +316,6 @@ impl Fitted for HhdLum {
     }
     fn diagnostics(&self) -> Vec<(&'static str, f64)> {
         let mut d = Vec::new();
-        if self.flags.disc_clamped {
-            d.push(("disc_clamped", 1.0));
-        }
         if self.flags.ca_clamped {
             d.push(("ca_clamped", 1.0));
         }
@@ -667,8 +649,8 @@ mod tests {
         }
     }
 
-    /// The HHD closed form round-trips: HHD → hemispherical linear SH → HHD (claim H6 on this
-    /// local copy), with the linear SH built from the hemisphere Gram and the delta's SH.
+    /// The probe path's HHD round-trips: HHD → hemispherical linear SH → HHD (claim H6 through
+    /// the clamped solve), with the linear SH built from the hemisphere Gram and the delta's SH.
     #[test]
     fn hhd_round_trip() {
         let mut rng = Rng::new(12);
@@ -681,8 +663,8 @@ mod tests {
             let (ca, cd) = (rng.next().abs() * 2.0, rng.next().abs() * 3.0);
             let hemi = multiply(&constant(Rgb::splat(ca)), &rotated_gram(0.0, n));
             let sh = hemi + crate::math::sh::delta_light(d, Rgb::splat(PI * cd));
-            let (got, flags) = hhd_from_linear_sh(sh[0].x, sh.l1_vector(0), n);
-            assert!(!flags.disc_clamped && !flags.ca_clamped, "{flags:?}");
+            let (got, flags) = clamped_hhd(sh[0].x, sh.l1_vector(0), n);
+            assert!(!flags.ca_clamped, "{flags:?}");
             assert!((got.ca - ca).abs() < 1e-10 && (got.cd - cd).abs() < 1e-10, "{got:?} vs {ca} {cd}");
             if cd > 1e-6 {
                 assert!((got.d - d).length() < 1e-8);

@@ -26,22 +26,42 @@ use std::f64::consts::PI;
 
 use crate::math::colour::REC709;
 
+/// The closed form on one channel, before any clamping: the smaller root C_a, and b and I_z.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ChannelSolve {
+    /// ((2b_c − I_z) − √Δ)/3 with Δ = (b_c − 2I_z)² + 3|b⊥|² (rounding clamped at 0).
+    pub c_a: f64,
+    /// b = (2/√π)·(L1 vector)/√3 = C_a N + C_d d for an HHD.
+    pub b: DVec3,
+    /// I_z = b·N.
+    pub i_z: f64,
+}
+
+/// The talk's closed form for one channel of linear radiance SH: l₀ and the band-1 vector
+/// (−l₁,₁, −l₁,₋₁, l₁,₀), about the unit normal N. Every HHD-from-linear-SH fit in the crate
+/// goes through here: [`hhd_from_linear_sh`] per RGB channel, and the probe path's luminance
+/// HHD (`encoders::probe_occlusion`), which clamps C_a to [0, I_z].
+pub fn solve_channel(l0: f64, l1: DVec3, n: DVec3) -> ChannelSolve {
+    let s = 2.0 / PI.sqrt();
+    let b_c = s * l0;
+    let b = l1 * (s / 3f64.sqrt());
+    let i_z = b.dot(n);
+    let b_perp = b - n * i_z;
+    let disc = ((b_c - 2.0 * i_z).powi(2) + 3.0 * b_perp.length_squared()).max(0.0);
+    ChannelSolve { c_a: ((2.0 * b_c - i_z) - disc.sqrt()) / 3.0, b, i_z }
+}
+
 /// The HHD whose linear radiance SH is `sh` (bands 0–1 are read), about the unit normal N.
 pub fn hhd_from_linear_sh(sh: &Sh9, normal: DVec3) -> Model {
     let n = normal.normalize();
-    let s = 2.0 / PI.sqrt();
     let mut c_a = Rgb::ZERO;
     let mut resid = [DVec3::ZERO; 3];
     let mut dir = DVec3::ZERO;
     for c in 0..3 {
-        let b_c = s * sh[0][c];
-        let b = sh.l1_vector(c) * (s / 3f64.sqrt());
-        let i_z = b.dot(n);
-        let b_perp = b - n * i_z;
-        let disc = ((b_c - 2.0 * i_z).powi(2) + 3.0 * b_perp.length_squared()).max(0.0);
-        let ca = (((2.0 * b_c - i_z) - disc.sqrt()) / 3.0).max(0.0);
+        let ch = solve_channel(sh[0][c], sh.l1_vector(c), n);
+        let ca = ch.c_a.max(0.0);
         c_a[c] = ca;
-        resid[c] = b - n * ca;
+        resid[c] = ch.b - n * ca;
         dir += resid[c] * REC709[c];
     }
     let d = dir.try_normalize().filter(|d| d.is_finite()).unwrap_or(n);
