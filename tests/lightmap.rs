@@ -7,7 +7,7 @@ mod common;
 use common::*;
 use glam::DVec3;
 use probelab::encoders::encoder::Fitted;
-use probelab::encoders::lightmap::fit::{fit, solve, Colours, Direction, FitSpec, Gram, Target};
+use probelab::encoders::lightmap::fit::{fit, solve, Colours, Direction, FitSpec, FitTarget, Gram};
 use probelab::encoders::lightmap::lune::{Angle, Moments};
 use probelab::encoders::lightmap::{linear_sh_of, Basis, Model};
 use probelab::math::colour::Rgb;
@@ -117,7 +117,7 @@ struct Exact {
     tau_l: f64,
 }
 
-impl Target for Exact {
+impl FitTarget for Exact {
     fn plain(&self) -> [Rgb; 2] {
         let l = DVec3::new(self.tau_l.sin(), 0.0, self.tau_l.cos());
         let amb = |p: i32| lune_integral(&[], &|n| 0.5 * (1.0 + n.z) * n.z.powi(p));
@@ -151,7 +151,7 @@ fn h2_ambient_plus_tilted_light_is_exactly_hhd() {
         let (amb, e) = (Rgb::new(0.3, 0.4, 0.5), Rgb::new(3.0, 2.0, 1.0));
         let target = Exact { a: amb, s: e / PI, tau_l: t };
         let i_z = input.exact_at_normal.unwrap();
-        let dom = probelab::encoders::lightmap::fit::Domain::new(Gram::Hemisphere);
+        let dom = probelab::encoders::lightmap::fit::FitDomain::new(Gram::Hemisphere);
         let g = Domain::Hemisphere { normal: DVec3::Z }.output_grid((256, 128));
         let truth = |v: DVec3| amb * (0.5 * (1.0 + v.z)) + e / PI * v.dot(DVec3::new(t.sin(), 0.0, t.cos())).max(0.0);
         let mut errs = Vec::new();

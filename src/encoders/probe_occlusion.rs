@@ -44,8 +44,8 @@
 //! operator is `probe_unoccluded` and reports `no_normal=1`; with no declared cone the cone
 //! operators use the hemisphere about N (cos α = 0, C = N, visibility 1).
 
-use crate::encoders::lightmap::from_sh1::solve_channel;
 use crate::encoders::encoder::{named_weights, Encoder, FitInput, Fitted, Params};
+use crate::encoders::lightmap::from_sh1::solve_channel;
 use crate::encoders::sh::ShIrradiance;
 use crate::math::colour::Rgb;
 use crate::math::gram::{axial_parts, multiply_full, multiply_to_linear, AxialGram, AxialParts};

@@ -33,11 +33,11 @@ use crate::envmap::search::SearchPath;
 use crate::envmap::{EnvMap, LatLong};
 use crate::math::colour::Rgb;
 use crate::pipeline::experiment::{Experiment, ExperimentFile};
-use crate::pipeline::runner::{cases, Case, CaseData, MapData};
+use crate::pipeline::runner::{cases, score_fit, Case, CaseData, MapData};
 use crate::pipeline::timing::median_ns_with;
 use crate::reference::domain::OutputGrid;
 use crate::reference::exact::Reference;
-use crate::reference::metrics::score;
+use crate::reference::metrics::{score, Metric};
 use anyhow::{bail, Context, Result};
 use rayon::prelude::*;
 use std::hint::black_box;
@@ -312,13 +312,13 @@ fn time_slow(mut f: impl FnMut()) -> f64 {
 }
 
 /// Runs a sweep on one in-memory map.
-pub fn run_map(sweep: &Sweep, map: &EnvMap) -> Result<Vec<SweepRow>> {
-    run_map_with(sweep, map, &|v| Ok(sweep.experiment_at(v)?.encoders))
+pub fn sweep_map(sweep: &Sweep, map: &EnvMap) -> Result<Vec<SweepRow>> {
+    sweep_map_with(sweep, map, &|v| Ok(sweep.experiment_at(v)?.encoders))
 }
 
-/// [`run_map`] with the encoders of an `encoder.KEY` value built by `encoders_at` (the
-/// registry, through [`Sweep::experiment_at`], in [`run_map`]).
-pub fn run_map_with(
+/// [`sweep_map`] with the encoders of an `encoder.KEY` value built by `encoders_at` (the
+/// registry, through [`Sweep::experiment_at`], in [`sweep_map`]).
+pub fn sweep_map_with(
     sweep: &Sweep,
     map: &EnvMap,
     encoders_at: &dyn Fn(&toml::Value) -> Result<Vec<crate::encoders::NamedEncoder>>,
@@ -402,8 +402,7 @@ pub fn run_map_with(
                     push(v, "reference", s, t, what, &converged_label, &res_label);
                     for named in &exp.encoders {
                         let fit = named.encoder.fit(&cd.fit_input());
-                        let test: Vec<Rgb> = grid.normals.par_iter().map(|&n| fit.irradiance(n)).collect();
-                        let s = score(&conv, &test, &grid.weights, false);
+                        let s = score_fit(named.encoder.as_ref(), fit.as_ref(), &grid, &conv, Metric::Exact);
                         let (t, timed) = if sweep.knob == Knob::RefResolution {
                             let t = crate::pipeline::timing::median_ns(|| {
                                 let sh = crate::reference::projection::project(input);
@@ -437,12 +436,16 @@ pub fn run_map_with(
                     // The reference is shared by every encoder: time it once.
                     let t_ref = time_slow(|| drop(black_box(cd.reference_on(&grid))));
                     for (named, fit) in exp.encoders.iter().zip(&fits) {
-                        let test: Vec<Rgb> = grid.normals.par_iter().map(|&n| fit.irradiance(n)).collect();
-                        let s = score(&values, &test, &grid.weights, false);
+                        let s = score_fit(named.encoder.as_ref(), fit.as_ref(), &grid, &values, Metric::Exact);
                         let t = t_ref
                             + time_slow(|| {
-                                let test: Vec<Rgb> = grid.normals.par_iter().map(|&n| fit.irradiance(n)).collect();
-                                black_box(score(&values, &test, &grid.weights, false));
+                                black_box(score_fit(
+                                    named.encoder.as_ref(),
+                                    fit.as_ref(),
+                                    &grid,
+                                    &values,
+                                    Metric::Exact,
+                                ));
                             });
                         let timed = format!("reference + encoder eval + score on {label} normals");
                         push(v, &named.name, s, t, timed, &exact_label, &label);
@@ -457,8 +460,7 @@ pub fn run_map_with(
                     let input = cd.fit_input();
                     for named in &encoders {
                         let fit = named.encoder.fit(&input);
-                        let test: Vec<Rgb> = grid.normals.par_iter().map(|&n| fit.irradiance(n)).collect();
-                        let s = score(&values, &test, &grid.weights, false);
+                        let s = score_fit(named.encoder.as_ref(), fit.as_ref(), &grid, &values, Metric::Exact);
                         let t = crate::pipeline::timing::median_ns(|| drop(black_box(named.encoder.fit(&input))));
                         push(v, &named.name, s, t, "fit".into(), &exact_label, &res_label);
                     }
@@ -478,7 +480,7 @@ pub fn run(sweep: &Sweep, search: &SearchPath) -> Result<(Vec<SweepRow>, Vec<Str
             continue;
         };
         let map = crate::envmap::load::load(&path)?;
-        rows.extend(run_map(sweep, &map)?);
+        rows.extend(sweep_map(sweep, &map)?);
     }
     Ok((rows, missing))
 }
@@ -574,7 +576,7 @@ mod tests {
         )
         .unwrap();
         let map = generated()[5].map(64);
-        let rows = run_map(&s, &map).unwrap();
+        let rows = sweep_map(&s, &map).unwrap();
         let refs: Vec<f64> = rows.iter().filter(|r| r.encoder == "reference").map(|r| r.rmse).collect();
         assert_eq!(refs.len(), 4);
         assert!(refs[0] > refs[1] && refs[1] > refs[2], "{refs:?}");
@@ -593,7 +595,7 @@ mod tests {
     fn ref_resolution_sweep_orders_errors() {
         let s = sweep("knob = 'ref_resolution'\nvalues = ['8x4', '32x16', 'full', '512x256']\nmaps = ['x']\nencoders = ['sh2']\nresolution = [32, 16]").unwrap();
         let map = generated()[3].map(128);
-        let rows = run_map(&s, &map).unwrap();
+        let rows = sweep_map(&s, &map).unwrap();
         let refs: Vec<(String, f64)> =
             rows.iter().filter(|r| r.encoder == "reference").map(|r| (r.value.clone(), r.rmse)).collect();
         assert_eq!(refs.len(), 3, "512x256 is larger than the map and skipped: {refs:?}");
@@ -605,14 +607,14 @@ mod tests {
     fn out_resolution_sweep_converges() {
         let s = sweep("knob = 'out_resolution'\nvalues = ['8x4', '32x16', '128x64']\nmaps = ['x']\nencoders = ['sh1']")
             .unwrap();
-        let rows = run_map(&s, &generated()[3].map(128)).unwrap();
+        let rows = sweep_map(&s, &generated()[3].map(128)).unwrap();
         let r: Vec<f64> = rows.iter().map(|r| r.rmse).collect();
         assert!((r[0] - r[2]).abs() > (r[1] - r[2]).abs(), "{r:?}");
         assert!(rows.iter().all(|r| r.encoder == "sh1"));
     }
 
     /// `encoder.KEY` through a test encoder with a setting: sweeping `bands` over 0, 1, 2
-    /// reproduces the sh0, sh1 and sh2 rows of `runner::run_map` exactly (the mechanism the
+    /// reproduces the sh0, sh1 and sh2 rows of `runner::sweep_map` exactly (the mechanism the
     /// ZH3/HHD settings use once registered).
     #[test]
     fn encoder_setting_sweep_reproduces_each_setting() {
@@ -642,7 +644,7 @@ mod tests {
         let direct: Vec<f64> = crate::pipeline::runner::run_map(&s.exp, &map).iter().map(|r| r.scores.rmse).collect();
         s.knob = Knob::EncoderKey("bands".into());
         s.values = (0..3).map(toml::Value::Integer).collect();
-        let rows = run_map_with(&s, &map, &build).unwrap();
+        let rows = sweep_map_with(&s, &map, &build).unwrap();
         assert_eq!(rows.len(), 3);
         for (r, want) in rows.iter().zip(&direct) {
             assert_eq!(r.encoder, "bands");

@@ -4,11 +4,11 @@
 //! Rec.709-weighted L1 vector, FORMULAS §4) or found by a golden-section search in its tilt θ
 //! from N at the L1 azimuth.
 //!
-//! **Target.** The L2 SH irradiance q (E/π) of the bake's visible radiance, a quadratic
+//! **FitTarget.** The L2 SH irradiance q (E/π) of the bake's visible radiance, a quadratic
 //! polynomial; every inner product of q and of the basis functions 1, H(n) = (1 + n·N)/2 and
 //! max(0, n·d) over the domain is a moment of degree ≤ 3 over the domain or its lune
 //! (`lune.rs`), so the fit has no quadrature. Any other target (e.g. an exact irradiance by
-//! quadrature, for the claims) enters through [`Target`].
+//! quadrature, for the claims) enters through [`FitTarget`].
 //!
 //! **Colours** for a fixed d, per channel:
 //! - `Free`: (C_a, C_d) minimising the error with C_a, C_d ≥ 0 (a two-variable NNLS: the
@@ -138,7 +138,7 @@ impl Frame {
 }
 
 /// The fit target's inner products over the domain D, in the tangent frame.
-pub trait Target {
+pub trait FitTarget {
     /// (∫_D q, ∫_D z·q).
     fn plain(&self) -> [Rgb; 2];
     /// ∫_D max(0, n·d)·q for d = (sin θ, 0, cos θ); `m` holds the moments of D ∩ {n·d ≥ 0}.
@@ -199,7 +199,7 @@ impl QuadraticTarget {
     }
 }
 
-impl Target for QuadraticTarget {
+impl FitTarget for QuadraticTarget {
     fn plain(&self) -> [Rgb; 2] {
         self.plain
     }
@@ -217,12 +217,12 @@ impl Target for QuadraticTarget {
 
 /// The fit domain's moments and its lune at a tilt.
 #[derive(Clone, Copy, Debug)]
-pub struct Domain {
+pub struct FitDomain {
     pub gram: Gram,
     pub moments: &'static Moments,
 }
 
-impl Domain {
+impl FitDomain {
     pub fn new(gram: Gram) -> Self {
         // Computed once (they depend on nothing).
         static HEMISPHERE: LazyLock<Moments> = LazyLock::new(Moments::hemisphere);
@@ -231,7 +231,7 @@ impl Domain {
             Gram::Hemisphere => &*HEMISPHERE,
             Gram::Sphere => &*SPHERE,
         };
-        Domain { gram, moments }
+        FitDomain { gram, moments }
     }
     #[inline]
     pub fn lune(&self, t: Angle) -> Moments {
@@ -252,7 +252,7 @@ pub struct Colour {
 }
 
 /// Solves the colours at tilt `t` (module docs).
-pub fn colours_at(spec: &FitSpec, domain: &Domain, target: &dyn Target, i_z: Rgb, t: Angle) -> Colour {
+pub fn colours_at(spec: &FitSpec, domain: &FitDomain, target: &dyn FitTarget, i_z: Rgb, t: Angle) -> Colour {
     let md = &domain.moments;
     let mc = domain.lune(t);
     let (s, c) = (t.sin, t.cos);
@@ -312,7 +312,7 @@ pub struct ThetaObjective {
 }
 
 impl ThetaObjective {
-    pub fn new(spec: &FitSpec, domain: &Domain, target: &QuadraticTarget, i_z: Rgb) -> Self {
+    pub fn new(spec: &FitSpec, domain: &FitDomain, target: &QuadraticTarget, i_z: Rgb) -> Self {
         let md = domain.moments;
         let plain = target.plain;
         let (gaa, ba) = match spec.basis {
@@ -506,7 +506,7 @@ const INV_PHI: f64 = 0.618_033_988_749_894_9;
 
 /// Chooses θ (linear or golden section, module docs) and solves the colours, for any target
 /// (each θ by [`colours_at`]).
-pub fn solve(spec: &FitSpec, domain: &Domain, target: &dyn Target, i_z: Rgb, theta_lin: f64) -> Solved {
+pub fn solve(spec: &FitSpec, domain: &FitDomain, target: &dyn FitTarget, i_z: Rgb, theta_lin: f64) -> Solved {
     let at = |th: f64| colours_at(spec, domain, target, i_z, Angle::new(th));
     solve_by(spec, theta_lin, |th| at(th).objective, at)
 }
@@ -630,7 +630,7 @@ pub fn fit(spec: &FitSpec, input: &FitInput) -> FitResult {
     } else {
         0.0
     };
-    let domain = Domain::new(gram);
+    let domain = FitDomain::new(gram);
     let target = QuadraticTarget::new(&sh, &frame, domain.moments);
     let i_z = match i_z_exact {
         Some(v) => scale.times(v),
@@ -753,7 +753,7 @@ mod tests {
                     let i_z = e.eval(n).abs();
                     for colours in [Colours::Free, Colours::IrradZ] {
                         let sp = spec(basis, gram, colours);
-                        let dom = Domain::new(gram);
+                        let dom = FitDomain::new(gram);
                         let target = QuadraticTarget::new(&e, &f, dom.moments);
                         let got = colours_at(&sp, &dom, &target, i_z, t);
                         for ch in 0..3 {
@@ -791,7 +791,7 @@ mod tests {
                 i_z[case % 3] = 0.0;
             }
             for gram in [Gram::Hemisphere, Gram::Sphere] {
-                let dom = Domain::new(gram);
+                let dom = FitDomain::new(gram);
                 let target = QuadraticTarget::new(&e, &f, dom.moments);
                 for basis in [Basis::Ahd, Basis::Hhd] {
                     for colours in [Colours::Free, Colours::IrradZ] {
@@ -853,7 +853,7 @@ mod tests {
             let theta_lin = (tl.x * tl.x + tl.y * tl.y).sqrt().atan2(tl.z);
             let i_z = sh.eval(n).max(Rgb::ZERO);
             for gram in [Gram::Hemisphere, Gram::Sphere] {
-                let dom = Domain::new(gram);
+                let dom = FitDomain::new(gram);
                 let target = QuadraticTarget::new(&sh, &frame, dom.moments);
                 for basis in [Basis::Ahd, Basis::Hhd] {
                     for colours in [Colours::Free, Colours::IrradZ] {
