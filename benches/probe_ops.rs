@@ -1,4 +1,4 @@
-//! Bench: the cost per shaded normal of each probe occlusion operator (issue 5), the currency
+//! Bench: the cost per shaded normal of each probe occlusion operator, the currency
 //! in which the hemispherical-lighting talk argues for HLSH. Each operator is measured twice,
 //! through the one `Encoder`/`Fitted` trait: the fit (once per surface normal N, amortised
 //! over the normals that share it) and the evaluation at one shaded normal n′. A per-pixel

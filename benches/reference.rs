@@ -1,5 +1,5 @@
 //! Bench: the exact reference for a 256×128 map at 256×128 output normals (target ≤ 0.1 s on
-//! the 2-core machine, issue 2), the general capped path (a cone-AO case, 4096 hemisphere
+//! the 2-core machine), the general capped path (a cone-AO case, 4096 hemisphere
 //! normals), and the SH projection of a 1024×512 map (target ≤ 5 ms).
 use criterion::{criterion_group, criterion_main, Criterion};
 use probelab::envmap::moments::RowMoments;

@@ -1,4 +1,4 @@
-//! Bench: the per-probe ZH3 axis solve (issue 3), `zh3_solved_shared` (one 9-variable solve)
+//! Bench: the per-probe ZH3 axis solve, `zh3_solved_shared` (one 9-variable solve)
 //! and `zh3_solved_channel` (three 3-variable solves), single thread, default settings
 //! (L-BFGS, More–Thuente, 5 starts).
 //!

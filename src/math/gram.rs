@@ -381,7 +381,7 @@ mod tests {
     }
 
     /// The world-space quadratic-to-linear multiply equals the full L2 multiply truncated to
-    /// bands 0–1, for random SH, random axes, and hemisphere and cones (issue 5 acceptance:
+    /// bands 0–1, for random SH, random axes, and hemisphere and cones (to
     /// 1e-9).
     #[test]
     fn quadratic_to_linear_equals_truncated_full_multiply() {

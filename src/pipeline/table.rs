@@ -1,5 +1,5 @@
 //! Result rows and their CSV form. Every row states its reference, domain, weighting,
-//! resolution and units. The first nine columns are fixed (issue 2); later columns are added
+//! resolution and units. The first nine columns are fixed; later columns are added
 //! after them.
 
 use crate::reference::metrics::Scores;

@@ -146,7 +146,7 @@ impl Provenance {
     /// The TOML text.
     pub fn to_toml(&self) -> Result<String> {
         Ok(format!(
-            "# How results/{}/table.csv was produced (written by probelab; see src/provenance.rs).\n{}",
+            "# How results/{}/table.csv was produced (written by probelab; see src/regression/provenance.rs).\n{}",
             self.experiment,
             toml::to_string(self).context("provenance: cannot serialise")?
         ))

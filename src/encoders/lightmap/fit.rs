@@ -1,4 +1,4 @@
-//! The AHD/HHD least-squares fits of issue 4 (2018 brief; hemispherical-lighting talk;
+//! The AHD/HHD least-squares fits (2018 brief; hemispherical-lighting talk;
 //! FORMULAS §7, §8): colours by least squares over the hemisphere about N (hemispherical Gram)
 //! or over the sphere (spherical Gram), for a direction d that is the optimal linear one (the
 //! Rec.709-weighted L1 vector, FORMULAS §4) or found by a golden-section search in its tilt θ

@@ -1,4 +1,4 @@
-//! Lightmap encodings of issue 4: the AHD and HHD models (FORMULAS §7, §8), their IrradZ
+//! Lightmap encodings: the AHD and HHD models (FORMULAS §7, §8), their IrradZ
 //! storage (2018 brief eq. 4–7), the talk's HHD-from-linear-SH closed form, and the fits
 //! (hemispherical and spherical Gram, linear or golden-section direction) that
 //! `encoders/ahd.rs` and `encoders/hhd.rs` wrap.
