@@ -18,10 +18,11 @@ use exr::prelude::{
 };
 use image::codecs::hdr::HdrDecoder;
 use image::{ImageDecoder, ImageError};
+use sha2::{Digest, Sha256};
 use std::any::Any;
 use std::cell::Cell;
 use std::fs::{self, File, OpenOptions};
-use std::io::{self, BufReader, BufWriter, Read, Seek, SeekFrom};
+use std::io::{self, BufReader, BufWriter, Cursor, Read, Seek, SeekFrom};
 use std::panic::{self, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
@@ -138,11 +139,10 @@ pub fn load(path: &Path) -> Result<EnvMap, LoadError> {
     if meta.len() == 0 {
         return Err(LoadError::Empty { path: path.to_path_buf() });
     }
-    let mut file = File::open(path).map_err(|e| io_err("open file", e))?;
-    let mut head = [0u8; 4];
-    let n = read_up_to(&mut file, &mut head).map_err(|e| io_err("read file", e))?;
-    let format = detect(path, &head[..n])?;
-    file.seek(SeekFrom::Start(0)).map_err(|e| io_err("seek in file", e))?;
+    // One read: the bytes are decoded from memory and hashed (the map's identity in provenance).
+    let bytes = fs::read(path).map_err(|e| io_err("read file", e))?;
+    let mut file = Cursor::new(bytes.as_slice());
+    let format = detect(path, &bytes[..bytes.len().min(4)])?;
     let (width, height, texels) = match format {
         Format::Exr => read_exr(path, &mut file, meta.len())?,
         Format::Hdr => read_hdr(path, &mut file, meta.len())?,
@@ -151,6 +151,7 @@ pub fn load(path: &Path) -> Result<EnvMap, LoadError> {
     let mut map =
         EnvMap::new(name, width, height, texels).map_err(|cause| LoadError::Map { path: path.to_path_buf(), cause })?;
     map.path = Some(path.to_path_buf());
+    map.sha256 = Some(Sha256::digest(&bytes).iter().map(|b| format!("{b:02x}")).collect());
     Ok(map)
 }
 
@@ -229,20 +230,6 @@ fn create_temp_beside(path: &Path) -> Result<(PathBuf, File), WriteError> {
     })
 }
 
-/// Reads as many bytes as are available into `buf` (fewer only at end of file).
-fn read_up_to(r: &mut impl Read, buf: &mut [u8]) -> io::Result<usize> {
-    let mut n = 0;
-    while n < buf.len() {
-        match r.read(&mut buf[n..]) {
-            Ok(0) => break,
-            Ok(k) => n += k,
-            Err(e) if e.kind() == io::ErrorKind::Interrupted => {}
-            Err(e) => return Err(e),
-        }
-    }
-    Ok(n)
-}
-
 /// Identifies the format from the first (up to four) bytes of a file.
 fn detect(path: &Path, head: &[u8]) -> Result<Format, LoadError> {
     if head.starts_with(&EXR_MAGIC) {
@@ -304,10 +291,10 @@ impl<R: Seek> Seek for EofWatch<R> {
 }
 
 /// Rewinds `file` and wraps it in a buffered [`EofWatch`]; returns the reader and its flag.
-fn watched<'f>(
+fn watched<'f, R: Read + Seek>(
     path: &Path,
-    file: &'f mut File,
-) -> Result<(BufReader<EofWatch<&'f mut File>>, Arc<AtomicBool>), LoadError> {
+    file: &'f mut R,
+) -> Result<(BufReader<EofWatch<&'f mut R>>, Arc<AtomicBool>), LoadError> {
     file.seek(SeekFrom::Start(0)).map_err(|cause| LoadError::Io {
         path: path.to_path_buf(),
         action: "seek in file",
@@ -384,7 +371,7 @@ fn hdr_error(path: &Path, len: u64, hit_eof: bool, e: ImageError) -> LoadError {
 /// Reads an OpenEXR file: header first (validated by [`check_exr_header`]), then the
 /// pixels of the selected R, G, B channels as f32. Returns width, height and row-major
 /// texels (row 0 at the top of the data window).
-fn read_exr(path: &Path, file: &mut File, len: u64) -> Result<(usize, usize, Vec<Texel>), LoadError> {
+fn read_exr(path: &Path, file: &mut (impl Read + Seek), len: u64) -> Result<(usize, usize, Vec<Texel>), LoadError> {
     const FORMAT: &str = "OpenEXR";
     let (reader, hit_eof) = watched(path, file)?;
     let meta = guarded(path, FORMAT, || {
@@ -540,7 +527,7 @@ fn select_rgb(path: &Path, list: &[ChannelDescription]) -> Result<[usize; 3], Lo
 /// Reads a Radiance RGBE file with the `image` crate. The header (and so the size) is
 /// parsed and checked before the pixel buffer is allocated. Returns width, height and
 /// row-major texels (row 0 at the top).
-fn read_hdr(path: &Path, file: &mut File, len: u64) -> Result<(usize, usize, Vec<Texel>), LoadError> {
+fn read_hdr(path: &Path, file: &mut (impl Read + Seek), len: u64) -> Result<(usize, usize, Vec<Texel>), LoadError> {
     let (reader, hit_eof) = watched(path, file)?;
     let eof = || hit_eof.load(Ordering::Relaxed);
     guarded(path, "Radiance HDR", || {
@@ -571,6 +558,22 @@ fn read_hdr(path: &Path, file: &mut File, len: u64) -> Result<(usize, usize, Vec
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A loaded map carries the sha256 of its file's bytes (the provenance identity), and a
+    /// map built in memory carries none. The digest of the written file is taken here
+    /// independently of the loader's single read.
+    #[test]
+    fn loaded_map_carries_its_file_digest() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("two.exr");
+        let map = EnvMap::new("two", 4, 2, (0..8).map(|i| [i as f32, 0.5, 2.0]).collect()).unwrap();
+        assert_eq!(map.sha256, None);
+        write_exr(&path, &map).unwrap();
+        let want: String = Sha256::digest(std::fs::read(&path).unwrap()).iter().map(|b| format!("{b:02x}")).collect();
+        let back = load(&path).unwrap();
+        assert_eq!(back.sha256.as_deref(), Some(want.as_str()));
+        assert_eq!(want.len(), 64);
+    }
 
     #[test]
     fn guarded_turns_a_panic_into_an_error() {

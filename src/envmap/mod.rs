@@ -27,6 +27,8 @@ pub struct EnvMap {
     pub name: String,
     /// Where it was read from, if from a file.
     pub path: Option<PathBuf>,
+    /// The sha256 (hex) of the file it was read from, if from a file.
+    pub sha256: Option<String>,
     width: usize,
     height: usize,
     texels: Vec<Texel>,
@@ -78,7 +80,7 @@ impl EnvMap {
                 });
             }
         }
-        Ok(Self { name: name.into(), path: None, width, height, texels })
+        Ok(Self { name: name.into(), path: None, sha256: None, width, height, texels })
     }
 
     /// Builds a map by evaluating `f(i, j)` for every texel (row j, column i).

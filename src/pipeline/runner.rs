@@ -20,10 +20,9 @@ use crate::reference::domain::{frame_to, Domain, OutputGrid};
 use crate::reference::exact::Reference;
 use crate::reference::metrics::{score, Metric, Scores};
 use crate::reference::projection::{project, project_visible};
-use anyhow::{Context, Result};
+use anyhow::Result;
 use glam::DVec3;
 use rayon::prelude::*;
-use sha2::{Digest, Sha256};
 use std::path::PathBuf;
 
 /// One surface configuration to score: where n′ ranges and what light is visible.
@@ -163,24 +162,16 @@ pub fn run(exp: &Experiment, search: &SearchPath) -> Result<RunReport> {
             let _s = crate::pipeline::profile::span("decode");
             crate::envmap::load::load(&path)?
         };
-        let digest = {
-            let _s = crate::pipeline::profile::span("read + sha256");
-            Sha256::digest(std::fs::read(&path).with_context(|| format!("{}: cannot read", path.display()))?)
-        };
         maps.push(MapInfo {
             name: map.name.clone(),
             path: Some(path),
             width: map.width(),
             height: map.height(),
-            sha256: hex(&digest),
+            sha256: map.sha256.clone().unwrap_or_default(),
         });
         rows.extend(run_map(exp, &map));
     }
     Ok(RunReport { rows, maps, missing })
-}
-
-fn hex(b: &[u8]) -> String {
-    b.iter().map(|x| format!("{x:02x}")).collect()
 }
 
 /// Per-map data computed once and shared by every case: the row moments (for the reference

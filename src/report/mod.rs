@@ -218,13 +218,12 @@ pub fn generate(opts: &Options) -> Result<Generated> {
 
 fn map_use(root: &Path, search: &SearchPath, name: &str) -> Result<MapUse> {
     let path = search.resolve(name).map_err(|e| anyhow::anyhow!("{e}"))?;
-    let bytes = std::fs::read(&path).with_context(|| format!("{}: cannot read", path.display()))?;
     let map = crate::envmap::load::load(&path)?;
     Ok(MapUse {
         file: path.file_name().map(|f| f.to_string_lossy().into_owned()).unwrap_or_default(),
         dir: path.parent().map(|p| shown_dir(root, p)).unwrap_or_default(),
         size: format!("{}x{}", map.width(), map.height()),
-        sha256: crate::regression::provenance::sha256_hex(&bytes),
+        sha256: map.sha256.clone().unwrap_or_default(),
         used_by: Vec::new(),
     })
 }
