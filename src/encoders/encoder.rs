@@ -122,7 +122,7 @@ pub trait Fitted: Send + Sync {
     /// ∫ over the sphere of |E_fit(n) − E_ref(n)|² dω, summed over RGB, against the E/π SH3
     /// `reference`, when this fit has it in closed form: by default from [`Fitted::sh3`]
     /// (Parseval, Σ_i |c_i − r_i|²); zonal reconstructions override it (Funk–Hecke, e.g.
-    /// Geomerics). None: probe-set errors fall back to quadrature (`probeset.rs`).
+    /// Geomerics). None: probe-set errors fall back to quadrature (`pipeline::probeset::score`).
     fn sphere_sq_error(&self, reference: &Sh9) -> Option<f64> {
         let c = self.sh3()?;
         Some((0..crate::math::sh::N_SH).map(|i| (c[i] - reference[i]).length_squared()).sum())

@@ -1,6 +1,6 @@
 //! The one pseudo-random generator of the unit tests (xorshift64): deterministic inputs, the
 //! same on every machine. Test-only; the probe synthesiser has its own generator
-//! (`pipeline::probeset`), which is part of the product.
+//! (`pipeline::probeset::synth::SplitMix64`), which is part of the product.
 
 use crate::math::colour::Rgb;
 use crate::math::sh::Sh9;

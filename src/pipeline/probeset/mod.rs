@@ -1,0 +1,21 @@
+//! Probe sets at production scale: L2 SH radiance probes read from files or synthesised, scored
+//! by any registered encoder in fixed-size chunks (memory does not grow with the set), with
+//! mergeable statistics so a set can be split into shards on a batch engine.
+//!
+//! Shards (`shard`), probe files (`format`), the probe synthesiser (`synth`), the error of one
+//! probe and the scoring of a set (`score`), the mergeable state file (`state`), and the
+//! `probelab probes` / `probelab merge` commands (`command`).
+//!
+//! May use: `math`, `envmap`, `reference`, `encoders`, and `pipeline::table` and
+//! `pipeline::atomic`.
+
+pub mod command;
+pub mod format;
+pub mod score;
+pub mod shard;
+pub mod state;
+pub mod synth;
+
+pub use command::{command, merge_command, MergeArgs, ProbesArgs};
+pub use score::{probe_rmse, SphereRule, SUMMARY_TIMING_COLUMNS};
+pub use synth::Synth;
