@@ -70,8 +70,8 @@ impl Sh9 {
     pub fn eval(&self, d: DVec3) -> Rgb {
         let y = basis(d);
         let mut acc = Rgb::ZERO;
-        for i in 0..N_SH {
-            acc += self.0[i] * y[i];
+        for (c, yi) in self.0.iter().zip(y) {
+            acc += *c * yi;
         }
         acc
     }
@@ -114,8 +114,8 @@ impl Sh9 {
 
     /// Sets one channel from nine scalars.
     pub fn set_channel(&mut self, c: usize, v: &[f64; N_SH]) {
-        for i in 0..N_SH {
-            self.0[i][c] = v[i];
+        for (coeff, &x) in self.0.iter_mut().zip(v) {
+            coeff[c] = x;
         }
     }
 
@@ -170,6 +170,7 @@ pub fn constant(c: Rgb) -> Sh9 {
 }
 
 #[cfg(test)]
+#[allow(clippy::needless_range_loop)] // Gram matrices are indexed by (a, b)
 mod tests {
     use super::*;
     use crate::math::convention::direction;

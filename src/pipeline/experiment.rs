@@ -420,7 +420,7 @@ pub fn list_experiments(dir: &Path) -> Result<Vec<PathBuf>> {
 pub fn parse_resolution(s: &str) -> Result<(usize, usize)> {
     let (w, h) = s.split_once('x').with_context(|| format!("resolution '{s}': expected WxH, e.g. 256x128"))?;
     let (w, h): (usize, usize) = (w.parse()?, h.parse()?);
-    if w != 2 * h || h < 2 || h > 4096 {
+    if w != 2 * h || !(2..=4096).contains(&h) {
         bail!("resolution '{s}': expected W = 2H with 2 <= H <= 4096");
     }
     Ok((w, h))

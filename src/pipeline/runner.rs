@@ -293,6 +293,10 @@ fn fill_timing(exp: &Experiment, data: &MapData, cases: &[Case], rows: &mut [Vec
     }
 }
 
+/// One metric's output grid: its resolution, whether it covers the sphere, the grid, and the
+/// reference on it.
+type ScoredGrid = ((usize, usize), bool, OutputGrid, Vec<Rgb>);
+
 fn run_case(exp: &Experiment, data: &MapData, case: &Case) -> Vec<Row> {
     let map = data.map;
     let cd = {
@@ -307,7 +311,7 @@ fn run_case(exp: &Experiment, data: &MapData, case: &Case) -> Vec<Row> {
     };
     let mut rows = Vec::new();
     // One output grid (and one reference evaluation) per distinct metric grid.
-    let mut grids: Vec<((usize, usize), bool, OutputGrid, Vec<Rgb>)> = Vec::new();
+    let mut grids: Vec<ScoredGrid> = Vec::new();
     for metric in &exp.metrics {
         let (res, domain) = match metric.fixed_resolution() {
             Some(r) => (r, Domain::Sphere),

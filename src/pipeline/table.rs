@@ -110,7 +110,7 @@ pub fn to_csv(rows: &[Row]) -> Result<Vec<u8>> {
     for r in rows {
         w.write_record(r.fields())?;
     }
-    Ok(w.into_inner().map_err(|e| anyhow::anyhow!("csv: {e}"))?)
+    w.into_inner().map_err(|e| anyhow::anyhow!("csv: {e}"))
 }
 
 /// Writes the rows to `path` atomically.

@@ -165,7 +165,7 @@ pub fn project_visible(moments: &RowMoments, masks: &[Cap], polar_nodes: usize) 
             let uniform = !cut
                 && masks.iter().all(|m| {
                     let (s, c) = mid.sin_cos();
-                    matches!(m.arc(s, c), None) || matches!(m.arc(s, c), Some(a) if a.len >= std::f64::consts::TAU)
+                    m.arc(s, c).is_none() || matches!(m.arc(s, c), Some(a) if a.len >= std::f64::consts::TAU)
                 });
             if uniform {
                 let arcs = arcs_at(mid);
