@@ -6,8 +6,8 @@
 //!
 //! The rmse under each error sphere is the `exact` metric — solid-angle weighted over the
 //! case's output domain at the experiment's resolution — read from the experiment's table, or
-//! else computed here from the same [`CaseData`] and fit the runner scores, so it equals the
-//! table's figure.
+//! else scored here by the runner's one scoring step ([`score_fit`]) from the same
+//! [`CaseData`] and fit the runner scores, so it equals the table's figure.
 
 use super::canvas::{fill, paint_disc, CELL, PAPER};
 use super::csvfile::CsvTable;
@@ -19,15 +19,14 @@ use crate::envmap::EnvMap;
 use crate::math::colour::luminance;
 use crate::math::colour::Rgb;
 use crate::pipeline::experiment::Experiment;
-use crate::pipeline::runner::{cases, Case, CaseData, MapData};
+use crate::pipeline::runner::{cases, evaluate, score_fit, Case, CaseData, MapData};
 use crate::reference::domain::Domain;
-use crate::reference::metrics::{score, Scores};
+use crate::reference::metrics::{Metric, Scores};
 use crate::reference::view::{Disc, View};
 use anyhow::Result;
 use glam::DVec3;
 use image::RgbImage;
 use plotters::style::text_anchor::HPos;
-use rayon::prelude::*;
 
 /// Sphere diameter and the sheet's fixed measures, in pixels.
 pub const DISC: u32 = 96;
@@ -296,8 +295,8 @@ pub fn figures_from_table(t: &CsvTable, map: &str, case: &Case, names: &[String]
 /// The comparison sheet of an experiment on one map: its representative case, every encoder
 /// of the experiment through the trait, fitted from the case's [`CaseData`] exactly as the
 /// runner fits it. The figures under each row are the table's when `table` has them (the
-/// runner's rows), else computed here by the same scoring (the `exact` metric over the case's
-/// output grid).
+/// runner's rows), else scored here by the runner's [`score_fit`] (the `exact` metric over the
+/// case's output grid).
 /// The reference on the discs is evaluated exactly at every pixel's normal. (Interpolating
 /// it from the reference's fast lat-long path was tried: near the terminator of a small bright
 /// source the bilinear error reached 2.7% of the local value at 256x128 and 0.66% at 512x256,
@@ -316,14 +315,15 @@ pub fn experiment_sheet(exp: &Experiment, map: &EnvMap, table: Option<&CsvTable>
         Some(f) => (f, "table.csv"),
         None => {
             // The scored grid: the exact metric over the case's domain at the experiment's
-            // resolution, as the runner scores it.
+            // resolution, scored by the runner's own step.
             let grid = case.domain.output_grid(exp.resolution);
             let ref_grid = cd.reference_on(&grid);
-            let f = fitted
+            let f = exp
+                .encoders
                 .iter()
-                .map(|f| {
-                    let test: Vec<Rgb> = grid.normals.par_iter().with_min_len(256).map(|&n| f.irradiance(n)).collect();
-                    RowFigures::from(&score(&ref_grid, &test, &grid.weights, false))
+                .zip(&fitted)
+                .map(|(e, f)| {
+                    RowFigures::from(&score_fit(e.encoder.as_ref(), f.as_ref(), &grid, &ref_grid, Metric::Exact))
                 })
                 .collect();
             (f, "computed")
@@ -344,15 +344,7 @@ pub fn experiment_sheet(exp: &Experiment, map: &EnvMap, table: Option<&CsvTable>
     };
     let values: Vec<Vec<Vec<Rgb>>> = {
         let _s = crate::pipeline::profile::span("report: encoder eval (sheets)");
-        fitted
-            .iter()
-            .map(|f| {
-                discs
-                    .iter()
-                    .map(|d| d.normals.par_iter().with_min_len(256).map(|&n| f.irradiance(n)).collect())
-                    .collect()
-            })
-            .collect()
+        fitted.iter().map(|f| discs.iter().map(|d| evaluate(f.as_ref(), &d.normals)).collect()).collect()
     };
 
     let drawn: Vec<Rgb> = reference.iter().flatten().copied().collect();
