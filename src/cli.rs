@@ -270,8 +270,11 @@ pub fn main_with(cli: Cli) -> Result<i32> {
         }
         Command::Claims { set, out } if set == "lightmap" => {
             let dir = results(out).join(crate::claims::lightmap::OUTPUT_DIR);
+            // The claims layer measures (the strips as data); the report layer draws the
+            // strips; then every file is written, each atomically, after all are made.
             let report = crate::claims::lightmap::run(&search)?;
-            crate::claims::lightmap::write(&report, &dir)?;
+            let strips = crate::report::strip::pngs(&report.strips)?;
+            crate::claims::lightmap::write(&report, &strips, &dir)?;
             eprintln!("wrote {} (claims.csv, CLAIMS.md, fig2*.csv, blend*.csv, real_maps.csv)", dir.display());
             Ok(0)
         }

@@ -1,10 +1,10 @@
-//! End-to-end checks of `probelab report` (issue 6): on a scratch repository with small
+//! End-to-end checks of `probelab report`: on a scratch repository with small
 //! generated maps, every link of REPORT.md resolves, the pictures exist with the sizes their
 //! layout gives, charts appear for the CSV formats the report reads and are skipped (with a
 //! reason) where a column is absent; and the committed results/REPORT.md has no broken link.
 
 use probelab::report::markdown::{anchor, local_links};
-use probelab::report::render::{CELL_W, COLHEAD_H, HEADER_H, LABEL_W, MARGIN, MIN_W, ROW_H, VIEW_GAP};
+use probelab::report::sheet::{CELL_W, COLHEAD_H, HEADER_H, LABEL_W, MARGIN, MIN_W, ROW_H, VIEW_GAP};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -103,7 +103,7 @@ fn report_on_a_scratch_repository() {
     std::fs::copy(root.join("envmaps/gen_constant.exr"), res.join("a_sphere/not_a_picture.exr")).unwrap();
     // A stale sheet of a map the experiment no longer lists is removed; another picture (as
     // a blending strip would be) is linked.
-    let png = probelab::report::render::png_bytes(&image::RgbImage::new(2, 2)).unwrap();
+    let png = probelab::report::png::png_bytes(&image::RgbImage::new(2, 2)).unwrap();
     std::fs::write(res.join("a_sphere/sheet_old_map.png"), &png).unwrap();
     std::fs::write(res.join("a_sphere/blend_strip.png"), &png).unwrap();
 

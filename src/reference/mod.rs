@@ -1,8 +1,8 @@
 //! The reference layer: what an encoder is scored against. The exact irradiance of a
 //! piecewise-constant map at any normal, optionally under caps (`exact`); the exact SH
 //! projection of a map (`projection`); analytic lighting with closed-form irradiance and SH
-//! (`scenes`); the output grids a score is taken over (`domain`); and the error metrics
-//! (`metrics`).
+//! (`scenes`); the output grids a score is taken over (`domain`); the error metrics
+//! (`metrics`); and the views of the sphere of normals that pictures evaluate at (`view`).
 //!
 //! May use: `math`, `envmap`.
 
@@ -11,3 +11,4 @@ pub mod exact;
 pub mod metrics;
 pub mod projection;
 pub mod scenes;
+pub mod view;

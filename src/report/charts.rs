@@ -12,7 +12,8 @@
 //!   `rmse` may be empty; an optional `set` column gives one chart per lighting set.
 
 use super::csvfile::CsvTable;
-use super::render::{ensure_font, sig, FONT};
+use super::number::sig;
+use super::text::{ensure_font, FONT};
 use crate::math::colour::luminance;
 use crate::math::colour::Rgb;
 use anyhow::{anyhow, Result};
@@ -539,9 +540,9 @@ pub fn is_sweep(t: &CsvTable) -> bool {
     ["knob", "value", "rmse"].iter().all(|h| t.col(h).is_some())
 }
 
-/// Irradiance at N along t per blending method, and its rmse along t (lightmap blending, issue
-/// 4; the 2018 brief's Fig. 2). One chart per `set` value when that column exists. The caption
-/// gives each method's overshoot beyond both endpoints.
+/// Irradiance at N along t per blending method, and its rmse along t (the lightmap blending
+/// study; the 2018 brief's Fig. 2). One chart per `set` value when that column exists. The
+/// caption gives each method's overshoot beyond both endpoints.
 pub fn blend_charts(t: &CsvTable) -> Result<Vec<(String, Outcome)>> {
     let [tc, mc] = t.require(&["t", "method"])?[..] else { unreachable!() };
     // E/π at N as RGB (luminance taken here) or as a luminance already.

@@ -2,7 +2,7 @@
 //! tables, links relative to the report so that it renders on a git host.
 
 use super::csvfile::CsvTable;
-use super::render::sig;
+use super::number::sig;
 use anyhow::Result;
 
 /// The columns of a claims file (`results/*/claims.csv`), in this order.

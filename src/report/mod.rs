@@ -14,11 +14,26 @@
 //!
 //! Then the claims (`*/claims.csv`) and how the run was made (commit, date, settings, map
 //! checksums). Everything is written atomically; stale `sheet_*`/`chart_*` PNGs are removed.
+//!
+//! Files: `sheet` (comparison sheets of an experiment), `strip` (the lightmap study's blending
+//! strips, drawn from the claims layer's data), `charts` (plotters charts), `markdown` (tables
+//! and links), `csvfile` (CSV read by column name), `tone` (exposure, Reinhard, sRGB, the error
+//! colour scale), `number` (number formatting), `text` (font and labels), `canvas` (pixel
+//! painting), `png` (PNG encoding and atomic writing).
+//!
+//! May use everything below it: `math`, `envmap`, `reference`, `encoders`, `pipeline`,
+//! `claims`, `regression`.
 
+pub mod canvas;
 pub mod charts;
 pub mod csvfile;
 pub mod markdown;
-pub mod render;
+pub mod number;
+pub mod png;
+pub mod sheet;
+pub mod strip;
+pub mod text;
+pub mod tone;
 
 use crate::envmap::search::SearchPath;
 use crate::pipeline::experiment::{list_experiments, Experiment};
@@ -152,13 +167,13 @@ pub fn generate(opts: &Options) -> Result<Generated> {
                     let _s = crate::pipeline::profile::span("report: decode");
                     crate::envmap::load::load(&path)?
                 };
-                let (sheet, _) = render::experiment_sheet(exp, &map, table.as_ref())?;
+                let (sheet, _) = sheet::experiment_sheet(exp, &map, table.as_ref())?;
                 let name = format!("sheet_{}.png", file_safe(m));
                 let image = {
                     let _s = crate::pipeline::profile::span("report: draw");
                     sheet.draw()?
                 };
-                render::write_png(&dir.join(&name), &image)?;
+                png::write_png(&dir.join(&name), &image)?;
                 progress.log(format!("wrote {}", dir.join(&name).display()));
                 progress.inc();
                 Ok(name)
@@ -260,7 +275,7 @@ impl ChartsOut<'_> {
     fn put(&mut self, file: String, o: Outcome, alt: &str, from: Option<&str>, skip_label: Option<&str>) -> Result<()> {
         match o {
             Outcome::Drawn { image, caption } => {
-                render::write_png(&self.dir.join(&file), &image)?;
+                png::write_png(&self.dir.join(&file), &image)?;
                 let from = from.map(|f| format!(" (from [{f}]({}))", href(&rel(self.section, f)))).unwrap_or_default();
                 let _ = writeln!(self.md, "![{alt}]({})\n\n*{caption}{from}*\n", href(&rel(self.section, &file)));
                 self.made.push(file);

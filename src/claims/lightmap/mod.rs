@@ -2,9 +2,9 @@
 //! hemispherical-lighting talk 2024, directional-lightmap brief 2018), measured and written as
 //! `results/lightmap_study/` ([`OUTPUT_DIR`]) by `probelab claims lightmap`: `fig2.csv`, `fig2_summary.csv`
 //! (Fig. 2 in closed form, `fig2.rs`), `blend.csv`, `blend_summary.csv` (five blending pairs,
-//! `blend.rs`; `blend_strip_<pair>.png`, lit hemispheres along t per method), `real_maps.csv`
-//! (the five paper probes through the runner), `claims.csv` and
-//! `CLAIMS.md`.
+//! `blend.rs`), `real_maps.csv` (the five paper probes through the runner), `claims.csv` and
+//! `CLAIMS.md`; and `blend_strip_<pair>.png`, lit hemispheres along t per method, whose data
+//! this layer measures (`strip.rs`) and the report layer draws (the command does both).
 //!
 //! Unless a figure says otherwise it is E/π, the solid-angle RMSE over the hemisphere about N
 //! on 128×32 normals (the upper half of a 128×64 lat-long grid), against the exact occluded
@@ -15,6 +15,7 @@
 
 pub mod blend;
 pub mod fig2;
+pub mod strip;
 
 /// The folder under `results/` that `probelab claims lightmap` writes. (`results/lightmap_claims/`
 /// belongs to `experiments/lightmap_claims.toml`, the claims on the generated scenes.)
@@ -45,10 +46,14 @@ pub struct Claim {
     pub notes: String,
 }
 
-/// Everything `probelab claims lightmap` writes.
+/// Everything `probelab claims lightmap` measures: the claims, the data files, and the
+/// blending strips for the report layer to draw.
 pub struct Report {
     pub claims: Vec<Claim>,
+    /// (file name, bytes) of the CSVs.
     pub files: Vec<(String, Vec<u8>)>,
+    /// One blending strip per pair, in `blend::pairs` order.
+    pub strips: Vec<strip::BlendStrip>,
 }
 
 fn csv_bytes(header: &[&str], rows: impl IntoIterator<Item = Vec<String>>) -> Result<Vec<u8>> {
@@ -524,37 +529,6 @@ fn h5(blends: &[blend::BlendSummary]) -> Claim {
     }
 }
 
-/// The blending strip of one pair (issue 6): lit hemispheres along t = 0, 0.1, …, 1, the
-/// blended exact reference first, then each reconstruction of `blend::METHODS`.
-fn blend_strip(
-    pair: &blend::Pair,
-    bl: &blend::Blend,
-    strip: &[DVec3],
-    ref_a: &[Rgb],
-    ref_b: &[Rgb],
-) -> Result<Vec<u8>> {
-    use crate::report::render::{blend_strip, png_bytes, BlendRow};
-    let ts: Vec<f64> = (0..=10).map(|i| i as f64 / 10.0).collect();
-    let mut rows = vec![BlendRow {
-        method: "reference".into(),
-        values: ts.iter().map(|&t| ref_a.iter().zip(ref_b).map(|(x, y)| *x * (1.0 - t) + *y * t).collect()).collect(),
-    }];
-    for m in blend::METHODS {
-        rows.push(BlendRow {
-            method: m.into(),
-            values: ts
-                .iter()
-                .map(|&t| {
-                    let f = bl.method(m, t);
-                    strip.iter().map(|&n| f(n)).collect()
-                })
-                .collect(),
-        });
-    }
-    let title = format!("blending {}: {}", pair.id, pair.description);
-    png_bytes(&blend_strip(&title, pair.normal, pair.normal_label, &ts, &rows)?)
-}
-
 /// Runs every study (the five paper probes must be on the search path).
 pub fn run(search: &SearchPath) -> Result<Report> {
     crate::pipeline::timing::set_enabled(false);
@@ -569,7 +543,7 @@ pub fn run(search: &SearchPath) -> Result<Report> {
     for pair in blend::pairs() {
         let grid = Domain::Hemisphere { normal: pair.normal }.output_grid(blend::GRID);
         // The scored grid, then the strip's normals (the reference there is drawn, not scored).
-        let strip = crate::report::render::strip_normals(pair.normal);
+        let strip = strip::strip_normals(pair.normal);
         let normals: Vec<DVec3> = grid.normals.iter().chain(&strip).copied().collect();
         let mut a = blend::bake(search, &pair.a, pair.normal, pair.normal_label, &normals)?;
         let mut b = blend::bake(search, &pair.b, pair.normal, pair.normal_label, &normals)?;
@@ -578,7 +552,7 @@ pub fn run(search: &SearchPath) -> Result<Report> {
         let (r, s) = blend::study(&pair, &bl, &grid.normals, &grid.weights);
         rows.extend(r);
         sums.extend(s);
-        strips.push((format!("blend_strip_{}.png", pair.id), blend_strip(&pair, &bl, &strip, &strip_a, &strip_b)?));
+        strips.push(strip::blend_strip(&pair, &bl, &strip_a, &strip_b));
     }
     let context = ["exact occluded reference, blended linearly", "hemisphere about N", "solid-angle", "128x32", "E/pi"];
     files.push((
@@ -682,8 +656,7 @@ pub fn run(search: &SearchPath) -> Result<Report> {
         d1,
         d2,
     ];
-    files.extend(strips);
-    Ok(Report { claims, files })
+    Ok(Report { claims, files, strips })
 }
 
 /// claims.csv.
@@ -740,9 +713,11 @@ pub fn to_markdown(claims: &[Claim]) -> String {
     s
 }
 
-/// Writes every file of the report into `dir`, each atomically.
-pub fn write(r: &Report, dir: &Path) -> Result<()> {
-    for (name, bytes) in &r.files {
+/// Writes every file of the report into `dir`, each atomically: the data files, then
+/// `pictures` ((file name, bytes): the drawn strips, drawn before anything is written), then
+/// `claims.csv` and `CLAIMS.md`.
+pub fn write(r: &Report, pictures: &[(String, Vec<u8>)], dir: &Path) -> Result<()> {
+    for (name, bytes) in r.files.iter().chain(pictures) {
         crate::pipeline::atomic::write(&dir.join(name), bytes)?;
     }
     crate::pipeline::atomic::write(&dir.join("claims.csv"), &to_csv(&r.claims)?)?;
