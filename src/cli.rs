@@ -1,5 +1,8 @@
 //! The command line: a thin layer over the library. IO happens here and in `runner`/`atomic`.
 
+// clap prints the argument docs as --help, where <root>, <name> and <out> are placeholders.
+#![allow(rustdoc::invalid_html_tags)]
+
 use crate::encoders;
 use crate::envmap::search::SearchPath;
 use crate::pipeline::experiment::{list_experiments, DomainKind, Effect, Experiment};

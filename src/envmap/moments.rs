@@ -217,10 +217,10 @@ impl RowMoments {
         out
     }
 
-    /// [`Self::cumulative_to`] with `max_m` = 1, the clamped-cosine kernel's case, with less
+    /// `cumulative_to` with `max_m` = 1, the clamped-cosine kernel's case, with less
     /// work: no wrap division inside the first period, truncation instead of `floor` for the
     /// (non-negative) texel index, no m = 2 terms, and the partial texel's sin x and 1 − cos x
-    /// by [`sin_versin`] (the same values to an ulp or two).
+    /// by `sin_versin` (the same values to an ulp or two).
     #[inline]
     pub fn cumulative01(&self, j: usize, theta: f64) -> Moments01 {
         let w = self.width as f64;

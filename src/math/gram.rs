@@ -2,10 +2,10 @@
 //! world-space form of a visibility multiply that is symmetric about an axis.
 //!
 //! - **Gram matrices** (FORMULAS §9, derived there; every entry is re-derived by quadrature in
-//!   the tests): G[i,k] = ∫_{ω·z > c} Y_i Y_k dω for the cone of cos α = c about +z. c = 0 is
+//!   the tests): G\[i,k\] = ∫_{ω·z > c} Y_i Y_k dω for the cone of cos α = c about +z. c = 0 is
 //!   the hemisphere, c = −1 the sphere (identity).
 //! - **Multiply** (FORMULAS §9): the L2 projection of (radiance × visibility) has coefficients
-//!   out_k = Σ_i f_i·G[i,k], with G rotated to the visibility's axis.
+//!   out_k = Σ_i f_i·G\[i,k\], with G rotated to the visibility's axis.
 //! - **Rotation**: band 1 is a vector, band 2 a traceless quadratic form ω·Mω, so rotating an
 //!   SH is b → Rb, M → RMRᵀ (exact; no sampled inverse).
 //! - **World-space multiply without rotation** (the hemispherical-lighting talk's quadratic-to-
@@ -54,8 +54,8 @@ pub fn cone_gram(c: f64) -> Mat9 {
     g
 }
 
-/// The Gram matrix over the hemisphere z ≥ 0 (FORMULAS §9): ½·I plus G[0,2] = √3/4,
-/// G[1,5] = G[3,7] = 3√5/16, G[2,6] = √15/16.
+/// The Gram matrix over the hemisphere z ≥ 0 (FORMULAS §9): ½·I plus G\[0,2\] = √3/4,
+/// G\[1,5\] = G\[3,7\] = 3√5/16, G\[2,6\] = √15/16.
 pub fn hemisphere_gram() -> Mat9 {
     cone_gram(0.0)
 }
@@ -97,7 +97,7 @@ pub fn rotate(f: &Sh9, r: DMat3) -> Sh9 {
     out
 }
 
-/// The matrix D of [`rotate`]: rotate(f, r)_i = Σ_j D[i][j]·f_j. Equivalently Y(Rω) = D·Y(ω);
+/// The matrix D of [`rotate`]: rotate(f, r)_i = Σ_j D\[i\]\[j\]·f_j. Equivalently Y(Rω) = D·Y(ω);
 /// D is orthogonal and block diagonal by band.
 pub fn rotation_matrix(r: DMat3) -> Mat9 {
     let mut d = [[0.0; N_SH]; N_SH];
@@ -118,7 +118,7 @@ pub fn frame_from_z(axis: DVec3) -> DMat3 {
     DMat3::from_quat(DQuat::from_rotation_arc(DVec3::Z, axis.normalize()))
 }
 
-/// out_k = Σ_i f_i·G[i,k]: the L2 projection of (f × the cap whose Gram is G), FORMULAS §9.
+/// out_k = Σ_i f_i·G\[i,k\]: the L2 projection of (f × the cap whose Gram is G), FORMULAS §9.
 pub fn multiply(f: &Sh9, g: &Mat9) -> Sh9 {
     let mut out = Sh9::ZERO;
     for (kk, o) in out.0.iter_mut().enumerate() {
@@ -220,8 +220,8 @@ impl AxialGram {
 /// whose axial Gram is `g`, about `parts.axis`, with no SH rotation. Equals
 /// [`multiply_full`] truncated to the linear band (tested to 1e-9).
 ///
-/// out₀ = Σ_j G⁰[0][j]·zonal_j; the output band-1 vector is
-/// (Σ_j G⁰[1][j]·zonal_j)·A + G¹[0][0]·b⊥ + G¹[0][1]·q⊥.
+/// out₀ = Σ_j G⁰\[0\]\[j\]·zonal_j; the output band-1 vector is
+/// (Σ_j G⁰\[1\]\[j\]·zonal_j)·A + G¹\[0\]\[0\]·b⊥ + G¹\[0\]\[1\]·q⊥.
 pub fn multiply_to_linear(parts: &AxialParts, g: &AxialGram) -> Sh9 {
     let mut out = Sh9::ZERO;
     let z = &parts.zonal;

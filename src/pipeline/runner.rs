@@ -29,7 +29,7 @@ use std::path::PathBuf;
 #[derive(Clone, Debug)]
 pub struct Case {
     pub domain: Domain,
-    /// "sphere" or "hemisphere:<orientation>" (or "sphere@<orientation>" for a sphere domain
+    /// `sphere` or `hemisphere:<orientation>` (or `sphere@<orientation>` for a sphere domain
     /// with effects about N).
     pub domain_label: String,
     pub orientation_set: String,

@@ -487,6 +487,7 @@ pub fn run(sweep: &Sweep, search: &SearchPath) -> Result<(Vec<SweepRow>, Vec<Str
 
 /// `probelab sweep`.
 #[derive(clap::Args, Debug)]
+#[allow(rustdoc::invalid_html_tags)] // clap prints these docs as --help; <root> is a placeholder
 pub struct SweepArgs {
     /// Sweep files (default: every experiments/sweeps/*.toml, skipping those with missing maps).
     pub files: Vec<PathBuf>,

@@ -5,8 +5,8 @@
 //!
 //! | key        | type     | default      | meaning |
 //! |------------|----------|--------------|---------|
-//! | `columns`  | [string] | every column | column names; one `*` matches any run of characters (`"*_ns"`, `"diagnostics.*"`) |
-//! | `encoders` | [string] | every kind   | encoder kinds (registry ids, not table names) |
+//! | `columns`  | list of strings | every column | column names; one `*` matches any run of characters (`"*_ns"`, `"diagnostics.*"`) |
+//! | `encoders` | list of strings | every kind   | encoder kinds (registry ids, not table names) |
 //! | `class`    | string   | either       | `"iterative"` or `"closed-form"` ([`crate::encoders::encoder::Encoder::is_iterative`]) |
 //! | `rel`      | float    | (unchanged)  | relative tolerance |
 //! | `abs`      | float    | (unchanged)  | absolute tolerance, in the column's units |

@@ -154,7 +154,7 @@ const EVEN_Y: [usize; 7] = [0, 1, 3, 4, 5, 6, 8];
 /// The L2 SH irradiance as a quadratic polynomial in tangent coordinates.
 #[derive(Clone, Copy, Debug)]
 pub struct QuadraticTarget {
-    /// Coefficients of [`MONO`], RGB.
+    /// Coefficients of the monomials `MONO`, RGB.
     pub coef: [Rgb; 10],
     plain: [Rgb; 2],
 }

@@ -16,7 +16,7 @@
 //! so the moment separates: ∫ x^a y^b z^c = Y(a + c, b)·A(a, c) with
 //! Y(k, b) = ∫₋₁¹ (1 − y²)^{k/2} y^b dy (0 for odd b; Y(0,0) = 2, Y(0,2) = 2/3, Y(1,0) = π/2,
 //! Y(1,2) = π/8, Y(2,0) = 4/3, Y(3,0) = 3π/8) and A(a, c) = ∫_{α₀}^{α₁} cos^a α sin^c α dα from
-//! the antiderivatives in [`antiderivatives`].
+//! the antiderivatives in `antiderivatives`.
 
 use std::f64::consts::PI;
 
@@ -89,13 +89,13 @@ fn kernel_cos(x: f64) -> f64 {
     w + (((1.0 - w) - hz) + z * r)
 }
 
-/// Moments m[a][b][c] = ∫ x^a y^b z^c over a region α ∈ [α₀, α₁] (module docs), a + b + c ≤ 3.
+/// Moments m\[a\]\[b\]\[c\] = ∫ x^a y^b z^c over a region α ∈ [α₀, α₁] (module docs), a + b + c ≤ 3.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Moments {
     pub m: [[[f64; 4]; 4]; 4],
 }
 
-/// The angular integrals A(a, c) = ∫_{α₀}^{α₁} cos^a α sin^c α dα (a + c ≤ 3, indexed [a][c],
+/// The angular integrals A(a, c) = ∫_{α₀}^{α₁} cos^a α sin^c α dα (a + c ≤ 3, indexed \[a\]\[c\],
 /// zero elsewhere) of a region (module docs): its moments are Y(a + c, b)·A(a, c). The fits'
 /// inner loop needs only these ten numbers per tilt.
 #[derive(Clone, Copy, Debug, Default)]
@@ -103,7 +103,7 @@ pub struct Angular(pub [[f64; 4]; 4]);
 
 impl Angular {
     /// Hemisphere ∩ {n·d ≥ 0}, d tilted by θ ∈ [0, π]: α ∈ [0, β], β = π − θ, with
-    /// sin β = sin θ, cos β = −cos θ, written out from [`antiderivatives`].
+    /// sin β = sin θ, cos β = −cos θ, written out from `antiderivatives`.
     #[inline]
     pub fn hemisphere_lune(theta: Angle) -> Self {
         const THIRD: f64 = 1.0 / 3.0;
@@ -137,7 +137,7 @@ impl Angular {
 }
 
 /// The angular-integral pairs of the clamped-cosine integrals [`Clamped`]:
-/// g_i = sin θ·A(CLAMPED_PAIRS[i].0) + cos θ·A(CLAMPED_PAIRS[i].1).
+/// g_i = sin θ·A(CLAMPED_PAIRS\[i\].0) + cos θ·A(CLAMPED_PAIRS\[i\].1).
 pub const CLAMPED_PAIRS: [((usize, usize), (usize, usize)); 6] =
     [((1, 0), (0, 1)), ((2, 0), (1, 1)), ((1, 1), (0, 2)), ((3, 0), (2, 1)), ((1, 2), (0, 3)), ((2, 1), (1, 2))];
 
@@ -170,7 +170,7 @@ impl Clamped {
     }
 }
 
-/// Antiderivatives F(a, c)(α) of cos^a α sin^c α for a + c ≤ 3, indexed [a][c].
+/// Antiderivatives F(a, c)(α) of cos^a α sin^c α for a + c ≤ 3, indexed \[a\]\[c\].
 fn antiderivatives(t: Angle) -> [[f64; 4]; 4] {
     let (a, s, c) = (t.a, t.sin, t.cos);
     let s2c = 2.0 * s * c; // sin 2α
@@ -205,7 +205,7 @@ impl Moments {
             for c in 0..4 - a {
                 let ac = f1[a][c] - f0[a][c];
                 for b in (0..4 - a - c).step_by(2) {
-                    m[a][b][c] = Y_INT[a + c][b] * ac;
+                    m\[a\]\[b\]\[c\] = Y_INT[a + c][b] * ac;
                 }
             }
         }
@@ -252,7 +252,7 @@ impl Moments {
 
     #[inline]
     pub fn get(&self, a: usize, b: usize, c: usize) -> f64 {
-        self.m[a][b][c]
+        self.m\[a\]\[b\]\[c\]
     }
 }
 
@@ -356,7 +356,7 @@ mod tests {
                 for a in 0..4 {
                     for b in 0..4 {
                         for c in 0..4 {
-                            assert!((g.m[a][b][c] - h.m[a][b][c]).abs() < 1e-14, "{name} θ={th} [{a}{b}{c}]");
+                            assert!((g.m\[a\]\[b\]\[c\] - h.m\[a\]\[b\]\[c\]).abs() < 1e-14, "{name} θ={th} [{a}{b}{c}]");
                         }
                     }
                 }
