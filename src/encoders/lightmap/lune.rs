@@ -205,7 +205,7 @@ impl Moments {
             for c in 0..4 - a {
                 let ac = f1[a][c] - f0[a][c];
                 for b in (0..4 - a - c).step_by(2) {
-                    m\[a\]\[b\]\[c\] = Y_INT[a + c][b] * ac;
+                    m[a][b][c] = Y_INT[a + c][b] * ac;
                 }
             }
         }
@@ -252,7 +252,7 @@ impl Moments {
 
     #[inline]
     pub fn get(&self, a: usize, b: usize, c: usize) -> f64 {
-        self.m\[a\]\[b\]\[c\]
+        self.m[a][b][c]
     }
 }
 
@@ -356,7 +356,7 @@ mod tests {
                 for a in 0..4 {
                     for b in 0..4 {
                         for c in 0..4 {
-                            assert!((g.m\[a\]\[b\]\[c\] - h.m\[a\]\[b\]\[c\]).abs() < 1e-14, "{name} θ={th} [{a}{b}{c}]");
+                            assert!((g.m[a][b][c] - h.m[a][b][c]).abs() < 1e-14, "{name} θ={th} [{a}{b}{c}]");
                         }
                     }
                 }
