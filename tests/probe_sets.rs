@@ -114,7 +114,10 @@ fn bad_probe_files_exit_2_naming_the_file() {
 /// The GNU parallel recipe of the README, run as written (with a smaller set); its merge
 /// equals one run.
 #[test]
-#[cfg_attr(not(gnu_parallel), ignore = "needs GNU parallel on PATH (Debian package `parallel`)")]
+#[cfg_attr(
+    not(gnu_parallel),
+    ignore = "needs GNU parallel on PATH (Debian package `parallel`; once installed, `touch build.rs`)"
+)]
 fn readme_gnu_parallel_recipe() {
     let readme = std::fs::read_to_string(repo().join("README.md")).unwrap();
     let block = readme.split("<!-- recipe:parallel -->").nth(1).unwrap().split("<!-- /recipe -->").next().unwrap();

@@ -20,7 +20,8 @@ pub fn shared_envmaps(maps: &[&str]) -> String {
     let value = std::env::var("PROBELAB_ENVMAPS").unwrap_or_default();
     assert!(
         !value.is_empty(),
-        "this test needs the shared maps (it runs because CI is set): set PROBELAB_ENVMAPS to the folder holding them"
+        "this test needs the shared maps (it runs because PROBELAB_ENVMAPS or CI was set when it was built): \
+         set PROBELAB_ENVMAPS to the folder holding them"
     );
     let search = SearchPath::new(std::env::split_paths(&value).filter(|p| !p.as_os_str().is_empty()).collect());
     let missing: Vec<String> = maps.iter().filter_map(|m| search.resolve(m).err()).map(|e| e.to_string()).collect();
