@@ -1,4 +1,4 @@
-//! The bad-input corpus (issue 8): `tests/bad_inputs/` holds one small file per kind of bad map,
+//! The bad-input corpus: `tests/bad_inputs/` holds one small file per kind of bad map,
 //! written by [`generate`] below. Every one must make the `probelab` binary exit with code 2,
 //! print an error naming the file and the fault, never panic, write no partial output, and
 //! leave existing results byte-identical. A few kinds cannot live in git (a FIFO, a symlink
@@ -10,17 +10,15 @@
 //! Experiment files get the same treatment: unknown encoder, unknown effect, missing map,
 //! malformed TOML, each pointing at the line.
 
+mod common;
+
+use common::harness::{repo, snapshot, Scratch};
 use exr::prelude::*;
 use probelab::envmap::load::write_exr;
 use probelab::envmap::EnvMap;
-use std::collections::BTreeMap;
 use std::fs;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn repo() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
+use std::process::Output;
 
 fn corpus_dir() -> PathBuf {
     repo().join("tests").join("bad_inputs")
@@ -276,9 +274,12 @@ fn kinds() -> Vec<Kind> {
     ]
 }
 
+/// A fuzz seed: its file name and how it is made.
+type Seed = (&'static str, fn(&Path));
+
 /// Small valid maps: the fuzz seeds of the map loader (`fuzz/seeds/map_loader/`), one per
 /// encoding the loader accepts, so mutations start from every decoder path.
-fn seeds() -> Vec<(&'static str, fn(&Path))> {
+fn seeds() -> Vec<Seed> {
     vec![
         ("zip_f32_8x4.exr", |p| write_exr(p, &good_map(8)).unwrap()),
         ("plain_f32_8x4.exr", |p| {
@@ -337,24 +338,6 @@ fn generate(dir: &Path) {
     }
 }
 
-/// Every file under `dir` (recursively) with its bytes.
-fn snapshot(dir: &Path) -> BTreeMap<PathBuf, Vec<u8>> {
-    let mut out = BTreeMap::new();
-    let mut stack = vec![dir.to_path_buf()];
-    while let Some(d) = stack.pop() {
-        let Ok(entries) = fs::read_dir(&d) else { continue };
-        for e in entries.flatten() {
-            let p = e.path();
-            if p.is_dir() {
-                stack.push(p);
-            } else {
-                out.insert(p.strip_prefix(dir).unwrap().to_path_buf(), fs::read(&p).unwrap_or_default());
-            }
-        }
-    }
-    out
-}
-
 #[test]
 fn fuzz_seeds_are_current_and_load() {
     if std::env::var_os("PROBELAB_REGEN_BAD_INPUTS").is_some() {
@@ -393,40 +376,16 @@ fn corpus_is_current() {
     }
 }
 
-/// A scratch repository root: envmaps/good.exr, results/ with an existing table, and an
+/// A scratch repository: envmaps/good.exr, results/ with an existing table, and an empty
 /// experiments/ folder.
-struct Root {
-    dir: tempfile::TempDir,
-}
-
-impl Root {
-    fn new() -> Self {
-        let dir = tempfile::tempdir().unwrap();
-        fs::create_dir_all(dir.path().join("envmaps")).unwrap();
-        write_exr(&dir.path().join("envmaps/good.exr"), &good_map(16)).unwrap();
-        for (name, text) in [("old", "map,encoder\nold,sh1\n"), ("good_and_bad", "map,encoder\nprevious,sh2\n")] {
-            let d = dir.path().join("results").join(name);
-            fs::create_dir_all(&d).unwrap();
-            fs::write(d.join("table.csv"), text).unwrap();
-        }
-        fs::create_dir_all(dir.path().join("experiments")).unwrap();
-        Root { dir }
-    }
-    fn path(&self) -> &Path {
-        self.dir.path()
-    }
-    fn results(&self) -> BTreeMap<PathBuf, Vec<u8>> {
-        snapshot(&self.path().join("results"))
-    }
-    fn probelab(&self, args: &[&str]) -> Output {
-        Command::new(env!("CARGO_BIN_EXE_probelab"))
-            .arg("--root")
-            .arg(self.path())
-            .args(args)
-            .env_remove("PROBELAB_ENVMAPS")
-            .output()
-            .expect("run probelab")
-    }
+fn scratch_root() -> Scratch {
+    let root = Scratch::new();
+    fs::create_dir_all(root.path().join("envmaps")).unwrap();
+    write_exr(&root.path().join("envmaps/good.exr"), &good_map(16)).unwrap();
+    root.write("results/old/table.csv", "map,encoder\nold,sh1\n");
+    root.write("results/good_and_bad/table.csv", "map,encoder\nprevious,sh2\n");
+    fs::create_dir_all(root.path().join("experiments")).unwrap();
+    root
 }
 
 /// Checks a failed run: exit code 2, one `error:` naming `file` and every fault word, no panic
@@ -446,23 +405,23 @@ fn assert_clean_failure(out: &Output, file: &str, fault: &[&str], what: &str) {
 
 /// Runs `probelab eval <bad>` and `probelab run <experiment naming a good map, then the bad
 /// one>`; both must fail cleanly and leave results/ byte-identical.
-fn check_bad_map(root: &Root, bad: &Path, fault: &[&str]) {
+fn check_bad_map(root: &Scratch, bad: &Path, fault: &[&str]) {
     let name = bad.file_name().unwrap().to_str().unwrap();
-    let before = root.results();
-    let out = root.probelab(&["eval", bad.to_str().unwrap(), "--encoders", "sh1"]);
+    let before = root.snapshot("results");
+    let out = root.run(&["eval", bad.to_str().unwrap(), "--encoders", "sh1"]);
     assert_clean_failure(&out, name, fault, &format!("eval {name}"));
     let exp = root.path().join("experiments/good_and_bad.toml");
     let text = format!("maps = ['good', '{}']\nencoders = ['sh1', 'sh2']\nresolution = [16, 8]\n", bad.display());
     fs::write(&exp, text).unwrap();
-    let out = root.probelab(&["run", exp.to_str().unwrap()]);
+    let out = root.run(&["run", exp.to_str().unwrap()]);
     assert_clean_failure(&out, name, fault, &format!("run with {name}"));
-    assert!(root.results() == before, "run with {name}: results/ changed");
+    assert!(root.snapshot("results") == before, "run with {name}: results/ changed");
     fs::remove_file(&exp).unwrap();
 }
 
 #[test]
 fn every_bad_map_fails_cleanly() {
-    let root = Root::new();
+    let root = scratch_root();
     let kinds = kinds();
     for k in &kinds {
         check_bad_map(&root, &corpus_dir().join(k.file), k.fault);
@@ -474,8 +433,7 @@ fn every_bad_map_fails_cleanly() {
 #[cfg(unix)]
 #[test]
 fn special_files_fail_cleanly() {
-    use std::os::unix::fs::PermissionsExt;
-    let root = Root::new();
+    let root = scratch_root();
     let tmp = tempfile::tempdir().unwrap();
 
     // A path through a regular file ("empty.exr/inside.exr"): ENOTDIR.
@@ -484,12 +442,10 @@ fn special_files_fail_cleanly() {
 
     // A FIFO: refused before anything opens it (opening would block).
     let fifo = tmp.path().join("fifo.exr");
-    let made = Command::new("mkfifo").arg(&fifo).status().map(|s| s.success()).unwrap_or(false);
-    if made {
-        check_bad_map(&root, &fifo, &["not a regular file"]);
-    } else {
-        println!("note: mkfifo is unavailable; the FIFO case was not run");
-    }
+    let c_path = std::ffi::CString::new(fifo.to_str().unwrap()).unwrap();
+    // SAFETY: `c_path` is a NUL-terminated path that outlives the call.
+    assert_eq!(unsafe { libc::mkfifo(c_path.as_ptr(), 0o600) }, 0, "mkfifo: {}", std::io::Error::last_os_error());
+    check_bad_map(&root, &fifo, &["not a regular file"]);
 
     // A symlink loop.
     let (a, b) = (tmp.path().join("loop_a.exr"), tmp.path().join("loop_b.exr"));
@@ -501,25 +457,28 @@ fn special_files_fail_cleanly() {
     let dangling = tmp.path().join("dangling.exr");
     std::os::unix::fs::symlink(tmp.path().join("gone.exr"), &dangling).unwrap();
     check_bad_map(&root, &dangling, &["not found"]);
+}
 
-    // An unreadable file (mode 000). Root reads it anyway, so the check needs another user.
+/// An unreadable file (mode 000), made in a temporary folder. Root reads it anyway, so this
+/// needs another user.
+#[cfg(unix)]
+#[test]
+#[cfg_attr(mode_000_readable, ignore = "this user (root) can read a mode-000 file: run the tests as another user")]
+fn unreadable_file_fails_cleanly() {
+    use std::os::unix::fs::PermissionsExt;
+    let root = scratch_root();
+    let tmp = tempfile::tempdir().unwrap();
     let secret = tmp.path().join("unreadable.exr");
     write_exr(&secret, &good_map(8)).unwrap();
     fs::set_permissions(&secret, fs::Permissions::from_mode(0o000)).unwrap();
-    if fs::File::open(&secret).is_err() {
-        check_bad_map(&root, &secret, &["permission denied"]);
-    } else {
-        println!(
-            "note: running as root, which reads a mode-000 file; the unreadable-file case is \
-             covered by the path through a file and the FIFO above"
-        );
-    }
+    assert!(fs::File::open(&secret).is_err(), "this process reads a mode-000 file, but the build script could not");
+    check_bad_map(&root, &secret, &["permission denied"]);
 }
 
 /// Experiment files: each error names the file and the line, exit code 2, nothing written.
 #[test]
 fn bad_experiment_files_point_at_the_line() {
-    let root = Root::new();
+    let root = scratch_root();
     let cases: &[(&str, &str, usize, &[&str])] = &[
         (
             "unknown_encoder",
@@ -552,21 +511,21 @@ fn bad_experiment_files_point_at_the_line() {
         ("nan_tilt", "maps = ['good']\nencoders = ['sh1']\norientations = ['up']\neffects = [{ kind = 'cone', cos_alpha = 0.5, tilt_deg = nan }]\n", 4, &["tilt_deg must be finite"]),
     ];
     for (name, text, line, words) in cases {
-        let before = root.results();
+        let before = root.snapshot("results");
         let file = format!("{name}.toml");
         let p = root.path().join("experiments").join(&file);
         fs::write(&p, text).unwrap();
-        let out = root.probelab(&["run", p.to_str().unwrap()]);
+        let out = root.run(&["run", p.to_str().unwrap()]);
         let mut fault = vec![format!("{file}:{line}:")];
         fault.extend(words.iter().map(|w| w.to_lowercase()));
         let fault: Vec<&str> = fault.iter().map(|s| s.as_str()).collect();
         assert_clean_failure(&out, &file, &fault, name);
-        assert!(root.results() == before, "{name}: results/ changed");
+        assert!(root.snapshot("results") == before, "{name}: results/ changed");
         // `reproduce` meets the same file (it is in experiments/) and fails the same way
         // before running anything, except that it skips an experiment whose map is missing
         // (documented: a fresh clone lacks the shared probes) and says so.
-        let out = root.probelab(&["reproduce"]);
-        let mut after = root.results();
+        let out = root.run(&["reproduce"]);
+        let mut after = root.snapshot("results");
         if *name == "missing_map" {
             assert_eq!(out.status.code(), Some(0));
             assert!(String::from_utf8_lossy(&out.stderr).contains("skipped missing_map"));
@@ -592,7 +551,7 @@ fn bad_experiment_files_point_at_the_line() {
 fn huge_headers_are_refused_in_128_mib() {
     for file in ["header_1e9_by_1e9.exr", "header_2e8_by_1e8.hdr"] {
         let path = corpus_dir().join(file);
-        let out = Command::new("sh")
+        let out = std::process::Command::new("sh")
             .arg("-c")
             .arg("ulimit -v 131072 && exec \"$0\" eval \"$1\" --encoders sh1")
             .arg(env!("CARGO_BIN_EXE_probelab"))

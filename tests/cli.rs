@@ -1,37 +1,14 @@
-//! End-to-end checks of the `probelab` binary (issue 2 acceptance).
+//! The command line end to end: `eval` (CSV columns, domains, timing columns, `--profile`),
+//! `encoders`, `gen-envmaps`, and exit code 2 with a message for a missing map or bad
+//! arguments.
 
-use std::path::{Path, PathBuf};
-use std::process::Command;
+mod common;
 
-fn repo() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
-fn probelab(args: &[&str], envmaps: Option<&str>) -> std::process::Output {
-    let mut c = Command::new(env!("CARGO_BIN_EXE_probelab"));
-    c.args(args).current_dir(repo());
-    match envmaps {
-        Some(e) => c.env("PROBELAB_ENVMAPS", e),
-        None => c.env_remove("PROBELAB_ENVMAPS"),
-    };
-    c.output().expect("run probelab")
-}
-
-/// Rows of CSV text as (header → value) maps.
-fn parse_csv(text: &str) -> Vec<std::collections::HashMap<String, String>> {
-    let mut r = csv::Reader::from_reader(text.as_bytes());
-    let h: Vec<String> = r.headers().unwrap().iter().map(String::from).collect();
-    r.records().map(|rec| h.iter().cloned().zip(rec.unwrap().iter().map(String::from)).collect()).collect()
-}
-
-fn shared_envmaps() -> Option<String> {
-    let v = std::env::var("PROBELAB_ENVMAPS").ok()?;
-    v.split(':').any(|d| Path::new(d).join("grace_256x128.exr").is_file()).then_some(v)
-}
+use common::harness::{parse_csv, probelab, repo, run, stdout_ok, Run};
 
 #[test]
 fn constant_map_is_exact_for_sh1_and_sh2() {
-    let out = probelab(&["eval", "gen_constant", "--encoders", "sh1,sh2"], None);
+    let out = run(&["eval", "gen_constant", "--encoders", "sh1,sh2"]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let text = String::from_utf8(out.stdout).unwrap();
     assert!(text.starts_with("map,encoder,domain,metric,rmse_r,rmse_g,rmse_b,rmse,rel_rmse"));
@@ -49,7 +26,7 @@ fn constant_map_is_exact_for_sh1_and_sh2() {
 /// (1 + n·N)/2, which is linear: SH L1 of the occluded radiance represents it exactly.
 #[test]
 fn hemisphere_domain_on_a_wall() {
-    let out = probelab(&["eval", "gen_constant", "--encoders", "sh0,sh1", "--domain", "hemisphere:+x"], None);
+    let out = run(&["eval", "gen_constant", "--encoders", "sh0,sh1", "--domain", "hemisphere:+x"]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let rows = parse_csv(&String::from_utf8(out.stdout).unwrap());
     assert_eq!(rows[0]["domain"], "hemisphere:+x");
@@ -62,29 +39,12 @@ fn hemisphere_domain_on_a_wall() {
     assert!((sh0 - (1.0f64 / 12.0).sqrt()).abs() < 1e-4, "{sh0}");
 }
 
-/// Cross-check with the peer tool (issue 2): grace_256x128, --metric probulator,
-/// peer sh1 = 0.08238, sh2 = 0.01324 against its Monte Carlo reference; ours within 3%.
-#[test]
-fn probulator_metric_agrees_with_peer_on_grace() {
-    let Some(env) = shared_envmaps() else {
-        eprintln!("skipped: PROBELAB_ENVMAPS does not hold grace_256x128.exr");
-        return;
-    };
-    let out = probelab(&["eval", "grace_256x128", "--encoders", "sh1,sh2", "--metric", "probulator"], Some(&env));
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    let rows = parse_csv(&String::from_utf8(out.stdout).unwrap());
-    for (r, peer) in rows.iter().zip([0.08238, 0.01324]) {
-        let ours: f64 = r["rmse"].parse().unwrap();
-        let rel = (ours - peer).abs() / peer;
-        eprintln!("{}: ours {ours:.5}, peer {peer}, {:.2}%", r["encoder"], 100.0 * rel);
-        assert!(rel < 0.03, "{}: {ours} vs {peer}", r["encoder"]);
-        assert_eq!(r["weighting"], "per-pixel");
-    }
-}
-
 #[test]
 fn missing_map_lists_searched_folders_and_exits_2() {
-    let out = probelab(&["eval", "no_such_map", "--encoders", "sh1"], Some("/nonexistent/a:/nonexistent/b"));
+    let out = probelab()
+        .args(["eval", "no_such_map", "--encoders", "sh1"])
+        .env("PROBELAB_ENVMAPS", "/nonexistent/a:/nonexistent/b")
+        .run();
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("no_such_map") && err.contains("/nonexistent/a") && err.contains("/nonexistent/b"), "{err}");
@@ -98,7 +58,7 @@ fn bad_arguments_exit_2_with_a_message() {
         &["eval", "gen_constant", "--metric", "l1"][..],
         &["run", "experiments/does_not_exist.toml"][..],
     ] {
-        let out = probelab(args, None);
+        let out = run(args);
         assert_eq!(out.status.code(), Some(2), "{args:?}");
         assert!(String::from_utf8_lossy(&out.stderr).starts_with("error: "), "{args:?}");
     }
@@ -108,7 +68,7 @@ fn bad_arguments_exit_2_with_a_message() {
 #[test]
 fn committed_generated_maps_are_current() {
     let dir = tempfile::tempdir().unwrap();
-    let out = probelab(&["gen-envmaps", "--out", dir.path().to_str().unwrap()], None);
+    let out = run(&["gen-envmaps", "--out", dir.path().to_str().unwrap()]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     for s in probelab::reference::scenes::generated() {
         let fresh = probelab::envmap::load::load(&dir.path().join(format!("{}.exr", s.id))).unwrap();
@@ -118,13 +78,13 @@ fn committed_generated_maps_are_current() {
     }
 }
 
-/// Every lightmap encoder runs one-off on a hemisphere domain (issue 4), with the same CSV
+/// Every lightmap encoder runs one-off on a hemisphere domain, with the same CSV
 /// columns as on the sphere; on the constant map AHD with the hemispherical Gram is exact (H1).
 #[test]
 fn lightmap_encoders_run_on_a_hemisphere_domain() {
     let all = "ahd_linear_sphere,ahd_linear_hemi,ahd_search_sphere,ahd_search_hemi,ahd_irradz_2018,\
                hhd_linear_sphere,hhd_linear_hemi,hhd_search_sphere,hhd_search_hemi,hhd_from_sh1";
-    let out = probelab(&["eval", "gen_constant", "--encoders", all, "--domain", "hemisphere:+y"], None);
+    let out = run(&["eval", "gen_constant", "--encoders", all, "--domain", "hemisphere:+y"]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let text = String::from_utf8(out.stdout).unwrap();
     assert!(text.starts_with("map,encoder,domain,metric,rmse_r,rmse_g,rmse_b,rmse,rel_rmse"));
@@ -137,5 +97,35 @@ fn lightmap_encoders_run_on_a_hemisphere_domain() {
         if ["ahd_linear_hemi", "ahd_search_hemi", "ahd_irradz_2018"].contains(&r["encoder"].as_str()) {
             assert!(rmse < 1e-6, "{}: {rmse}", r["encoder"]);
         }
+    }
+}
+
+/// Tables carry the timing columns after the others; --no-timing leaves them empty; --profile
+/// reports phases.
+#[test]
+fn tables_carry_timing_and_profile_reports_phases() {
+    let out = run(&["--profile", "eval", "gen_constant", "--encoders", "sh1,sh2", "--resolution", "32x16"]);
+    let text = stdout_ok(&out);
+    assert!(text.lines().next().unwrap().ends_with(",fit_ns,eval_ns"));
+    for r in parse_csv(&text) {
+        let (f, e): (f64, f64) = (r["fit_ns"].parse().unwrap(), r["eval_ns"].parse().unwrap());
+        assert!(f > 0.0 && e > 0.0 && f < 1e7 && e < 1e6, "{f} {e}");
+    }
+    let err = String::from_utf8_lossy(&out.stderr);
+    for phase in ["decode", "reference", "fit", "render (encoder eval)", "timing pass"] {
+        assert!(err.contains(phase), "{phase}: {err}");
+    }
+    let out = run(&["--no-timing", "eval", "gen_constant", "--encoders", "sh1", "--resolution", "32x16"]);
+    let r = &parse_csv(&stdout_ok(&out))[0];
+    assert_eq!((r["fit_ns"].as_str(), r["eval_ns"].as_str()), ("", ""));
+}
+
+/// `encoders` lists every registered encoder, one per line, id first.
+#[test]
+fn encoders_lists_the_registry() {
+    let s = stdout_ok(&run(&["encoders"]));
+    let ids: Vec<&str> = s.lines().filter_map(|l| l.split_whitespace().next()).collect();
+    for k in probelab::encoders::REGISTRY {
+        assert!(ids.contains(&k.id), "{} is not listed:\n{s}", k.id);
     }
 }

@@ -1,6 +1,6 @@
-//! An experiment that does not declare an effect never pays for it (issue 5): the runner
-//! computes no masked SH projection and builds no capped reference, and the visible SH it hands
-//! the encoders is the probe SH itself. One test in its own binary, so the process-wide
+//! An experiment that does not declare an effect never pays for it: the runner computes no
+//! masked SH projection and builds no capped reference, and the visible SH it hands the
+//! encoders is the probe SH itself. One test in its own binary, so the process-wide
 //! counters see no other work.
 
 use probelab::envmap::EnvMap;

@@ -1,6 +1,9 @@
 //! Tests of `probelab::envmap::load`: round trips, accepted encodings, and every rejection,
-//! each triggered by a file generated in a temporary folder.
+//! each triggered by a file generated in a temporary folder; and the shared maps load.
 
+mod common;
+
+use common::shared_maps::{shared_envmaps, PAPER_PROBES};
 use exr::math::RoundingMode;
 use exr::prelude::*;
 use probelab::envmap::load::{load, write_exr, LoadError, MAX_HEIGHT, MAX_WIDTH};
@@ -325,22 +328,18 @@ fn rejects_empty_file_directory_and_missing_file() {
     expect_error(&path, &["absent.exr", "cannot", "no such file"]);
 }
 
+/// Root reads a mode-000 file anyway, so this needs another user.
 #[cfg(unix)]
 #[test]
+#[cfg_attr(mode_000_readable, ignore = "this user (root) can read a mode-000 file: run the tests as another user")]
 fn rejects_unreadable_file() {
     use std::os::unix::fs::PermissionsExt;
     let dir = tmp();
     let path = dir.path().join("secret.exr");
     write_exr(&path, &sample_map(8, 4)).unwrap();
     fs::set_permissions(&path, fs::Permissions::from_mode(0o000)).unwrap();
-    if fs::File::open(&path).is_ok() {
-        println!(
-            "note: skipping the permission assertion: this process can read a mode-000 file \
-             (running as root)"
-        );
-    } else {
-        expect_error(&path, &["secret.exr", "permission denied"]);
-    }
+    assert!(fs::File::open(&path).is_err(), "this process reads a mode-000 file, but the build script could not");
+    expect_error(&path, &["secret.exr", "permission denied"]);
     fs::set_permissions(&path, fs::Permissions::from_mode(0o600)).unwrap();
 }
 
@@ -525,27 +524,16 @@ fn errors_are_typed() {
     assert!(matches!(load(&path), Err(LoadError::IsDirectory { .. })));
 }
 
-/// The folders of `PROBELAB_ENVMAPS`, or `None` (with a note) when it is unset.
-fn shared_envmap_dirs() -> Option<Vec<PathBuf>> {
-    match std::env::var_os("PROBELAB_ENVMAPS") {
-        Some(v) => Some(std::env::split_paths(&v).filter(|p| !p.as_os_str().is_empty()).collect()),
-        None => {
-            println!("note: PROBELAB_ENVMAPS is not set; skipping the shared probe checks");
-            None
-        }
-    }
-}
-
+/// Every real map of the shared folders (`*_256x128`, `wells_probulator`) loads as a finite,
+/// non-negative 2:1 map, the paper probes among them, at their sizes.
 #[test]
+#[cfg_attr(not(shared_maps), ignore = "needs the shared maps: set PROBELAB_ENVMAPS to the folder holding them")]
 fn shared_probes_load() {
-    let Some(dirs) = shared_envmap_dirs() else {
-        return;
-    };
-    let mut loaded = 0;
-    for dir in dirs {
+    let value = shared_envmaps(&PAPER_PROBES);
+    let mut loaded = Vec::new();
+    for dir in std::env::split_paths(&value).filter(|p| !p.as_os_str().is_empty()) {
         let Ok(entries) = fs::read_dir(&dir) else {
-            println!("note: {} is not a readable folder; skipped", dir.display());
-            continue;
+            panic!("PROBELAB_ENVMAPS names {}, which is not a readable folder", dir.display());
         };
         let mut files: Vec<PathBuf> = entries
             .filter_map(|e| e.ok().map(|e| e.path()))
@@ -562,8 +550,11 @@ fn shared_probes_load() {
             if map.name == "grace_256x128" || map.name == "wells_probulator" {
                 assert_eq!((map.width(), map.height()), (256, 128), "{}", f.display());
             }
-            loaded += 1;
+            loaded.push(map.name);
         }
     }
-    println!("loaded {loaded} shared probe(s)");
+    for p in PAPER_PROBES {
+        assert!(loaded.iter().any(|m| m == p), "{p} was not among the maps loaded: {loaded:?}");
+    }
+    println!("loaded {} shared probe(s)", loaded.len());
 }

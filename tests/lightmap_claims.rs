@@ -1,7 +1,10 @@
-//! `experiments/lightmap_claims.toml` (issue 4): H1, H2, H4 and D1 on the generated scenes.
+//! `experiments/lightmap_claims.toml`: H1, H2, H4 and D1 on the generated scenes.
 //! The H2 bound of `scenes::TiltedLight` against quadrature of the closed forms, and the
 //! committed experiment's claims, re-run through the binary.
 
+mod common;
+
+use common::harness::{parse_csv, repo, run, stderr_ok, Scratch};
 use probelab::encoders::lightmap::hhd_from_linear_sh;
 use probelab::math::colour::Rgb;
 use probelab::pipeline::experiment::Experiment;
@@ -9,19 +12,7 @@ use probelab::pipeline::summary::Check;
 use probelab::reference::domain::Domain;
 use probelab::reference::metrics::score;
 use probelab::reference::scenes::{cap_irradiance, Component, TILTED_LIGHT};
-use std::collections::HashMap;
-use std::path::{Path, PathBuf};
-use std::process::Command;
-
-fn repo() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
-fn parse_csv(text: &str) -> Vec<HashMap<String, String>> {
-    let mut r = csv::Reader::from_reader(text.as_bytes());
-    let h: Vec<String> = r.headers().unwrap().iter().map(String::from).collect();
-    r.records().map(|rec| h.iter().cloned().zip(rec.unwrap().iter().map(String::from)).collect()).collect()
-}
+use std::path::Path;
 
 /// hhd_from_sh1 on gen_tilted_light's closed forms, seen from a floor: the visible linear SH is
 /// the hemisphere light of the ambient plus the whole cap (it lies above the horizon), and the
@@ -80,13 +71,7 @@ fn h2_claim_uses_the_derived_bound() {
 /// Runs the committed experiment (no timing, generated maps only) with results under `out`;
 /// returns the claims.csv it wrote.
 fn run_into(out: &Path) -> String {
-    let o = Command::new(env!("CARGO_BIN_EXE_probelab"))
-        .args(["--no-timing", "run", "experiments/lightmap_claims.toml", "--out", out.to_str().unwrap()])
-        .current_dir(repo())
-        .env_remove("PROBELAB_ENVMAPS")
-        .output()
-        .unwrap();
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    stderr_ok(&run(&["--no-timing", "run", "experiments/lightmap_claims.toml", "--out", out.to_str().unwrap()]));
     std::fs::read_to_string(out.join("lightmap_claims/claims.csv")).unwrap()
 }
 
@@ -107,14 +92,12 @@ fn committed_experiment_claims_hold() {
     // What `run` writes next to the committed table: the claims of the kept table's numbers
     // (a run whose table stands within tolerance summarises the stored values, so digits that
     // move below tolerance, such as a tie between two 1e-15 errors, do not make it stale).
-    let kept = tempfile::tempdir().unwrap();
-    let src = repo().join("results/lightmap_claims");
-    std::fs::create_dir(kept.path().join("lightmap_claims")).unwrap();
+    let kept = Scratch::new();
     for f in ["table.csv", "provenance.toml"] {
-        std::fs::copy(src.join(f), kept.path().join("lightmap_claims").join(f)).unwrap();
+        kept.copy_from_repo(&format!("results/lightmap_claims/{f}"));
     }
-    let written = run_into(kept.path());
-    let committed = std::fs::read_to_string(src.join("claims.csv")).unwrap();
+    let written = run_into(&kept.path().join("results"));
+    let committed = std::fs::read_to_string(repo().join("results/lightmap_claims/claims.csv")).unwrap();
     assert!(
         committed == written,
         "results/lightmap_claims/claims.csv is stale: re-run `probelab run experiments/lightmap_claims.toml`"

@@ -1,24 +1,10 @@
-//! End-to-end checks of the probe occlusion operators (issue 5) through the binary.
+//! The probe occlusion operators end to end: `eval` on a wall of a constant environment, and
+//! the generated-scene experiment with its claims.
 
+mod common;
+
+use common::harness::{parse_csv, run};
 use std::collections::HashMap;
-use std::path::PathBuf;
-use std::process::Command;
-
-fn repo() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
-fn probelab(args: &[&str]) -> std::process::Output {
-    let mut c = Command::new(env!("CARGO_BIN_EXE_probelab"));
-    c.args(args).current_dir(repo()).env_remove("PROBELAB_ENVMAPS");
-    c.output().expect("run probelab")
-}
-
-fn parse_csv(text: &str) -> Vec<HashMap<String, String>> {
-    let mut r = csv::Reader::from_reader(text.as_bytes());
-    let h: Vec<String> = r.headers().unwrap().iter().map(String::from).collect();
-    r.records().map(|rec| h.iter().cloned().zip(rec.unwrap().iter().map(String::from)).collect()).collect()
-}
 
 /// A constant environment under the hemisphere effect is the hemisphere light (1 + n·N)/2:
 /// every hemisphere operator represents it (up to the reference's 1e-6), and the unoccluded
@@ -26,7 +12,7 @@ fn parse_csv(text: &str) -> Vec<HashMap<String, String>> {
 #[test]
 fn eval_on_a_wall_of_a_constant_environment() {
     let ops = "probe_unoccluded,probe_hemi_full,probe_hemi_q2l,hlsh,probe_hhd_lum,cone_multiply";
-    let out = probelab(&["eval", "gen_constant", "--encoders", ops, "--domain", "hemisphere:-z"]);
+    let out = run(&["eval", "gen_constant", "--encoders", ops, "--domain", "hemisphere:-z"]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let rows = parse_csv(&String::from_utf8(out.stdout).unwrap());
     assert_eq!(rows.len(), 6);
@@ -53,7 +39,7 @@ fn eval_on_a_wall_of_a_constant_environment() {
 fn generated_experiment_writes_claims() {
     let dir = tempfile::tempdir().unwrap();
     let out_dir = dir.path().to_str().unwrap();
-    let out = probelab(&["run", "experiments/generated_probe_occlusion.toml", "--out", out_dir]);
+    let out = run(&["run", "experiments/generated_probe_occlusion.toml", "--out", out_dir]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let res = dir.path().join("generated_probe_occlusion");
     let claims = parse_csv(&std::fs::read_to_string(res.join("claims.csv")).unwrap());

@@ -1,7 +1,6 @@
-//! The exact reference against the closed forms of the generated scenes (issue 2: 1e-4
-//! relative). The scenes' maps hold exact cell averages, so what remains is the sub-texel
-//! placement of light, which falls with resolution; the test checks both the level and the
-//! convergence.
+//! The exact reference against the closed forms of the generated scenes, to 1e-4 relative.
+//! The scenes' maps hold exact cell averages, so what remains is the sub-texel placement of
+//! light, which falls with resolution; the test checks both the level and the convergence.
 
 use glam::DVec3;
 use probelab::envmap::moments::RowMoments;

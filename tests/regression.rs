@@ -1,65 +1,91 @@
-//! Regression on the numbers (issue 9): the committed baselines pass `probelab check`; tables
-//! are bit-identical for any thread count; `check` catches a broken band scale and a number one
+//! Regression on the numbers: the committed baselines pass `probelab check`; tables are
+//! bit-identical for any thread count; `check` catches a broken band scale and a number one
 //! ulp beyond its tolerance; `run` refuses to overwrite a moved baseline; `bless` rewrites it
 //! atomically and prints the same differences as `check`.
 
+mod common;
+
+use common::harness::{repo, Run};
+use common::shared_maps::shared_envmaps;
 use probelab::encoders::encoder::{Encoder, FitInput, Fitted};
 use probelab::encoders::NamedEncoder;
 use probelab::envmap::search::SearchPath;
 use probelab::math::sh::band_of;
-use probelab::pipeline::experiment::Experiment;
+use probelab::pipeline::experiment::{list_experiments, Experiment};
 use probelab::regression::baseline::Table;
 use probelab::regression::check::{compare_with_baseline, Finding};
 use probelab::regression::provenance::{sha256_hex, Provenance};
 use probelab::regression::tolerance::{EncoderClass, Tolerance, Tolerances};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Command, Output};
 
-fn repo() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
-/// Runs the binary in the repository (root "."), with PROBELAB_ENVMAPS set or unset.
-fn probelab(args: &[&str], envmaps: Option<&str>) -> Output {
-    let mut c = Command::new(env!("CARGO_BIN_EXE_probelab"));
+/// The binary in the repository (root "."), `PROBELAB_ENVMAPS` unset, without the timing pass.
+fn probelab() -> Command {
+    let mut c = common::harness::probelab();
     // Timings are measurements, not results: these tests compare tables byte for byte.
-    c.arg("--no-timing").args(args).current_dir(repo());
-    match envmaps {
-        Some(e) => c.env("PROBELAB_ENVMAPS", e),
-        None => c.env_remove("PROBELAB_ENVMAPS"),
-    };
-    c.output().expect("run probelab")
+    c.arg("--no-timing");
+    c
 }
 
 fn text(o: &Output) -> (String, String) {
     (String::from_utf8_lossy(&o.stdout).into_owned(), String::from_utf8_lossy(&o.stderr).into_owned())
 }
 
-/// The CI check: every committed experiment with `ci = true` re-runs and matches its baseline.
-/// In CI (`CI=true`) or when PROBELAB_ENVMAPS is set, a missing map fails the test; only on a
-/// developer machine without PROBELAB_ENVMAPS are missing maps allowed, and said so.
-#[test]
-fn committed_baselines_pass_check() {
-    let ci = std::env::var("CI").is_ok_and(|v| v == "true" || v == "1");
-    let envmaps = std::env::var("PROBELAB_ENVMAPS").ok();
-    let strict = ci || envmaps.is_some();
-    let mut args = vec!["check"];
-    if !strict {
-        args.push("--allow-missing");
+/// An experiment's name and the maps it reads.
+type NameAndMaps = (String, Vec<String>);
+
+/// The committed experiments with `ci = true` (those `probelab check` runs), split into those
+/// whose maps are all in the repository's `envmaps/` and those that need the shared maps.
+fn ci_experiments() -> (Vec<NameAndMaps>, Vec<NameAndMaps>) {
+    let here = SearchPath::new(vec![repo().join("envmaps")]);
+    let mut exps = Vec::new();
+    for f in list_experiments(&repo().join("experiments")).unwrap() {
+        let e = Experiment::load(&f).unwrap_or_else(|e| panic!("{e:#}"));
+        if e.ci {
+            exps.push((e.name, e.maps));
+        }
     }
-    let out = probelab(&args, envmaps.as_deref());
+    exps.into_iter().partition(|(_, maps)| maps.iter().all(|m| here.resolve(m).is_ok()))
+}
+
+/// `probelab check` of the named experiments, with PROBELAB_ENVMAPS as given; it must pass.
+fn check_passes(names: &[String], envmaps: Option<&str>) {
+    let mut c = probelab();
+    c.arg("check").args(names);
+    if let Some(e) = envmaps {
+        c.env("PROBELAB_ENVMAPS", e);
+    }
+    let out = c.run();
     let (stdout, stderr) = text(&out);
     eprintln!("{stdout}{stderr}");
     assert!(
         out.status.success(),
-        "`probelab {}` failed: a committed baseline moved (or a map is missing). If the change is intended, \
+        "`probelab check {}` failed: a committed baseline moved (or a map is missing). If the change is intended, \
          run `probelab bless` and quote its output in the commit message.\n{stdout}{stderr}",
-        args.join(" ")
+        names.join(" ")
     );
     assert!(stdout.contains("nothing moved"), "{stdout}");
-    if !strict && stdout.contains("NOT checked") {
-        eprintln!("note: maps missing here were not checked; set PROBELAB_ENVMAPS=../shared/envmaps to check them");
-    }
+}
+
+/// The CI check, part one: every committed `ci = true` experiment on the generated maps
+/// re-runs and matches its baseline.
+#[test]
+fn committed_baselines_on_generated_maps_pass_check() {
+    let (generated, _) = ci_experiments();
+    assert!(!generated.is_empty());
+    check_passes(&generated.into_iter().map(|(name, _)| name).collect::<Vec<_>>(), None);
+}
+
+/// The CI check, part two: every committed `ci = true` experiment that reads the shared maps
+/// re-runs and matches its baseline; a missing map fails it.
+#[test]
+#[cfg_attr(not(shared_maps), ignore = "needs the shared maps: set PROBELAB_ENVMAPS to the folder holding them")]
+fn committed_baselines_on_shared_maps_pass_check() {
+    let (_, shared) = ci_experiments();
+    assert!(!shared.is_empty());
+    let maps: Vec<&str> = shared.iter().flat_map(|(_, maps)| maps.iter().map(|m| m.as_str())).collect();
+    let envmaps = shared_envmaps(&maps);
+    check_passes(&shared.into_iter().map(|(name, _)| name).collect::<Vec<_>>(), Some(&envmaps));
 }
 
 /// Every registered encoder, as TOML list items.
@@ -109,7 +135,7 @@ fn tables_are_bit_identical_for_any_thread_count() {
         let mut args = vec!["--jobs", jobs, "run"];
         args.extend(paths.iter().map(|s| s.as_str()));
         args.extend(["--out", out_dir.to_str().unwrap()]);
-        let o = probelab(&args, None);
+        let o = probelab().args(&args).run();
         assert!(o.status.success(), "{}", text(&o).1);
         tables.push(files.iter().map(|(n, _)| std::fs::read(out_dir.join(n).join("table.csv")).unwrap()).collect());
     }
@@ -231,7 +257,7 @@ fn run_check_bless_cycle() {
     let run = |args: &[&str]| {
         let mut a = args.to_vec();
         a.extend(["--out", o]);
-        let r = probelab(&a, None);
+        let r = probelab().args(&a).run();
         let (so, se) = text(&r);
         (r.status.code(), so, se)
     };

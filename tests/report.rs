@@ -1,22 +1,19 @@
-//! End-to-end checks of `probelab report`: on a scratch repository with small
+//! `probelab report` end to end: on a scratch repository with small
 //! generated maps, every link of REPORT.md resolves, the pictures exist with the sizes their
 //! layout gives, charts appear for the CSV formats the report reads and are skipped (with a
 //! reason) where a column is absent; and the committed results/REPORT.md has no broken link.
 
+mod common;
+
+use common::harness::{repo, stderr_ok, Run, Scratch};
 use probelab::report::markdown::{anchor, local_links};
 use probelab::report::sheet::{CELL_W, COLHEAD_H, HEADER_H, LABEL_W, MARGIN, MIN_W, ROW_H, VIEW_GAP};
-use std::path::{Path, PathBuf};
-use std::process::Command;
+use std::path::Path;
+use std::process::Output;
 
-fn probelab(root: &Path, args: &[&str]) -> std::process::Output {
-    let mut c = Command::new(env!("CARGO_BIN_EXE_probelab"));
-    c.arg("--root").arg(root).args(args).env_remove("PROBELAB_ENVMAPS").env("CI", "1");
-    c.output().expect("run probelab")
-}
-
-fn ok(out: std::process::Output) -> String {
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    String::from_utf8_lossy(&out.stderr).into_owned()
+/// `probelab --root ROOT ARGS` as in CI (`CI=1`).
+fn probelab(root: &Scratch, args: &[&str]) -> Output {
+    root.probelab().args(args).env("CI", "1").run()
 }
 
 /// Every local link of a Markdown file resolves to a file, and every `#anchor` to a heading.
@@ -49,10 +46,10 @@ fn write(p: &Path, s: &str) {
 
 #[test]
 fn report_on_a_scratch_repository() {
-    let dir = tempfile::tempdir().unwrap();
-    let root = dir.path();
+    let scratch = Scratch::new();
+    let root = scratch.path();
     let rs = root.to_str().unwrap();
-    ok(probelab(root, &["gen-envmaps", "--width", "32"]));
+    stderr_ok(&probelab(&scratch, &["gen-envmaps", "--width", "32"]));
     write(
         &root.join("experiments/a_sphere.toml"),
         "description = \"sphere\"\nmaps = [\"gen_sun_sky\", \"gen_constant\"]\nencoders = [\"sh0\", \"sh1\", \"sh2\"]\n\
@@ -65,8 +62,8 @@ fn report_on_a_scratch_repository() {
     );
     write(&root.join("experiments/c_missing.toml"), "maps = [\"not_on_this_machine\"]\nencoders = [\"sh1\"]\n");
     // No timing pass: a_sphere's table then has no `fit_ns` column (b_floor's is added below).
-    ok(probelab(
-        root,
+    stderr_ok(&probelab(
+        &scratch,
         &["--no-timing", "run", &format!("{rs}/experiments/a_sphere.toml"), &format!("{rs}/experiments/b_floor.toml")],
     ));
     let res = root.join("results");
@@ -107,7 +104,7 @@ fn report_on_a_scratch_repository() {
     std::fs::write(res.join("a_sphere/sheet_old_map.png"), &png).unwrap();
     std::fs::write(res.join("a_sphere/blend_strip.png"), &png).unwrap();
 
-    let log = ok(probelab(root, &["report"]));
+    let log = stderr_ok(&probelab(&scratch, &["report"]));
     assert!(log.contains("REPORT.md"), "{log}");
     let report = res.join("REPORT.md");
     let md = std::fs::read_to_string(&report).unwrap();
@@ -151,13 +148,13 @@ fn report_on_a_scratch_repository() {
     // Pictures are deterministic: a second report draws the same bytes.
     let before = std::fs::read(res.join("a_sphere/sheet_gen_sun_sky.png")).unwrap();
     let chart = std::fs::read(res.join("a_sphere/chart_rmse.png")).unwrap();
-    ok(probelab(root, &["--jobs", "1", "report"]));
+    stderr_ok(&probelab(&scratch, &["--jobs", "1", "report"]));
     assert_eq!(before, std::fs::read(res.join("a_sphere/sheet_gen_sun_sky.png")).unwrap());
     assert_eq!(chart, std::fs::read(res.join("a_sphere/chart_rmse.png")).unwrap());
 
     // A claims file without its columns is refused with the file named, exit 2.
     write(&res.join("a_sphere/claims.csv"), "id,claim\nX1,x\n");
-    let out = probelab(root, &["report"]);
+    let out = probelab(&scratch, &["report"]);
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("claims.csv") && err.contains("paper_figure"), "{err}");
@@ -166,7 +163,7 @@ fn report_on_a_scratch_repository() {
 /// The committed report: every picture and file it links exists (what `reproduce` must leave).
 #[test]
 fn committed_report_links_resolve() {
-    let report = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("results/REPORT.md");
+    let report = repo().join("results/REPORT.md");
     assert!(report.is_file(), "results/REPORT.md is missing: run `probelab reproduce` (or `probelab report`)");
     let links = check_links(&report);
     assert!(links.iter().any(|l| l.ends_with(".png")), "the report shows pictures");

@@ -7,6 +7,9 @@
 //! encoder added there joins every test that uses this module.
 #![allow(dead_code)]
 
+pub mod harness;
+pub mod shared_maps;
+
 use glam::{DQuat, DVec3};
 use probelab::encoders::encoder::{Encoder, FitInput, Fitted, Params};
 use probelab::encoders::REGISTRY;

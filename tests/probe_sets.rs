@@ -1,40 +1,26 @@
-//! End-to-end checks of `probelab probes`, `merge` and the timing columns (issue 7).
+//! Scoring sets of probes end to end: `probelab probes` on synthetic and saved sets, shards
+//! merged by `probelab merge` equal one run (also through the README's GNU parallel recipe),
+//! and bad probe files exit 2 naming the file.
 
+mod common;
+
+use common::harness::{parse_csv, probelab, repo, stdout_ok, Run};
 use std::path::{Path, PathBuf};
-use std::process::Command;
+use std::process::{Command, Output};
 
-fn repo() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
-fn probelab(args: &[&str], dir: &Path) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_probelab"))
-        .args(args)
-        .current_dir(dir)
-        .env_remove("PROBELAB_ENVMAPS")
-        .output()
-        .expect("run probelab")
-}
-
-fn ok(out: &std::process::Output) -> String {
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    String::from_utf8(out.stdout.clone()).unwrap()
-}
-
-/// Rows of CSV text as (header → value) maps.
-fn parse_csv(text: &str) -> Vec<std::collections::HashMap<String, String>> {
-    let mut r = csv::Reader::from_reader(text.as_bytes());
-    let h: Vec<String> = r.headers().unwrap().iter().map(String::from).collect();
-    r.records().map(|rec| h.iter().cloned().zip(rec.unwrap().iter().map(String::from)).collect()).collect()
+/// `probelab ARGS` run in `dir` (relative paths in ARGS are in `dir`), `PROBELAB_ENVMAPS` unset.
+fn run_in(args: &[&str], dir: &Path) -> Output {
+    probelab().args(args).current_dir(dir).run()
 }
 
 /// The summary without the run-dependent columns (timings, memory, shard list, source).
 fn figures(csv: &str) -> Vec<Vec<(String, String)>> {
-    let skip = probelab::pipeline::probeset::SUMMARY_TIMING_COLUMNS;
+    let run_dependent = probelab::pipeline::probeset::SUMMARY_TIMING_COLUMNS;
     parse_csv(csv)
         .into_iter()
         .map(|r| {
-            let mut v: Vec<_> = r.into_iter().filter(|(k, _)| !skip.contains(&k.as_str()) && k != "source").collect();
+            let mut v: Vec<_> =
+                r.into_iter().filter(|(k, _)| !run_dependent.contains(&k.as_str()) && k != "source").collect();
             v.sort();
             v
         })
@@ -45,11 +31,11 @@ fn figures(csv: &str) -> Vec<Vec<(String, String)>> {
 fn shards_merged_by_the_cli_equal_one_run() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
-    let whole = ok(&probelab(&["probes", "--synth", "4001", "--seed", "3", "--encoders", "sh0,sh2"], d));
+    let whole = stdout_ok(&run_in(&["probes", "--synth", "4001", "--seed", "3", "--encoders", "sh0,sh2"], d));
     for i in 0..3 {
         let shard = format!("{i}/3");
         let out = format!("s{i}.toml");
-        ok(&probelab(
+        stdout_ok(&run_in(
             &[
                 "probes",
                 "--synth",
@@ -68,7 +54,7 @@ fn shards_merged_by_the_cli_equal_one_run() {
             d,
         ));
     }
-    let merged = ok(&probelab(&["merge", "s0.toml", "s1.toml", "s2.toml", "--out", "m.toml"], d));
+    let merged = stdout_ok(&run_in(&["merge", "s0.toml", "s1.toml", "s2.toml", "--out", "m.toml"], d));
     assert_eq!(figures(&merged), figures(&whole));
     let rows = parse_csv(&merged);
     assert_eq!(
@@ -80,9 +66,9 @@ fn shards_merged_by_the_cli_equal_one_run() {
     assert_eq!(rows[2]["reduction_vs_sh1"], "1");
     assert_eq!(rows[0]["shards"], "all 3");
     // A partial merge warns; a shard twice is an error (exit 2).
-    let partial = probelab(&["merge", "s0.toml", "s2.toml"], d);
+    let partial = run_in(&["merge", "s0.toml", "s2.toml"], d);
     assert!(String::from_utf8_lossy(&partial.stderr).contains("partial merge"));
-    let twice = probelab(&["merge", "s0.toml", "s0.toml"], d);
+    let twice = run_in(&["merge", "s0.toml", "s0.toml"], d);
     assert_eq!(twice.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&twice.stderr).contains("twice"));
 }
@@ -93,11 +79,11 @@ fn shards_merged_by_the_cli_equal_one_run() {
 fn saved_sets_read_back() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
-    let synth = ok(&probelab(&["probes", "--synth", "1500", "--encoders", "sh2", "--save", "set.csv"], d));
-    ok(&probelab(&["probes", "--synth", "1500", "--encoders", "sh2", "--save", "set.f32"], d));
-    let csv = ok(&probelab(&["probes", "--input", "set.csv", "--encoders", "sh2"], d));
+    let synth = stdout_ok(&run_in(&["probes", "--synth", "1500", "--encoders", "sh2", "--save", "set.csv"], d));
+    stdout_ok(&run_in(&["probes", "--synth", "1500", "--encoders", "sh2", "--save", "set.f32"], d));
+    let csv = stdout_ok(&run_in(&["probes", "--input", "set.csv", "--encoders", "sh2"], d));
     assert_eq!(figures(&csv), figures(&synth));
-    let f32 = ok(&probelab(&["probes", "--input", "set.f32", "--encoders", "sh2", "--shard", "1/2"], d));
+    let f32 = stdout_ok(&run_in(&["probes", "--input", "set.f32", "--encoders", "sh2", "--shard", "1/2"], d));
     let r = parse_csv(&f32);
     assert_eq!(r[0]["probes"], "750");
     assert!(parse_csv(&csv)[0]["source"].starts_with("file set.csv"));
@@ -118,21 +104,21 @@ fn bad_probe_files_exit_2_naming_the_file() {
         (&["probes"][..], "--input"),
         (&["merge", "bad.csv"][..], "bad.csv"),
     ] {
-        let out = probelab(args, d);
+        let out = run_in(args, d);
         assert_eq!(out.status.code(), Some(2), "{args:?}");
         let err = String::from_utf8_lossy(&out.stderr);
         assert!(err.contains(want), "{args:?}: {err}");
     }
 }
 
-/// The GNU parallel recipe of the README, run as written (with a smaller set), when
-/// `parallel` is installed; its merge equals one run.
+/// The GNU parallel recipe of the README, run as written (with a smaller set); its merge
+/// equals one run.
 #[test]
+#[cfg_attr(
+    not(gnu_parallel),
+    ignore = "needs GNU parallel on PATH (Debian package `parallel`; once installed, `touch build.rs`)"
+)]
 fn readme_gnu_parallel_recipe() {
-    if Command::new("parallel").arg("--version").output().map(|o| !o.status.success()).unwrap_or(true) {
-        eprintln!("skipped: GNU parallel is not installed (Debian package `parallel`)");
-        return;
-    }
     let readme = std::fs::read_to_string(repo().join("README.md")).unwrap();
     let block = readme.split("<!-- recipe:parallel -->").nth(1).unwrap().split("<!-- /recipe -->").next().unwrap();
     let script: String = block.lines().filter(|l| !l.starts_with("```")).collect::<Vec<_>>().join("\n");
@@ -150,34 +136,6 @@ fn readme_gnu_parallel_recipe() {
         .unwrap();
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let merged = std::fs::read_to_string(dir.path().join("summary.csv")).unwrap();
-    let whole = ok(&probelab(&["probes", "--synth", "20000", "--seed", "7", "--encoders", "all"], dir.path()));
+    let whole = stdout_ok(&run_in(&["probes", "--synth", "20000", "--seed", "7", "--encoders", "all"], dir.path()));
     assert_eq!(figures(&merged), figures(&whole));
-}
-
-/// Tables carry the timing columns after the others; --no-timing leaves them empty; --profile
-/// reports phases.
-#[test]
-fn tables_carry_timing_and_profile_reports_phases() {
-    let out = Command::new(env!("CARGO_BIN_EXE_probelab"))
-        .args(["--profile", "eval", "gen_constant", "--encoders", "sh1,sh2", "--resolution", "32x16"])
-        .current_dir(repo())
-        .output()
-        .unwrap();
-    let text = ok(&out);
-    assert!(text.lines().next().unwrap().ends_with(",fit_ns,eval_ns"));
-    for r in parse_csv(&text) {
-        let (f, e): (f64, f64) = (r["fit_ns"].parse().unwrap(), r["eval_ns"].parse().unwrap());
-        assert!(f > 0.0 && e > 0.0 && f < 1e7 && e < 1e6, "{f} {e}");
-    }
-    let err = String::from_utf8_lossy(&out.stderr);
-    for phase in ["decode", "reference", "fit", "render (encoder eval)", "timing pass"] {
-        assert!(err.contains(phase), "{phase}: {err}");
-    }
-    let out = Command::new(env!("CARGO_BIN_EXE_probelab"))
-        .args(["--no-timing", "eval", "gen_constant", "--encoders", "sh1", "--resolution", "32x16"])
-        .current_dir(repo())
-        .output()
-        .unwrap();
-    let r = &parse_csv(&ok(&out))[0];
-    assert_eq!((r["fit_ns"].as_str(), r["eval_ns"].as_str()), ("", ""));
 }

@@ -1,4 +1,4 @@
-//! Losing nothing (issue 8): a run that fails halfway, by an error or a kill, leaves every
+//! Interrupted runs lose nothing: a run that fails halfway, by an error or a kill, leaves every
 //! previous `results/` file byte-identical, and never a truncated or half-written one.
 //!
 //! The failure is injected with real bad input (the second map of a run, or the second
@@ -7,25 +7,24 @@
 //! several moments spread over its run time, and checks each results file is exactly its old
 //! bytes or exactly the bytes a complete run writes.
 
+mod common;
+
+use common::harness::{repo, Run, Scratch};
 use std::collections::BTreeMap;
-use std::fs;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 use std::time::Instant;
 
-fn repo() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
-fn probelab(root: &Path) -> Command {
-    let mut c = Command::new(env!("CARGO_BIN_EXE_probelab"));
+/// The binary on the scratch repository `root`, finding the repository's generated maps.
+fn probelab(root: &Scratch) -> Command {
+    let mut c = root.probelab();
     // Timings differ between two complete runs; these tests compare files byte for byte.
-    c.arg("--no-timing").arg("--root").arg(root).env("PROBELAB_ENVMAPS", repo().join("envmaps"));
+    c.arg("--no-timing").env("PROBELAB_ENVMAPS", repo().join("envmaps"));
     c
 }
 
-fn run(root: &Path, args: &[&str]) -> Output {
-    probelab(root).args(args).output().expect("run probelab")
+fn run(root: &Scratch, args: &[&str]) -> Output {
+    probelab(root).args(args).run()
 }
 
 /// `text` with every ISO 8601 UTC time `YYYY-MM-DDThh:mm:ssZ` replaced by `<date>`.
@@ -55,48 +54,33 @@ fn blank_dates(text: &str) -> String {
     out
 }
 
-/// Every file under `dir` with its bytes (hidden temporary files included).
-fn snapshot(dir: &Path) -> BTreeMap<PathBuf, Vec<u8>> {
-    let mut out = BTreeMap::new();
-    let mut stack = vec![dir.to_path_buf()];
-    while let Some(d) = stack.pop() {
-        let Ok(entries) = fs::read_dir(&d) else { continue };
-        for e in entries.flatten() {
-            let p = e.path();
-            if p.is_dir() {
-                stack.push(p);
-            } else {
-                let mut bytes = fs::read(&p).unwrap();
-                if p.file_name().is_some_and(|n| n == "provenance.toml") {
-                    // The run's date differs between two complete runs; everything else must not.
-                    let text = String::from_utf8(bytes).unwrap();
-                    bytes =
-                        text.lines().filter(|l| !l.starts_with("date = ")).collect::<Vec<_>>().join("\n").into_bytes();
-                }
-                if p.file_name().is_some_and(|n| n == "REPORT.md") {
-                    // The report quotes those dates (from provenance.toml): blank them too.
-                    bytes = blank_dates(&String::from_utf8(bytes).unwrap()).into_bytes();
-                }
-                out.insert(p.strip_prefix(dir).unwrap().to_path_buf(), bytes);
-            }
+/// The `results/` files of `root` with their bytes (hidden temporary files included), with the
+/// run's dates blanked: they differ between two complete runs, and nothing else may.
+fn results(root: &Scratch) -> BTreeMap<PathBuf, Vec<u8>> {
+    let mut files = root.snapshot("results");
+    for (p, bytes) in files.iter_mut() {
+        if p.file_name().is_some_and(|n| n == "provenance.toml") {
+            let text = String::from_utf8(std::mem::take(bytes)).unwrap();
+            *bytes = text.lines().filter(|l| !l.starts_with("date = ")).collect::<Vec<_>>().join("\n").into_bytes();
+        }
+        if p.file_name().is_some_and(|n| n == "REPORT.md") {
+            // The report quotes those dates (from provenance.toml): blank them too.
+            *bytes = blank_dates(&String::from_utf8(std::mem::take(bytes)).unwrap()).into_bytes();
         }
     }
-    out
+    files
 }
 
-/// A root with experiments/ holding `experiments` (name, text) and results/ holding one
-/// unrelated table. (Experiments get no old table: an existing table is a baseline that only
-/// `bless` may change, so a run with new numbers would refuse to write it.)
-fn root_with(experiments: &[(&str, String)]) -> tempfile::TempDir {
-    let root = tempfile::tempdir().unwrap();
-    fs::create_dir_all(root.path().join("experiments")).unwrap();
-    fs::copy(repo().join("tolerances.toml"), root.path().join("tolerances.toml")).unwrap();
+/// A scratch repository with experiments/ holding `experiments` (name, text) and results/
+/// holding one unrelated table. (Experiments get no old table: an existing table is a baseline
+/// that only `bless` may change, so a run with new numbers would refuse to write it.)
+fn root_with(experiments: &[(&str, String)]) -> Scratch {
+    let root = Scratch::new();
+    root.copy_from_repo("tolerances.toml");
     for (name, text) in experiments {
-        fs::write(root.path().join("experiments").join(format!("{name}.toml")), text).unwrap();
+        root.write(&format!("experiments/{name}.toml"), text);
     }
-    let other = root.path().join("results/unrelated");
-    fs::create_dir_all(&other).unwrap();
-    fs::write(other.join("table.csv"), "map,encoder\nkeep,me\n").unwrap();
+    root.write("results/unrelated/table.csv", "map,encoder\nkeep,me\n");
     root
 }
 
@@ -117,11 +101,11 @@ fn a_map_that_fails_second_writes_nothing() {
     let text =
         format!("maps = ['gen_constant', '{}']\nencoders = [{}]\nresolution = [32, 16]\n", bad_map(), encoder_list());
     let root = root_with(&[("first_good_then_bad", text)]);
-    let before = snapshot(&root.path().join("results"));
-    let out = run(root.path(), &["run", root.path().join("experiments/first_good_then_bad.toml").to_str().unwrap()]);
+    let before = results(&root);
+    let out = run(&root, &["run", root.path().join("experiments/first_good_then_bad.toml").to_str().unwrap()]);
     assert_eq!(out.status.code(), Some(2), "{}", String::from_utf8_lossy(&out.stderr));
     assert!(String::from_utf8_lossy(&out.stderr).contains("truncated_pixels.exr: file is truncated"));
-    assert!(snapshot(&root.path().join("results")) == before, "results/ changed");
+    assert!(results(&root) == before, "results/ changed");
 }
 
 /// Two experiments on one command line, or in experiments/ for `reproduce`: the first
@@ -130,23 +114,20 @@ fn a_map_that_fails_second_writes_nothing() {
 fn an_experiment_that_fails_second_writes_nothing() {
     let bad = format!("maps = ['{}']\nencoders = ['sh1']\nresolution = [32, 16]\n", bad_map());
     let root = root_with(&[("a_good", good_experiment()), ("b_bad", bad)]);
-    let results = root.path().join("results");
-    let before = snapshot(&results);
+    let before = results(&root);
     let exps = root.path().join("experiments");
-    let out = run(
-        root.path(),
-        &["run", exps.join("a_good.toml").to_str().unwrap(), exps.join("b_bad.toml").to_str().unwrap()],
-    );
+    let out =
+        run(&root, &["run", exps.join("a_good.toml").to_str().unwrap(), exps.join("b_bad.toml").to_str().unwrap()]);
     assert_eq!(out.status.code(), Some(2));
-    assert!(snapshot(&results) == before, "run: results/ changed");
-    let out = run(root.path(), &["reproduce"]);
+    assert!(results(&root) == before, "run: results/ changed");
+    let out = run(&root, &["reproduce"]);
     assert_eq!(out.status.code(), Some(2));
-    assert!(snapshot(&results) == before, "reproduce: results/ changed");
+    assert!(results(&root) == before, "reproduce: results/ changed");
     // Without the bad experiment the same run writes a_good's table.
-    fs::remove_file(exps.join("b_bad.toml")).unwrap();
-    let out = run(root.path(), &["reproduce"]);
+    std::fs::remove_file(exps.join("b_bad.toml")).unwrap();
+    let out = run(&root, &["reproduce"]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    let after = snapshot(&results);
+    let after = results(&root);
     assert!(after[Path::new("a_good/table.csv")].starts_with(b"map,encoder,domain,metric"));
     assert_eq!(after[Path::new("unrelated/table.csv")], before[Path::new("unrelated/table.csv")]);
 }
@@ -170,11 +151,11 @@ fn a_killed_reproduce_leaves_old_or_complete_files() {
     // The bytes a complete run writes, and how long it takes.
     let complete = root_with(&exps);
     let t0 = Instant::now();
-    let out = run(complete.path(), &["reproduce"]);
+    let out = run(&complete, &["reproduce"]);
     let full = t0.elapsed();
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    let new = snapshot(&complete.path().join("results"));
-    let old = snapshot(&root_with(&exps).path().join("results"));
+    let new = results(&complete);
+    let old = results(&root_with(&exps));
     println!("a complete reproduce takes {full:?}");
 
     // Two early kills, then kills creeping up on the end of the run (where the files are
@@ -184,12 +165,11 @@ fn a_killed_reproduce_leaves_old_or_complete_files() {
     for frac in fracs {
         let mut outcomes = BTreeMap::new();
         let root = root_with(&exps);
-        let mut child =
-            probelab(root.path()).arg("reproduce").stdout(Stdio::null()).stderr(Stdio::null()).spawn().unwrap();
+        let mut child = probelab(&root).arg("reproduce").stdout(Stdio::null()).stderr(Stdio::null()).spawn().unwrap();
         std::thread::sleep(full.mul_f64(frac));
         let _ = child.kill();
         let status = child.wait().unwrap();
-        let after = snapshot(&root.path().join("results"));
+        let after = results(&root);
         for (name, bytes) in &after {
             let hidden = name.file_name().and_then(|n| n.to_str()).is_some_and(|n| n.starts_with('.'));
             if hidden {

@@ -1,4 +1,4 @@
-//! The catalogue of hard cases (issue 8): named scenes that push encoders to divide by d_z, by
+//! The catalogue of hard cases: named scenes that push encoders to divide by d_z, by
 //! L00 and by |L1|, take square roots of discriminants and normalise vectors that can be zero.
 //! Every encoder of `probelab::encoders::REGISTRY` (default settings) and every encoder
 //! configuration declared in `experiments/*.toml` runs on every case; an encoder added to the

@@ -1,7 +1,7 @@
 //! Properties of every registered encoder (and every encoder configuration declared in
-//! `experiments/*.toml`) on random non-negative lighting (issue 8): mixtures
-//! of delta lights, uniform caps and coloured ambient, as closed-form SH (`tests/common`) and,
-//! for the error ordering, as small maps through the exact pipeline.
+//! `experiments/*.toml`) on random non-negative lighting: mixtures of delta lights, uniform
+//! caps and coloured ambient, as closed-form SH (`tests/common`) and, for the error ordering,
+//! as small maps through the exact pipeline.
 //!
 //! - outputs are finite;
 //! - scale covariance, rotation covariance and non-negativity for the encoders that promise
@@ -11,7 +11,7 @@
 //!   encoder that promises `sphere_error_at_most_sh() == Some(l)` is no worse than SH L_l.
 //!
 //! Case count: `PROPTEST_CASES` (default 24 per property, to keep CI fast). For a long run:
-//! `PROPTEST_CASES=5000 cargo test --release --test properties`.
+//! `PROPTEST_CASES=5000 cargo test --release --test encoder_properties`.
 
 mod common;
 

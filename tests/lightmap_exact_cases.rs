@@ -1,4 +1,4 @@
-//! Exact cases of the lightmap encodings (issue 4; claims H1, H2, H6, D1 of CLAIMS.md), with
+//! Exact cases of the lightmap encodings (claims H1, H2, H6, D1 of CLAIMS.md), with
 //! expected values derived independently of the fits: closed-form lighting (`tests/common`),
 //! the hemisphere light (1 + n·N)/2, and quadrature of exact irradiance.
 
