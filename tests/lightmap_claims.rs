@@ -4,8 +4,8 @@
 
 use probelab::encoders::lightmap::hhd_from_linear_sh;
 use probelab::math::colour::Rgb;
+use probelab::pipeline::claim_spec::Check;
 use probelab::pipeline::experiment::Experiment;
-use probelab::pipeline::summary::Check;
 use probelab::reference::domain::Domain;
 use probelab::reference::metrics::score;
 use probelab::reference::scenes::{cap_irradiance, Component, TILTED_LIGHT};
