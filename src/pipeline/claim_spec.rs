@@ -17,7 +17,7 @@
 //! | `abs_tolerance`        | number | `equal`: a difference this small passes regardless (default 1e-12; for errors at rounding level) |
 //! | `bound`                | number | `at_most`: a row passes if column ≤ bound; `at_least`: if column ≥ bound (required, finite, ≥ 0) |
 //! | `effects`              | string | only rows with exactly this effects label |
-//! | `maps`                 | [string] | only rows of these maps (each one of the experiment's `maps`, by name or file stem) |
+//! | `maps`                 | \[string\] | only rows of these maps (each one of the experiment's `maps`, by name or file stem) |
 //! | `note`                 | string | shown under the claims table |
 
 use crate::pipeline::table::Row;
