@@ -362,7 +362,6 @@ pub fn write_results(root: &Path, out: &Path, exp: &Experiment, report: &runner:
     let ok = crate::regression::check::print_stored(exp, out, &stored, report.rows.len());
     if ok {
         let dir = out.join(&exp.name);
-        let summary = exp.summary.as_ref().map(|b| b.as_deref());
         // A table that stood within tolerance is the one kept: summarise its numbers.
         let rows = match stored {
             crate::regression::check::Stored::Unchanged(_) => {
@@ -370,7 +369,11 @@ pub fn write_results(root: &Path, out: &Path, exp: &Experiment, report: &runner:
             }
             _ => report.rows.clone(),
         };
-        for f in crate::pipeline::summary::write(&dir, &exp.name, &exp.description, summary, &exp.claims, &rows)? {
+        if let Some(baseline) = &exp.summary {
+            crate::pipeline::summary::write(&dir, baseline.as_deref(), &rows)?;
+            eprintln!("wrote {}", dir.join("summary.csv").display());
+        }
+        for f in crate::claims::declared::write(&dir, &exp.name, &exp.description, &exp.claims, &rows)? {
             eprintln!("wrote {}", dir.join(f).display());
         }
     }

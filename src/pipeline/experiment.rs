@@ -15,7 +15,7 @@
 //! | `polar_nodes`  | integer                   | 2              | Gauss–Legendre nodes per row piece of the reference |
 //! | `ci`           | bool                      | true           | whether the CI check re-runs it |
 //! | `summary`      | table                     | none           | `summary.csv` per orientation/map/set, ratios to `baseline` (`summary.rs`) |
-//! | `claims`       | [table]                   | `[]`           | claims checked on the rows: `claims.csv`, `CLAIMS.md` (`summary.rs`) |
+//! | `claims`       | [table]                   | `[]`           | claims checked on the rows (`claim_spec.rs`): `claims.csv`, `CLAIMS.md` (`claims::declared`) |
 //!
 //! Unknown keys are errors that name the key and the line.
 
@@ -68,7 +68,7 @@ pub struct ExperimentFile {
     pub ci: Option<bool>,
     pub summary: Option<crate::pipeline::summary::SummaryFile>,
     #[serde(default)]
-    pub claims: Vec<crate::pipeline::summary::ClaimFile>,
+    pub claims: Vec<crate::pipeline::claim_spec::ClaimFile>,
 }
 
 /// A visibility effect applied to the radiance before it reaches the surface.
@@ -110,7 +110,7 @@ pub struct Experiment {
     pub ci: bool,
     /// `Some(baseline)` when a per-orientation summary is declared.
     pub summary: Option<Option<String>>,
-    pub claims: Vec<crate::pipeline::summary::Claim>,
+    pub claims: Vec<crate::pipeline::claim_spec::ClaimSpec>,
 }
 
 impl Experiment {
@@ -260,7 +260,7 @@ impl Experiment {
         let claims = f
             .claims
             .into_iter()
-            .map(|c| crate::pipeline::summary::Claim::from_file(c, &names, &f.maps))
+            .map(|c| crate::pipeline::claim_spec::ClaimSpec::from_file(c, &names, &f.maps))
             .collect::<Result<Vec<_>>>()?;
         Ok(Experiment {
             name,

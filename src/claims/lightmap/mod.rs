@@ -36,9 +36,9 @@ use std::f64::consts::PI;
 use std::fmt::Write as _;
 use std::path::Path;
 
-/// One row of claims.csv.
+/// One measured claim: a row of claims.csv.
 #[derive(Clone, Debug)]
-pub struct Claim {
+pub struct Finding {
     pub id: &'static str,
     pub claim: &'static str,
     pub our_figure: String,
@@ -49,7 +49,7 @@ pub struct Claim {
 /// Everything `probelab claims lightmap` measures: the claims, the data files, and the
 /// blending strips for the report layer to draw.
 pub struct Report {
-    pub claims: Vec<Claim>,
+    pub claims: Vec<Finding>,
     /// (file name, bytes) of the CSVs.
     pub files: Vec<(String, Vec<u8>)>,
     /// One blending strip per pair, in `blend::pairs` order.
@@ -133,7 +133,7 @@ fn tilted(n: DVec3, towards: DVec3, deg: f64) -> DVec3 {
 
 const AMBIENT: Rgb = Rgb::new(1.0, 0.8, 0.6);
 
-fn h1() -> Result<Claim> {
+fn h1() -> Result<Finding> {
     let mut worst_hemi = 0.0f64;
     let mut sphere = 0.0f64;
     let mut params = 0.0f64;
@@ -150,7 +150,7 @@ fn h1() -> Result<Claim> {
             .max((m.c_d - half).abs().max_element())
             .max((m.d - n).length());
     }
-    Ok(Claim {
+    Ok(Finding {
         id: "H1",
         claim: "constant ambient, hemisphere occlusion: best AHD = hemisphere light C_a = C_d = A/2, d = N, zero error",
         our_figure: format!(
@@ -172,7 +172,7 @@ fn h1() -> Result<Claim> {
 /// ahd_irradz_2018).
 type H2Row = (f64, f64, f64, f64, f64);
 
-fn h2() -> Result<(Claim, Vec<H2Row>)> {
+fn h2() -> Result<(Finding, Vec<H2Row>)> {
     let mut rows = Vec::new();
     for deg in [20.0, 50.0, 80.0] {
         let n = DVec3::Y;
@@ -195,7 +195,7 @@ fn h2() -> Result<(Claim, Vec<H2Row>)> {
         .collect::<Vec<_>>()
         .join("; ");
     Ok((
-        Claim {
+        Finding {
             id: "H2",
             claim: "ambient + one tilted directional: AHD error > 0, HHD exact",
             our_figure: format!("max abs error: {fig}"),
@@ -216,7 +216,7 @@ fn h2() -> Result<(Claim, Vec<H2Row>)> {
     ))
 }
 
-fn h6() -> Claim {
+fn h6() -> Finding {
     // A small deterministic generator (xorshift64*), uniform in [0, 1).
     let mut state = 0x9e37_79b9_7f4a_7c15u64;
     let mut next = move || {
@@ -246,7 +246,7 @@ fn h6() -> Claim {
         dir = dir.max((back.d - d).length());
         count += 1;
     }
-    Claim {
+    Finding {
         id: "H6",
         claim: "HHD solved in closed form from hemispherical linear SH; the round trip is exact",
         our_figure: format!(
@@ -288,7 +288,7 @@ fn mean(v: impl IntoIterator<Item = f64>) -> f64 {
 
 const PLAIN: &str = "hemisphere+self_bounce(albedo=0)";
 
-fn h4(rows: &[Row], h2rows: &[H2Row]) -> Claim {
+fn h4(rows: &[Row], h2rows: &[H2Row]) -> Finding {
     let a = rows_of(rows, "ahd_search_hemi", PLAIN);
     let h = rows_of(rows, "hhd_search_hemi", PLAIN);
     let ratios: Vec<f64> = a.iter().zip(&h).map(|(a, h)| h.scores.rmse / a.scores.rmse).collect();
@@ -296,7 +296,7 @@ fn h4(rows: &[Row], h2rows: &[H2Row]) -> Claim {
     let hhd_wins = ratios.iter().filter(|&&r| r < 1.0).count();
     let (lo, hi) = (ratios.iter().copied().fold(f64::MAX, f64::min), ratios.iter().copied().fold(0.0, f64::max));
     let scene_hhd = h2rows.iter().all(|r| r.2 < r.3);
-    Claim {
+    Finding {
         id: "H4",
         claim: "AHD and HHD differ little in quality; scenes exist where either one wins",
         our_figure: format!(
@@ -317,7 +317,7 @@ fn h4(rows: &[Row], h2rows: &[H2Row]) -> Claim {
     }
 }
 
-fn h10(rows: &[Row]) -> Claim {
+fn h10(rows: &[Row]) -> Finding {
     let mut parts = Vec::new();
     let mut gains = Vec::new();
     for rho in ["0.2", "0.5", "0.8"] {
@@ -328,7 +328,7 @@ fn h10(rows: &[Row]) -> Claim {
         gains.push(without - with);
     }
     let plain = mean(rows_of(rows, "hhd_search_hemi", PLAIN).iter().map(|r| r.scores.rmse));
-    Claim {
+    Finding {
         id: "H10",
         claim: "self-bounce (1 − H)·albedo·I_z costs almost nothing and matters for high albedo",
         our_figure: format!(
@@ -344,7 +344,7 @@ fn h10(rows: &[Row]) -> Claim {
     }
 }
 
-fn d1_d2(search: &SearchPath, rows: &[Row], scenes: &[Scene]) -> Result<(Claim, Claim)> {
+fn d1_d2(search: &SearchPath, rows: &[Row], scenes: &[Scene]) -> Result<(Finding, Finding)> {
     // Exact I_z per (map, N) for relative errors at N.
     let exp = Experiment::parse(REAL_MAPS_EXPERIMENT, Path::new("lightmap_claims (built in)"))?;
     let mut at_n = Vec::new();
@@ -373,7 +373,7 @@ fn d1_d2(search: &SearchPath, rows: &[Row], scenes: &[Scene]) -> Result<(Claim, 
     for s in scenes {
         scene_luma = scene_luma.max(s.errors_with("ahd_irradz_2018", "irradz_luma")?);
     }
-    let d1 = Claim {
+    let d1 = Finding {
         id: "D1",
         claim: "luminance-ratio IrradZ reconstructs the RGB irradiance at the normal without error",
         our_figure: format!(
@@ -388,7 +388,7 @@ fn d1_d2(search: &SearchPath, rows: &[Row], scenes: &[Scene]) -> Result<(Claim, 
     let constrained = rel("ahd_irradz_2018");
     let free = rel("ahd_linear_hemi");
     let rm = |e: &str| mean(rows_of(rows, e, PLAIN).iter().map(|r| r.scores.rmse));
-    let d2 = Claim {
+    let d2 = Finding {
         id: "D2",
         claim: "the I_z-constrained fit (min-norm + null-space search, non-negative colours) beats an unconstrained fit at the normal",
         our_figure: format!(
@@ -461,7 +461,7 @@ fn fig2_files() -> Result<(Vec<u8>, Vec<u8>, Vec<fig2::Fig2Summary>)> {
     Ok((a, b, summary))
 }
 
-fn h7(summary: &[fig2::Fig2Summary], blends: &[blend::BlendSummary]) -> Claim {
+fn h7(summary: &[fig2::Fig2Summary], blends: &[blend::BlendSummary]) -> Finding {
     let at = |deg: f64, rule| summary.iter().find(|s| s.alpha_deg == deg && s.rule == rule).expect("row");
     use fig2::Rule::{Renormalised, TangentXy};
     let fig = format!(
@@ -484,7 +484,7 @@ fn h7(summary: &[fig2::Fig2Summary], blends: &[blend::BlendSummary]) -> Claim {
     let (ahd, irr) = (pick("ahd_params"), pick("ahd_irradz"));
     let irr_max = irr.iter().map(|b| b.overshoot).fold(0.0, f64::max);
     let ahd_any = ahd.iter().any(|b| b.overshoot > 1e-3);
-    Claim {
+    Finding {
         id: "H7",
         claim: "blended AHD parameters overshoot the irradiance at N beyond both endpoints; IrradZ interpolates I_z linearly",
         our_figure: format!(
@@ -498,7 +498,7 @@ fn h7(summary: &[fig2::Fig2Summary], blends: &[blend::BlendSummary]) -> Claim {
     }
 }
 
-fn h5(blends: &[blend::BlendSummary]) -> Claim {
+fn h5(blends: &[blend::BlendSummary]) -> Finding {
     let mut parts = Vec::new();
     let (mut closer, mut much, mut n) = (0, 0, 0);
     let pairs: Vec<String> = {
@@ -514,7 +514,7 @@ fn h5(blends: &[blend::BlendSummary]) -> Claim {
         closer += usize::from(sh1 < params);
         much += usize::from(sh1 < 0.5 * params);
     }
-    Claim {
+    Finding {
         id: "H5",
         claim: "blended HHD parameters are far from the blended reference; blending linear SH then solving HHD is much closer",
         our_figure: format!("mean rmse over t = 0..1, hhd_params vs sh1_hhd: {}", parts.join("; ")),
@@ -660,7 +660,7 @@ pub fn run(search: &SearchPath) -> Result<Report> {
 }
 
 /// claims.csv.
-pub fn to_csv(claims: &[Claim]) -> Result<Vec<u8>> {
+pub fn to_csv(claims: &[Finding]) -> Result<Vec<u8>> {
     csv_bytes(
         &["id", "claim", "paper_figure", "our_figure", "holds", "notes"],
         claims.iter().map(|c| {
@@ -694,7 +694,7 @@ pub fn paper_figure(id: &str) -> &'static str {
 }
 
 /// CLAIMS.md.
-pub fn to_markdown(claims: &[Claim]) -> String {
+pub fn to_markdown(claims: &[Finding]) -> String {
     let mut s = String::from(
         "# Lightmap claims (H1, H2, H4–H7, H10, D1, D2), measured\n\n\
          Generated by `probelab claims lightmap` (src/lightmap_claims/); do not edit by hand. Claims from \

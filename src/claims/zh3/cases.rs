@@ -1,0 +1,117 @@
+//! What the ZH3 claims are measured on, and how: the sphere output grid every figure uses
+//! (256×128 lat-long normals, solid-angle weights), the five paper probes with their exact
+//! cell-integrated reference, constructed scenes with their closed-form irradiance and SH, and
+//! the encoders by registry name, scored through the pipeline's one scoring step
+//! ([`crate::pipeline::runner::score_fit`]).
+
+use super::MAPS;
+use crate::encoders::encoder::{Encoder, FitInput, Fitted};
+use crate::envmap::moments::RowMoments;
+use crate::envmap::search::SearchPath;
+use crate::math::colour::Rgb;
+use crate::math::sh::Sh9;
+use crate::pipeline::runner::{evaluate, score_fit};
+use crate::reference::domain::{Domain, OutputGrid};
+use crate::reference::exact::{Reference, DEFAULT_POLAR_NODES};
+use crate::reference::metrics::{Metric, Scores};
+use crate::reference::scenes::{Component, Scene};
+use anyhow::{Context, Result};
+use glam::DVec3;
+
+/// The lat-long resolution of the output grid of normals.
+const RES: (usize, usize) = (256, 128);
+
+/// A lighting case: its radiance SH and the reference E/π at each normal of the grid.
+pub(super) struct Case {
+    pub name: String,
+    /// Radiance SH (exact projection of the map, or closed form).
+    pub sh: Sh9,
+    pub reference: Vec<Rgb>,
+}
+
+/// The sphere output grid shared by every case: 256×128 lat-long normals with their exact
+/// solid angles.
+pub(super) fn grid() -> OutputGrid {
+    Domain::Sphere.output_grid(RES)
+}
+
+/// An encoder by kind with TOML settings.
+pub(super) fn enc(kind: &str, settings: &[(&str, toml::Value)]) -> Result<Box<dyn Encoder>> {
+    let t: toml::Table = settings.iter().map(|(k, v)| (k.to_string(), v.clone())).collect();
+    Ok(crate::encoders::build(kind, None, t)?.encoder)
+}
+
+/// An RGB weight triple as a TOML setting.
+pub(super) fn weights_value(w: [f64; 3]) -> toml::Value {
+    toml::Value::Array(w.iter().map(|&x| toml::Value::Float(x)).collect())
+}
+
+/// The encoder's fit to radiance SH over the whole sphere.
+pub(super) fn fit(e: &dyn Encoder, sh: &Sh9) -> Box<dyn Fitted> {
+    e.fit(&FitInput::sphere(sh))
+}
+
+/// A fit evaluated at every normal of the grid.
+pub(super) fn values(f: &dyn Fitted, grid: &OutputGrid) -> Vec<Rgb> {
+    evaluate(f, &grid.normals)
+}
+
+/// The exact metric of an encoder on a case: solid-angle weighted, no clamp.
+pub(super) fn exact(e: &dyn Encoder, case: &Case, grid: &OutputGrid) -> Scores {
+    score_fit(e, fit(e, &case.sh).as_ref(), grid, &case.reference, Metric::Exact)
+}
+
+/// The peer-compatible metric (FORMULAS §10): per-pixel mean, clamped unless the encoder says
+/// its peer counterpart is not.
+pub(super) fn probulator(e: &dyn Encoder, case: &Case, grid: &OutputGrid) -> Scores {
+    score_fit(e, fit(e, &case.sh).as_ref(), grid, &case.reference, Metric::Probulator)
+}
+
+/// The paper probes as cases, and (name, description of the map and its reference) for each.
+pub(super) type Probes = (Vec<Case>, Vec<(String, String)>);
+
+/// The five paper probes ([`MAPS`]) as cases on the grid, with a description of each map and
+/// its reference.
+pub(super) fn paper_probes(search: &SearchPath, grid: &OutputGrid) -> Result<Probes> {
+    let mut maps = Vec::new();
+    let mut cases = Vec::new();
+    for name in MAPS {
+        let (c, desc) = map_case(search, name, grid).with_context(|| {
+            format!("claims zh3 needs the five paper probes ({}); set PROBELAB_ENVMAPS", MAPS.join(", "))
+        })?;
+        maps.push((name.to_string(), desc));
+        cases.push(c);
+    }
+    Ok((cases, maps))
+}
+
+/// One map on the search path: its exact SH projection and the exact cell-integrated reference
+/// on the grid's lat-long normals.
+fn map_case(search: &SearchPath, name: &str, grid: &OutputGrid) -> Result<(Case, String)> {
+    let path = search.resolve(name).map_err(|e| anyhow::anyhow!("claims zh3: {e}"))?;
+    let map = crate::envmap::load::load(&path)?;
+    let rm = RowMoments::new(&map);
+    let reference = Reference::new(&rm, vec![], DEFAULT_POLAR_NODES);
+    let values = reference.irradiance_latlong(grid.latlong.expect("the sphere grid is a lat-long grid"));
+    let case = Case { name: name.to_string(), sh: crate::reference::projection::project(&map), reference: values };
+    Ok((case, format!("{} ({}x{}, {})", path.display(), map.width(), map.height(), reference.describe())))
+}
+
+/// A constructed scene as a case: closed-form SH and irradiance.
+pub(super) fn scene_case(scene: &Scene, grid: &OutputGrid) -> Case {
+    Case {
+        name: scene.id.clone(),
+        sh: scene.sh(),
+        reference: grid.normals.iter().map(|&n| scene.irradiance(n)).collect(),
+    }
+}
+
+/// A scene of analytic components.
+pub(super) fn scene(id: &str, components: Vec<Component>) -> Scene {
+    Scene { id: id.into(), description: String::new(), components }
+}
+
+/// A cap light of `half_angle` radians about `axis` (normalised).
+pub(super) fn cap(axis: DVec3, half_angle: f64, radiance: Rgb) -> Component {
+    Component::Cap { axis: axis.normalize(), half_angle, radiance }
+}
