@@ -22,6 +22,10 @@ pub struct EncoderKind {
     pub build: fn(&mut Params) -> Result<Box<dyn Encoder>>,
 }
 
+/// The baseline every reduction is measured against (`reduction_vs_sh1` of probe sets): SH L1,
+/// what a game stores today (ZH3 talk).
+pub const BASELINE: &str = "sh1";
+
 /// Every encoder kind, in the order tables list them.
 pub const REGISTRY: &[EncoderKind] = &[
     EncoderKind { id: "sh0", summary: "SH band 0 only (constant)", build: sh::build_sh0 },

@@ -72,8 +72,8 @@ pub fn encoder_list(list: &str) -> Result<Vec<NamedEncoder>> {
         list.to_string()
     };
     let mut v = crate::encoders::build_list(&list)?;
-    if !v.iter().any(|e| e.name == "sh1") {
-        v.insert(0, crate::encoders::build("sh1", None, toml::Table::new())?);
+    if !v.iter().any(|e| e.name == crate::encoders::BASELINE) {
+        v.insert(0, crate::encoders::build(crate::encoders::BASELINE, None, toml::Table::new())?);
     }
     Ok(v)
 }

@@ -306,7 +306,7 @@ impl SetStats {
     pub fn summary_csv(&self) -> Result<Vec<u8>> {
         let num = crate::pipeline::table::num;
         let opt = |v: Option<f64>| v.map(num).unwrap_or_default();
-        let sh1 = self.encoders.iter().find(|e| e.name == "sh1").map(|e| e.rmse.mean());
+        let sh1 = self.encoders.iter().find(|e| e.name == crate::encoders::BASELINE).map(|e| e.rmse.mean());
         let mut w = csv::Writer::from_writer(Vec::new());
         w.write_record(SUMMARY_COLUMNS)?;
         let shards = if self.complete() {
