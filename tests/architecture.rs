@@ -11,6 +11,8 @@
 //! - Between module files (e.g. `pipeline::runner` and `pipeline::timing`) there is no circle.
 //! - Outside `encoders/` and `claims/`, product code names no encoder: no string literal in
 //!   code before a file's `#[cfg(test)]` is a registered encoder id.
+//! - The modules whose product code touches the disk (`fs::`, `File::`, `OpenOptions`) are
+//!   exactly the ones ARCHITECTURE.md lists ("Only these modules touch the disk").
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
@@ -299,6 +301,37 @@ fn only_encoders_and_claims_name_an_encoder() {
         }
     }
     assert!(errors.is_empty(), "{}", errors.join("\n"));
+}
+
+#[test]
+fn only_the_listed_modules_touch_the_disk() {
+    let arch = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("ARCHITECTURE.md")).unwrap();
+    let start = arch
+        .find("**Only these modules touch the disk**")
+        .expect("ARCHITECTURE.md states which modules touch the disk");
+    let rest = &arch[start..];
+    let end = rest[2..].find("\n- **").map(|i| i + 2).unwrap_or(rest.len());
+    let listed: BTreeSet<String> = rest[..end]
+        .split('`')
+        .skip(1)
+        .step_by(2)
+        .filter(|s| s.chars().all(|c| c.is_alphanumeric() || c == '_' || c == ':'))
+        .map(String::from)
+        .collect();
+    let krate = read_crate();
+    let mut touching = BTreeSet::new();
+    for (m, (_, code)) in &krate.modules {
+        let product = code.split("#[cfg(test)]").next().unwrap();
+        if ["fs::", "File::", "OpenOptions"].iter().any(|p| product.contains(p)) {
+            touching.insert(m.join("::"));
+        }
+    }
+    let unlisted: Vec<_> = touching.difference(&listed).collect();
+    let idle: Vec<_> = listed.difference(&touching).collect();
+    assert!(
+        unlisted.is_empty() && idle.is_empty(),
+        "touch the disk but are not listed in ARCHITECTURE.md: {unlisted:?}; listed but touch no file: {idle:?}"
+    );
 }
 
 /// The checker itself: paths, modules and the table parse as intended.
