@@ -21,8 +21,9 @@ use crate::math::colour::REC709;
 use crate::math::sh::{delta_light, Sh9};
 use crate::reference::domain::Domain;
 use crate::reference::exact::{Reference, DEFAULT_POLAR_NODES};
+use crate::reference::lighting::{Light, Lighting};
 use crate::reference::metrics::{score, Scores};
-use crate::reference::scenes::{Component, Scene};
+use crate::reference::scenes::Scene;
 use anyhow::{bail, Context, Result};
 use glam::DVec3;
 use std::f64::consts::PI;
@@ -121,12 +122,12 @@ fn scene_case(scene: &Scene, grid: &Grid) -> Case {
     }
 }
 
-fn scene(id: &str, components: Vec<Component>) -> Scene {
-    Scene { id: id.into(), description: String::new(), components }
+fn scene(id: &str, lights: Vec<Light>) -> Scene {
+    Scene { id: id.into(), description: String::new(), lighting: Lighting(lights) }
 }
 
-fn cap(axis: DVec3, half_angle: f64, radiance: Rgb) -> Component {
-    Component::Cap { axis: axis.normalize(), half_angle, radiance }
+fn cap(axis: DVec3, half_angle: f64, radiance: Rgb) -> Light {
+    Light::Cap { axis: axis.normalize(), half_angle, radiance }
 }
 
 fn pct(x: f64) -> String {
@@ -233,7 +234,7 @@ fn z1(grid: &Grid) -> Result<(Claim, String)> {
         ("cone light 5 deg", scene("cone5", vec![cap(a, 5.0 * deg, Rgb::new(200.0, 150.0, 100.0))])),
         ("cone light 30 deg", scene("cone30", vec![cap(-a, 30.0 * deg, Rgb::new(2.0, 3.0, 4.0))])),
         ("sphere light 60 deg over a constant sky", {
-            scene("sphere60", vec![cap(a, 60.0 * deg, Rgb::ONE), Component::Constant(Rgb::splat(0.2))])
+            scene("sphere60", vec![cap(a, 60.0 * deg, Rgb::ONE), Light::Ambient(Rgb::splat(0.2))])
         }),
     ];
     let mut worst_field = 0.0f64;
@@ -292,7 +293,7 @@ fn two_colour_scene() -> Scene {
         vec![
             cap(DVec3::X, 0.3, Rgb::new(8.0, 5.0, 1.0)),
             cap(DVec3::Y, 0.3, Rgb::new(1.0, 3.0, 9.0)),
-            Component::Constant(Rgb::splat(0.05)),
+            Light::Ambient(Rgb::splat(0.05)),
         ],
     )
 }
@@ -370,7 +371,7 @@ fn z3_scene() -> Scene {
             cap(DVec3::X, 0.15, Rgb::splat(20.0)),
             cap(DVec3::NEG_X, 0.15, Rgb::splat(20.0)),
             cap(DVec3::Y, 0.15, Rgb::splat(4.0)),
-            Component::Constant(Rgb::splat(0.1)),
+            Light::Ambient(Rgb::splat(0.1)),
         ],
     )
 }
@@ -433,7 +434,7 @@ fn z4(grid: &Grid, cases: &[Case]) -> Result<(Claim, String)> {
                 cap(DVec3::X, 0.15, Rgb::splat(20.0)),
                 cap(DVec3::NEG_X, 0.15, Rgb::splat(20.0)),
                 cap(DVec3::Y, 0.15, Rgb::new(0.5, 1.0, 8.0)),
-                Component::Constant(Rgb::splat(0.1)),
+                Light::Ambient(Rgb::splat(0.1)),
             ],
         ),
         grid,
@@ -740,9 +741,9 @@ fn z8(grid: &Grid, cases: &[Case]) -> Result<(Claim, String)> {
 
 /// Z9: blending two probes whose L1 axes are perpendicular.
 fn z9(grid: &Grid) -> Result<(Claim, String)> {
-    let mk = |axis: DVec3| scene("p", vec![cap(axis, 0.2, Rgb::splat(10.0)), Component::Constant(Rgb::splat(0.1))]);
+    let mk = |axis: DVec3| scene("p", vec![cap(axis, 0.2, Rgb::splat(10.0)), Light::Ambient(Rgb::splat(0.1))]);
     let (a, b) = (mk(DVec3::X), mk(DVec3::Y));
-    let blend = scene("blend", a.components.iter().chain(&b.components).cloned().collect());
+    let blend = scene("blend", a.lighting.0.iter().chain(&b.lighting.0).cloned().collect());
     let half = |s: Sh9| s * 0.5;
     let (sa, sb) = (a.sh().convolve_cosine(), b.sh().convolve_cosine());
     let sh_blend = half(sa + sb); // irradiance SH3 of the blend (exact SH3 interpolation)

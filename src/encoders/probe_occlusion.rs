@@ -346,7 +346,7 @@ impl Fitted for HhdLum {
 
 /// The cosine-weighted visibility seen from the surface normal N of the cone {ω·C > cos α}:
 /// (1/π)∫_cone max(0, ω·N) dω, i.e. the AO value. It is the sphere-light form factor
-/// (`scenes::cap_irradiance`) for cos α ≥ 0, and 1 minus that of the complementary cone for
+/// (`lighting::cap_irradiance`) for cos α ≥ 0, and 1 minus that of the complementary cone for
 /// cos α < 0. 1 − cos²α for a cone about N.
 pub fn cone_visibility(n: DVec3, centre: DVec3, cos_alpha: f64) -> f64 {
     let c = cos_alpha.clamp(-1.0, 1.0);
@@ -355,9 +355,9 @@ pub fn cone_visibility(n: DVec3, centre: DVec3, cos_alpha: f64) -> f64 {
         return if c > 0.0 { 0.0 } else { 1.0 };
     }
     if c >= 0.0 {
-        crate::reference::scenes::cap_irradiance(n.dot(centre), s2)
+        crate::reference::lighting::cap_irradiance(n.dot(centre), s2)
     } else {
-        1.0 - crate::reference::scenes::cap_irradiance(-n.dot(centre), s2)
+        1.0 - crate::reference::lighting::cap_irradiance(-n.dot(centre), s2)
     }
 }
 

@@ -112,7 +112,7 @@ pub fn uniform_rotation(u1: f64, u2: f64, u3: f64) -> DQuat {
 mod tests {
     use super::*;
     use crate::math::sh::delta_light;
-    use crate::reference::scenes::Component;
+    use crate::reference::lighting::Light;
 
     fn rotations() -> Vec<DMat3> {
         let mut v = vec![
@@ -154,7 +154,7 @@ mod tests {
         for r in rotations() {
             let rot = ShRotation::new(r);
             let axis = DVec3::new(-0.4, 0.6, 0.69).normalize();
-            let cap = |a| Component::Cap { axis: a, half_angle: 0.4, radiance: Rgb::new(3.0, 2.0, 1.0) }.sh();
+            let cap = |a| Light::Cap { axis: a, half_angle: 0.4, radiance: Rgb::new(3.0, 2.0, 1.0) }.sh();
             assert!(max_diff(&rot.apply(&cap(axis)), &cap(r * axis)) < 1e-13);
         }
     }
