@@ -20,7 +20,7 @@ use probelab::encoders::zh3::{solved, AxisRule};
 use probelab::envmap::search::SearchPath;
 use probelab::math::colour::Rgb;
 use probelab::math::sh::{constant, Sh9};
-use probelab::reference::scenes::Component;
+use probelab::reference::lighting::Light;
 use std::hint::black_box;
 
 /// Thread CPU time (CLOCK_THREAD_CPUTIME_ID): the machine is shared, so wall time measures the
@@ -101,7 +101,7 @@ fn random_lights(n: usize) -> Vec<Sh9> {
             for _ in 0..1 + i % 4 {
                 let axis = DVec3::new(rnd() - 0.5, rnd() - 0.5, rnd() - 0.5).normalize_or(DVec3::Y);
                 let radiance = Rgb::new(rnd(), rnd(), rnd()) * 20.0;
-                sh = sh + Component::Cap { axis, half_angle: 0.05 + 0.5 * rnd(), radiance }.sh();
+                sh = sh + Light::Cap { axis, half_angle: 0.05 + 0.5 * rnd(), radiance }.sh();
             }
             sh.convolve_cosine()
         })

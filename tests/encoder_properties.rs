@@ -1,7 +1,8 @@
 //! Properties of every registered encoder (and every encoder configuration declared in
 //! `experiments/*.toml`) on random non-negative lighting: mixtures of delta lights, uniform
-//! caps and coloured ambient, as closed-form SH (`tests/common`) and, for the error ordering,
-//! as small maps through the exact pipeline.
+//! caps and coloured ambient, as closed-form SH (`probelab::reference::lighting`, with the
+//! surfaces of `tests/common`) and, for the error ordering, as small maps through the exact
+//! pipeline.
 //!
 //! - outputs are finite;
 //! - scale covariance, rotation covariance and non-negativity for the encoders that promise
@@ -25,7 +26,7 @@ use probelab::math::colour::Rgb;
 use probelab::reference::domain::Domain;
 use probelab::reference::exact::Reference;
 use probelab::reference::projection::project;
-use probelab::reference::scenes::{Component, Scene};
+use probelab::reference::scenes::Scene;
 use proptest::prelude::*;
 use std::f64::consts::PI;
 
@@ -49,7 +50,8 @@ fn colour(max: f64) -> impl Strategy<Value = Rgb> {
 }
 
 fn delta() -> impl Strategy<Value = Light> {
-    (unit(), colour(10.0)).prop_map(|(dir, e)| Light::Delta { dir, e })
+    // Radiant intensity e up to 10: E/π facing it e/π.
+    (unit(), colour(10.0)).prop_map(|(dir, e)| Light::Delta { dir, facing: e / PI })
 }
 
 fn cap() -> impl Strategy<Value = Light> {
@@ -161,23 +163,20 @@ proptest! {
     }
 }
 
-/// A scene of caps and ambient as a map, for the exact pipeline.
+/// A scene of caps and ambient as a map, for the exact pipeline; a delta light becomes a small
+/// cap of the same E/π facing it (radiance facing/sin²α).
 fn scene_of(lights: &[Light]) -> Scene {
-    let components = lights
+    let lights = lights
         .iter()
         .map(|l| match l {
-            Light::Ambient(c) => Component::Constant(*c),
-            Light::Cap { axis, half_angle, radiance } => {
-                Component::Cap { axis: *axis, half_angle: *half_angle, radiance: *radiance }
-            }
-            // A delta light as a small cap of the same intensity: e = radiance·π sin²α.
-            Light::Delta { dir, e } => {
+            Light::Delta { dir, facing } => {
                 let half_angle = 0.1f64;
-                Component::Cap { axis: *dir, half_angle, radiance: *e / (PI * half_angle.sin().powi(2)) }
+                Light::Cap { axis: *dir, half_angle, radiance: *facing / half_angle.sin().powi(2) }
             }
+            l => l.clone(),
         })
         .collect();
-    Scene { id: "random".into(), description: String::new(), components }
+    Scene { id: "random".into(), description: String::new(), lighting: Lighting(lights) }
 }
 
 proptest! {

@@ -6,12 +6,14 @@ mod common;
 
 use common::harness::{parse_csv, repo, run, stderr_ok, Scratch};
 use probelab::encoders::lightmap::hhd_from_linear_sh;
+use probelab::math::cap::Cap;
 use probelab::math::colour::Rgb;
 use probelab::pipeline::claim_spec::Check;
 use probelab::pipeline::experiment::Experiment;
 use probelab::reference::domain::Domain;
+use probelab::reference::lighting::{Light, Lighting};
 use probelab::reference::metrics::score;
-use probelab::reference::scenes::{cap_irradiance, Component, TILTED_LIGHT};
+use probelab::reference::scenes::{generated, TILTED_LIGHT};
 use std::path::Path;
 
 /// hhd_from_sh1 on gen_tilted_light's closed forms, seen from a floor: the visible linear SH is
@@ -25,33 +27,26 @@ fn tilted_light_bound_holds_against_quadrature() {
     let (a, n) = (t.axis(), glam::DVec3::Y);
     let sigma = t.radius_deg.to_radians();
     assert!(t.tilt_deg + t.radius_deg < 90.0, "the light must lie above the floor's horizon");
-    let visible = Component::UpperHemisphere(t.ambient).sh()
-        + Component::Cap { axis: a, half_angle: sigma, radiance: t.radiance() }.sh();
-    let model = hhd_from_linear_sh(&visible, n);
+    let scene = generated().into_iter().find(|s| s.id == "gen_tilted_light").expect("gen_tilted_light");
+    assert_eq!(
+        scene.lighting,
+        Lighting(vec![Light::Ambient(t.ambient), Light::Cap { axis: a, half_angle: sigma, radiance: t.radiance() }])
+    );
+    let floor = [Cap::hemisphere(n)];
+    let visible = scene.lighting.visible(&floor);
+    let model = hhd_from_linear_sh(&visible.sh(), n);
     let grid = Domain::Hemisphere { normal: n }.output_grid((4096, 2048));
-    let s2 = sigma.sin().powi(2);
-    let reference: Vec<Rgb> = grid
-        .normals
-        .iter()
-        .map(|w| t.ambient * (0.5 * (1.0 + w.dot(n))) + t.radiance() * cap_irradiance(w.dot(a), s2))
-        .collect();
+    let reference: Vec<Rgb> = grid.normals.iter().map(|&w| visible.irradiance(w)).collect();
     let test: Vec<Rgb> = grid.normals.iter().map(|&w| model.irradiance(w)).collect();
     let rmse = score(&reference, &test, &grid.weights, false).rmse;
     let bound = t.hhd_rmse_bound();
     println!("hhd_from_sh1 on the closed forms: rmse {rmse:.4e}, bound {bound:.4e}");
     assert!(rmse <= bound && rmse >= 0.85 * bound, "rmse {rmse:e} vs bound {bound:e}");
     // The same light as a delta (E/π I facing it): the HHD is exact.
-    let delta = Component::UpperHemisphere(t.ambient).sh()
-        + probelab::math::sh::delta_light(a, t.facing * std::f64::consts::PI);
-    let m = hhd_from_linear_sh(&delta, n);
-    let worst = grid
-        .normals
-        .iter()
-        .map(|&w| {
-            let want = t.ambient * (0.5 * (1.0 + w.dot(n))) + t.facing * w.dot(a).max(0.0);
-            (m.irradiance(w) - want).abs().max_element()
-        })
-        .fold(0.0, f64::max);
+    let delta = Lighting(vec![Light::Ambient(t.ambient), Light::Delta { dir: a, facing: t.facing }]).visible(&floor);
+    let m = hhd_from_linear_sh(&delta.sh(), n);
+    let worst =
+        grid.normals.iter().map(|&w| (m.irradiance(w) - delta.irradiance(w)).abs().max_element()).fold(0.0, f64::max);
     assert!(worst < 1e-12, "{worst:e}");
 }
 

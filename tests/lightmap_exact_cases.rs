@@ -143,12 +143,9 @@ fn h2_ambient_plus_tilted_light_is_exactly_hhd() {
         let n = DVec3::Y;
         let t = tilt.to_radians();
         let l = DVec3::new(t.sin(), t.cos(), 0.0);
-        let lights = Lighting(vec![
-            Light::Ambient(Rgb::new(0.3, 0.4, 0.5)),
-            Light::Delta { dir: l, e: Rgb::new(3.0, 2.0, 1.0) },
-        ]);
-        let input = Input::new(&lights, Some(&Surface::hemisphere(n)));
         let (amb, e) = (Rgb::new(0.3, 0.4, 0.5), Rgb::new(3.0, 2.0, 1.0));
+        let lights = Lighting(vec![Light::Ambient(amb), Light::Delta { dir: l, facing: e / PI }]);
+        let input = Input::new(&lights, Some(&Surface::hemisphere(n)));
         let target = Exact { a: amb, s: e / PI, tau_l: t };
         let i_z = input.exact_at_normal.unwrap();
         let dom = probelab::encoders::lightmap::fit::FitDomain::new(Gram::Hemisphere);
@@ -231,7 +228,7 @@ fn d1_luma_storage_reconstructs_i_z_exactly() {
     let lights = Lighting(vec![
         Light::Ambient(Rgb::new(0.2, 0.25, 0.3)),
         Light::Cap { axis: dir(40.0, 30.0), half_angle: 0.2, radiance: Rgb::new(20.0, 18.0, 15.0) },
-        Light::Delta { dir: dir(70.0, 200.0), e: Rgb::new(1.0, 3.0, 0.5) },
+        Light::Delta { dir: dir(70.0, 200.0), facing: Rgb::new(1.0, 3.0, 0.5) / PI },
     ]);
     for kind in ["ahd_irradz_2018", "hhd_linear_hemi", "hhd_search_hemi", "hhd_linear_sphere", "hhd_search_sphere"] {
         for storage in ["irradz_luma", "irradz_rgb"] {
@@ -256,8 +253,10 @@ fn d1_luma_storage_reconstructs_i_z_exactly() {
 /// iterations bracket θ to < 1e-6 rad over [0, 89°].
 #[test]
 fn search_reports_iterations() {
-    let lights =
-        Lighting(vec![Light::Ambient(Rgb::splat(0.3)), Light::Delta { dir: dir(30.0, 10.0), e: Rgb::splat(3.0) }]);
+    let lights = Lighting(vec![
+        Light::Ambient(Rgb::splat(0.3)),
+        Light::Delta { dir: dir(30.0, 10.0), facing: Rgb::splat(3.0) / PI },
+    ]);
     let input = Input::new(&lights, Some(&Surface::hemisphere(DVec3::Y)));
     let f = encoder("hhd_search_hemi", "").fit(&input.fit_input());
     let d: std::collections::HashMap<_, _> = f.diagnostics().into_iter().collect();
@@ -278,8 +277,8 @@ fn search_reports_iterations() {
 fn search_2d_is_no_worse_than_theta_only() {
     let lights = Lighting(vec![
         Light::Ambient(Rgb::splat(0.2)),
-        Light::Delta { dir: dir(40.0, 0.0), e: Rgb::new(6.0, 0.5, 0.5) },
-        Light::Delta { dir: dir(30.0, 100.0), e: Rgb::new(0.5, 0.5, 6.0) },
+        Light::Delta { dir: dir(40.0, 0.0), facing: Rgb::new(6.0, 0.5, 0.5) / PI },
+        Light::Delta { dir: dir(30.0, 100.0), facing: Rgb::new(0.5, 0.5, 6.0) / PI },
     ]);
     for n in NORMALS {
         let input = Input::new(&lights, Some(&Surface::hemisphere(n.normalize())));

@@ -13,13 +13,13 @@ fn fit_hallucination_from_a_probe_file() {
     use glam::DVec3;
     use probelab::math::colour::Rgb;
     use probelab::math::sh::constant;
-    use probelab::reference::scenes::Component;
+    use probelab::reference::lighting::Light;
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("probes.csv");
     let mut text = String::from("# caps of several sizes and colours\n");
     for (i, half) in [0.1f64, 0.3, 0.6, 0.9, 1.2].iter().enumerate() {
         let axis = DVec3::new(1.0, i as f64, 0.5).normalize();
-        let sh = Component::Cap { axis, half_angle: *half, radiance: Rgb::new(3.0, 2.0, 1.0) }.sh()
+        let sh = Light::Cap { axis, half_angle: *half, radiance: Rgb::new(3.0, 2.0, 1.0) }.sh()
             + constant(Rgb::splat(0.05 * i as f64));
         let nums: Vec<String> =
             (0..3).flat_map(|c| (0..9).map(move |k| (c, k))).map(|(c, k)| sh[k][c].to_string()).collect();

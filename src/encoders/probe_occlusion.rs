@@ -328,7 +328,7 @@ impl Fitted for HhdLum {
 
 /// The cosine-weighted visibility seen from the surface normal N of the cone {ω·C > cos α}:
 /// (1/π)∫_cone max(0, ω·N) dω, i.e. the AO value. It is the sphere-light form factor
-/// (`scenes::cap_irradiance`) for cos α ≥ 0, and 1 minus that of the complementary cone for
+/// (`lighting::cap_irradiance`) for cos α ≥ 0, and 1 minus that of the complementary cone for
 /// cos α < 0. 1 − cos²α for a cone about N.
 pub fn cone_visibility(n: DVec3, centre: DVec3, cos_alpha: f64) -> f64 {
     let c = cos_alpha.clamp(-1.0, 1.0);
@@ -337,9 +337,9 @@ pub fn cone_visibility(n: DVec3, centre: DVec3, cos_alpha: f64) -> f64 {
         return if c > 0.0 { 0.0 } else { 1.0 };
     }
     if c >= 0.0 {
-        crate::reference::scenes::cap_irradiance(n.dot(centre), s2)
+        crate::reference::lighting::cap_irradiance(n.dot(centre), s2)
     } else {
-        1.0 - crate::reference::scenes::cap_irradiance(-n.dot(centre), s2)
+        1.0 - crate::reference::lighting::cap_irradiance(-n.dot(centre), s2)
     }
 }
 
@@ -405,10 +405,9 @@ pub fn build_bent_normal(p: &mut Params) -> Result<Box<dyn Encoder>> {
 #[allow(clippy::needless_range_loop)]
 mod tests {
     use super::*;
-    use crate::math::gram::{multiply, rotated_gram};
     use crate::math::quadrature::gauss_legendre;
-    use crate::math::sh::constant;
     use crate::math::test_rng::Rng;
+    use crate::reference::lighting::{Light, Lighting};
 
     fn input<'a>(sh: &'a Sh9, n: DVec3, cone: Option<(DVec3, f64)>) -> FitInput<'a> {
         FitInput {
@@ -442,21 +441,22 @@ mod tests {
         s
     }
 
-    /// A positive-ish random radiance SH: a constant plus a few random lobes.
+    /// The SH of positive random lighting: ambient plus three delta lights of radiant intensity
+    /// up to 4 (E/π facing them up to 4/π).
     fn lighting(rng: &mut Rng) -> Sh9 {
-        let mut s = constant(Rgb::new(0.3, 0.4, 0.5));
+        let mut lights = vec![Light::Ambient(Rgb::new(0.3, 0.4, 0.5))];
         for _ in 0..3 {
             let e = Rgb::new(rng.next().abs(), rng.next().abs(), rng.next().abs()) * 4.0;
-            s = s + crate::math::sh::delta_light(rng.unit(), e);
+            lights.push(Light::Delta { dir: rng.unit(), facing: e / PI });
         }
-        s
+        Lighting(lights).sh()
     }
 
     /// A constant environment occluded by the hemisphere is the hemisphere light (1 + n·N)/2,
     /// which every hemisphere operator represents exactly (FORMULAS §7–8; claim H1's light).
     #[test]
     fn constant_environment_gives_the_hemisphere_light() {
-        let sh = constant(Rgb::ONE);
+        let sh = Light::Ambient(Rgb::ONE).sh();
         let mut rng = Rng::new(1);
         for id in ["probe_hemi_full", "probe_hemi_q2l", "hlsh", "probe_hhd_lum", "cone_multiply"] {
             for _ in 0..5 {
@@ -650,7 +650,8 @@ mod tests {
     }
 
     /// The probe path's HHD round-trips: HHD → hemispherical linear SH → HHD (claim H6 through
-    /// the clamped solve), with the linear SH built from the hemisphere Gram and the delta's SH.
+    /// the clamped solve), with the linear SH of the hemisphere light and the delta in closed form
+    /// (`reference::lighting`).
     #[test]
     fn hhd_round_trip() {
         let mut rng = Rng::new(12);
@@ -661,8 +662,11 @@ mod tests {
                 d = (d - n * (d.dot(n) - 0.3)).normalize();
             }
             let (ca, cd) = (rng.next().abs() * 2.0, rng.next().abs() * 3.0);
-            let hemi = multiply(&constant(Rgb::splat(ca)), &rotated_gram(0.0, n));
-            let sh = hemi + crate::math::sh::delta_light(d, Rgb::splat(PI * cd));
+            let hhd = Lighting(vec![
+                Light::Hemisphere { axis: n, radiance: Rgb::splat(ca) },
+                Light::Delta { dir: d, facing: Rgb::splat(cd) },
+            ]);
+            let sh = hhd.sh();
             let (got, flags) = clamped_hhd(sh[0].x, sh.l1_vector(0), n);
             assert!(!flags.ca_clamped, "{flags:?}");
             assert!((got.ca - ca).abs() < 1e-10 && (got.cd - cd).abs() < 1e-10, "{got:?} vs {ca} {cd}");

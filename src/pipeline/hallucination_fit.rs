@@ -277,7 +277,7 @@ mod tests {
     use super::*;
     use crate::math::colour::Rgb;
     use crate::math::sh::{constant, delta_light};
-    use crate::reference::scenes::Component;
+    use crate::reference::lighting::Light;
     use glam::DVec3;
 
     /// Samples generated exactly on a known curve are fitted back to it, and the fitted curve
@@ -308,7 +308,7 @@ mod tests {
     #[test]
     fn error_measure_matches_coefficient_space() {
         let axis = DVec3::new(0.2, 0.9, 0.1).normalize();
-        let sh = Component::Cap { axis, half_angle: 0.5, radiance: Rgb::ONE }.sh() + constant(Rgb::splat(0.1));
+        let sh = Light::Cap { axis, half_angle: 0.5, radiance: Rgb::ONE }.sh() + constant(Rgb::splat(0.1));
         let (s, _) = samples(&[sh], AxisRule::Channel);
         let f = 0.3;
         let k = (4.0 * PI / 5.0).sqrt() * f;

@@ -1,13 +1,15 @@
 //! The reference layer: what an encoder is scored against. The exact irradiance of a
 //! piecewise-constant map at any normal, optionally under caps (`exact`); the exact SH
-//! projection of a map (`projection`); analytic lighting with closed-form irradiance and SH
-//! (`scenes`); the output grids a score is taken over (`domain`); the error metrics
-//! (`metrics`); and the views of the sphere of normals that pictures evaluate at (`view`).
+//! projection of a map (`projection`); analytic lighting with closed-form irradiance and SH, its
+//! visible part under caps and its rotation (`lighting`); named analytic scenes and their exact
+//! cell-average maps (`scenes`); the output grids a score is taken over (`domain`); the error
+//! metrics (`metrics`); and the views of the sphere of normals that pictures evaluate at (`view`).
 //!
 //! May use: `math`, `envmap`.
 
 pub mod domain;
 pub mod exact;
+pub mod lighting;
 pub mod metrics;
 pub mod projection;
 pub mod scenes;

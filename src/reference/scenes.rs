@@ -1,164 +1,83 @@
-//! Analytic scenes with closed-form irradiance: the generated maps in `envmaps/` and the
-//! constructed scenes of tests and claims.
+//! Named analytic scenes (`lighting`): the generated maps in `envmaps/` written by
+//! `probelab gen-envmaps`, and the parameters of `gen_tilted_light` with its H2 bound.
 //!
-//! A scene is a sum of components. Its map stores, in each texel, the exact average radiance
-//! over the texel cell (cap coverage integrated, not point-sampled), so the map carries the
-//! scene's exact energy per cell; what remains between the map's exact reference and the
-//! scene's closed form is the sub-texel distribution, which the tests bound.
+//! A scene's map stores, in each texel, the exact average radiance over the texel cell (cap
+//! coverage integrated, not point-sampled), so the map carries the scene's exact energy per
+//! cell; what remains between the map's exact reference and the scene's closed form is the
+//! sub-texel distribution, which the tests bound.
 
 use crate::envmap::{EnvMap, LatLong};
 use crate::math::cap::Cap;
 use crate::math::colour::Rgb;
 use crate::math::quadrature::{for_each_polar_node, gauss_legendre};
-use crate::math::sh::{basis, Sh9};
+use crate::math::sh::Sh9;
+use crate::reference::lighting::{cap_irradiance, Light, Lighting};
 use glam::DVec3;
 use std::f64::consts::{PI, TAU};
 
-/// One analytic lighting component.
-#[derive(Clone, Debug, PartialEq)]
-pub enum Component {
-    /// Radiance c from every direction.
-    Constant(Rgb),
-    /// Radiance c from the upper hemisphere (y > 0): a hemisphere light about +Y.
-    UpperHemisphere(Rgb),
-    /// A uniform spherical cap ("disc" light, or a cone light) of radiance c, half-angle α
-    /// (radians) about the unit axis.
-    Cap { axis: DVec3, half_angle: f64, radiance: Rgb },
-    /// A sky gradient c0 + c1·y over the whole sphere (non-negative when c0 ≥ |c1|).
-    Gradient { c0: Rgb, c1: Rgb },
-}
-
-/// A named analytic scene.
+/// A named analytic scene: lighting with a name and a description.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Scene {
     pub id: String,
     pub description: String,
-    pub components: Vec<Component>,
+    pub lighting: Lighting,
 }
 
-/// E/π of a uniform cap of unit radiance and half-angle σ whose axis makes cos θ with the
-/// normal, including the part clipped by the horizon (the sphere-light form factor of
-/// Snyder 1996, as given in Lagarde & de Rousiers, "Moving Frostbite to PBR", 2014, eq. 15,
-/// divided by π).
-pub fn cap_irradiance(cos_theta: f64, sin_sigma_sq: f64) -> f64 {
-    let ct = cos_theta.clamp(-1.0, 1.0);
-    let e = if ct * ct > sin_sigma_sq {
-        PI * sin_sigma_sq * ct.max(0.0)
-    } else {
-        let st = (1.0 - ct * ct).max(0.0).sqrt();
-        let x = (1.0 / sin_sigma_sq - 1.0).max(0.0).sqrt();
-        let y = if st > 0.0 { (-x * ct / st).clamp(-1.0, 1.0) } else { 0.0 };
-        let sy = st * (1.0 - y * y).max(0.0).sqrt();
-        let base = (ct * y.acos() - x * sy) * sin_sigma_sq;
-        base + if x > 0.0 { (sy / x).atan() } else { 0.5 * PI * sy.signum() }
-    };
-    e.max(0.0) / PI
+/// The exact average radiance of `light` over the texel cell (i, j) of `grid`. Panics on a
+/// delta light, which has no radiance map (a small cap of the same E/π facing it stands in).
+fn cell_average(light: &Light, grid: &LatLong, i: usize, j: usize) -> Rgb {
+    let (p0, p1) = (grid.phi_edge(j), grid.phi_edge(j + 1));
+    match light {
+        Light::Ambient(c) => *c,
+        Light::Hemisphere { axis, radiance } if *axis == DVec3::Y => {
+            // Fraction of the row with cos φ > 0 (exact, rows are split by φ).
+            let top = p0.cos().min(1.0);
+            let bottom = p1.cos();
+            let frac = (top.max(0.0) - bottom.max(0.0)) / (top - bottom);
+            *radiance * frac
+        }
+        Light::Hemisphere { axis, radiance } => cap_cell_average(*axis, 0.5 * PI, *radiance, grid, i, j),
+        Light::Gradient { c0, c1 } => {
+            // Mean of cos φ over the row: ∫cos sin dφ / ∫sin dφ.
+            let mean_y = 0.5 * (p1.sin().powi(2) - p0.sin().powi(2)) / (p0.cos() - p1.cos());
+            *c0 + *c1 * mean_y
+        }
+        Light::Cap { axis, half_angle, radiance } => cap_cell_average(*axis, *half_angle, *radiance, grid, i, j),
+        Light::Delta { .. } => panic!("a delta light has no radiance map: use a small cap of the same E/pi facing it"),
+    }
 }
 
-impl Component {
-    /// Closed-form E/π at normal n on the whole sphere (no occlusion).
-    pub fn irradiance(&self, n: DVec3) -> Rgb {
-        match self {
-            Component::Constant(c) => *c,
-            Component::UpperHemisphere(c) => *c * (0.5 * (1.0 + n.y)),
-            Component::Cap { axis, half_angle, radiance } => {
-                *radiance * cap_irradiance(n.dot(*axis), half_angle.sin().powi(2))
-            }
-            // A band-1 function: E/π = c0 + (2/3)·c1·n_y (FORMULAS §3).
-            Component::Gradient { c0, c1 } => *c0 + *c1 * (2.0 / 3.0 * n.y),
-        }
+/// The exact average over the texel cell (i, j) of a uniform cap of the given radiance.
+fn cap_cell_average(axis: DVec3, half_angle: f64, radiance: Rgb, grid: &LatLong, i: usize, j: usize) -> Rgb {
+    let (p0, p1) = (grid.phi_edge(j), grid.phi_edge(j + 1));
+    let om = grid.solid_angle(j);
+    // Cells far outside or deep inside the cap need no integration: the angular distance of any
+    // point of the cell to its centre is below the cell's half diagonal (bounded by dφ + dθ/2).
+    let centre = grid.direction(i, j);
+    let dist = centre.dot(axis).clamp(-1.0, 1.0).acos();
+    let reach = (p1 - p0) + 0.5 * grid.dtheta();
+    if dist > half_angle + reach {
+        return Rgb::ZERO;
     }
-
-    /// Closed-form L2 SH projection of the radiance (zonal about the component's axis).
-    pub fn sh(&self) -> Sh9 {
-        // Zonal coefficients z_l of a function of t = ω·a about axis a give
-        // c_lm = z_l·√(4π/(2l+1))·Y_lm(a).
-        let zonal = |axis: DVec3, z: [f64; 3], c: Rgb| {
-            let y = basis(axis);
-            Sh9(std::array::from_fn(|i| {
-                let l = crate::math::sh::band_of(i);
-                c * (z[l] * (4.0 * PI / (2 * l + 1) as f64).sqrt() * y[i])
-            }))
-        };
-        match self {
-            Component::Constant(c) => crate::math::sh::constant(*c),
-            // ∫_{t>0} Y_l0(t): l=0: 2π·½√(1/π); l=1: 2π√(3/4π)·½; l=2: 0.
-            Component::UpperHemisphere(c) => {
-                zonal(DVec3::Y, [PI * (1.0 / PI).sqrt(), PI * (3.0 / (4.0 * PI)).sqrt(), 0.0], *c)
-            }
-            // ∫_{t>cos α} Y_l0: 2π(1−c)·½√(1/π); π√(3/4π)·sin²α; √(5/4π)·π·(c − c³).
-            Component::Cap { axis, half_angle, radiance } => {
-                let c = half_angle.cos();
-                let s2 = 1.0 - c * c;
-                zonal(
-                    *axis,
-                    [
-                        TAU * (1.0 - c) * 0.5 * (1.0 / PI).sqrt(),
-                        PI * (3.0 / (4.0 * PI)).sqrt() * s2,
-                        (5.0 / (4.0 * PI)).sqrt() * PI * c * s2,
-                    ],
-                    *radiance,
-                )
-            }
-            // c0 + c1·y: y = −Y₁₋₁/√(3/4π).
-            Component::Gradient { c0, c1 } => {
-                let mut s = crate::math::sh::constant(*c0);
-                s.0[1] = *c1 * (-(4.0 * PI / 3.0).sqrt());
-                s
-            }
-        }
+    if dist < half_angle - reach {
+        return radiance;
     }
-
-    /// The exact average radiance over the texel cell (i, j) of `grid`.
-    fn cell_average(&self, grid: &LatLong, i: usize, j: usize) -> Rgb {
-        let (p0, p1) = (grid.phi_edge(j), grid.phi_edge(j + 1));
-        let om = grid.solid_angle(j);
-        match self {
-            Component::Constant(c) => *c,
-            Component::UpperHemisphere(c) => {
-                // Fraction of the row with cos φ > 0 (exact, rows are split by φ).
-                let top = p0.cos().min(1.0);
-                let bottom = p1.cos();
-                let frac = (top.max(0.0) - bottom.max(0.0)) / (top - bottom);
-                *c * frac
-            }
-            Component::Gradient { c0, c1 } => {
-                // Mean of cos φ over the row: ∫cos sin dφ / ∫sin dφ.
-                let mean_y = 0.5 * (p1.sin().powi(2) - p0.sin().powi(2)) / (p0.cos() - p1.cos());
-                *c0 + *c1 * mean_y
-            }
-            Component::Cap { axis, half_angle, radiance } => {
-                // Cells far outside or deep inside the cap need no integration: the angular
-                // distance of any point of the cell to its centre is below the cell's half
-                // diagonal (bounded by dφ + dθ/2).
-                let centre = grid.direction(i, j);
-                let dist = centre.dot(*axis).clamp(-1.0, 1.0).acos();
-                let reach = (p1 - p0) + 0.5 * grid.dtheta();
-                if dist > half_angle + reach {
-                    return Rgb::ZERO;
-                }
-                if dist < half_angle - reach {
-                    return *radiance;
-                }
-                let cap = Cap::new(*axis, half_angle.cos());
-                let (t0, t1) = (grid.theta_edge(i), grid.theta_edge(i + 1));
-                let rule = gauss_legendre(16);
-                let mut area = 0.0;
-                // Split where the cap boundary is tangent to a parallel and where it crosses the
-                // cell's two meridians: between those the overlap length is smooth in φ.
-                let [b0, b1] = cap.breakpoints();
-                let [m0, m1] = meridian_crossings(*axis, half_angle.cos(), t0);
-                let [m2, m3] = meridian_crossings(*axis, half_angle.cos(), t1);
-                for_each_polar_node(p0, p1, &[b0, b1, m0, m1, m2, m3], &rule, |phi, w| {
-                    let (s, c) = phi.sin_cos();
-                    if let Some(arc) = cap.arc(s, c) {
-                        area += w * s * overlap(arc.lo, arc.len, t0, t1);
-                    }
-                });
-                *radiance * (area / om)
-            }
+    let cap = Cap::new(axis, half_angle.cos());
+    let (t0, t1) = (grid.theta_edge(i), grid.theta_edge(i + 1));
+    let rule = gauss_legendre(16);
+    let mut area = 0.0;
+    // Split where the cap boundary is tangent to a parallel and where it crosses the cell's two
+    // meridians: between those the overlap length is smooth in φ.
+    let [b0, b1] = cap.breakpoints();
+    let [m0, m1] = meridian_crossings(axis, half_angle.cos(), t0);
+    let [m2, m3] = meridian_crossings(axis, half_angle.cos(), t1);
+    for_each_polar_node(p0, p1, &[b0, b1, m0, m1, m2, m3], &rule, |phi, w| {
+        let (s, c) = phi.sin_cos();
+        if let Some(arc) = cap.arc(s, c) {
+            area += w * s * overlap(arc.lo, arc.len, t0, t1);
         }
-    }
+    });
+    radiance * (area / om)
 }
 
 /// Polar angles where the circle {ω·a = c} crosses the meridian of azimuth θ (NaN if none):
@@ -190,12 +109,12 @@ fn overlap(lo: f64, len: f64, t0: f64, t1: f64) -> f64 {
 impl Scene {
     /// Closed-form E/π at n on the whole sphere.
     pub fn irradiance(&self, n: DVec3) -> Rgb {
-        self.components.iter().map(|c| c.irradiance(n)).sum()
+        self.lighting.irradiance(n)
     }
 
     /// Closed-form L2 SH of the radiance.
     pub fn sh(&self) -> Sh9 {
-        self.components.iter().fold(Sh9::ZERO, |a, c| a + c.sh())
+        self.lighting.sh()
     }
 
     /// The scene as a W×(W/2) map of exact cell averages.
@@ -204,7 +123,7 @@ impl Scene {
         let texels: Vec<[f32; 3]> = (0..grid.height)
             .flat_map(|j| (0..grid.width).map(move |i| (i, j)))
             .map(|(i, j)| {
-                let v: Rgb = self.components.iter().map(|c| c.cell_average(&grid, i, j)).sum();
+                let v: Rgb = self.lighting.0.iter().map(|l| cell_average(l, &grid, i, j)).sum();
                 [v.x as f32, v.y as f32, v.z as f32]
             })
             .collect();
@@ -218,21 +137,24 @@ pub fn generated() -> Vec<Scene> {
     let deg = PI / 180.0;
     let dir =
         |elev_deg: f64, azim_deg: f64| crate::math::convention::direction(azim_deg * deg, (90.0 - elev_deg) * deg);
-    let scene =
-        |id: &str, description: &str, components| Scene { id: id.into(), description: description.into(), components };
+    let scene = |id: &str, description: &str, lights| Scene {
+        id: id.into(),
+        description: description.into(),
+        lighting: Lighting(lights),
+    };
     vec![
-        scene("gen_constant", "constant radiance 1", vec![Component::Constant(Rgb::ONE)]),
+        scene("gen_constant", "constant radiance 1", vec![Light::Ambient(Rgb::ONE)]),
         scene(
             "gen_hemisphere",
             "hemisphere light: radiance 1 above the horizon (y > 0), 0 below",
-            vec![Component::UpperHemisphere(Rgb::ONE)],
+            vec![Light::Hemisphere { axis: DVec3::Y, radiance: Rgb::ONE }],
         ),
         scene(
             "gen_sun_sky",
             "constant sky 0.2 plus a 5-degree-radius sun of radiance 2000 at 40 deg elevation",
             vec![
-                Component::Constant(Rgb::splat(0.2)),
-                Component::Cap {
+                Light::Ambient(Rgb::splat(0.2)),
+                Light::Cap {
                     axis: dir(40.0, 30.0),
                     half_angle: 5.0 * deg,
                     radiance: Rgb::new(2000.0, 1800.0, 1500.0),
@@ -243,21 +165,21 @@ pub fn generated() -> Vec<Scene> {
             "gen_two_lights",
             "two opposite coloured 10-degree lights: warm along +x, blue along -x",
             vec![
-                Component::Cap { axis: DVec3::X, half_angle: 10.0 * deg, radiance: Rgb::new(40.0, 20.0, 5.0) },
-                Component::Cap { axis: DVec3::NEG_X, half_angle: 10.0 * deg, radiance: Rgb::new(4.0, 10.0, 40.0) },
+                Light::Cap { axis: DVec3::X, half_angle: 10.0 * deg, radiance: Rgb::new(40.0, 20.0, 5.0) },
+                Light::Cap { axis: DVec3::NEG_X, half_angle: 10.0 * deg, radiance: Rgb::new(4.0, 10.0, 40.0) },
             ],
         ),
         scene(
             "gen_cone",
             "a 30-degree cone light of radiance 5 tilted 60 deg from +y, black elsewhere",
-            vec![Component::Cap { axis: dir(30.0, -75.0), half_angle: 30.0 * deg, radiance: Rgb::splat(5.0) }],
+            vec![Light::Cap { axis: dir(30.0, -75.0), half_angle: 30.0 * deg, radiance: Rgb::splat(5.0) }],
         ),
         scene(
             "gen_sky_sun",
             "bluish sky gradient c0 + c1*y plus a 4-degree sun of radiance 3000 at 25 deg elevation",
             vec![
-                Component::Gradient { c0: Rgb::new(0.45, 0.55, 0.8), c1: Rgb::new(0.3, 0.35, 0.5) },
-                Component::Cap {
+                Light::Gradient { c0: Rgb::new(0.45, 0.55, 0.8), c1: Rgb::new(0.3, 0.35, 0.5) },
+                Light::Cap {
                     axis: dir(25.0, 120.0),
                     half_angle: 4.0 * deg,
                     radiance: Rgb::new(3000.0, 2800.0, 2400.0),
@@ -271,8 +193,8 @@ pub fn generated() -> Vec<Scene> {
             "gen_tilted_light",
             "ambient (0.3, 0.35, 0.4) plus a 2-degree-radius light tilted 50 deg from +y, E/pi (1.5, 1.4, 1.2) facing it",
             vec![
-                Component::Constant(TILTED_LIGHT.ambient),
-                Component::Cap {
+                Light::Ambient(TILTED_LIGHT.ambient),
+                Light::Cap {
                     axis: TILTED_LIGHT.axis(),
                     half_angle: TILTED_LIGHT.radius_deg * deg,
                     radiance: TILTED_LIGHT.radiance(),
@@ -285,7 +207,7 @@ pub fn generated() -> Vec<Scene> {
         scene(
             "gen_horizon_sky",
             "sky gradient 1 - 0.5*y: twice as bright at the horizon as at the zenith (1.5 below)",
-            vec![Component::Gradient { c0: Rgb::ONE, c1: Rgb::splat(-0.5) }],
+            vec![Light::Gradient { c0: Rgb::ONE, c1: Rgb::splat(-0.5) }],
         ),
     ]
 }
@@ -364,31 +286,6 @@ impl TiltedLight {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::math::convention::direction;
-
-    /// The cap form factor against brute-force quadrature of max(0, n·ω) over the cap,
-    /// including horizon-clipped cases.
-    #[test]
-    fn cap_irradiance_matches_quadrature() {
-        let sigma: f64 = 0.4;
-        for &theta in &[0.0f64, 0.5, 1.0, 1.3, 1.5, 1.7, 1.9, 2.5] {
-            let n = DVec3::new(theta.sin(), theta.cos(), 0.0);
-            let (np, nt) = (2000, 400);
-            let mut e = 0.0;
-            for j in 0..np {
-                let (a0, a1) = (sigma * j as f64 / np as f64, sigma * (j + 1) as f64 / np as f64);
-                let w = (TAU / nt as f64) * (a0.cos() - a1.cos());
-                for i in 0..nt {
-                    // cap about +Y
-                    let d = direction(TAU * (i as f64 + 0.5) / nt as f64, 0.5 * (a0 + a1));
-                    e += w * n.dot(d).max(0.0);
-                }
-            }
-            let want = e / PI;
-            let got = cap_irradiance(theta.cos(), sigma.sin().powi(2));
-            assert!((got - want).abs() < 2e-6, "theta {theta}: {got} vs {want}");
-        }
-    }
 
     fn max_sh_diff(a: &Sh9, b: &Sh9) -> f64 {
         (0..9).map(|i| (a[i] - b[i]).abs().max_element()).fold(0.0, f64::max)
@@ -403,11 +300,11 @@ mod tests {
         let exact = Scene {
             id: "polar".into(),
             description: String::new(),
-            components: vec![
-                Component::Cap { axis: DVec3::Y, half_angle: PI * 5.0 / 64.0, radiance: Rgb::new(3.0, 2.0, 1.0) },
-                Component::UpperHemisphere(Rgb::splat(0.5)),
-                Component::Constant(Rgb::splat(0.125)), // exact in f32, as maps store
-            ],
+            lighting: Lighting(vec![
+                Light::Cap { axis: DVec3::Y, half_angle: PI * 5.0 / 64.0, radiance: Rgb::new(3.0, 2.0, 1.0) },
+                Light::Hemisphere { axis: DVec3::Y, radiance: Rgb::splat(0.5) },
+                Light::Ambient(Rgb::splat(0.125)), // exact in f32, as maps store
+            ]),
         };
         let d = max_sh_diff(&crate::reference::projection::project(&exact.map(128)), &exact.sh());
         assert!(d < 1e-12, "{d}");
@@ -419,17 +316,30 @@ mod tests {
         }
     }
 
+    /// The cell averages of a cap and of a tilted hemisphere light integrate to their energy,
+    /// and the tilted hemisphere's map projects to its closed-form SH.
     #[test]
-    fn cell_averages_conserve_cap_energy() {
-        let cap = Component::Cap { axis: DVec3::new(0.3, 0.8, -0.52).normalize(), half_angle: 0.2, radiance: Rgb::ONE };
+    fn cell_averages_conserve_energy() {
+        let axis = DVec3::new(0.3, 0.8, -0.52).normalize();
         let g = LatLong::new(128, 64);
-        let mut e = 0.0;
-        for j in 0..g.height {
-            for i in 0..g.width {
-                e += cap.cell_average(&g, i, j).x * g.solid_angle(j);
+        for (light, want) in [
+            (Light::Cap { axis, half_angle: 0.2, radiance: Rgb::ONE }, TAU * (1.0 - 0.2f64.cos())),
+            (Light::Hemisphere { axis, radiance: Rgb::ONE }, TAU),
+        ] {
+            let mut e = 0.0;
+            for j in 0..g.height {
+                for i in 0..g.width {
+                    e += cell_average(&light, &g, i, j).x * g.solid_angle(j);
+                }
             }
+            assert!((e - want).abs() < 1e-8 * want, "{light:?}: {e} vs {want}");
         }
-        let want = TAU * (1.0 - 0.2f64.cos());
-        assert!((e - want).abs() < 1e-8 * want, "{e} vs {want}");
+        let tilted = Scene {
+            id: "tilted".into(),
+            description: String::new(),
+            lighting: Lighting(vec![Light::Hemisphere { axis, radiance: Rgb::new(1.0, 2.0, 3.0) }]),
+        };
+        let d = max_sh_diff(&crate::reference::projection::project(&tilted.map(512)), &tilted.sh());
+        assert!(d < 3e-4, "{d}");
     }
 }

@@ -1,11 +1,13 @@
-//! Shared by `tests/hard_cases.rs` and `tests/properties.rs`: analytic lighting built from
-//! ambient, delta lights and uniform caps, with its closed-form SH (whole and visible under a
-//! surface's declared effects) and closed-form E/π; every registered encoder; and the error of
-//! a fit on an output grid.
+//! What the integration tests share: the harness (`harness.rs`: the binary, CSV rows, scratch
+//! repositories, snapshots), the shared maps (`shared_maps.rs`), and for the encoder tests
+//! (`encoder_hard_cases.rs`, `encoder_properties.rs`, `lightmap_exact_cases.rs`): surfaces with
+//! their declared effects, and fit inputs built from the library's analytic lighting
+//! (`probelab::reference::lighting`: closed-form SH, whole and visible under the effects, and
+//! closed-form E/π); every registered encoder; and the error of a fit on an output grid.
 //!
 //! Nothing here names an encoder: the encoders come from `probelab::encoders::REGISTRY`, so an
 //! encoder added there joins every test that uses this module.
-#![allow(dead_code)]
+#![allow(dead_code, unused_imports)] // each test binary uses a different part
 
 pub mod harness;
 pub mod shared_maps;
@@ -13,51 +15,12 @@ pub mod shared_maps;
 use glam::{DQuat, DVec3};
 use probelab::encoders::encoder::{Encoder, FitInput, Fitted, Params};
 use probelab::encoders::REGISTRY;
+use probelab::math::cap::Cap;
 use probelab::math::colour::Rgb;
-use probelab::math::sh::{band_of, basis, constant, delta_light, Sh9};
+use probelab::math::sh::Sh9;
 use probelab::reference::domain::{Domain, OutputGrid};
+pub use probelab::reference::lighting::{Light, Lighting};
 use probelab::reference::metrics::score;
-use probelab::reference::scenes::cap_irradiance;
-use std::f64::consts::PI;
-
-/// One light.
-#[derive(Clone, Debug, PartialEq)]
-pub enum Light {
-    /// Radiance c from every direction.
-    Ambient(Rgb),
-    /// A directional (delta) light of radiant intensity `e` along `dir`: E/π facing it is e/π.
-    Delta { dir: DVec3, e: Rgb },
-    /// A uniform cap of radiance `radiance` and half-angle `half_angle` (radians) about `axis`.
-    Cap { axis: DVec3, half_angle: f64, radiance: Rgb },
-}
-
-/// A visibility cap {ω : ω·axis ≥ cos}. Closed: a delta light exactly on its boundary (a light
-/// exactly at the horizon) is visible, which is the case where the light's direction is
-/// perpendicular to N (d_z = 0) yet it still counts.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Mask {
-    pub axis: DVec3,
-    pub cos: f64,
-}
-
-impl Mask {
-    fn half_angle(&self) -> f64 {
-        self.cos.clamp(-1.0, 1.0).acos()
-    }
-    /// Whether the cap of half-angle `half` about `axis` lies inside this mask.
-    fn contains_cap(&self, axis: DVec3, half: f64) -> bool {
-        angle(axis, self.axis) + half <= self.half_angle() + 1e-12
-    }
-    /// Whether the cap of half-angle `half` about `axis` lies outside this mask.
-    fn excludes_cap(&self, axis: DVec3, half: f64) -> bool {
-        angle(axis, self.axis) >= self.half_angle() + half - 1e-12
-    }
-}
-
-/// The angle between two unit vectors, accurate near 0 and π.
-pub fn angle(a: DVec3, b: DVec3) -> f64 {
-    2.0 * ((a - b).length() * 0.5).clamp(0.0, 1.0).asin()
-}
 
 /// A surface: its normal N and the effects declared about it.
 #[derive(Clone, Debug, PartialEq)]
@@ -78,13 +41,14 @@ impl Surface {
     pub fn bare(normal: DVec3) -> Self {
         Surface { normal: normal.normalize(), hemisphere: false, cone: None }
     }
-    pub fn masks(&self) -> Vec<Mask> {
+    /// The visibility caps of the declared effects (`Light::visible` takes them closed).
+    pub fn masks(&self) -> Vec<Cap> {
         let mut m = Vec::new();
         if self.hemisphere {
-            m.push(Mask { axis: self.normal, cos: 0.0 });
+            m.push(Cap::hemisphere(self.normal));
         }
         if let Some((c, cos)) = self.cone {
-            m.push(Mask { axis: c, cos });
+            m.push(Cap::new(c, cos));
         }
         m
     }
@@ -94,125 +58,6 @@ impl Surface {
             hemisphere: self.hemisphere,
             cone: self.cone.map(|(c, cos)| ((q * c).normalize(), cos)),
         }
-    }
-}
-
-/// Zonal SH of a function of ω·axis with zonal coefficients z_l: c_lm = z_l·√(4π/(2l+1))·Y_lm(axis).
-fn zonal(axis: DVec3, z: [f64; 3], c: Rgb) -> Sh9 {
-    let y = basis(axis);
-    Sh9(std::array::from_fn(|i| {
-        let l = band_of(i);
-        c * (z[l] * (4.0 * PI / (2 * l + 1) as f64).sqrt() * y[i])
-    }))
-}
-
-impl Light {
-    /// Closed-form L2 SH of the radiance.
-    pub fn sh(&self) -> Sh9 {
-        match self {
-            Light::Ambient(c) => constant(*c),
-            Light::Delta { dir, e } => delta_light(*dir, *e),
-            // ∫_{cap} Y_l0: 2π(1−c)·Y00, π√(3/4π)·sin²α, √(5/4π)·π·c·sin²α (as in
-            // `scenes::Component::sh`), with 1 − c = 2 sin²(α/2) so tiny caps stay accurate.
-            Light::Cap { axis, half_angle, radiance } => {
-                let (s, c) = half_angle.sin_cos();
-                let s2 = s * s;
-                let one_minus_c = 2.0 * (0.5 * half_angle).sin().powi(2);
-                zonal(
-                    *axis,
-                    [
-                        2.0 * PI * one_minus_c * 0.5 * (1.0 / PI).sqrt(),
-                        PI * (3.0 / (4.0 * PI)).sqrt() * s2,
-                        (5.0 / (4.0 * PI)).sqrt() * PI * c * s2,
-                    ],
-                    *radiance,
-                )
-            }
-        }
-    }
-
-    /// Closed-form E/π at unit normal n.
-    pub fn irradiance(&self, n: DVec3) -> Rgb {
-        match self {
-            Light::Ambient(c) => *c,
-            Light::Delta { dir, e } => *e * (n.dot(*dir).max(0.0) / PI),
-            Light::Cap { axis, half_angle, radiance } => {
-                *radiance * cap_irradiance(n.dot(*axis), half_angle.sin().powi(2))
-            }
-        }
-    }
-
-    /// The part of this light that passes every mask. Ambient light under nested masks becomes
-    /// a cap (the innermost mask); a cap light must lie wholly inside or outside the masks.
-    /// Panics on a configuration with no closed form (a test-construction error).
-    pub fn visible(&self, masks: &[Mask]) -> Option<Light> {
-        if masks.is_empty() {
-            return Some(self.clone());
-        }
-        match self {
-            Light::Delta { dir, .. } => masks.iter().all(|m| dir.dot(m.axis) >= m.cos).then(|| self.clone()),
-            Light::Ambient(c) => {
-                let inner = masks
-                    .iter()
-                    .find(|m| masks.iter().all(|o| o.contains_cap(m.axis, m.half_angle())))
-                    .expect("ambient light under masks that are not nested has no closed form");
-                Some(Light::Cap { axis: inner.axis, half_angle: inner.half_angle(), radiance: *c })
-            }
-            Light::Cap { axis, half_angle, .. } => {
-                if masks.iter().any(|m| m.excludes_cap(*axis, *half_angle)) {
-                    None
-                } else {
-                    assert!(
-                        masks.iter().all(|m| m.contains_cap(*axis, *half_angle)),
-                        "a cap light straddling a mask has no closed form"
-                    );
-                    Some(self.clone())
-                }
-            }
-        }
-    }
-
-    pub fn rotated(&self, q: DQuat) -> Light {
-        match self {
-            Light::Ambient(c) => Light::Ambient(*c),
-            Light::Delta { dir, e } => Light::Delta { dir: (q * *dir).normalize(), e: *e },
-            Light::Cap { axis, half_angle, radiance } => {
-                Light::Cap { axis: (q * *axis).normalize(), half_angle: *half_angle, radiance: *radiance }
-            }
-        }
-    }
-
-    pub fn scaled(&self, k: f64) -> Light {
-        match self {
-            Light::Ambient(c) => Light::Ambient(*c * k),
-            Light::Delta { dir, e } => Light::Delta { dir: *dir, e: *e * k },
-            Light::Cap { axis, half_angle, radiance } => {
-                Light::Cap { axis: *axis, half_angle: *half_angle, radiance: *radiance * k }
-            }
-        }
-    }
-}
-
-/// A sum of lights.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct Lighting(pub Vec<Light>);
-
-impl Lighting {
-    pub fn sh(&self) -> Sh9 {
-        self.0.iter().fold(Sh9::ZERO, |a, l| a + l.sh())
-    }
-    pub fn irradiance(&self, n: DVec3) -> Rgb {
-        self.0.iter().map(|l| l.irradiance(n)).sum()
-    }
-    /// The light that passes the masks.
-    pub fn visible(&self, masks: &[Mask]) -> Lighting {
-        Lighting(self.0.iter().filter_map(|l| l.visible(masks)).collect())
-    }
-    pub fn rotated(&self, q: DQuat) -> Lighting {
-        Lighting(self.0.iter().map(|l| l.rotated(q)).collect())
-    }
-    pub fn scaled(&self, k: f64) -> Lighting {
-        Lighting(self.0.iter().map(|l| l.scaled(k)).collect())
     }
 }
 

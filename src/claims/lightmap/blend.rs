@@ -43,9 +43,10 @@ use std::f64::consts::PI;
 pub const GRID: (usize, usize) = (128, 64);
 use crate::math::colour::REC709;
 
-/// One bake: a map (optionally turned 180° about +Y) and optionally a white delta light.
+/// One endpoint of a blending pair, as baked: a map (optionally turned 180° about +Y) and
+/// optionally a white delta light.
 #[derive(Clone, Debug)]
-pub struct Lighting {
+pub struct Endpoint {
     pub map: &'static str,
     pub turned: bool,
     /// (direction, k): a white delta light whose E/π at N is k × the map's L(I_z).
@@ -59,12 +60,12 @@ pub struct Pair {
     pub description: &'static str,
     pub normal_label: &'static str,
     pub normal: DVec3,
-    pub a: Lighting,
-    pub b: Lighting,
+    pub a: Endpoint,
+    pub b: Endpoint,
 }
 
-fn lit(map: &'static str) -> Lighting {
-    Lighting { map, turned: false, light: None }
+fn lit(map: &'static str) -> Endpoint {
+    Endpoint { map, turned: false, light: None }
 }
 
 /// The five pairs (paper probes).
@@ -96,7 +97,7 @@ pub fn pairs() -> Vec<Pair> {
             normal_label: "+y",
             normal: DVec3::Y,
             a: lit("grace_256x128"),
-            b: Lighting { light: Some((tilt(DVec3::Y, DVec3::X, 60.0), 2.0)), ..lit("grace_256x128") },
+            b: Endpoint { light: Some((tilt(DVec3::Y, DVec3::X, 60.0), 2.0)), ..lit("grace_256x128") },
         },
         Pair {
             id: "wells_light_on_wall",
@@ -104,7 +105,7 @@ pub fn pairs() -> Vec<Pair> {
             normal_label: "+z",
             normal: DVec3::Z,
             a: lit("wells_probulator"),
-            b: Lighting { light: Some((tilt(DVec3::Z, DVec3::Y, 45.0), 1.0)), ..lit("wells_probulator") },
+            b: Endpoint { light: Some((tilt(DVec3::Z, DVec3::Y, 45.0), 1.0)), ..lit("wells_probulator") },
         },
         Pair {
             id: "ennis_turned_180",
@@ -112,7 +113,7 @@ pub fn pairs() -> Vec<Pair> {
             normal_label: "+x",
             normal: DVec3::X,
             a: lit("ennis_256x128"),
-            b: Lighting { turned: true, ..lit("ennis_256x128") },
+            b: Endpoint { turned: true, ..lit("ennis_256x128") },
         },
     ]
 }
@@ -160,7 +161,7 @@ pub fn hemisphere_case(n: DVec3, label: &str) -> Case {
 }
 
 /// Bakes a lighting on the surface of normal `n`, scored on `normals`.
-pub fn bake(search: &SearchPath, l: &Lighting, n: DVec3, label: &str, normals: &[DVec3]) -> Result<Bake> {
+pub fn bake(search: &SearchPath, l: &Endpoint, n: DVec3, label: &str, normals: &[DVec3]) -> Result<Bake> {
     let path = search.resolve(l.map).map_err(|e| anyhow::anyhow!("lightmap claims: {e}"))?;
     let mut map = crate::envmap::load::load(&path)?;
     if l.turned {

@@ -24,15 +24,17 @@ pub const OUTPUT_DIR: &str = "lightmap_study";
 use crate::encoders::encoder::{Encoder, FitInput};
 use crate::encoders::lightmap::{hhd_from_linear_sh, linear_sh_of, Basis, Model};
 use crate::envmap::search::SearchPath;
+use crate::math::cap::Cap;
 use crate::math::colour::Rgb;
-use crate::math::sh::{constant, delta_light};
+use crate::math::gram::multiply_full;
 use crate::pipeline::experiment::Experiment;
+use crate::pipeline::runner::score_fit;
 use crate::pipeline::table::{num, Row};
-use crate::reference::domain::Domain;
-use crate::reference::metrics::score;
+use crate::reference::domain::{Domain, OutputGrid};
+use crate::reference::lighting::{Light, Lighting};
+use crate::reference::metrics::Metric;
 use anyhow::{bail, Result};
 use glam::DVec3;
-use std::f64::consts::PI;
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -77,35 +79,43 @@ fn sci(v: f64) -> String {
     format!("{v:.2e}")
 }
 
-/// A constructed scene on the hemisphere about N: constant radiance A over the upper
-/// hemisphere plus optional white delta lights (direction, E/π facing it). Exact SH and
-/// closed-form reference.
-struct Scene {
+/// A constructed case of H1, H2 and D1: a constructed scene seen from a surface of normal N,
+/// with the L2 SH of the light that reaches it and its closed-form E/π at N and on the
+/// hemisphere grid about N.
+struct ConstructedCase {
     n: DVec3,
     sh: crate::math::sh::Sh9,
     at_n: Rgb,
+    /// The exact E/π on `grid`.
     reference: Vec<Rgb>,
-    normals: Vec<DVec3>,
-    weights: Vec<f64>,
+    grid: OutputGrid,
 }
 
-fn scene(n: DVec3, a: Rgb, lights: &[(DVec3, f64)]) -> Scene {
+/// Ambient radiance A through the hemisphere about N, plus white delta lights (direction, E/π
+/// facing it) above N's horizon (`reference::lighting`).
+fn scene(n: DVec3, a: Rgb, lights: &[(DVec3, f64)]) -> ConstructedCase {
     let grid = Domain::Hemisphere { normal: n }.output_grid(blend::GRID);
-    // A·[ω·N > 0] is exactly its L2 projection's cap multiply of the band-0 constant.
-    let mut sh = crate::math::gram::multiply_full(&constant(a), 0.0, n);
-    let mut at_n = a;
-    let mut reference: Vec<Rgb> = grid.normals.iter().map(|w| a * (0.5 * (1.0 + w.dot(n)))).collect();
-    for &(d, e) in lights {
-        sh = sh + delta_light(d, Rgb::splat(e * PI));
-        at_n += Rgb::splat(e * d.dot(n).max(0.0));
-        for (r, w) in reference.iter_mut().zip(&grid.normals) {
-            *r += Rgb::splat(e * w.dot(d).max(0.0));
-        }
+    let ambient = Light::Ambient(a);
+    let deltas: Vec<Light> = lights.iter().map(|&(dir, e)| Light::Delta { dir, facing: Rgb::splat(e) }).collect();
+    let hemisphere = [Cap::hemisphere(n)];
+    let visible =
+        Lighting(std::iter::once(ambient.clone()).chain(deltas.iter().cloned()).collect()).visible(&hemisphere);
+    assert_eq!(visible.0.len(), 1 + deltas.len(), "the delta lights must lie above N's horizon");
+    // The visible SH: A·[ω·N > 0] as the hemisphere Gram's multiply of the ambient's SH
+    // (FORMULAS §9; exact, the ambient being band 0), plus the deltas'. It equals the closed
+    // form `visible.sh()` to rounding; this arithmetic is kept because claims.csv prints
+    // rounding-level errors (H1, H2, D1).
+    let sh = deltas.iter().fold(multiply_full(&ambient.sh(), 0.0, n), |s, l| s + l.sh());
+    ConstructedCase {
+        n,
+        sh,
+        at_n: visible.irradiance(n),
+        reference: grid.normals.iter().map(|&w| visible.irradiance(w)).collect(),
+        grid,
     }
-    Scene { n, sh, at_n, reference, normals: grid.normals, weights: grid.weights }
 }
 
-impl Scene {
+impl ConstructedCase {
     fn input(&self) -> FitInput<'_> {
         FitInput {
             probe_sh: &self.sh,
@@ -118,9 +128,9 @@ impl Scene {
     }
     /// (rmse, max abs error, relative error at N) of an encoder.
     fn errors(&self, kind: &str) -> Result<(f64, f64, f64)> {
-        let f = enc(kind)?.fit(&self.input());
-        let test: Vec<Rgb> = self.normals.iter().map(|&w| f.irradiance(w)).collect();
-        let s = score(&self.reference, &test, &self.weights, false);
+        let e = enc(kind)?;
+        let f = e.fit(&self.input());
+        let s = score_fit(e.as_ref(), f.as_ref(), &self.grid, &self.reference, Metric::Exact);
         let at = (f.irradiance(self.n) - self.at_n).abs().max_element() / self.at_n.max_element();
         Ok((s.rmse, s.max_abs, at))
     }
@@ -344,7 +354,7 @@ fn h10(rows: &[Row]) -> Finding {
     }
 }
 
-fn d1_d2(search: &SearchPath, rows: &[Row], scenes: &[Scene]) -> Result<(Finding, Finding)> {
+fn d1_d2(search: &SearchPath, rows: &[Row], scenes: &[ConstructedCase]) -> Result<(Finding, Finding)> {
     // Exact I_z per (map, N) for relative errors at N.
     let exp = Experiment::parse(REAL_MAPS_EXPERIMENT, Path::new("lightmap_claims (built in)"))?;
     let mut at_n = Vec::new();
@@ -409,7 +419,7 @@ fn d1_d2(search: &SearchPath, rows: &[Row], scenes: &[Scene]) -> Result<(Finding
     Ok((d1, d2))
 }
 
-impl Scene {
+impl ConstructedCase {
     fn errors_with(&self, kind: &str, storage: &str) -> Result<f64> {
         let mut t = toml::Table::new();
         t.insert("storage".into(), toml::Value::String(storage.into()));
@@ -638,7 +648,7 @@ pub fn run(search: &SearchPath) -> Result<Report> {
     }
     files.push(("real_maps.csv".into(), crate::pipeline::table::to_csv(&report.rows)?));
     // Constructed scenes for D1.
-    let scenes: Vec<Scene> = [20.0, 50.0, 80.0]
+    let scenes: Vec<ConstructedCase> = [20.0, 50.0, 80.0]
         .iter()
         .map(|&deg| scene(DVec3::Y, AMBIENT * 0.5, &[(tilted(DVec3::Y, DVec3::X, deg), 1.5)]))
         .chain(std::iter::once(scene(DVec3::Y, AMBIENT, &[])))

@@ -10,8 +10,9 @@ use crate::math::colour::{Rgb, REC709};
 use crate::math::sh::{delta_light, Sh9};
 use crate::pipeline::runner::score_fit;
 use crate::reference::domain::OutputGrid;
+use crate::reference::lighting::Light;
 use crate::reference::metrics::Metric;
-use crate::reference::scenes::{Component, Scene};
+use crate::reference::scenes::Scene;
 use anyhow::Result;
 use glam::DVec3;
 use std::f64::consts::PI;
@@ -29,7 +30,7 @@ pub(super) fn z1(grid: &OutputGrid) -> Result<(Finding, String)> {
         ("cone light 5 deg", scene("cone5", vec![cap(a, 5.0 * deg, Rgb::new(200.0, 150.0, 100.0))])),
         ("cone light 30 deg", scene("cone30", vec![cap(-a, 30.0 * deg, Rgb::new(2.0, 3.0, 4.0))])),
         ("sphere light 60 deg over a constant sky", {
-            scene("sphere60", vec![cap(a, 60.0 * deg, Rgb::ONE), Component::Constant(Rgb::splat(0.2))])
+            scene("sphere60", vec![cap(a, 60.0 * deg, Rgb::ONE), Light::Ambient(Rgb::splat(0.2))])
         }),
     ];
     let mut worst_field = 0.0f64;
@@ -120,7 +121,7 @@ fn two_colour_scene() -> Scene {
         vec![
             cap(DVec3::X, 0.3, Rgb::new(8.0, 5.0, 1.0)),
             cap(DVec3::Y, 0.3, Rgb::new(1.0, 3.0, 9.0)),
-            Component::Constant(Rgb::splat(0.05)),
+            Light::Ambient(Rgb::splat(0.05)),
         ],
     )
 }
@@ -198,7 +199,7 @@ fn z3_scene() -> Scene {
             cap(DVec3::X, 0.15, Rgb::splat(20.0)),
             cap(DVec3::NEG_X, 0.15, Rgb::splat(20.0)),
             cap(DVec3::Y, 0.15, Rgb::splat(4.0)),
-            Component::Constant(Rgb::splat(0.1)),
+            Light::Ambient(Rgb::splat(0.1)),
         ],
     )
 }
@@ -261,7 +262,7 @@ pub(super) fn z4(grid: &OutputGrid, cases: &[Case]) -> Result<(Finding, String)>
                 cap(DVec3::X, 0.15, Rgb::splat(20.0)),
                 cap(DVec3::NEG_X, 0.15, Rgb::splat(20.0)),
                 cap(DVec3::Y, 0.15, Rgb::new(0.5, 1.0, 8.0)),
-                Component::Constant(Rgb::splat(0.1)),
+                Light::Ambient(Rgb::splat(0.1)),
             ],
         ),
         grid,

@@ -11,17 +11,17 @@ use crate::encoders::zh3::{hallucinate, stored, AxisRule};
 use crate::math::colour::{Rgb, REC709};
 use crate::math::sh::{delta_light, Sh9};
 use crate::reference::domain::OutputGrid;
+use crate::reference::lighting::Light;
 use crate::reference::metrics::score;
-use crate::reference::scenes::Component;
 use anyhow::Result;
 use glam::DVec3;
 use std::fmt::Write as _;
 
 /// Z9: blending two probes whose L1 axes are perpendicular.
 pub(super) fn z9(grid: &OutputGrid) -> Result<(Finding, String)> {
-    let mk = |axis: DVec3| scene("p", vec![cap(axis, 0.2, Rgb::splat(10.0)), Component::Constant(Rgb::splat(0.1))]);
+    let mk = |axis: DVec3| scene("p", vec![cap(axis, 0.2, Rgb::splat(10.0)), Light::Ambient(Rgb::splat(0.1))]);
     let (a, b) = (mk(DVec3::X), mk(DVec3::Y));
-    let blend = scene("blend", a.components.iter().chain(&b.components).cloned().collect());
+    let blend = scene("blend", a.lighting.0.iter().chain(&b.lighting.0).cloned().collect());
     let half = |s: Sh9| s * 0.5;
     let (sa, sb) = (a.sh().convolve_cosine(), b.sh().convolve_cosine());
     let sh_blend = half(sa + sb); // irradiance SH3 of the blend (exact SH3 interpolation)

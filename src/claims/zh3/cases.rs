@@ -13,8 +13,9 @@ use crate::math::sh::Sh9;
 use crate::pipeline::runner::{evaluate, score_fit};
 use crate::reference::domain::{Domain, OutputGrid};
 use crate::reference::exact::{Reference, DEFAULT_POLAR_NODES};
+use crate::reference::lighting::{Light, Lighting};
 use crate::reference::metrics::{Metric, Scores};
-use crate::reference::scenes::{Component, Scene};
+use crate::reference::scenes::Scene;
 use anyhow::{Context, Result};
 use glam::DVec3;
 
@@ -106,12 +107,12 @@ pub(super) fn scene_case(scene: &Scene, grid: &OutputGrid) -> Case {
     }
 }
 
-/// A scene of analytic components.
-pub(super) fn scene(id: &str, components: Vec<Component>) -> Scene {
-    Scene { id: id.into(), description: String::new(), components }
+/// A scene of analytic lights.
+pub(super) fn scene(id: &str, lights: Vec<Light>) -> Scene {
+    Scene { id: id.into(), description: String::new(), lighting: Lighting(lights) }
 }
 
 /// A cap light of `half_angle` radians about `axis` (normalised).
-pub(super) fn cap(axis: DVec3, half_angle: f64, radiance: Rgb) -> Component {
-    Component::Cap { axis: axis.normalize(), half_angle, radiance }
+pub(super) fn cap(axis: DVec3, half_angle: f64, radiance: Rgb) -> Light {
+    Light::Cap { axis: axis.normalize(), half_angle, radiance }
 }

@@ -441,7 +441,7 @@ mod tests {
     use super::*;
     use crate::encoders::build;
     use crate::math::sh::{basis, constant, delta_light};
-    use crate::reference::scenes::Component;
+    use crate::reference::lighting::Light;
     use std::f64::consts::PI;
 
     fn fit(id: &str, sh: &Sh9) -> Box<dyn Fitted> {
@@ -469,9 +469,9 @@ mod tests {
         let axis = DVec3::new(0.3, 0.7, -0.648).normalize();
         let lights: Vec<Sh9> = vec![
             delta_light(axis, Rgb::new(3.0, 2.0, 1.0)),
-            Component::Cap { axis, half_angle: 0.1, radiance: Rgb::new(50.0, 40.0, 30.0) }.sh(),
-            Component::Cap { axis: -axis, half_angle: 0.6, radiance: Rgb::new(1.0, 2.0, 3.0) }.sh(),
-            Component::Cap { axis, half_angle: 1.3, radiance: Rgb::ONE }.sh() + constant(Rgb::splat(0.2)),
+            Light::Cap { axis, half_angle: 0.1, radiance: Rgb::new(50.0, 40.0, 30.0) }.sh(),
+            Light::Cap { axis: -axis, half_angle: 0.6, radiance: Rgb::new(1.0, 2.0, 3.0) }.sh(),
+            Light::Cap { axis, half_angle: 1.3, radiance: Rgb::ONE }.sh() + constant(Rgb::splat(0.2)),
         ];
         let pts = crate::reference::domain::fibonacci_sphere(2000);
         for sh in &lights {
@@ -580,7 +580,7 @@ mod tests {
     /// 16 bytes (13 when hallucinated).
     #[test]
     fn quantised_zh3() {
-        let sh = Component::Cap { axis: DVec3::Y, half_angle: 0.4, radiance: Rgb::new(5.0, 4.0, 3.0) }.sh()
+        let sh = Light::Cap { axis: DVec3::Y, half_angle: 0.4, radiance: Rgb::new(5.0, 4.0, 3.0) }.sh()
             + constant(Rgb::splat(0.5));
         let mut t = toml::Table::new();
         t.insert("quantise".into(), toml::Value::String("ratio8".into()));

@@ -12,7 +12,7 @@
 //! - 0–3 lights (at least one without a map), each with a random colour and a uniformly random
 //!   direction: directional (E/π facing it 2^U(−2, 3)), sphere (a cap of half-angle 0.5°–15°,
 //!   E/π on its axis 2^U(−2, 3)) or cone (a cap of half-angle 15°–60°, E/π on its axis
-//!   2^U(−3, 1)), all scaled by the exposure. Their SH are closed forms (`scenes::Component`).
+//!   2^U(−3, 1)), all scaled by the exposure. Their SH are closed forms (`lighting::Light`).
 //!
 //! The palette is the SH3 of every `*_256x128` map on the search path (`PROBELAB_ENVMAPS`), or
 //! the maps named with `--palette`; with none found, the generated analytic scenes' closed-form
@@ -22,7 +22,7 @@ use crate::math::colour::luminance;
 use crate::math::colour::Rgb;
 use crate::math::sh::{constant, delta_light, Sh9};
 use crate::math::sh_rotation::{uniform_rotation, ShRotation};
-use crate::reference::scenes::Component;
+use crate::reference::lighting::Light;
 use glam::DVec3;
 use rayon::prelude::*;
 use std::f64::consts::{PI, TAU};
@@ -145,7 +145,7 @@ impl Synth {
                             if kind == 1 { (0.5, 15.0, -2.0, 3.0) } else { (15.0, 60.0, -3.0, 1.0) };
                         let alpha = rng.uniform(lo, hi).to_radians();
                         let e = 2f64.powf(rng.uniform(e_lo, e_hi));
-                        Component::Cap { axis: d, half_angle: alpha, radiance: colour * (e / alpha.sin().powi(2)) }.sh()
+                        Light::Cap { axis: d, half_angle: alpha, radiance: colour * (e / alpha.sin().powi(2)) }.sh()
                     }
                 };
         }
