@@ -5,17 +5,17 @@
 //! |----------------|---------------------------|----------------|---------|
 //! | `name`         | string                    | file stem      | results go to `results/<name>/` |
 //! | `description`  | string                    | ""             | shown in the report |
-//! | `maps`         | [string]                  | required       | map names on the search path, or file paths |
-//! | `encoders`     | [string or table]         | required       | `"sh2"` or `{ kind = "…", name = "…", <settings> }` |
-//! | `metrics`      | [string]                  | `["exact"]`    | `exact`, `probulator` |
+//! | `maps`         | list of strings                  | required       | map names on the search path, or file paths |
+//! | `encoders`     | list of strings or tables         | required       | `"sh2"` or `{ kind = "…", name = "…", <settings> }` |
+//! | `metrics`      | list of strings                  | `["exact"]`    | `exact`, `probulator` |
 //! | `domain`       | string                    | `"sphere"`     | `sphere` or `hemisphere` (n′ over the hemisphere about each N) |
-//! | `orientations` | [string]                  | `[]`           | surface normals N: `+x` … `-z`, `up`, `axes6`, `fibonacciN` |
-//! | `effects`      | [string or table]         | `[]`           | `"hemisphere"`, `{ kind = "cone", cos_alpha = [..], tilt_deg = [..] }`, `{ kind = "self_bounce", albedo = [..] }` (needs `hemisphere`) |
+//! | `orientations` | list of strings                  | `[]`           | surface normals N: `+x` … `-z`, `up`, `axes6`, `fibonacciN` |
+//! | `effects`      | list of strings or tables         | `[]`           | `"hemisphere"`, `{ kind = "cone", cos_alpha = [..], tilt_deg = [..] }`, `{ kind = "self_bounce", albedo = [..] }` (needs `hemisphere`) |
 //! | `resolution`   | [W, H]                    | `[256, 128]`   | output lat-long grid of normals for the `exact` metric |
 //! | `polar_nodes`  | integer                   | 2              | Gauss–Legendre nodes per row piece of the reference |
 //! | `ci`           | bool                      | true           | whether the CI check re-runs it |
 //! | `summary`      | table                     | none           | `summary.csv` per orientation/map/set, ratios to `baseline` (`summary.rs`) |
-//! | `claims`       | [table]                   | `[]`           | claims checked on the rows (`claim_spec.rs`): `claims.csv`, `CLAIMS.md` (`claims::declared`) |
+//! | `claims`       | list of tables                   | `[]`           | claims checked on the rows (`claim_spec.rs`): `claims.csv`, `CLAIMS.md` (`claims::declared`) |
 //!
 //! Unknown keys are errors that name the key and the line.
 
