@@ -9,7 +9,7 @@
 //! |---|---|
 //! | [`math`] | SH basis and rotation, Gram matrices, quadrature, caps and arcs, the direction convention, exact statistics |
 //! | [`envmap`] | lat-long maps, loading, the search path, row moments |
-//! | [`reference`](mod@reference) | the exact reference, SH projection, analytic scenes, output domains, metrics |
+//! | [`reference`](mod@reference) | the exact reference, SH projection, analytic lighting and scenes, output domains and views, metrics |
 //! | [`encoders`] | the `Encoder` trait, the registry, one file (or folder) per family |
 //! | [`pipeline`] | experiments, the runner, timing, tables, summaries, sweeps, probe sets |
 //! | [`claims`] | where the papers' claims are measured |
