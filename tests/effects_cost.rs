@@ -38,7 +38,7 @@ fn undeclared_effects_cost_nothing() {
         let cd = CaseData::new(&data, &case, none.polar_nodes);
         assert!(cd.reference.caps().is_empty());
         // Bit-identical: the masked projection of no caps would differ in rounding.
-        assert_eq!(cd.visible_sh, data.probe_sh);
+        assert_eq!(cd.inputs.visible_sh, data.probe_sh);
     }
     // The sphere: nothing masked either.
     assert_eq!(cost(&experiment(""), &map), (0, 0));
@@ -54,6 +54,6 @@ fn undeclared_effects_cost_nothing() {
     for case in cases(&hemi) {
         let cd = CaseData::new(&data, &case, hemi.polar_nodes);
         assert_eq!(cd.reference.caps().len(), 1);
-        assert_ne!(cd.visible_sh, data.probe_sh);
+        assert_ne!(cd.inputs.visible_sh, data.probe_sh);
     }
 }

@@ -151,8 +151,14 @@ pub fn load(path: &Path) -> Result<EnvMap, LoadError> {
     let mut map =
         EnvMap::new(name, width, height, texels).map_err(|cause| LoadError::Map { path: path.to_path_buf(), cause })?;
     map.path = Some(path.to_path_buf());
-    map.sha256 = Some(Sha256::digest(&bytes).iter().map(|b| format!("{b:02x}")).collect());
+    map.sha256 = Some(sha256_hex(&bytes));
     Ok(map)
+}
+
+/// Lower-case hex sha256 of `bytes`: a map file's identity ([`EnvMap::sha256`]), and a result
+/// table's (`regression::provenance`).
+pub fn sha256_hex(bytes: &[u8]) -> String {
+    Sha256::digest(bytes).iter().map(|b| format!("{b:02x}")).collect()
 }
 
 /// Writes `map` to `path` as a single-part scanline OpenEXR with f32 R, G, B channels and

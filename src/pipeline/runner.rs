@@ -188,14 +188,36 @@ impl<'m> MapData<'m> {
     }
 }
 
-/// Per-case data: the visible SH, the exact reference under the case's caps, and the exact
-/// irradiance at N. Renders and timing use this too, so everything scores the same inputs.
-pub struct CaseData<'a> {
-    pub case: &'a Case,
+/// What every encoder is fitted from in one case, owned (the timing pass keeps it after the
+/// case's reference is gone): the probe's SH, the SH of the light visible under the case's
+/// caps, and the exact E/π at N.
+#[derive(Clone, Copy, Debug)]
+pub struct CaseInputs {
     pub probe_sh: Sh9,
     pub visible_sh: Sh9,
-    pub reference: Reference<'a>,
     pub exact_at_normal: Option<Rgb>,
+}
+
+impl CaseInputs {
+    /// The fit input of `case` (its surface normal, cone and albedo) from these inputs.
+    pub fn fit_input<'s>(&'s self, case: &Case) -> FitInput<'s> {
+        FitInput {
+            probe_sh: &self.probe_sh,
+            visible_sh: &self.visible_sh,
+            surface_normal: case.normal,
+            cone: case.cone,
+            exact_at_normal: self.exact_at_normal,
+            surface_albedo: case.albedo,
+        }
+    }
+}
+
+/// Per-case data: the fit inputs, and the exact reference under the case's caps. Sweeps,
+/// claims and sheets build it too, so everything scores the same inputs.
+pub struct CaseData<'a> {
+    pub case: &'a Case,
+    pub inputs: CaseInputs,
+    pub reference: Reference<'a>,
 }
 
 impl<'a> CaseData<'a> {
@@ -208,19 +230,12 @@ impl<'a> CaseData<'a> {
         };
         let reference = Reference::new(&data.moments, case.masks.clone(), polar_nodes);
         let exact_at_normal = case.normal.map(|n| reference.irradiance(n));
-        CaseData { case, probe_sh: data.probe_sh, visible_sh, reference, exact_at_normal }
+        CaseData { case, inputs: CaseInputs { probe_sh: data.probe_sh, visible_sh, exact_at_normal }, reference }
     }
 
     /// What every encoder is fitted from.
     pub fn fit_input(&self) -> FitInput<'_> {
-        FitInput {
-            probe_sh: &self.probe_sh,
-            visible_sh: &self.visible_sh,
-            surface_normal: self.case.normal,
-            cone: self.case.cone,
-            exact_at_normal: self.exact_at_normal,
-            surface_albedo: self.case.albedo,
-        }
+        self.inputs.fit_input(self.case)
     }
 
     /// The reference E/π at `normals`: the exact irradiance under the case's caps plus, under
@@ -250,7 +265,7 @@ impl<'a> CaseData<'a> {
     /// H(n′) = (1 + n′·N)/2 the hemisphere light; so the reference gains
     /// ρ·I_z·(1 − H(n′)). Nothing is added without the effect.
     fn add_self_bounce(&self, normals: &[DVec3], values: &mut [Rgb]) {
-        let (Some(rho), Some(n), Some(iz)) = (self.case.albedo, self.case.normal, self.exact_at_normal) else {
+        let (Some(rho), Some(n), Some(iz)) = (self.case.albedo, self.case.normal, self.inputs.exact_at_normal) else {
             return;
         };
         for (v, &np) in values.iter_mut().zip(normals) {
@@ -266,22 +281,22 @@ pub fn run_map(exp: &Experiment, map: &EnvMap) -> Vec<Row> {
         MapData::new(map)
     };
     let all = cases(exp);
-    let mut per_case: Vec<Vec<Row>> = all.par_iter().map(|case| run_case(exp, &data, case)).collect();
-    fill_timing(exp, &data, &all, &mut per_case);
+    let (mut per_case, inputs): (Vec<Vec<Row>>, Vec<CaseInputs>) =
+        all.par_iter().map(|case| run_case(exp, &data, case)).unzip();
+    fill_timing(exp, &all, &inputs, &mut per_case);
     per_case.into_iter().flatten().collect()
 }
 
 /// Fills `fit_ns` and `eval_ns` of the rows of one map, `rows[c]` being the rows of
-/// `cases[c]`: sequentially, after scoring, so timing never touches the numbers
-/// ([`crate::pipeline::timing`]). Each case's inputs are rebuilt exactly as scoring built them.
-fn fill_timing(exp: &Experiment, data: &MapData, cases: &[Case], rows: &mut [Vec<Row>]) {
+/// `cases[c]` and `inputs[c]` what scoring fitted them from: sequentially, after scoring, so
+/// timing never touches the numbers ([`crate::pipeline::timing`]).
+fn fill_timing(exp: &Experiment, cases: &[Case], inputs: &[CaseInputs], rows: &mut [Vec<Row>]) {
     if !timing::enabled() {
         return;
     }
     let _span = crate::pipeline::profile::span("timing pass");
-    for (case, rows) in cases.iter().zip(rows.iter_mut()) {
-        let cd = CaseData::new(data, case, exp.polar_nodes);
-        let input = cd.fit_input();
+    for ((case, inputs), rows) in cases.iter().zip(inputs).zip(rows.iter_mut()) {
+        let input = inputs.fit_input(case);
         let normals = timing::subsample(&case.domain.output_grid(exp.resolution).normals, timing::EVAL_NORMALS);
         for named in &exp.encoders {
             let (fit_ns, eval_ns) = timing::measure(named.encoder.as_ref(), &input, &normals);
@@ -297,7 +312,8 @@ fn fill_timing(exp: &Experiment, data: &MapData, cases: &[Case], rows: &mut [Vec
 /// reference on it.
 type ScoredGrid = ((usize, usize), bool, OutputGrid, Vec<Rgb>);
 
-fn run_case(exp: &Experiment, data: &MapData, case: &Case) -> Vec<Row> {
+/// Scores every encoder on one case; returns the rows and the inputs they were fitted from.
+fn run_case(exp: &Experiment, data: &MapData, case: &Case) -> (Vec<Row>, CaseInputs) {
     let map = data.map;
     let cd = {
         let _s = crate::pipeline::profile::span("case setup (visible SH)");
@@ -349,14 +365,14 @@ fn run_case(exp: &Experiment, data: &MapData, case: &Case) -> Vec<Row> {
                 diagnostics,
                 at_normal_abs_err: case
                     .normal
-                    .zip(cd.exact_at_normal)
+                    .zip(cd.inputs.exact_at_normal)
                     .map(|(n, e)| (fit.irradiance(n) - e).abs().max_element()),
                 fit_ns: None,
                 eval_ns: None,
             });
         }
     }
-    rows
+    (rows, cd.inputs)
 }
 
 /// Evaluates a fit at every normal: E/π, in parallel, in the normals' order.
@@ -376,12 +392,23 @@ pub fn score_fit(
     reference: &[Rgb],
     metric: Metric,
 ) -> Scores {
-    let test = evaluate(fit, &grid.normals);
+    score_values(encoder, &evaluate(fit, &grid.normals), grid, reference, metric)
+}
+
+/// [`score_fit`] for a fit already evaluated at every normal of `grid` (`test`, from
+/// [`evaluate`]), for a caller that also needs the values.
+pub fn score_values(
+    encoder: &dyn Encoder,
+    test: &[Rgb],
+    grid: &OutputGrid,
+    reference: &[Rgb],
+    metric: Metric,
+) -> Scores {
     let _s = crate::pipeline::profile::span("score");
     let clamp = metric == Metric::Probulator && encoder.peer_clamps();
     match metric {
-        Metric::Exact => score(reference, &test, &grid.weights, clamp),
-        Metric::Probulator => score(reference, &test, &vec![1.0; grid.normals.len()], clamp),
+        Metric::Exact => score(reference, test, &grid.weights, clamp),
+        Metric::Probulator => score(reference, test, &vec![1.0; grid.normals.len()], clamp),
     }
 }
 

@@ -12,11 +12,12 @@
 //! - `run`/`reproduce` write a table freely when none exists yet; when one exists they leave
 //!   it untouched if nothing moved, and refuse (exit 1, printing the report) if something did.
 
+use crate::envmap::load::sha256_hex;
 use crate::envmap::search::SearchPath;
 use crate::pipeline::experiment::{list_experiments, Experiment};
 use crate::pipeline::runner::{self, RunReport};
 use crate::regression::baseline::{self, Comparison, Table, TABLE};
-use crate::regression::provenance::{self, sha256_hex, Provenance};
+use crate::regression::provenance::{self, Provenance};
 use crate::regression::tolerance::{EncoderClass, Tolerance, Tolerances};
 use anyhow::{bail, Result};
 use std::fmt;

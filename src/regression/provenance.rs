@@ -9,11 +9,11 @@
 //! interrupted `bless`, is reported). Nothing else in it counts as a change: a new date or
 //! commit alone never fails a check.
 
+use crate::envmap::load::sha256_hex;
 use crate::pipeline::experiment::{DomainKind, Experiment};
 use crate::pipeline::runner::RunReport;
 use anyhow::{Context, Result};
 use serde::{Deserialize, Serialize};
-use sha2::{Digest, Sha256};
 use std::path::Path;
 
 /// The file name, next to `table.csv`.
@@ -162,11 +162,6 @@ impl Provenance {
     pub fn map(&self, name: &str) -> Option<&MapRecord> {
         self.maps.iter().find(|m| m.name == name)
     }
-}
-
-/// Lower-case hex sha256.
-pub fn sha256_hex(bytes: &[u8]) -> String {
-    Sha256::digest(bytes).iter().map(|b| format!("{b:02x}")).collect()
 }
 
 /// `git rev-parse HEAD` in `root`, and whether tracked files are modified; ("unknown", None)

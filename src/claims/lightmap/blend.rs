@@ -171,9 +171,9 @@ pub fn bake(search: &SearchPath, l: &Endpoint, n: DVec3, label: &str, normals: &
     let case = hemisphere_case(n, label);
     let cd = CaseData::new(&data, &case, DEFAULT_POLAR_NODES);
     let mut b = Bake {
-        probe_sh: cd.probe_sh,
-        visible_sh: cd.visible_sh,
-        exact_at_normal: cd.exact_at_normal.expect("hemisphere case has N"),
+        probe_sh: cd.inputs.probe_sh,
+        visible_sh: cd.inputs.visible_sh,
+        exact_at_normal: cd.inputs.exact_at_normal.expect("hemisphere case has N"),
         reference: cd.reference_many(normals),
     };
     if let Some((d, k)) = l.light {

@@ -365,7 +365,7 @@ fn d1_d2(search: &SearchPath, rows: &[Row], scenes: &[ConstructedCase]) -> Resul
         for o in &exp.orientations {
             let case = blend::hemisphere_case(o.normal, &o.label);
             let cd = crate::pipeline::runner::CaseData::new(&data, &case, exp.polar_nodes);
-            at_n.push((map.name.clone(), format!("hemisphere:{}", o.label), cd.exact_at_normal.expect("N")));
+            at_n.push((map.name.clone(), format!("hemisphere:{}", o.label), cd.inputs.exact_at_normal.expect("N")));
         }
     }
     let rel = |encoder: &str| -> Vec<f64> {

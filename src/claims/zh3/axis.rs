@@ -8,7 +8,7 @@ use super::{mean, pct, reduction, yes, Finding};
 use crate::encoders::encoder::Encoder;
 use crate::math::colour::{Rgb, REC709};
 use crate::math::sh::{delta_light, Sh9};
-use crate::pipeline::runner::score_fit;
+use crate::pipeline::runner::score_values;
 use crate::reference::domain::OutputGrid;
 use crate::reference::lighting::Light;
 use crate::reference::metrics::Metric;
@@ -53,13 +53,13 @@ pub(super) fn z1(grid: &OutputGrid) -> Result<(Finding, String)> {
         let f2 = fit(sh2.as_ref(), &case.sh);
         let v2 = values(f2.as_ref(), grid);
         let peak = v2.iter().map(|v| v.max_element()).fold(0.0, f64::max);
-        let e2 = score_fit(sh2.as_ref(), f2.as_ref(), grid, &case.reference, Metric::Exact).rmse;
+        let e2 = score_values(sh2.as_ref(), &v2, grid, &case.reference, Metric::Exact).rmse;
         for id in STORED {
             let e = enc(id, &[])?;
             let f = fit(e.as_ref(), &case.sh);
             let v = values(f.as_ref(), grid);
             let field = v.iter().zip(&v2).map(|(x, y)| (*x - *y).abs().max_element()).fold(0.0, f64::max) / peak;
-            let ez = score_fit(e.as_ref(), f.as_ref(), grid, &case.reference, Metric::Exact).rmse;
+            let ez = score_values(e.as_ref(), &v, grid, &case.reference, Metric::Exact).rmse;
             worst_field = worst_field.max(field);
             worst_rmse = worst_rmse.max((ez - e2).abs());
             let _ = writeln!(table, "| {label} | {id} | {field:.2e} | {ez:.6e} | {e2:.6e} | {:.1e} |", (ez - e2).abs());

@@ -5,7 +5,7 @@
 use super::cases::{enc, fit, values, Case};
 use super::{yes, Finding};
 use crate::encoders::encoder::Encoder;
-use crate::pipeline::runner::score_fit;
+use crate::pipeline::runner::score_values;
 use crate::reference::domain::OutputGrid;
 use crate::reference::metrics::{score, Metric};
 use anyhow::Result;
@@ -32,12 +32,13 @@ pub(super) fn z10(grid: &OutputGrid, cases: &[Case]) -> Result<(Finding, String)
     let mut worst = vec![0.0f64; pairs.len()];
     for case in cases {
         for (i, (name, e, eq, bytes)) in pairs.iter().enumerate() {
-            let (f, fq) = (fit(e.as_ref(), &case.sh), fit(eq.as_ref(), &case.sh));
-            let r = score_fit(e.as_ref(), f.as_ref(), grid, &case.reference, Metric::Exact).rmse;
-            let rq = score_fit(eq.as_ref(), fq.as_ref(), grid, &case.reference, Metric::Exact).rmse;
+            let v = values(fit(e.as_ref(), &case.sh).as_ref(), grid);
+            let vq = values(fit(eq.as_ref(), &case.sh).as_ref(), grid);
+            let r = score_values(e.as_ref(), &v, grid, &case.reference, Metric::Exact).rmse;
+            let rq = score_values(eq.as_ref(), &vq, grid, &case.reference, Metric::Exact).rmse;
             // What quantisation adds: the RMS of quantised − unquantised, the unquantised
             // values standing in for the reference.
-            let dq = score(&values(f.as_ref(), grid), &values(fq.as_ref(), grid), &grid.weights, false).rmse;
+            let dq = score(&v, &vq, &grid.weights, false).rmse;
             worst[i] = worst[i].max(dq / r);
             let _ =
                 writeln!(table, "| {} | {name} | {bytes} | {r:.5} | {rq:.5} | {dq:.2e} | {:.3} |", case.name, dq / r);
