@@ -5,6 +5,7 @@
 //!
 //! May use: `math`, `envmap`, `reference`, `encoders`, `pipeline`. Never `report`.
 
+pub mod declaration;
 pub mod declared;
 pub mod lightmap;
 pub mod zh3;

@@ -1,0 +1,508 @@
+//! The claims as data: one declaration file per paper, `experiments/claims/<paper>.toml`,
+//! parsed and validated here. Every claim of the papers (`CLAIMS.md` of the paper texts) is
+//! declared once, with the paper's statement and figure, the criterion fixed before the run,
+//! the evidence it is judged on and the rule its checks roll up by. Judging is
+//! [`crate::claims::judge`]; nothing in Rust writes a verdict.
+//!
+//! | key (top level)  | type   | meaning |
+//! |------------------|--------|---------|
+//! | `title`, `authors`, `venue` | string | the paper, as cited in the report |
+//! | `order`          | integer | the paper's place in the report (ZH3 talk 1, hemispherical talk 2, 2018 brief 3) |
+//! | `[map_sets]`     | table of string lists | named map sets a check may be judged on besides `all` (e.g. `paper` = the five paper probes) |
+//! | `[[claim]]`      | tables | the claims, in report order |
+//!
+//! | key (`[[claim]]`) | type | meaning |
+//! |-------------------|------|---------|
+//! | `id`              | string | the claim id of CLAIMS.md (`Z6`, `H3`, `D1`) |
+//! | `says`            | string | what the paper says, in a phrase (≤ 110 characters) |
+//! | `statement`       | string | the claim in full (optional; defaults to `says`) |
+//! | `paper_figure`    | string | the paper's own figure for it, as text |
+//! | `criterion`       | string | when it counts as holding, in words that mirror the paper's, and why any band was chosen |
+//! | `rollup`          | string | `all` (default): holds if every required check passes on every set it is judged on; fails if none passes on any set; otherwise partly (naming what failed). `any`: holds if some required check passes on every set. |
+//! | `[[claim.check]]` | tables | the sub-checks (at least one) |
+//!
+//! | key (`[[claim.check]]`) | type | meaning |
+//! |-------------------------|------|---------|
+//! | `name`      | string | what the check shows, in a phrase |
+//! | `table`     | string | the evidence: an experiment name (its `results/<name>/table.csv`) or `measure:<name>` (`results/claims/measures/<name>.csv`, written by a claims measurement) |
+//! | `where`     | table  | only rows whose text columns equal these values (a value may be a list of allowed values) |
+//! | `encoder`   | string | the rows judged (the `encoder` column) |
+//! | `baseline`  | string | for ratio tests: the rows compared with, matched on the key columns (`map`, `domain`, `effects`, `metric`, `case` where present) |
+//! | `column`    | string | the numeric column judged (default `rmse`) |
+//! | `test`      | string | `ratio_every` (every matched ratio < `below`), `ratio_some` (at least one ratio < `below`), `ratio_stat` (the ratio statistic in [`min`, `max`]), `every_at_most` / `every_at_least` (every value against `bound`), `equal` (every pair agrees within `tolerance` relative to max(\|a\|, \|b\|), or within `abs_tolerance`) |
+//! | `below`     | number | the ratio threshold of `ratio_every`/`ratio_some` (default 1) |
+//! | `statistic` | string | `ratio_stat`: `ratio_of_means` (Σa / Σb) or `median_ratio` (median of the per-row ratios) |
+//! | `min`, `max`| number | `ratio_stat`: the band (either may be omitted) |
+//! | `bound`     | number | `every_at_most` / `every_at_least` |
+//! | `tolerance`, `abs_tolerance` | number | `equal` (defaults 1e-9, 1e-12) |
+//! | `floor`     | number | ratio tests: rows whose baseline value is below this are excluded and counted (default 0: only an exactly zero baseline) |
+//! | `on`        | list   | the map sets judged: `all` and/or names of `[map_sets]` (default `["all"]`; a set absent from the table makes the check untestable on it) |
+//! | `maps`      | list   | only rows of these maps (within every set) |
+//! | `role`      | string | `required` (default) or `anchor`: shown, never counted (a production percentage of the paper) |
+
+use anyhow::{bail, Context, Result};
+use serde::Deserialize;
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+/// The folder under `experiments/` that holds the declarations.
+pub const DIR: &str = "claims";
+
+/// The longest `says` phrase (the report's at-a-glance table keeps cells short).
+pub const SAYS_MAX: usize = 110;
+
+/// A paper and its claims.
+#[derive(Clone, Debug)]
+pub struct Paper {
+    /// The file stem (`zh3`, `hemi`, `brief2018`).
+    pub key: String,
+    pub title: String,
+    pub authors: String,
+    pub venue: String,
+    pub order: i64,
+    /// Named map sets (besides `all`).
+    pub map_sets: BTreeMap<String, Vec<String>>,
+    pub claims: Vec<ClaimDecl>,
+}
+
+/// One declared claim.
+#[derive(Clone, Debug)]
+pub struct ClaimDecl {
+    pub id: String,
+    pub says: String,
+    pub statement: String,
+    pub paper_figure: String,
+    pub criterion: String,
+    pub rollup: Rollup,
+    pub checks: Vec<CheckDecl>,
+}
+
+/// How a claim's checks roll up into its one verdict.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Rollup {
+    All,
+    Any,
+}
+
+/// Where a check's rows come from.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Source {
+    /// `results/<name>/table.csv`.
+    Experiment(String),
+    /// `results/claims/measures/<name>.csv`.
+    Measure(String),
+}
+
+impl Source {
+    /// The evidence file, relative to the results folder.
+    pub fn path(&self) -> PathBuf {
+        match self {
+            Source::Experiment(n) => Path::new(n).join("table.csv"),
+            Source::Measure(n) => Path::new("claims").join("measures").join(format!("{n}.csv")),
+        }
+    }
+    /// As written in the declaration.
+    pub fn label(&self) -> String {
+        match self {
+            Source::Experiment(n) => n.clone(),
+            Source::Measure(n) => format!("measure:{n}"),
+        }
+    }
+}
+
+/// The criterion of a check.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Test {
+    RatioEvery { below: f64 },
+    RatioSome { below: f64 },
+    RatioStat { statistic: Statistic, min: Option<f64>, max: Option<f64> },
+    EveryAtMost { bound: f64 },
+    EveryAtLeast { bound: f64 },
+    Equal { tolerance: f64, abs_tolerance: f64 },
+}
+
+impl Test {
+    /// Whether the test compares the encoder with a baseline.
+    pub fn needs_baseline(&self) -> bool {
+        !matches!(self, Test::EveryAtMost { .. } | Test::EveryAtLeast { .. })
+    }
+}
+
+/// A ratio statistic over matched rows.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Statistic {
+    /// Σ encoder / Σ baseline.
+    RatioOfMeans,
+    /// The median of the per-row ratios.
+    MedianRatio,
+}
+
+/// One sub-check.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CheckDecl {
+    pub name: String,
+    pub source: Source,
+    pub filter: Vec<(String, Vec<String>)>,
+    pub encoder: String,
+    pub baseline: Option<String>,
+    pub column: String,
+    pub test: Test,
+    pub floor: f64,
+    pub on: Vec<String>,
+    pub maps: Option<Vec<String>>,
+    pub anchor: bool,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct PaperFile {
+    title: String,
+    authors: String,
+    venue: String,
+    order: i64,
+    #[serde(default)]
+    map_sets: BTreeMap<String, Vec<String>>,
+    #[serde(default)]
+    claim: Vec<ClaimFile>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ClaimFile {
+    id: String,
+    says: String,
+    statement: Option<String>,
+    paper_figure: String,
+    criterion: String,
+    rollup: Option<String>,
+    #[serde(default)]
+    check: Vec<CheckFile>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct CheckFile {
+    name: String,
+    table: String,
+    #[serde(rename = "where", default)]
+    filter: BTreeMap<String, toml::Value>,
+    encoder: String,
+    baseline: Option<String>,
+    column: Option<String>,
+    test: String,
+    below: Option<f64>,
+    statistic: Option<String>,
+    min: Option<f64>,
+    max: Option<f64>,
+    bound: Option<f64>,
+    tolerance: Option<f64>,
+    abs_tolerance: Option<f64>,
+    floor: Option<f64>,
+    on: Option<Vec<String>>,
+    maps: Option<Vec<String>>,
+    role: Option<String>,
+}
+
+/// A finite number, or the key's error.
+fn finite(id: &str, key: &str, v: f64) -> Result<f64> {
+    if !v.is_finite() {
+        bail!("claim {id}: '{key}' must be a finite number, got {v}");
+    }
+    Ok(v)
+}
+
+impl CheckFile {
+    fn validate(self, id: &str, sets: &BTreeMap<String, Vec<String>>) -> Result<CheckDecl> {
+        let at = format!("{id}, check '{}'", self.name);
+        let source = match self.table.strip_prefix("measure:") {
+            Some(m) if !m.is_empty() => Source::Measure(m.to_string()),
+            Some(_) => bail!("claim {at}: table 'measure:' names no measurement"),
+            None if self.table.is_empty() || self.table.contains(['/', '\\']) => {
+                bail!("claim {at}: table '{}' must be an experiment name or measure:<name>", self.table)
+            }
+            None => Source::Experiment(self.table.clone()),
+        };
+        let unused = |keys: &[(&str, bool)]| -> Result<()> {
+            for (k, present) in keys {
+                if *present {
+                    bail!("claim {at}: '{k}' is not used by test = \"{}\"", self.test);
+                }
+            }
+            Ok(())
+        };
+        let pos = |k: &str, v: f64| -> Result<f64> {
+            let v = finite(&at, k, v)?;
+            if v < 0.0 {
+                bail!("claim {at}: '{k}' must be ≥ 0, got {v}");
+            }
+            Ok(v)
+        };
+        let test = match self.test.as_str() {
+            "ratio_every" | "ratio_some" => {
+                unused(&[
+                    ("statistic", self.statistic.is_some()),
+                    ("min", self.min.is_some()),
+                    ("max", self.max.is_some()),
+                    ("bound", self.bound.is_some()),
+                    ("tolerance", self.tolerance.is_some()),
+                    ("abs_tolerance", self.abs_tolerance.is_some()),
+                ])?;
+                let below = pos("below", self.below.unwrap_or(1.0))?;
+                if self.test == "ratio_every" {
+                    Test::RatioEvery { below }
+                } else {
+                    Test::RatioSome { below }
+                }
+            }
+            "ratio_stat" => {
+                unused(&[
+                    ("below", self.below.is_some()),
+                    ("bound", self.bound.is_some()),
+                    ("tolerance", self.tolerance.is_some()),
+                    ("abs_tolerance", self.abs_tolerance.is_some()),
+                ])?;
+                let statistic = match self.statistic.as_deref() {
+                    Some("ratio_of_means") => Statistic::RatioOfMeans,
+                    Some("median_ratio") => Statistic::MedianRatio,
+                    Some(s) => bail!("claim {at}: statistic '{s}' (expected ratio_of_means or median_ratio)"),
+                    None => bail!("claim {at}: test = \"ratio_stat\" needs 'statistic'"),
+                };
+                let min = self.min.map(|v| pos("min", v)).transpose()?;
+                let max = self.max.map(|v| pos("max", v)).transpose()?;
+                if min.is_none() && max.is_none() {
+                    bail!("claim {at}: test = \"ratio_stat\" needs 'min' and/or 'max'");
+                }
+                if let (Some(a), Some(b)) = (min, max) {
+                    if a > b {
+                        bail!("claim {at}: min {a} > max {b}");
+                    }
+                }
+                Test::RatioStat { statistic, min, max }
+            }
+            "every_at_most" | "every_at_least" => {
+                unused(&[
+                    ("below", self.below.is_some()),
+                    ("statistic", self.statistic.is_some()),
+                    ("min", self.min.is_some()),
+                    ("max", self.max.is_some()),
+                    ("tolerance", self.tolerance.is_some()),
+                    ("abs_tolerance", self.abs_tolerance.is_some()),
+                    ("baseline", self.baseline.is_some()),
+                    ("floor", self.floor.is_some()),
+                ])?;
+                let Some(b) = self.bound else { bail!("claim {at}: test = \"{}\" needs 'bound'", self.test) };
+                let bound = finite(&at, "bound", b)?;
+                if self.test == "every_at_most" {
+                    Test::EveryAtMost { bound }
+                } else {
+                    Test::EveryAtLeast { bound }
+                }
+            }
+            "equal" => {
+                unused(&[
+                    ("below", self.below.is_some()),
+                    ("statistic", self.statistic.is_some()),
+                    ("min", self.min.is_some()),
+                    ("max", self.max.is_some()),
+                    ("bound", self.bound.is_some()),
+                    ("floor", self.floor.is_some()),
+                ])?;
+                Test::Equal {
+                    tolerance: pos("tolerance", self.tolerance.unwrap_or(1e-9))?,
+                    abs_tolerance: pos("abs_tolerance", self.abs_tolerance.unwrap_or(1e-12))?,
+                }
+            }
+            t => bail!(
+                "claim {at}: test '{t}' (expected ratio_every, ratio_some, ratio_stat, every_at_most, every_at_least or equal)"
+            ),
+        };
+        if test.needs_baseline() && self.baseline.is_none() {
+            bail!("claim {at}: test = \"{}\" needs 'baseline'", self.test);
+        }
+        let mut filter = Vec::new();
+        for (k, v) in self.filter {
+            let values = match v {
+                toml::Value::String(s) => vec![s],
+                toml::Value::Array(a) => a
+                    .into_iter()
+                    .map(|x| match x {
+                        toml::Value::String(s) => Ok(s),
+                        other => bail!("claim {at}: where.{k}: expected strings, got {other}"),
+                    })
+                    .collect::<Result<_>>()?,
+                other => bail!("claim {at}: where.{k}: expected a string or a list of strings, got {other}"),
+            };
+            filter.push((k, values));
+        }
+        let on = self.on.unwrap_or_else(|| vec!["all".to_string()]);
+        if on.is_empty() {
+            bail!("claim {at}: on = [] judges nothing");
+        }
+        for s in &on {
+            if s != "all" && !sets.contains_key(s) {
+                bail!("claim {at}: on names map set '{s}', which [map_sets] does not declare");
+            }
+        }
+        if self.maps.as_ref().is_some_and(|m| m.is_empty()) {
+            bail!("claim {at}: maps = [] matches no row");
+        }
+        let anchor = match self.role.as_deref().unwrap_or("required") {
+            "required" => false,
+            "anchor" => true,
+            r => bail!("claim {at}: role '{r}' (expected required or anchor)"),
+        };
+        Ok(CheckDecl {
+            name: self.name,
+            source,
+            filter,
+            encoder: self.encoder,
+            baseline: self.baseline,
+            column: self.column.unwrap_or_else(|| "rmse".into()),
+            test,
+            floor: pos("floor", self.floor.unwrap_or(0.0))?,
+            on,
+            maps: self.maps,
+            anchor,
+        })
+    }
+}
+
+/// Parses one declaration file's text; `key` is its stem, `origin` names it in errors.
+pub fn parse(key: &str, text: &str, origin: &Path) -> Result<Paper> {
+    let f: PaperFile =
+        toml::from_str(text).with_context(|| format!("{}: not a claims declaration", origin.display()))?;
+    let mut claims = Vec::new();
+    for c in f.claim {
+        let id = c.id.clone();
+        let at = || format!("{}: claim {id}", origin.display());
+        if id.is_empty() || claims.iter().any(|d: &ClaimDecl| d.id == id) {
+            bail!("{}: claim id '{id}' is empty or declared twice", origin.display());
+        }
+        if c.says.chars().count() > SAYS_MAX {
+            bail!("{}: 'says' has {} characters (at most {SAYS_MAX})", at(), c.says.chars().count());
+        }
+        let rollup = match c.rollup.as_deref().unwrap_or("all") {
+            "all" => Rollup::All,
+            "any" => Rollup::Any,
+            r => bail!("{}: rollup '{r}' (expected all or any)", at()),
+        };
+        if c.check.is_empty() {
+            bail!("{}: no [[claim.check]]: a claim is judged by at least one check", at());
+        }
+        let checks = c.check.into_iter().map(|k| k.validate(&id, &f.map_sets)).collect::<Result<Vec<_>>>();
+        let checks = checks.with_context(at)?;
+        if checks.iter().all(|k| k.anchor) {
+            bail!("{}: every check is an anchor; at least one must be required", at());
+        }
+        claims.push(ClaimDecl {
+            statement: c.statement.unwrap_or_else(|| c.says.clone()),
+            id,
+            says: c.says,
+            paper_figure: c.paper_figure,
+            criterion: c.criterion,
+            rollup,
+            checks,
+        });
+    }
+    Ok(Paper {
+        key: key.to_string(),
+        title: f.title,
+        authors: f.authors,
+        venue: f.venue,
+        order: f.order,
+        map_sets: f.map_sets,
+        claims,
+    })
+}
+
+/// Every declaration file in `experiments_dir/claims/`, in report order (by `order`, then
+/// key). Claim ids are unique across papers.
+pub fn load_papers(experiments_dir: &Path) -> Result<Vec<Paper>> {
+    let dir = experiments_dir.join(DIR);
+    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .with_context(|| format!("{}: cannot list the claims declarations", dir.display()))?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|x| x == "toml"))
+        .collect();
+    files.sort();
+    let mut papers = Vec::new();
+    for p in files {
+        let text = std::fs::read_to_string(&p).with_context(|| format!("{}: cannot read", p.display()))?;
+        let key = p.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+        papers.push(parse(&key, &text, &p)?);
+    }
+    let mut seen: Vec<&str> = Vec::new();
+    for p in &papers {
+        for c in &p.claims {
+            if seen.contains(&c.id.as_str()) {
+                bail!("claim id '{}' is declared by two papers", c.id);
+            }
+            seen.push(&c.id);
+        }
+    }
+    papers.sort_by(|a, b| a.order.cmp(&b.order).then(a.key.cmp(&b.key)));
+    Ok(papers)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn paper(claim: &str) -> Result<Paper> {
+        let text = format!(
+            "title='T'\nauthors='A'\nvenue='V'\norder=1\n[map_sets]\npaper=['m1']\n[[claim]]\nid='X1'\nsays='s'\n\
+             paper_figure='p'\ncriterion='c'\n{claim}"
+        );
+        parse("t", &text, Path::new("t.toml"))
+    }
+
+    fn err(claim: &str) -> String {
+        format!("{:#}", paper(claim).unwrap_err())
+    }
+
+    #[test]
+    fn a_valid_claim_parses_with_defaults() {
+        let p = paper("[[claim.check]]\nname='n'\ntable='exp'\nencoder='a'\nbaseline='b'\ntest='ratio_every'").unwrap();
+        let k = &p.claims[0].checks[0];
+        assert_eq!(k.test, Test::RatioEvery { below: 1.0 });
+        assert_eq!(k.column, "rmse");
+        assert_eq!(k.on, vec!["all".to_string()]);
+        assert_eq!(k.source, Source::Experiment("exp".into()));
+        assert_eq!(p.claims[0].rollup, Rollup::All);
+        let m =
+            paper("[[claim.check]]\nname='n'\ntable='measure:z'\nencoder='a'\ntest='every_at_most'\nbound=1").unwrap();
+        assert_eq!(m.claims[0].checks[0].source.path(), Path::new("claims/measures/z.csv"));
+    }
+
+    #[test]
+    fn bad_declarations_name_the_claim_and_key() {
+        let base = "[[claim.check]]\nname='n'\ntable='exp'\nencoder='a'\n";
+        assert!(err("").contains("no [[claim.check]]"));
+        assert!(err(&format!("{base}test='ratio_every'")).contains("needs 'baseline'"));
+        assert!(err(&format!("{base}baseline='b'\ntest='nope'")).contains("test 'nope'"));
+        assert!(err(&format!("{base}baseline='b'\ntest='ratio_stat'\nmin=0.5")).contains("needs 'statistic'"));
+        assert!(err(&format!("{base}baseline='b'\ntest='ratio_stat'\nstatistic='mean'\nmin=1"))
+            .contains("statistic 'mean'"));
+        assert!(err(&format!("{base}baseline='b'\ntest='ratio_stat'\nstatistic='median_ratio'"))
+            .contains("needs 'min' and/or 'max'"));
+        assert!(err(&format!("{base}test='every_at_most'")).contains("needs 'bound'"));
+        assert!(err(&format!("{base}test='every_at_most'\nbound=nan")).contains("finite"));
+        assert!(err(&format!("{base}test='every_at_most'\nbound=1\nbelow=2")).contains("'below' is not used"));
+        assert!(
+            err(&format!("{base}baseline='b'\ntest='ratio_every'\non=['elsewhere']")).contains("map set 'elsewhere'")
+        );
+        assert!(err(&format!("{base}baseline='b'\ntest='ratio_every'\nrole='maybe'")).contains("role 'maybe'"));
+        assert!(
+            err(&format!("{base}baseline='b'\ntest='ratio_every'\nrole='anchor'")).contains("every check is an anchor")
+        );
+        assert!(err(&format!("{base}baseline='b'\ntest='ratio_every'\nbogus=1")).contains("bogus"));
+        assert!(err(&format!("{base}baseline='b'\ntest='ratio_every'\nfloor=-1")).contains("'floor' must be ≥ 0"));
+        assert!(paper(&format!("says2='x'\n{base}")).is_err());
+        let long = "x".repeat(SAYS_MAX + 1);
+        let text = format!(
+            "title='T'\nauthors='A'\nvenue='V'\norder=1\n[[claim]]\nid='X1'\nsays='{long}'\npaper_figure='p'\n\
+             criterion='c'\n{base}test='every_at_most'\nbound=1"
+        );
+        assert!(format!("{:#}", parse("t", &text, Path::new("t.toml")).unwrap_err()).contains("'says' has"));
+    }
+}
