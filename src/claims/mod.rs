@@ -1,11 +1,16 @@
-//! The claims layer: where the papers' claims are measured. The ZH3 talk's claims (`zh3`),
-//! the lightmap study of the 2018 brief and the hemispherical-lighting talk (`lightmap`:
-//! Fig. 2 in closed form, the blending study), and the claims experiment files declare, judged
-//! on their tables (`declared`: `claims.csv`, `CLAIMS.md` beside `table.csv`).
+//! The claims layer: the papers' claims, measured and judged by one engine. The claims are
+//! data (`experiments/claims/<paper>.toml`, parsed by `declaration`); `judge` rolls each one's
+//! checks up into one verdict on its evidence (experiment tables and the measurements here);
+//! `verdicts` writes `results/CLAIMS.csv` and the per-paper evidence pages. The measurements
+//! are what no table row holds yet: the ZH3 talk's (`zh3`) and the lightmap papers'
+//! (`lightmap`: Fig. 2 in closed form, the blending study), written as `measure` tables.
 //!
 //! May use: `math`, `envmap`, `reference`, `encoders`, `pipeline`. Never `report`.
 
 pub mod declaration;
 pub mod declared;
+pub mod judge;
 pub mod lightmap;
+pub mod measure;
+pub mod verdicts;
 pub mod zh3;

@@ -1,0 +1,737 @@
+//! The one claims engine: judges each declared claim ([`crate::claims::declaration`]) on its
+//! evidence tables — experiment tables and claims measurements alike, read as CSV — and rolls
+//! its sub-checks up into exactly one verdict: `holds`, `partly` (saying which part),
+//! `fails`, or `untestable` (saying why). Nothing here knows a claim, an encoder or a paper:
+//! every criterion, threshold and roll-up rule comes from the declaration.
+//!
+//! Ratio statistics never divide by ~0: rows whose baseline value is at or below the check's
+//! `floor` are excluded and counted, and the statistics are the ratio of means (Σa/Σb) and the
+//! median of per-row ratios, never a mean of ratios.
+
+use crate::claims::declaration::{CheckDecl, ClaimDecl, Paper, Rollup, Statistic, Test};
+use anyhow::{bail, Context, Result};
+use std::fmt::Write as _;
+use std::path::Path;
+
+/// The columns that identify a row besides its encoder (those present in a table are used).
+pub const KEY_COLUMNS: &[&str] = &["map", "domain", "effects", "metric", "case"];
+
+/// An evidence table: CSV text with a header.
+#[derive(Clone, Debug, Default)]
+pub struct Evidence {
+    pub columns: Vec<String>,
+    pub rows: Vec<Vec<String>>,
+}
+
+impl Evidence {
+    /// Parses CSV with a header; `origin` names the file in errors.
+    pub fn parse(bytes: &[u8], origin: &Path) -> Result<Self> {
+        let mut r = csv::ReaderBuilder::new().has_headers(true).from_reader(bytes);
+        let columns: Vec<String> = r
+            .headers()
+            .with_context(|| format!("{}: cannot read the CSV header", origin.display()))?
+            .iter()
+            .map(String::from)
+            .collect();
+        let mut rows = Vec::new();
+        for rec in r.records() {
+            let rec = rec.with_context(|| format!("{}: malformed CSV", origin.display()))?;
+            rows.push(rec.iter().map(String::from).collect());
+        }
+        Ok(Evidence { columns, rows })
+    }
+
+    fn col(&self, name: &str) -> Option<usize> {
+        self.columns.iter().position(|c| c == name)
+    }
+}
+
+/// Where a check, or a claim, stands.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Status {
+    Pass,
+    Fail,
+    /// The data to judge it is missing; the reason.
+    Untestable(String),
+}
+
+/// One per-row value a check judged: the row's label (its key), the value (a ratio for ratio
+/// tests) and whether the row passes on its own.
+#[derive(Clone, Debug)]
+pub struct RowValue {
+    pub label: String,
+    pub map: String,
+    pub value: f64,
+    pub pass: bool,
+}
+
+/// A check judged on one map set.
+#[derive(Clone, Debug)]
+pub struct SetOutcome {
+    /// `all`, or a declared set name.
+    pub set: String,
+    /// Distinct maps judged.
+    pub maps: usize,
+    pub status: Status,
+    /// One short phrase with the number.
+    pub headline: String,
+    /// The full figure.
+    pub figure: String,
+    pub values: Vec<RowValue>,
+    /// Rows left out: baseline at or below the floor, or no value.
+    pub excluded: usize,
+}
+
+/// A check judged on each set it declares.
+#[derive(Clone, Debug)]
+pub struct CheckOutcome {
+    pub decl: CheckDecl,
+    pub sets: Vec<SetOutcome>,
+}
+
+/// A claim's one verdict.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Verdict {
+    Holds,
+    Partly(String),
+    Fails(String),
+    Untestable(String),
+}
+
+impl Verdict {
+    /// `holds`, `partly`, `fails` or `untestable`.
+    pub fn word(&self) -> &'static str {
+        match self {
+            Verdict::Holds => "holds",
+            Verdict::Partly(_) => "partly",
+            Verdict::Fails(_) => "fails",
+            Verdict::Untestable(_) => "untestable",
+        }
+    }
+    /// What part held, what failed, or why it cannot be judged.
+    pub fn why(&self) -> &str {
+        match self {
+            Verdict::Holds => "",
+            Verdict::Partly(s) | Verdict::Fails(s) | Verdict::Untestable(s) => s,
+        }
+    }
+}
+
+/// A judged claim.
+#[derive(Clone, Debug)]
+pub struct ClaimOutcome {
+    pub id: String,
+    pub verdict: Verdict,
+    pub checks: Vec<CheckOutcome>,
+}
+
+impl ClaimOutcome {
+    /// The headline: the first required check's phrase on each of its sets.
+    pub fn our_figure(&self) -> String {
+        let Some(c) = self.checks.iter().find(|c| !c.decl.anchor) else { return String::new() };
+        let parts: Vec<String> = c
+            .sets
+            .iter()
+            .map(|s| if c.sets.len() > 1 { format!("{}: {}", set_label(s), s.headline) } else { s.headline.clone() })
+            .collect();
+        parts.join("; ")
+    }
+
+    /// The map sets judged, with their map counts (e.g. `paper (5); all (19)`).
+    pub fn maps(&self) -> String {
+        let mut v: Vec<String> = Vec::new();
+        for c in &self.checks {
+            for s in &c.sets {
+                let l = set_label(s);
+                if !v.contains(&l) {
+                    v.push(l);
+                }
+            }
+        }
+        v.join("; ")
+    }
+}
+
+/// `paper (5 maps)`; a set without a map column is named alone.
+pub fn set_label(s: &SetOutcome) -> String {
+    if s.maps > 0 {
+        format!("{} ({} map{})", s.set, s.maps, if s.maps == 1 { "" } else { "s" })
+    } else {
+        s.set.clone()
+    }
+}
+
+/// Three significant digits; scientific below 1e-3.
+pub fn fmt3(x: f64) -> String {
+    if x == 0.0 {
+        "0".into()
+    } else if !x.is_finite() {
+        "non-finite".into()
+    } else if x.abs() < 1e-3 || x.abs() >= 1e5 {
+        format!("{x:.2e}")
+    } else {
+        let digits = (2 - x.abs().log10().floor() as i32).max(0) as usize;
+        format!("{x:.digits$}")
+    }
+}
+
+fn median(v: &[f64]) -> f64 {
+    let mut s = v.to_vec();
+    s.sort_by(|a, b| a.total_cmp(b));
+    let n = s.len();
+    if n == 0 {
+        f64::NAN
+    } else if n % 2 == 1 {
+        s[n / 2]
+    } else {
+        0.5 * (s[n / 2 - 1] + s[n / 2])
+    }
+}
+
+/// A row of the check: its label, map and value of the judged column (None: empty cell).
+struct Picked<'a> {
+    row: &'a [String],
+    label: String,
+    map: String,
+    value: Option<f64>,
+}
+
+/// Judges one check on one set of a table.
+fn judge_set(t: &Evidence, k: &CheckDecl, set: &str, set_maps: Option<&[String]>) -> Result<SetOutcome> {
+    let enc_col = t.col("encoder").context("the table has no 'encoder' column")?;
+    let Some(val_col) = t.col(&k.column) else { bail!("the table has no column '{}'", k.column) };
+    let map_col = t.col("map");
+    let mut filters = Vec::new();
+    for (name, allowed) in &k.filter {
+        let Some(c) = t.col(name) else { bail!("where.{name}: the table has no column '{name}'") };
+        filters.push((c, allowed));
+    }
+    let keys: Vec<usize> = KEY_COLUMNS.iter().filter_map(|c| t.col(c)).collect();
+    let in_scope = |r: &[String]| -> bool {
+        filters.iter().all(|(c, allowed)| allowed.contains(&r[*c]))
+            && map_col.is_none_or(|m| {
+                set_maps.is_none_or(|s| s.contains(&r[m])) && k.maps.as_ref().is_none_or(|s| s.contains(&r[m]))
+            })
+    };
+    if set_maps.is_some() && map_col.is_none() {
+        let status = Status::Untestable(format!("the table has no map column to select set '{set}'"));
+        return Ok(SetOutcome {
+            set: set.into(),
+            maps: 0,
+            status,
+            headline: "no data".into(),
+            figure: String::new(),
+            values: vec![],
+            excluded: 0,
+        });
+    }
+    let pick = |r: &'_ [String], encoder: &str| -> Option<Result<f64>> {
+        if r[enc_col] != encoder || !in_scope(r) {
+            return None;
+        }
+        let cell = r[val_col].trim();
+        if cell.is_empty() {
+            return Some(Err(anyhow::anyhow!("empty")));
+        }
+        Some(cell.parse::<f64>().map_err(|_| anyhow::anyhow!("'{cell}' is not a number")))
+    };
+    let label = |r: &[String]| keys.iter().map(|&c| r[c].as_str()).filter(|s| !s.is_empty()).collect::<Vec<_>>().join(" · ");
+    let mut picked: Vec<Picked> = Vec::new();
+    for r in &t.rows {
+        if let Some(v) = pick(r, &k.encoder) {
+            let value = match v {
+                Ok(x) if x.is_finite() => Some(x),
+                Ok(x) => bail!("row {}: {} is {x}", label(r), k.column),
+                Err(e) if e.to_string() == "empty" => None,
+                Err(e) => bail!("row {}: {}: {e}", label(r), k.column),
+            };
+            picked.push(Picked { row: r, label: label(r), map: map_col.map(|m| r[m].clone()).unwrap_or_default(), value });
+        }
+    }
+    let maps_judged = {
+        let mut m: Vec<&str> = picked.iter().map(|p| p.map.as_str()).filter(|s| !s.is_empty()).collect();
+        m.sort();
+        m.dedup();
+        m.len()
+    };
+    let untestable = |why: String| SetOutcome {
+        set: set.into(),
+        maps: maps_judged,
+        status: Status::Untestable(why),
+        headline: "no data".into(),
+        figure: String::new(),
+        values: vec![],
+        excluded: 0,
+    };
+    if picked.is_empty() {
+        return Ok(untestable(format!("no rows of '{}' in scope", k.encoder)));
+    }
+    if let Some(s) = set_maps {
+        let present: Vec<&str> = picked.iter().map(|p| p.map.as_str()).collect();
+        let missing: Vec<&String> = s.iter().filter(|m| k.maps.as_ref().is_none_or(|l| l.contains(m))).filter(|m| !present.contains(&m.as_str())).collect();
+        if !missing.is_empty() {
+            return Ok(untestable(format!(
+                "{} map(s) of set '{set}' have no rows of '{}': {}",
+                missing.len(),
+                k.encoder,
+                missing.iter().map(|s| s.as_str()).collect::<Vec<_>>().join(", ")
+            )));
+        }
+    }
+    let mut excluded = picked.iter().filter(|p| p.value.is_none()).count();
+    let col = &k.column;
+    if !k.test.needs_baseline() {
+        let vals: Vec<(&Picked, f64)> = picked.iter().filter_map(|p| p.value.map(|v| (p, v))).collect();
+        if vals.is_empty() {
+            return Ok(untestable(format!("every row of '{}' has an empty {col}", k.encoder)));
+        }
+        let (upper, bound) = match k.test {
+            Test::EveryAtMost { bound } => (true, bound),
+            Test::EveryAtLeast { bound } => (false, bound),
+            _ => unreachable!("needs_baseline covers the other tests"),
+        };
+        let ok = |v: f64| if upper { v <= bound } else { v >= bound };
+        let values: Vec<RowValue> = vals
+            .iter()
+            .map(|(p, v)| RowValue { label: p.label.clone(), map: p.map.clone(), value: *v, pass: ok(*v) })
+            .collect();
+        let worst = values
+            .iter()
+            .max_by(|a, b| if upper { a.value.total_cmp(&b.value) } else { b.value.total_cmp(&a.value) })
+            .expect("non-empty");
+        let passing = values.iter().filter(|v| v.pass).count();
+        let op = if upper { "≤" } else { "≥" };
+        let headline = format!(
+            "{} {} {} {col} {} ({}/{} rows {op} {})",
+            k.encoder,
+            if upper { "max" } else { "min" },
+            "",
+            fmt3(worst.value),
+            passing,
+            values.len(),
+            fmt3(bound)
+        )
+        .replace("  ", " ");
+        let figure = format!(
+            "{col} of {}: {} {} at {}; {op} {} in {passing}/{} rows{}",
+            k.encoder,
+            if upper { "largest" } else { "smallest" },
+            fmt3(worst.value),
+            worst.label,
+            fmt3(bound),
+            values.len(),
+            if excluded > 0 { format!(" ({excluded} row(s) without a value left out)") } else { String::new() }
+        );
+        let status = if passing == values.len() { Status::Pass } else { Status::Fail };
+        return Ok(SetOutcome { set: set.into(), maps: maps_judged, status, headline, figure, values, excluded });
+    }
+    // Tests against a baseline: match rows on the key columns.
+    let base = k.baseline.as_deref().expect("validated: the test needs a baseline");
+    let key_of = |r: &[String]| keys.iter().map(|&c| r[c].clone()).collect::<Vec<_>>();
+    let mut base_rows: std::collections::HashMap<Vec<String>, Option<f64>> = std::collections::HashMap::new();
+    for r in &t.rows {
+        if let Some(v) = pick(r, base) {
+            let value = match v {
+                Ok(x) if x.is_finite() => Some(x),
+                Ok(x) => bail!("row {}: {} of '{base}' is {x}", label(r), k.column),
+                Err(e) if e.to_string() == "empty" => None,
+                Err(e) => bail!("row {}: {}: {e}", label(r), k.column),
+            };
+            base_rows.insert(key_of(r), value);
+        }
+    }
+    let mut pairs: Vec<(&Picked, f64, f64)> = Vec::new();
+    let mut unmatched = 0;
+    let mut below_floor = 0;
+    for p in &picked {
+        let Some(a) = p.value else { continue };
+        match base_rows.get(&key_of(p.row)) {
+            None => unmatched += 1,
+            Some(None) => excluded += 1,
+            Some(Some(b)) => {
+                if matches!(k.test, Test::Equal { .. }) || *b > k.floor {
+                    pairs.push((p, a, *b));
+                } else {
+                    below_floor += 1;
+                }
+            }
+        }
+    }
+    if unmatched > 0 && pairs.is_empty() {
+        return Ok(untestable(format!("no rows of '{}' match rows of '{base}'", k.encoder)));
+    }
+    if pairs.is_empty() {
+        return Ok(untestable(format!(
+            "every row of '{base}' is at or below the floor {} ({below_floor} row(s))",
+            fmt3(k.floor)
+        )));
+    }
+    excluded += below_floor + unmatched;
+    let left_out = {
+        let mut v = Vec::new();
+        if below_floor > 0 {
+            v.push(format!("{below_floor} with {base} {col} ≤ floor {}", fmt3(k.floor)));
+        }
+        if unmatched > 0 {
+            v.push(format!("{unmatched} without a {base} row"));
+        }
+        if excluded > below_floor + unmatched {
+            v.push(format!("{} without a value", excluded - below_floor - unmatched));
+        }
+        if v.is_empty() {
+            String::new()
+        } else {
+            format!("; left out: {}", v.join(", "))
+        }
+    };
+    if let Test::Equal { tolerance, abs_tolerance } = k.test {
+        let values: Vec<RowValue> = pairs
+            .iter()
+            .map(|(p, a, b)| {
+                let d = (a - b).abs();
+                let scale = a.abs().max(b.abs());
+                let rel = if d <= abs_tolerance { 0.0 } else if scale > 0.0 { d / scale } else { f64::INFINITY };
+                RowValue { label: p.label.clone(), map: p.map.clone(), value: rel, pass: rel <= tolerance }
+            })
+            .collect();
+        let worst = values.iter().max_by(|a, b| a.value.total_cmp(&b.value)).expect("non-empty");
+        let passing = values.iter().filter(|v| v.pass).count();
+        let headline = format!(
+            "{} vs {base} {col}: largest relative difference {} ({}/{} rows ≤ {})",
+            k.encoder,
+            fmt3(worst.value),
+            passing,
+            values.len(),
+            fmt3(tolerance)
+        );
+        let figure = format!(
+            "{headline}; worst at {}; differences ≤ {} count as equal{left_out}",
+            worst.label,
+            fmt3(abs_tolerance)
+        );
+        let status = if passing == values.len() { Status::Pass } else { Status::Fail };
+        return Ok(SetOutcome { set: set.into(), maps: maps_judged, status, headline, figure, values, excluded });
+    }
+    let ratios: Vec<f64> = pairs.iter().map(|(_, a, b)| a / b).collect();
+    let sum_a: f64 = pairs.iter().map(|p| p.1).sum();
+    let sum_b: f64 = pairs.iter().map(|p| p.2).sum();
+    let rom = sum_a / sum_b;
+    let med = median(&ratios);
+    let (lo, hi) = ratios.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &x| (l.min(x), h.max(x)));
+    let name = format!("{}/{base} {col}", k.encoder);
+    let n = ratios.len();
+    let (status, values, headline) = match k.test {
+        Test::RatioEvery { below } | Test::RatioSome { below } => {
+            let values: Vec<RowValue> = pairs
+                .iter()
+                .zip(&ratios)
+                .map(|((p, _, _), &r)| RowValue { label: p.label.clone(), map: p.map.clone(), value: r, pass: r < below })
+                .collect();
+            let passing = values.iter().filter(|v| v.pass).count();
+            let every = matches!(k.test, Test::RatioEvery { .. });
+            let ok = if every { passing == n } else { passing > 0 };
+            let headline = format!("{name} median {}, range {}–{}; < {} in {passing}/{n}", fmt3(med), fmt3(lo), fmt3(hi), fmt3(below));
+            (ok, values, headline)
+        }
+        Test::RatioStat { statistic, min, max } => {
+            let (stat, sname) = match statistic {
+                Statistic::RatioOfMeans => (rom, "ratio of means"),
+                Statistic::MedianRatio => (med, "median ratio"),
+            };
+            let ok = min.is_none_or(|m| stat >= m) && max.is_none_or(|m| stat <= m);
+            let band = match (min, max) {
+                (Some(a), Some(b)) => format!("in [{}, {}]", fmt3(a), fmt3(b)),
+                (Some(a), None) => format!("≥ {}", fmt3(a)),
+                (None, Some(b)) => format!("≤ {}", fmt3(b)),
+                (None, None) => unreachable!("validated: a band"),
+            };
+            let values: Vec<RowValue> = pairs
+                .iter()
+                .zip(&ratios)
+                .map(|((p, _, _), &r)| RowValue { label: p.label.clone(), map: p.map.clone(), value: r, pass: ok })
+                .collect();
+            let headline = format!("{name} {sname} {} ({band}; {n} rows)", fmt3(stat));
+            (ok, values, headline)
+        }
+        _ => unreachable!("the other tests returned above"),
+    };
+    let figure = format!(
+        "{headline}; ratio of means {}, median {}, range {}–{} over {n} rows{left_out}",
+        fmt3(rom),
+        fmt3(med),
+        fmt3(lo),
+        fmt3(hi)
+    );
+    let status = if status { Status::Pass } else { Status::Fail };
+    Ok(SetOutcome { set: set.into(), maps: maps_judged, status, headline, figure, values, excluded })
+}
+
+/// Judges one check on every set it declares. `table` is its evidence, or why there is none.
+pub fn judge_check(paper: &Paper, k: &CheckDecl, table: &std::result::Result<Evidence, String>) -> CheckOutcome {
+    let sets = k
+        .on
+        .iter()
+        .map(|set| {
+            let set_maps = (set != "all").then(|| paper.map_sets.get(set).map(|v| v.as_slice()).unwrap_or(&[]));
+            let out = match table {
+                Err(why) => Err(why.clone()),
+                Ok(t) => judge_set(t, k, set, set_maps).map_err(|e| format!("{}: {e:#}", k.source.label())),
+            };
+            out.unwrap_or_else(|why| SetOutcome {
+                set: set.clone(),
+                maps: 0,
+                status: Status::Untestable(why),
+                headline: "no data".into(),
+                figure: String::new(),
+                values: vec![],
+                excluded: 0,
+            })
+        })
+        .collect();
+    CheckOutcome { decl: k.clone(), sets }
+}
+
+/// Rolls a claim's checks up into its verdict, by the claim's rule.
+pub fn roll_up(rule: Rollup, checks: &[CheckOutcome]) -> Verdict {
+    let required: Vec<&CheckOutcome> = checks.iter().filter(|c| !c.decl.anchor).collect();
+    let mut untestable = Vec::new();
+    let mut failing = Vec::new();
+    let mut passing = Vec::new();
+    for c in &required {
+        for s in &c.sets {
+            let what = format!("'{}' on {}", c.decl.name, set_label(s));
+            match &s.status {
+                Status::Untestable(why) => untestable.push(format!("{what}: {why}")),
+                Status::Fail => failing.push(what),
+                Status::Pass => passing.push(what),
+            }
+        }
+    }
+    if !untestable.is_empty() {
+        return Verdict::Untestable(untestable.join("; "));
+    }
+    let check_holds = |c: &CheckOutcome| c.sets.iter().all(|s| s.status == Status::Pass);
+    match rule {
+        Rollup::All if failing.is_empty() => Verdict::Holds,
+        Rollup::Any if required.iter().any(|c| check_holds(c)) => Verdict::Holds,
+        _ if passing.is_empty() => Verdict::Fails(format!("fails: {}", failing.join("; "))),
+        _ => {
+            // Name the part that held on a narrower set only.
+            let mut s = format!("holds: {}; fails: {}", passing.join("; "), failing.join("; "));
+            let paper_only: Vec<&str> = required
+                .iter()
+                .filter(|c| {
+                    c.sets.iter().any(|s| s.set != "all" && s.status == Status::Pass)
+                        && c.sets.iter().any(|s| s.set == "all" && s.status == Status::Fail)
+                })
+                .map(|c| c.decl.name.as_str())
+                .collect();
+            if !paper_only.is_empty() {
+                s = format!("held only on the narrower map set for {}; {s}", paper_only.join(", "));
+            }
+            Verdict::Partly(s)
+        }
+    }
+}
+
+/// Judges a claim: every check on its evidence, rolled up.
+pub fn judge_claim(
+    paper: &Paper,
+    c: &ClaimDecl,
+    evidence: &dyn Fn(&crate::claims::declaration::Source) -> std::result::Result<Evidence, String>,
+) -> ClaimOutcome {
+    let checks: Vec<CheckOutcome> = c.checks.iter().map(|k| judge_check(paper, k, &evidence(&k.source))).collect();
+    let verdict = roll_up(c.rollup, &checks);
+    ClaimOutcome { id: c.id.clone(), verdict, checks }
+}
+
+/// The detail of one claim, as Markdown (for the evidence pages).
+pub fn detail_md(c: &ClaimDecl, o: &ClaimOutcome) -> String {
+    let mut s = String::new();
+    let _ = writeln!(s, "**Verdict: {}**{}\n", o.verdict.word(), if o.verdict.why().is_empty() { String::new() } else { format!(" — {}", o.verdict.why()) });
+    let _ = writeln!(s, "- **Paper:** {}", c.statement);
+    let _ = writeln!(s, "- **Paper's figure:** {}", c.paper_figure);
+    let _ = writeln!(s, "- **Criterion:** {}", c.criterion);
+    let _ = writeln!(s, "- **Roll-up:** {}\n", match c.rollup {
+        Rollup::All => "holds if every required check passes on every set it is judged on; fails if none passes anywhere; otherwise partly",
+        Rollup::Any => "holds if some required check passes on every set it is judged on",
+    });
+    for k in &o.checks {
+        let d = &k.decl;
+        let _ = writeln!(
+            s,
+            "#### {} {}\n\nEvidence `{}`{}; test: {}\n",
+            if d.anchor { "Anchor (not counted):" } else { "Check:" },
+            d.name,
+            d.source.path().display(),
+            if d.filter.is_empty() {
+                String::new()
+            } else {
+                format!(", rows with {}", d.filter.iter().map(|(k, v)| format!("{k} = {}", v.join("|"))).collect::<Vec<_>>().join(", "))
+            },
+            test_text(d)
+        );
+        for set in &k.sets {
+            let status = match &set.status {
+                Status::Pass => "passes".to_string(),
+                Status::Fail => "fails".to_string(),
+                Status::Untestable(w) => format!("untestable ({w})"),
+            };
+            let _ = writeln!(s, "- on {}: **{status}** — {}", set_label(set), if set.figure.is_empty() { &set.headline } else { &set.figure });
+        }
+        // The per-row values of the widest set.
+        if let Some(w) = k.sets.iter().max_by_key(|s| s.values.len()) {
+            if !w.values.is_empty() && w.values.len() <= 60 {
+                let what = if d.test.needs_baseline() {
+                    if matches!(d.test, Test::Equal { .. }) { "relative difference" } else { "ratio" }
+                } else {
+                    d.column.as_str()
+                };
+                let _ = writeln!(s, "\n| row | {what} | passes alone |\n|---|---|---|");
+                for v in &w.values {
+                    let _ = writeln!(s, "| {} | {} | {} |", v.label, fmt3(v.value), if v.pass { "yes" } else { "no" });
+                }
+            } else if w.values.len() > 60 {
+                let _ = writeln!(s, "\n({} rows; per-row values in the evidence table)", w.values.len());
+            }
+        }
+        let _ = writeln!(s);
+    }
+    s
+}
+
+/// A check's test in words.
+pub fn test_text(d: &CheckDecl) -> String {
+    let base = d.baseline.as_deref().unwrap_or("");
+    let col = &d.column;
+    let floor = if d.floor > 0.0 { format!(" (rows with {base} {col} ≤ {} left out)", fmt3(d.floor)) } else { String::new() };
+    match &d.test {
+        Test::RatioEvery { below } => format!("every {} / {base} {col} ratio < {}{floor}", d.encoder, fmt3(*below)),
+        Test::RatioSome { below } => format!("some {} / {base} {col} ratio < {}{floor}", d.encoder, fmt3(*below)),
+        Test::RatioStat { statistic, min, max } => format!(
+            "{} of {} / {base} {col} {}{floor}",
+            match statistic {
+                Statistic::RatioOfMeans => "ratio of means",
+                Statistic::MedianRatio => "median ratio",
+            },
+            d.encoder,
+            match (min, max) {
+                (Some(a), Some(b)) => format!("in [{}, {}]", fmt3(*a), fmt3(*b)),
+                (Some(a), None) => format!("≥ {}", fmt3(*a)),
+                (None, Some(b)) => format!("≤ {}", fmt3(*b)),
+                (None, None) => String::new(),
+            }
+        ),
+        Test::EveryAtMost { bound } => format!("every {col} of {} ≤ {}", d.encoder, fmt3(*bound)),
+        Test::EveryAtLeast { bound } => format!("every {col} of {} ≥ {}", d.encoder, fmt3(*bound)),
+        Test::Equal { tolerance, abs_tolerance } => format!(
+            "{} and {base} {col} agree within {} relative (differences ≤ {} count as equal)",
+            d.encoder,
+            fmt3(*tolerance),
+            fmt3(*abs_tolerance)
+        ),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::claims::declaration::parse;
+
+    /// A paper with one claim of the given checks, and a table with maps m1..m3 (m1, m2 the
+    /// "paper" set): encoder `a` against `b`.
+    fn paper(checks: &str, rollup: &str) -> Paper {
+        let text = format!(
+            "title='T'\nauthors='A'\nvenue='V'\norder=1\n[map_sets]\npaper=['m1','m2']\n[[claim]]\nid='X1'\nsays='s'\n\
+             paper_figure='p'\ncriterion='c'\nrollup='{rollup}'\n{checks}"
+        );
+        parse("t", &text, Path::new("t.toml")).unwrap()
+    }
+
+    fn table() -> Evidence {
+        // a/b ratios: m1 0.5, m2 0.8, m3 1.5; m4 baseline 1e-9 (ratio 1e6).
+        let csv = "map,encoder,metric,rmse\nm1,a,exact,0.5\nm1,b,exact,1\nm2,a,exact,0.8\nm2,b,exact,1\n\
+                   m3,a,exact,3\nm3,b,exact,2\nm4,a,exact,0.001\nm4,b,exact,1e-9\nm1,a,peer,9\nm1,b,peer,1\n";
+        Evidence::parse(csv.as_bytes(), Path::new("t.csv")).unwrap()
+    }
+
+    fn judge(checks: &str, rollup: &str) -> ClaimOutcome {
+        let p = paper(checks, rollup);
+        let t = table();
+        judge_claim(&p, &p.claims[0], &|_| Ok(t.clone()))
+    }
+
+    const CHECK: &str = "[[claim.check]]\nname='n'\ntable='e'\nencoder='a'\nbaseline='b'\nwhere={metric='exact'}\n";
+
+    #[test]
+    fn every_ratio_on_two_sets_gives_partly_when_only_the_paper_set_holds() {
+        let o = judge(&format!("{CHECK}test='ratio_every'\nfloor=1e-6\non=['paper','all']"), "all");
+        assert_eq!(o.verdict.word(), "partly", "{:?}", o.verdict);
+        assert!(o.verdict.why().contains("held only on the narrower map set"), "{}", o.verdict.why());
+        let all = &o.checks[0].sets[1];
+        // m4 is left out by the floor and counted.
+        assert_eq!(all.values.len(), 3);
+        assert_eq!(all.excluded, 1);
+        assert!(all.figure.contains("1 with b rmse ≤ floor"), "{}", all.figure);
+        assert_eq!(o.checks[0].sets[0].status, Status::Pass);
+    }
+
+    #[test]
+    fn a_claim_fails_on_a_constructed_table() {
+        let o = judge(&format!("{CHECK}test='ratio_every'\nbelow=0.4\nfloor=1e-6"), "all");
+        assert_eq!(o.verdict.word(), "fails");
+        assert_eq!(o.checks[0].sets[0].values.iter().filter(|v| v.pass).count(), 0);
+    }
+
+    #[test]
+    fn ratio_statistics_are_never_a_mean_of_ratios() {
+        // Ratio of means over m1..m3: (0.5 + 0.8 + 3) / (1 + 1 + 2) = 1.075; median 0.8.
+        let rom = judge(&format!("{CHECK}test='ratio_stat'\nstatistic='ratio_of_means'\nmin=1.07\nmax=1.08\nfloor=1e-6"), "all");
+        assert_eq!(rom.verdict, Verdict::Holds, "{}", rom.checks[0].sets[0].figure);
+        let med = judge(&format!("{CHECK}test='ratio_stat'\nstatistic='median_ratio'\nmax=0.8\nfloor=1e-6"), "all");
+        assert_eq!(med.verdict, Verdict::Holds);
+        // Without the floor, m4 (1e6) joins: the median moves to (0.8 + 1.5)/2, the ratio of
+        // means stays ≈ 1.075 — a near-zero baseline cannot dominate it.
+        let nf = judge(&format!("{CHECK}test='ratio_stat'\nstatistic='ratio_of_means'\nmax=1.1"), "all");
+        assert_eq!(nf.verdict, Verdict::Holds, "{}", nf.checks[0].sets[0].figure);
+        let nm = judge(&format!("{CHECK}test='ratio_stat'\nstatistic='median_ratio'\nmax=0.8"), "all");
+        assert_eq!(nm.verdict.word(), "fails");
+    }
+
+    #[test]
+    fn bounds_some_equal_and_anchors() {
+        let at = "[[claim.check]]\nname='n'\ntable='e'\nencoder='a'\nwhere={metric='exact'}\n";
+        assert_eq!(judge(&format!("{at}test='every_at_most'\nbound=3"), "all").verdict, Verdict::Holds);
+        assert_eq!(judge(&format!("{at}test='every_at_most'\nbound=2"), "all").verdict.word(), "fails");
+        assert_eq!(judge(&format!("{at}test='every_at_least'\nbound=0.5"), "all").verdict.word(), "fails");
+        assert_eq!(judge(&format!("{CHECK}test='ratio_some'\nbelow=0.6"), "all").verdict, Verdict::Holds);
+        assert_eq!(judge(&format!("{CHECK}test='equal'\ntolerance=0.01"), "all").verdict.word(), "fails");
+        // An anchor that fails does not count; a required check that passes decides.
+        let o = judge(
+            &format!("{CHECK}test='ratio_some'\nbelow=0.6\n{CHECK}test='ratio_every'\nbelow=0.1\nrole='anchor'"),
+            "all",
+        );
+        assert_eq!(o.verdict, Verdict::Holds);
+        // Two required checks, one failing: partly under `all`, holds under `any`.
+        let two = format!("{CHECK}test='ratio_some'\nbelow=0.6\n{CHECK}test='ratio_every'\nbelow=0.1");
+        assert_eq!(judge(&two, "all").verdict.word(), "partly");
+        assert_eq!(judge(&two, "any").verdict, Verdict::Holds);
+    }
+
+    #[test]
+    fn missing_data_is_untestable_never_passed() {
+        let p = paper(&format!("{CHECK}test='ratio_every'"), "all");
+        let o = judge_claim(&p, &p.claims[0], &|_| Err("results/e/table.csv: not found".into()));
+        assert_eq!(o.verdict.word(), "untestable");
+        assert!(o.verdict.why().contains("not found"));
+        // A set whose maps are absent from the table.
+        let p = paper(&format!("{CHECK}test='ratio_every'\non=['paper']\nmaps=['m1','m2']"), "all");
+        let t = Evidence::parse(b"map,encoder,metric,rmse\nm1,a,exact,1\nm1,b,exact,2\n", Path::new("t")).unwrap();
+        let o = judge_claim(&p, &p.claims[0], &|_| Ok(t.clone()));
+        assert_eq!(o.verdict.word(), "untestable");
+        assert!(o.verdict.why().contains("m2"), "{}", o.verdict.why());
+        // A column the table does not have.
+        let o = judge(&format!("{CHECK}test='ratio_every'\ncolumn='speed'"), "all");
+        assert!(o.verdict.why().contains("no column 'speed'"), "{}", o.verdict.why());
+    }
+}
