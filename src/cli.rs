@@ -129,11 +129,10 @@ pub enum Command {
         #[arg(long, default_value = "rec709")]
         axis: String,
     },
-    /// Measure a set of paper claims (zh3, lightmap) and write claims.csv and CLAIMS.md in results/zh3_claims/ or
-    /// results/lightmap_study/.
+    /// Run the claims measurements and judge every claim of experiments/claims/*.toml: writes
+    /// results/CLAIMS.csv, results/claims/<paper>.md and results/claims/measures/*.csv (a
+    /// measurement whose numbers moved is not rewritten; `bless claims` does that).
     Claims {
-        /// The claim set: zh3 or lightmap.
-        set: String,
         /// Output folder (default: <root>/results).
         #[arg(long)]
         out: Option<PathBuf>,
@@ -224,6 +223,14 @@ pub fn main_with(cli: Cli) -> Result<i32> {
                     describe_search(&search)
                 );
             }
+            // The claims, judged on the tables just written (and the measurements, when their
+            // maps are here), before the report that presents them.
+            let run = crate::regression::claims::run(&root, &search, &out, false, true)?;
+            let (claims_ok, text) = crate::regression::claims::report(&run, false);
+            print!("{text}");
+            if !claims_ok {
+                refused.push("claims".into());
+            }
             write_report(&root, &out, &search)?;
             Ok(crate::regression::check::refused_exit(&refused))
         }
@@ -232,10 +239,39 @@ pub fn main_with(cli: Cli) -> Result<i32> {
             Ok(0)
         }
         Command::Check { experiments, all, allow_missing, out } => {
-            crate::regression::check::check_command(&root, &search, &results(out), &experiments, all, allow_missing)
+            let out = results(out);
+            let claims = all || experiments.iter().any(|e| e == "claims");
+            let names: Vec<String> = experiments.into_iter().filter(|e| e != "claims").collect();
+            let mut code = 0;
+            if all || !names.is_empty() || !claims {
+                code = crate::regression::check::check_command(&root, &search, &out, &names, all, allow_missing)?;
+            }
+            if claims {
+                let run = crate::regression::claims::run(&root, &search, &out, false, false)?;
+                let (ok, text) = crate::regression::claims::report(&run, true);
+                print!("{text}");
+                println!("claims: {}", if ok { "ok: no measurement moved, no verdict changed" } else { "FAILED" });
+                if !ok {
+                    code = code.max(1);
+                }
+            }
+            Ok(code)
         }
         Command::Bless { experiments, force, out } => {
-            crate::regression::check::bless_command(&root, &search, &results(out), &experiments, force)
+            let out = results(out);
+            let claims = experiments.is_empty() || experiments.iter().any(|e| e == "claims");
+            let names: Vec<String> = experiments.iter().filter(|e| *e != "claims").cloned().collect();
+            let mut code = 0;
+            if experiments.is_empty() || !names.is_empty() {
+                code = crate::regression::check::bless_command(&root, &search, &out, &names, force)?;
+            }
+            if claims {
+                let run = crate::regression::claims::run(&root, &search, &out, true, true)?;
+                let (_, text) = crate::regression::claims::report(&run, false);
+                print!("{text}");
+                println!("claims: wrote {} file(s)", run.written.len());
+            }
+            Ok(code)
         }
         Command::Eval { maps, encoders: list, domain, metric, resolution, polar_nodes } => {
             let exp = eval_experiment(maps, &list, &domain, &metric, &resolution, polar_nodes)?;
@@ -271,23 +307,13 @@ pub fn main_with(cli: Cli) -> Result<i32> {
             print!("{}", crate::pipeline::hallucination_fit::run(&search, &maps, probe_file, &axis, cubic)?);
             Ok(0)
         }
-        Command::Claims { set, out } if set == "lightmap" => {
-            let dir = results(out).join(crate::claims::lightmap::OUTPUT_DIR);
-            // The claims layer measures (the strips as data); the report layer draws the
-            // strips; then every file is written, each atomically, after all are made.
-            let report = crate::claims::lightmap::run(&search)?;
-            let strips = crate::report::strip::pngs(&report.strips)?;
-            crate::claims::lightmap::write(&report, &strips, &dir)?;
-            eprintln!("wrote {} (claims.csv, CLAIMS.md, fig2*.csv, blend*.csv, real_maps.csv)", dir.display());
-            Ok(0)
-        }
-        Command::Claims { set, out } => {
-            crate::claims::zh3::check_set(&set)?;
-            let dir = results(out).join(format!("{set}_claims"));
-            let report = crate::claims::zh3::run(&search)?;
-            crate::claims::zh3::write(&report, &dir)?;
-            eprintln!("wrote {} and {}", dir.join("claims.csv").display(), dir.join("CLAIMS.md").display());
-            Ok(0)
+        Command::Claims { out } => {
+            let out = results(out);
+            let run = crate::regression::claims::run(&root, &search, &out, false, true)?;
+            let (ok, text) = crate::regression::claims::report(&run, false);
+            print!("{text}");
+            eprintln!("wrote {} file(s) under {}", run.written.len(), out.display());
+            Ok(if ok { 0 } else { 1 })
         }
         Command::Encoders => {
             for k in encoders::REGISTRY {
@@ -373,9 +399,6 @@ pub fn write_results(root: &Path, out: &Path, exp: &Experiment, report: &runner:
             crate::pipeline::summary::write(&dir, baseline.as_deref(), &rows)?;
             eprintln!("wrote {}", dir.join("summary.csv").display());
         }
-        for f in crate::claims::declared::write(&dir, &exp.name, &exp.description, &exp.claims, &rows)? {
-            eprintln!("wrote {}", dir.join(f).display());
-        }
     }
     Ok(ok)
 }
@@ -419,6 +442,5 @@ fn eval_experiment(
         polar_nodes,
         ci: false,
         summary: None,
-        claims: vec![],
     })
 }

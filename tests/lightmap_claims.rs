@@ -1,20 +1,18 @@
 //! `experiments/lightmap_claims.toml`: H1, H2, H4 and D1 on the generated scenes.
-//! The H2 bound of `scenes::TiltedLight` against quadrature of the closed forms, and the
-//! committed experiment's claims, re-run through the binary.
+//! The H2 bound of `scenes::TiltedLight` against quadrature of the closed forms, and the bound
+//! the H2 declaration uses.
 
 mod common;
 
-use common::harness::{parse_csv, repo, run, stderr_ok, Scratch};
+use common::harness::repo;
+use probelab::claims::declaration::{load_papers, Test};
 use probelab::encoders::lightmap::hhd_from_linear_sh;
 use probelab::math::cap::Cap;
 use probelab::math::colour::Rgb;
-use probelab::pipeline::claim_spec::Check;
-use probelab::pipeline::experiment::Experiment;
 use probelab::reference::domain::Domain;
 use probelab::reference::lighting::{Light, Lighting};
 use probelab::reference::metrics::score;
 use probelab::reference::scenes::{generated, TILTED_LIGHT};
-use std::path::Path;
 
 /// hhd_from_sh1 on gen_tilted_light's closed forms, seen from a floor: the visible linear SH is
 /// the hemisphere light of the ambient plus the whole cap (it lies above the horizon), and the
@@ -50,51 +48,17 @@ fn tilted_light_bound_holds_against_quadrature() {
     assert!(worst < 1e-12, "{worst:e}");
 }
 
-/// The experiment's H2 bound is the derived one, rounded up to two significant digits.
+/// The H2 bound declared in experiments/claims/hemi.toml is the derived one, rounded up to two
+/// significant digits.
 #[test]
 fn h2_claim_uses_the_derived_bound() {
-    let exp = Experiment::load(&repo().join("experiments/lightmap_claims.toml")).unwrap();
-    let h2 = exp.claims.iter().find(|c| c.id == "H2").expect("claim H2");
-    let Check::AtMost { bound } = h2.check else { panic!("H2 is not an at_most claim: {:?}", h2.check) };
+    let papers = load_papers(&repo().join("experiments")).unwrap();
+    let h2 = papers.iter().flat_map(|p| &p.claims).find(|c| c.id == "H2").expect("claim H2");
+    let k = h2.checks.iter().find(|k| k.encoder == "hhd_from_sh1" && !k.test.needs_baseline()).expect("HHD bound");
+    let Test::EveryAtMost { bound } = k.test else { panic!("H2's HHD check is not every_at_most: {:?}", k.test) };
     let derived = TILTED_LIGHT.hhd_rmse_bound();
     let unit = 10f64.powf(derived.log10().floor() - 1.0);
     let want = (derived / unit).ceil() * unit;
     assert!((bound - want).abs() < 1e-6 * want, "H2 bound {bound:e}, derived {derived:e} (rounded up: {want:e})");
-    assert_eq!(h2.maps.as_deref(), Some(&["gen_tilted_light".to_string()][..]));
-}
-
-/// Runs the committed experiment (no timing, generated maps only) with results under `out`;
-/// returns the claims.csv it wrote.
-fn run_into(out: &Path) -> String {
-    stderr_ok(&run(&["--no-timing", "run", "experiments/lightmap_claims.toml", "--out", out.to_str().unwrap()]));
-    std::fs::read_to_string(out.join("lightmap_claims/claims.csv")).unwrap()
-}
-
-/// Every claim of the committed experiment holds when re-run, and the committed claims.csv is
-/// what `run` writes today.
-#[test]
-fn committed_experiment_claims_hold() {
-    let dir = tempfile::tempdir().unwrap();
-    let fresh = run_into(dir.path());
-    let claims = parse_csv(&fresh);
-    let ids: Vec<&str> = claims.iter().map(|c| c["id"].as_str()).collect();
-    for id in ["H1", "H2", "H2.ahd", "H4.hhd_wins", "H4.ahd_wins", "D1"] {
-        assert!(ids.contains(&id), "claim {id} missing: {ids:?}");
-    }
-    for c in &claims {
-        assert_eq!(c["holds"], "yes", "{}: {}", c["id"], c["our_figure"]);
-    }
-    // What `run` writes next to the committed table: the claims of the kept table's numbers
-    // (a run whose table stands within tolerance summarises the stored values, so digits that
-    // move below tolerance, such as a tie between two 1e-15 errors, do not make it stale).
-    let kept = Scratch::new();
-    for f in ["table.csv", "provenance.toml"] {
-        kept.copy_from_repo(&format!("results/lightmap_claims/{f}"));
-    }
-    let written = run_into(&kept.path().join("results"));
-    let committed = std::fs::read_to_string(repo().join("results/lightmap_claims/claims.csv")).unwrap();
-    assert!(
-        committed == written,
-        "results/lightmap_claims/claims.csv is stale: re-run `probelab run experiments/lightmap_claims.toml`"
-    );
+    assert_eq!(k.maps.as_deref(), Some(&["gen_tilted_light".to_string()][..]));
 }

@@ -1,10 +1,9 @@
-//! ZH3 end to end: `fit-hallucination` fits the hallucination curve to a probe file, and
-//! `claims zh3` writes the table of the ZH3 claims from the paper probes (the shared maps).
+//! ZH3 end to end: `fit-hallucination` fits the hallucination curve to a probe file. (The ZH3
+//! claims are judged by the claims engine: tests/claims.rs.)
 
 mod common;
 
-use common::harness::{parse_csv, probelab, run, Run};
-use common::shared_maps::{shared_envmaps, PAPER_PROBES};
+use common::harness::run;
 
 /// A probe file of cap lights over a constant: the fit runs, prints its coefficients and beats
 /// SH L1; a malformed file is refused with the file, the line and exit code 2.
@@ -41,33 +40,4 @@ fn fit_hallucination_from_a_probe_file() {
 
     let out = run(&["fit-hallucination"]);
     assert_eq!(out.status.code(), Some(2));
-}
-
-/// `claims zh3` writes both files with the ten claims.
-#[test]
-#[cfg_attr(not(shared_maps), ignore = "needs the shared maps: set PROBELAB_ENVMAPS to the folder holding them")]
-fn claims_zh3_writes_the_table() {
-    let env = shared_envmaps(&PAPER_PROBES);
-    let dir = tempfile::tempdir().unwrap();
-    let out =
-        probelab().args(["claims", "zh3", "--out", dir.path().to_str().unwrap()]).env("PROBELAB_ENVMAPS", env).run();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    let csv = std::fs::read_to_string(dir.path().join("zh3_claims/claims.csv")).unwrap();
-    let rows = parse_csv(&csv);
-    let ids: Vec<&str> = rows.iter().map(|r| r["id"].as_str()).collect();
-    assert_eq!(ids, ["Z1", "Z2", "Z3", "Z4", "Z5", "Z6", "Z7", "Z8", "Z9", "Z10"]);
-    assert!(rows.iter().all(|r| !r["holds"].is_empty() && !r["our_figure"].contains("NaN")));
-    let md = std::fs::read_to_string(dir.path().join("zh3_claims/CLAIMS.md")).unwrap();
-    assert!(md.contains("## Z10"));
-}
-
-/// Without the paper probes, `claims zh3` fails with a clear error and exit code 2, and writes
-/// nothing.
-#[test]
-fn claims_zh3_without_the_probes_exits_2() {
-    let empty = tempfile::tempdir().unwrap();
-    let out = run(&["claims", "zh3", "--out", empty.path().to_str().unwrap()]);
-    assert_eq!(out.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&out.stderr).contains("PROBELAB_ENVMAPS"));
-    assert!(!empty.path().join("zh3_claims").exists());
 }

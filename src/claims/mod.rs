@@ -8,7 +8,6 @@
 //! May use: `math`, `envmap`, `reference`, `encoders`, `pipeline`. Never `report`.
 
 pub mod declaration;
-pub mod declared;
 pub mod judge;
 pub mod lightmap;
 pub mod measure;

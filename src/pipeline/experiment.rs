@@ -15,7 +15,6 @@
 //! | `polar_nodes`  | integer                   | 2              | Gauss–Legendre nodes per row piece of the reference |
 //! | `ci`           | bool                      | true           | whether the CI check re-runs it |
 //! | `summary`      | table                     | none           | `summary.csv` per orientation/map/set, ratios to `baseline` (`summary.rs`) |
-//! | `claims`       | list of tables                   | `[]`           | claims checked on the rows (`claim_spec.rs`): `claims.csv`, `CLAIMS.md` (`claims::declared`) |
 //!
 //! Unknown keys are errors that name the key and the line.
 
@@ -67,8 +66,6 @@ pub struct ExperimentFile {
     pub polar_nodes: Option<usize>,
     pub ci: Option<bool>,
     pub summary: Option<crate::pipeline::summary::SummaryFile>,
-    #[serde(default)]
-    pub claims: Vec<crate::pipeline::claim_spec::ClaimFile>,
 }
 
 /// A visibility effect applied to the radiance before it reaches the surface.
@@ -110,7 +107,6 @@ pub struct Experiment {
     pub ci: bool,
     /// `Some(baseline)` when a per-orientation summary is declared.
     pub summary: Option<Option<String>>,
-    pub claims: Vec<crate::pipeline::claim_spec::ClaimSpec>,
 }
 
 impl Experiment {
@@ -257,11 +253,6 @@ impl Experiment {
         }
         let names: Vec<String> = built.iter().map(|e| e.name.clone()).collect();
         let summary = f.summary.map(|s| crate::pipeline::summary::summary_baseline(s, &names)).transpose()?;
-        let claims = f
-            .claims
-            .into_iter()
-            .map(|c| crate::pipeline::claim_spec::ClaimSpec::from_file(c, &names, &f.maps))
-            .collect::<Result<Vec<_>>>()?;
         Ok(Experiment {
             name,
             description: f.description,
@@ -276,7 +267,6 @@ impl Experiment {
             polar_nodes,
             ci: f.ci.unwrap_or(true),
             summary,
-            claims,
         })
     }
 }

@@ -1,14 +1,13 @@
 //! The pipeline layer: the order of work from an experiment file to a table. Experiment
 //! files and their validation (`experiment`), the runner (`runner`: per map, per case, per
 //! encoder, scoring), the timing pass (`timing`), result rows and CSV (`table`), summaries
-//! (`summary`), declared claims as written (`claim_spec`; the claims layer judges them), one-knob sweeps (`sweep`), probe sets at scale (`probeset`), the ZH3
+//! (`summary`), one-knob sweeps (`sweep`), probe sets at scale (`probeset`), the ZH3
 //! hallucination-curve fit (`hallucination_fit`), and the plumbing every writer shares:
 //! atomic writes (`atomic`), `--profile` spans (`profile`) and progress bars (`progress`).
 //!
 //! May use: `math`, `envmap`, `reference`, `encoders`.
 
 pub mod atomic;
-pub mod claim_spec;
 pub mod experiment;
 pub mod hallucination_fit;
 pub mod probeset;

@@ -1,8 +1,7 @@
 //! Summaries of a result table, generic over encoders (every encoder name comes from the
 //! experiment file): statistics per orientation, per map and per orientation set (mean and
-//! worst), with ratios to a baseline encoder. Also the row statistics the claims layer judges
-//! declared claims with ([`crate::claims::declared`]): the match key, ratio, median, mean and
-//! worst.
+//! worst), with ratios to a baseline encoder. The claims are judged elsewhere
+//! (`claims::judge`).
 //!
 //! | key (experiment file)  | type   | meaning |
 //! |------------------------|--------|---------|

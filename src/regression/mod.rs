@@ -7,5 +7,6 @@
 
 pub mod baseline;
 pub mod check;
+pub mod claims;
 pub mod provenance;
 pub mod tolerance;

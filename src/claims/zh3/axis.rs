@@ -3,8 +3,8 @@
 //! solving for the axis can beat the L1 axis when the L2 energy lies elsewhere (Z3); and the
 //! axis weights must match the error weights (Z4).
 
-use super::cases::{cap, enc, exact, fit, scene, scene_case, values, weights_value, Case};
-use super::{mean, pct, reduction, yes, Finding};
+use super::cases::{cap, enc, exact, fit, probulator, scene, scene_case, values, weights_value, Case};
+use crate::claims::measure::Measure;
 use crate::encoders::encoder::Encoder;
 use crate::math::colour::{Rgb, REC709};
 use crate::math::sh::{delta_light, Sh9};
@@ -16,30 +16,32 @@ use crate::reference::scenes::Scene;
 use anyhow::Result;
 use glam::DVec3;
 use std::f64::consts::PI;
-use std::fmt::Write as _;
 
 /// The four stored ZH3 encoders.
 const STORED: [&str; 4] = ["zh3_stored_channel", "zh3_stored_shared", "zh3_solved_channel", "zh3_solved_shared"];
 
-/// Z1: zonal lights are represented exactly by stored ZH3.
-pub(super) fn z1(grid: &OutputGrid) -> Result<(Finding, String)> {
+/// Z1 (ZH3 talk, "zonal lights are represented exactly"): per zonal light and stored ZH3
+/// encoder, the largest |E_ZH3 − E_SH3| relative to the peak, and both RMSEs against the
+/// closed-form irradiance. Measure `zh3_zonal`.
+pub(super) fn z1(grid: &OutputGrid) -> Result<Measure> {
     let a = DVec3::new(0.35, 0.8, -0.49).normalize();
     let deg = PI / 180.0;
-    let lights: Vec<(&str, Scene)> = vec![
-        ("directional (delta) light, coloured", scene("delta", vec![])),
-        ("cone light 5 deg", scene("cone5", vec![cap(a, 5.0 * deg, Rgb::new(200.0, 150.0, 100.0))])),
-        ("cone light 30 deg", scene("cone30", vec![cap(-a, 30.0 * deg, Rgb::new(2.0, 3.0, 4.0))])),
-        ("sphere light 60 deg over a constant sky", {
-            scene("sphere60", vec![cap(a, 60.0 * deg, Rgb::ONE), Light::Ambient(Rgb::splat(0.2))])
-        }),
+    let lights: Vec<Scene> = vec![
+        scene("delta", vec![]),
+        scene("cone5", vec![cap(a, 5.0 * deg, Rgb::new(200.0, 150.0, 100.0))]),
+        scene("cone30", vec![cap(-a, 30.0 * deg, Rgb::new(2.0, 3.0, 4.0))]),
+        scene("sphere60", vec![cap(a, 60.0 * deg, Rgb::ONE), Light::Ambient(Rgb::splat(0.2))]),
     ];
-    let mut worst_field = 0.0f64;
-    let mut worst_rmse = 0.0f64;
-    let mut table = String::from(
-        "| light | encoder | max abs(ZH3 − SH3) / peak | RMSE ZH3 | RMSE SH3 | abs difference |\n|---|---|---|---|---|---|\n",
+    let mut m = Measure::new(
+        "zh3_zonal",
+        "Z1: zonal lights (a coloured delta light — a point light at a distance —, 5° and 30° cone lights, a \
+         60° sphere light over a constant sky; closed-form SH and irradiance), each stored ZH3 encoder against \
+         SH3 (sh2): max |E_ZH3 − E_SH3| / peak, and RMSE of each against the closed form (sphere, solid-angle \
+         weighted, 256x128 normals, E/π)",
+        &["case", "encoder", "max_abs_diff_vs_sh3_rel", "rmse", "rmse_sh3"],
     );
     let sh2 = enc("sh2", &[])?;
-    for (label, s) in &lights {
+    for s in &lights {
         // The delta light has no map or closed-form irradiance in `scenes`; its SH3 is the
         // reference there (the claim is ZH3 = SH3).
         let (sh, reference): (Sh9, Vec<Rgb>) = if s.id == "delta" {
@@ -60,28 +62,10 @@ pub(super) fn z1(grid: &OutputGrid) -> Result<(Finding, String)> {
             let v = values(f.as_ref(), grid);
             let field = v.iter().zip(&v2).map(|(x, y)| (*x - *y).abs().max_element()).fold(0.0, f64::max) / peak;
             let ez = score_values(e.as_ref(), &v, grid, &case.reference, Metric::Exact).rmse;
-            worst_field = worst_field.max(field);
-            worst_rmse = worst_rmse.max((ez - e2).abs());
-            let _ = writeln!(table, "| {label} | {id} | {field:.2e} | {ez:.6e} | {e2:.6e} | {:.1e} |", (ez - e2).abs());
+            m.row(vec![s.id.clone().into(), id.into(), field.into(), ez.into(), e2.into()]);
         }
     }
-    let holds = worst_field <= 1e-6 && worst_rmse <= 1e-6;
-    Ok((
-        Finding {
-            id: "Z1",
-            claim: "ZH3 represents every zonal light (directional, point, cone, sphere) exactly: the same irradiance as SH3",
-            paper_figure: "exact (same accuracy as SH3)".into(),
-            our_figure: format!(
-                "max abs(ZH3 − SH3)/peak = {worst_field:.1e}; max abs(RMSE_ZH3 − RMSE_SH3) = {worst_rmse:.1e} (E/π)"
-            ),
-            holds: yes(holds),
-            notes: "4 zonal lights (delta, 5° and 30° cones, 60° sphere light over a constant; closed-form SH and \
-                    irradiance; a point light at a distance is the delta light) × the 4 stored ZH3 encoders; \
-                    tolerance 1e-6"
-                .into(),
-        },
-        format!("Closed-form SH and irradiance, sphere, solid-angle weighted, 256x128 normals.\n\n{table}"),
-    ))
+    Ok(m)
 }
 
 /// Chromaticity of a displayed colour: max(E, 0)/Σ max(E, 0); black is grey (⅓, ⅓, ⅓).
@@ -126,68 +110,44 @@ fn two_colour_scene() -> Scene {
     )
 }
 
-/// Z2: colour fringing of per-channel axes, measured as a chroma error.
-pub(super) fn z2(grid: &OutputGrid, cases: &[Case]) -> Result<(Finding, String)> {
-    let pairs = [
-        ("stored", "zh3_stored_channel", "zh3_stored_shared"),
-        ("solved", "zh3_solved_channel", "zh3_solved_shared"),
-        ("hallucinated", "zh3_hallucinate_channel", "zh3_hallucinate"),
+/// Z2 (ZH3 talk, "per-channel axes can fringe colour"): per map and ZH3 variant (stored,
+/// solved, hallucinated), the chroma error of the per-channel-axis and shared-axis encoders,
+/// and their RMSE under both metrics; sh1 and sh2 for scale. Measure `zh3_chroma`.
+pub(super) fn z2(grid: &OutputGrid, cases: &[Case]) -> Result<Measure> {
+    let ids = [
+        "zh3_stored_channel",
+        "zh3_stored_shared",
+        "zh3_solved_channel",
+        "zh3_solved_shared",
+        "zh3_hallucinate_channel",
+        "zh3_hallucinate",
+        "sh1",
+        "sh2",
     ];
     let constructed = scene_case(&two_colour_scene(), grid);
-    let mut table = String::from(
-        "| case | pair | chroma err channel | chroma err shared | lit chroma err channel | lit chroma err shared | RMSE channel | RMSE shared |\n|---|---|---|---|---|---|---|---|\n",
+    let mut m = Measure::new(
+        "zh3_chroma",
+        "Z2: chroma error = solid-angle RMS over the sphere of |χ(test) − χ(ref)|, χ = max(E,0)/Σ max(E,0) (black \
+         = grey); lit_chroma_err weights each normal by solid angle × reference luminance; rmse under both \
+         metrics (exact: solid-angle, unclamped; probulator: per-pixel, clamped), 256x128 normals, exact \
+         reference; maps plus a constructed two-colour scene (warm light +x, blue light +y)",
+        &["map", "encoder", "metric", "chroma_err", "lit_chroma_err", "rmse"],
     );
-    let sh2 = enc("sh2", &[])?;
-    let sh1 = enc("sh1", &[])?;
-    let mut ref_rows = String::from("| case | chroma err sh1 | chroma err sh2 |\n|---|---|---|\n");
-    let (mut shared_better, mut total, mut rmse_up, mut lit_better) = (0, 0, 0, 0);
-    let mut ch_all = Vec::new();
-    let mut sh_all = Vec::new();
     for case in cases.iter().chain(std::iter::once(&constructed)) {
-        let ce =
-            |e: &dyn Encoder| chroma_error(&values(fit(e, &case.sh).as_ref(), grid), &case.reference, &grid.weights);
-        let cl = |e: &dyn Encoder| {
-            chroma_error_lit(&values(fit(e, &case.sh).as_ref(), grid), &case.reference, &grid.weights)
-        };
-        let _ = writeln!(ref_rows, "| {} | {:.4} | {:.4} |", case.name, ce(sh1.as_ref()), ce(sh2.as_ref()));
-        for (label, ch, shd) in pairs {
-            let (ec, es) = (enc(ch, &[])?, enc(shd, &[])?);
-            let (cc, cs) = (ce(ec.as_ref()), ce(es.as_ref()));
-            let (lc, ls) = (cl(ec.as_ref()), cl(es.as_ref()));
-            let (rc, rs) = (exact(ec.as_ref(), case, grid).rmse, exact(es.as_ref(), case, grid).rmse);
-            total += 1;
-            shared_better += (cs < cc) as usize;
-            lit_better += (ls < lc) as usize;
-            rmse_up += (rs > rc) as usize;
-            ch_all.push(cc);
-            sh_all.push(cs);
-            let _ = writeln!(
-                table,
-                "| {} | {label} | {cc:.4} | {cs:.4} | {lc:.4} | {ls:.4} | {rc:.5} | {rs:.5} |",
-                case.name
-            );
+        for id in ids {
+            let e = enc(id, &[])?;
+            let v = values(fit(e.as_ref(), &case.sh).as_ref(), grid);
+            let ce = chroma_error(&v, &case.reference, &grid.weights);
+            let cl = chroma_error_lit(&v, &case.reference, &grid.weights);
+            for (metric, f) in
+                [("exact", exact as fn(&dyn Encoder, &Case, &OutputGrid) -> _), ("probulator", probulator)]
+            {
+                let r = f(e.as_ref(), case, grid).rmse;
+                m.row(vec![case.name.clone().into(), id.into(), metric.into(), ce.into(), cl.into(), r.into()]);
+            }
         }
     }
-    let holds = shared_better * 4 >= total * 3;
-    Ok((
-        Finding {
-            id: "Z2",
-            claim: "Per-channel zonal axes can fringe colour; one shared axis removes the fringing, and RMSE may go up or down",
-            paper_figure: "qualitative (images)".into(),
-            our_figure: format!(
-                "shared axis has the lower chroma error in {shared_better}/{total} (map, variant) pairs ({lit_better}/{total} \
-                 luminance-weighted); mean chroma error channel {:.4} vs shared {:.4}; shared RMSE higher in {rmse_up}/{total}",
-                mean(&ch_all),
-                mean(&sh_all)
-            ),
-            holds: yes(holds),
-            notes: "chroma error = solid-angle RMS over the sphere of |χ(test) − χ(ref)|, χ = max(E,0)/Σmax(E,0) \
-                    (black = grey); five probes + a constructed two-colour scene (warm light +x, blue light +y); \
-                    variants stored/solved/hallucinated; holds if shared is better in ≥ 3/4 of pairs"
-                .into(),
-        },
-        format!("{table}\nFor scale, the chroma error of SH L1 and L2:\n\n{ref_rows}"),
-    ))
+    Ok(m)
 }
 
 /// The constructed scene of Z3: two equal lights along ±x (strong L2 about x, no L1 along x)
@@ -204,47 +164,33 @@ fn z3_scene() -> Scene {
     )
 }
 
-/// Z3: a case where the solved axis beats the L1 axis dramatically.
-pub(super) fn z3(grid: &OutputGrid, cases: &[Case]) -> Result<(Finding, String)> {
+/// Z3 (ZH3 talk, "solving for the axis can be dramatically better"): RMSE of SH L1, ZH3 on the
+/// L1 axis, ZH3 on the solved axis and SH3, on a constructed scene whose L2 energy lies off the
+/// L1 axis and on every map. Measure `zh3_axis_solve`.
+pub(super) fn z3(grid: &OutputGrid, cases: &[Case]) -> Result<Measure> {
     let c = scene_case(&z3_scene(), grid);
     let ids = ["sh1", "zh3_stored_shared", "zh3_solved_shared", "sh2"];
-    let mut r = Vec::new();
-    let mut table =
-        String::from("| case | sh1 | zh3_stored_shared (L1 axis) | zh3_solved_shared | sh2 |\n|---|---|---|---|---|\n");
+    let mut m = Measure::new(
+        "zh3_axis_solve",
+        "Z3: exact metric (sphere, solid-angle, 256x128 normals, E/π); the constructed scene \
+         constructed_l2_off_axis has two equal 8.6° lights along ±x (radiance 20), a weaker one along +y (4) and \
+         a 0.1 sky, with closed-form reference",
+        &["map", "encoder", "rmse"],
+    );
     for case in std::iter::once(&c).chain(cases.iter()) {
-        let e: Vec<f64> =
-            ids.iter().map(|id| Ok(exact(enc(id, &[])?.as_ref(), case, grid).rmse)).collect::<Result<_>>()?;
-        let _ = writeln!(table, "| {} | {:.5} | {:.5} | {:.5} | {:.5} |", case.name, e[0], e[1], e[2], e[3]);
-        r.push(e);
+        for id in ids {
+            m.row(vec![case.name.clone().into(), id.into(), exact(enc(id, &[])?.as_ref(), case, grid).rmse.into()]);
+        }
     }
-    let ratio = r[0][2] / r[0][1];
-    let maps_gain: Vec<f64> = r[1..].iter().map(|e| reduction(e[1], e[2])).collect();
-    Ok((
-        Finding {
-            id: "Z3",
-            claim: "Solving for the zonal axis can give dramatically lower error than the L1 axis when the L2 energy lies in another direction",
-            paper_figure: "qualitative (\"dramatically better\", one example)".into(),
-            our_figure: format!(
-                "constructed scene: RMSE solved/L1-axis = {ratio:.3} ({:.4} vs {:.4}; SH3 {:.4}); five probes: mean {} (range {} to {})",
-                r[0][2],
-                r[0][1],
-                r[0][3],
-                pct(-mean(&maps_gain)),
-                pct(-maps_gain.iter().cloned().fold(f64::NEG_INFINITY, f64::max)),
-                pct(-maps_gain.iter().cloned().fold(f64::INFINITY, f64::min))
-            ),
-            holds: yes(ratio < 0.5),
-            notes: "CONSTRUCTED scene: two equal 8.6° lights along ±x (radiance 20) and a weaker one along +y (4), sky 0.1; \
-                    closed-form reference; holds if the solved RMSE is below half the L1-axis RMSE; on the real probes the gain \
-                    is small"
-                .into(),
-        },
-        format!("Exact metric (sphere, solid-angle, 256x128). Constructed scene first.\n\n{table}"),
-    ))
+    Ok(m)
 }
 
-/// Z4: axis weights must match error weights.
-pub(super) fn z4(grid: &OutputGrid, cases: &[Case]) -> Result<(Finding, String)> {
+/// Z4 (ZH3 talk, "the axis weights must match the error weights"): zh3_solved_shared with
+/// matched weights (both Rec.709) and mismatched ones (axis weights (0.1, 0.1, 0.8), error
+/// weights Rec.709), per channel, both metrics; `blue_push` on the mismatched rows is the blue
+/// ratio over the red+green ratio (mismatched/matched): above 1 when error moved into blue.
+/// Measure `zh3_axis_weights`.
+pub(super) fn z4(grid: &OutputGrid, cases: &[Case]) -> Result<Measure> {
     let rec = REC709.to_array();
     let blue_heavy = [0.1, 0.1, 0.8];
     let matched =
@@ -267,59 +213,35 @@ pub(super) fn z4(grid: &OutputGrid, cases: &[Case]) -> Result<(Finding, String)>
         ),
         grid,
     );
-    let mut table = String::from(
-        "| case | matched R/G/B RMSE | mismatched R/G/B RMSE | blue ratio | red+green ratio |\n|---|---|---|---|---|\n",
+    let mut m = Measure::new(
+        "zh3_axis_weights",
+        "Z4: zh3_solved_shared, matched (axis and error weights Rec.709) against mismatched (axis weights \
+         (0.1, 0.1, 0.8), error weights Rec.709; blue has a high axis weight and a low 0.0722 error weight); RMSE \
+         per channel under both metrics (exact: sphere, solid-angle; probulator: per-pixel, clamped; 256x128, \
+         exact reference); constructed scenes (the Z3 geometry with a blue L1 light; the two-colour scene) and \
+         every map",
+        &["map", "encoder", "metric", "rmse_r", "rmse_g", "rmse_b", "blue_push"],
     );
-    let (mut blue_up, mut pushed, mut total) = (0, 0, 0);
-    let mut blue_ratios = Vec::new();
-    let mut rg_ratios = Vec::new();
     for case in [&off_axis, &constructed].into_iter().chain(cases.iter()) {
-        let m = exact(matched.as_ref(), case, grid).rmse_rgb;
-        let x = exact(mismatched.as_ref(), case, grid).rmse_rgb;
-        let b = x[2] / m[2];
-        let rg = (x[0] + x[1]) / (m[0] + m[1]);
-        total += 1;
-        blue_up += (b > 1.0 + 1e-9) as usize;
-        pushed += (b > rg) as usize;
-        blue_ratios.push(b);
-        rg_ratios.push(rg);
-        let _ = writeln!(
-            table,
-            "| {} | {:.5} / {:.5} / {:.5} | {:.5} / {:.5} / {:.5} | {b:.3} | {rg:.3} |",
-            case.name, m[0], m[1], m[2], x[0], x[1], x[2]
-        );
+        for (metric, f) in [("exact", exact as fn(&dyn Encoder, &Case, &OutputGrid) -> _), ("probulator", probulator)] {
+            let a = f(matched.as_ref(), case, grid).rmse_rgb;
+            let x = f(mismatched.as_ref(), case, grid).rmse_rgb;
+            let push = (x[2] / a[2]) / ((x[0] + x[1]) / (a[0] + a[1]));
+            let push = if push.is_finite() { push } else { 1.0 };
+            for (name, v, p) in [("axis_weights_matched", a, 1.0), ("axis_weights_blue_heavy", x, push)] {
+                m.row(vec![
+                    case.name.clone().into(),
+                    name.into(),
+                    metric.into(),
+                    v[0].into(),
+                    v[1].into(),
+                    v[2].into(),
+                    p.into(),
+                ]);
+            }
+        }
     }
-    let holds = if blue_up * 4 >= total * 3 && pushed * 4 >= total * 3 {
-        "yes".to_string()
-    } else if pushed * 2 > total || blue_up * 2 > total {
-        format!("partly: blue error up in {blue_up}/{total}, error moved towards blue in {pushed}/{total}")
-    } else {
-        "no".to_string()
-    };
-    Ok((
-        Finding {
-            id: "Z4",
-            claim: "The axis weights must match the error weights; otherwise the solver pushes error into the channel with the low weight",
-            paper_figure: "qualitative (\"very obvious visually\")".into(),
-            our_figure: format!(
-                "axis weights (0.1, 0.1, 0.8) with Rec.709 error weights vs both Rec.709: blue RMSE up in {blue_up}/{total} cases, \
-                 blue ratio above the red+green ratio in {pushed}/{total}; off-axis scene: blue ×{:.2}, red+green ×{:.2}; \
-                 mean over the 5 probes: blue ×{:.3}, red+green ×{:.3}",
-                blue_ratios[0],
-                rg_ratios[0],
-                mean(&blue_ratios[2..]),
-                mean(&rg_ratios[2..])
-            ),
-            holds,
-            notes: "zh3_solved_shared; blue has a high axis weight and a low (0.0722) error weight; CONSTRUCTED scenes (the Z3 \
-                    geometry with a blue L1 light; the two-colour scene) + five probes; ratio = mismatched/matched RMSE per \
-                    channel; holds if blue error rises, and rises more than red+green, in at least 3/4 of the cases (partly: in \
-                    most of them). The mismatched solve \
-                    can rotate the axis by moving only the cheap blue L1, so it can also lower every channel's error"
-                .into(),
-        },
-        format!("Exact metric per channel (sphere, solid-angle, 256x128).\n\n{table}"),
-    ))
+    Ok(m)
 }
 
 #[cfg(test)]

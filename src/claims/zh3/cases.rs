@@ -16,7 +16,7 @@ use crate::reference::exact::{Reference, DEFAULT_POLAR_NODES};
 use crate::reference::lighting::{Light, Lighting};
 use crate::reference::metrics::{Metric, Scores};
 use crate::reference::scenes::Scene;
-use anyhow::{Context, Result};
+use anyhow::Result;
 use glam::DVec3;
 
 /// The lat-long resolution of the output grid of normals.
@@ -68,20 +68,25 @@ pub(super) fn probulator(e: &dyn Encoder, case: &Case, grid: &OutputGrid) -> Sco
     score_fit(e, fit(e, &case.sh).as_ref(), grid, &case.reference, Metric::Probulator)
 }
 
-/// The paper probes as cases, and (name, description of the map and its reference) for each.
+/// The maps as cases, and (name, sha256 and reference description) for each.
 pub(super) type Probes = (Vec<Case>, Vec<(String, String)>);
 
-/// The five paper probes ([`MAPS`]) as cases on the grid, with a description of each map and
-/// its reference.
-pub(super) fn paper_probes(search: &SearchPath, grid: &OutputGrid) -> Result<Probes> {
+/// Every usable map ([`MAPS`]: the five paper probes, then every map of the search path's
+/// collection that is not degraded) that the search path has, as cases on the grid, with a
+/// description of each map (named, with its sha256; never a machine path). A missing map is
+/// left out and named on stderr: its rows are then absent, and a claim judged on a set that
+/// names it is untestable there.
+pub(super) fn probes(search: &SearchPath, grid: &OutputGrid) -> Result<Probes> {
     let mut maps = Vec::new();
     let mut cases = Vec::new();
     for name in MAPS {
-        let (c, desc) = map_case(search, name, grid).with_context(|| {
-            format!("claims zh3 needs the five paper probes ({}); set PROBELAB_ENVMAPS", MAPS.join(", "))
-        })?;
-        maps.push((name.to_string(), desc));
-        cases.push(c);
+        match map_case(search, name, grid) {
+            Ok((c, desc)) => {
+                maps.push((name.to_string(), desc));
+                cases.push(c);
+            }
+            Err(e) => eprintln!("claims: map {name} left out: {e:#}"),
+        }
     }
     Ok((cases, maps))
 }
@@ -95,7 +100,16 @@ fn map_case(search: &SearchPath, name: &str, grid: &OutputGrid) -> Result<(Case,
     let reference = Reference::new(&rm, vec![], DEFAULT_POLAR_NODES);
     let values = reference.irradiance_latlong(grid.latlong.expect("the sphere grid is a lat-long grid"));
     let case = Case { name: name.to_string(), sh: crate::reference::projection::project(&map), reference: values };
-    Ok((case, format!("{} ({}x{}, {})", path.display(), map.width(), map.height(), reference.describe())))
+    Ok((
+        case,
+        format!(
+            "sha256 {} ({}x{}, {})",
+            map.sha256.as_deref().unwrap_or("-"),
+            map.width(),
+            map.height(),
+            reference.describe()
+        ),
+    ))
 }
 
 /// A constructed scene as a case: closed-form SH and irradiance.

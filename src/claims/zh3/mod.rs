@@ -1,180 +1,83 @@
-//! The ZH3 talk's claims Z1–Z10 (`../shared/papers/CLAIMS.md`), each measured on the five
-//! paper probes and on constructed scenes, written as `results/zh3_claims/claims.csv` and
-//! `CLAIMS.md` by `probelab claims zh3`.
+//! The ZH3 talk's measurements that no experiment table row holds: zonal lights against SH3
+//! (Z1), the chroma error of per-channel axes (Z2), the solved axis on a constructed scene
+//! (Z3), mismatched axis weights per channel (Z4) and the Geomerics moments (Z5). Z6–Z8 are
+//! judged on the `zh3_table` experiment; the claims themselves, their criteria and verdicts
+//! are data (`experiments/claims/zh3.toml`) judged by the one engine (`claims::judge`).
 //!
-//! Every figure uses the same machinery as the tables: encoders through the one trait, the
-//! exact reference, and the pipeline's one scoring step
-//! ([`crate::pipeline::runner::score_fit`]). Unless a claim says otherwise the figure is the
-//! **exact** metric: E/π over the **sphere**, **solid-angle** weighted, on the 256×128
-//! lat-long grid of normals, against the exact cell-integrated reference of the map (2 GL
-//! nodes per row piece). Constructed scenes use their closed-form irradiance and SH instead.
-//! A claim that does not hold on our data is reported as not holding; percentages the talk
-//! measured on its production data are anchors, not tests.
+//! Unless a table's `about` says otherwise the figure is the **exact** metric: E/π over the
+//! **sphere**, **solid-angle** weighted, on the 256×128 lat-long grid of normals, against the
+//! exact cell-integrated reference of the map (2 GL nodes per row piece). Constructed scenes
+//! use their closed-form irradiance and SH instead.
 //!
-//! The folder, by concern: what is measured and how (`cases`: the grid, the probes and
-//! scenes, scoring), then the claims by topic — the zonal axis (`axis`: Z1–Z4), Geomerics
-//! (`geomerics`: Z5), error on the probes (`accuracy`: Z6–Z8), blending (`blending`: Z9) and
-//! quantisation (`quantisation`: Z10) — and here the run and the two writers. It may use what
-//! the claims layer may: `math`, `envmap`, `reference`, `encoders`, `pipeline`.
+//! The folder, by concern: what is measured and how (`cases`: the grid, the maps and scenes,
+//! scoring), then the measurements by topic — the zonal axis (`axis`: Z1–Z4), Geomerics
+//! (`geomerics`: Z5), blending (`blending`: Z9) and quantisation (`quantisation`: Z10).
 
-mod accuracy;
 mod axis;
-mod blending;
+// mod blending; (converted to a measure on the claims-measures branch)
 mod cases;
 mod geomerics;
-mod quantisation;
+// mod quantisation; (converted to a measure on the claims-measures branch)
 
+use crate::claims::measure::Measure;
 use crate::envmap::search::SearchPath;
-use anyhow::{bail, Result};
-use std::fmt::Write as _;
-use std::path::Path;
+use anyhow::Result;
 
-/// The five paper probes.
-pub const MAPS: [&str; 5] = ["ennis_256x128", "grace_256x128", "pisa_256x128", "uffizi_256x128", "wells_probulator"];
+/// The maps the ZH3 measurements run on: the five paper probes (as the peer tool ships them
+/// for Wells), then every usable map of the search path's collection (none marked degraded in
+/// its SOURCES.md), at 256×128.
+pub const MAPS: [&str; 19] = [
+    "ennis_256x128",
+    "grace_256x128",
+    "pisa_256x128",
+    "uffizi_256x128",
+    "wells_probulator",
+    "blender_city_256x128",
+    "blender_courtyard_256x128",
+    "blender_interior_256x128",
+    "blender_studio_256x128",
+    "blender_sunrise_256x128",
+    "pmndrs_apartment_256x128",
+    "pmndrs_bridge_256x128",
+    "pmndrs_city_256x128",
+    "pmndrs_dawn_256x128",
+    "pmndrs_forest_256x128",
+    "pmndrs_night_256x128",
+    "pmndrs_studio_256x128",
+    "pmndrs_sunset_256x128",
+    "pmndrs_venice_256x128",
+];
 
-/// One measured claim: a row of the claims table.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Finding {
-    pub id: &'static str,
-    pub claim: &'static str,
-    pub paper_figure: String,
-    pub our_figure: String,
-    pub holds: String,
-    pub notes: String,
-}
-
-/// The findings and the details behind them (Markdown sections).
-pub struct ClaimsReport {
-    pub findings: Vec<Finding>,
-    pub details: Vec<(String, String)>,
-    pub maps: Vec<(String, String)>,
-}
-
-/// A signed percentage with one decimal.
-fn pct(x: f64) -> String {
-    format!("{:+.1}%", 100.0 * x)
-}
-
-/// Relative reduction of `b` against `a`: 1 − b/a.
-fn reduction(a: f64, b: f64) -> f64 {
-    if a > 0.0 {
-        1.0 - b / a
-    } else {
-        0.0
-    }
-}
-
-/// The mean of values (0 for none).
-fn mean(v: &[f64]) -> f64 {
-    v.iter().sum::<f64>() / v.len().max(1) as f64
-}
-
-/// `yes` or `no`.
-fn yes(b: bool) -> String {
-    if b { "yes" } else { "no" }.to_string()
-}
-
-/// Measures every claim. Needs the five paper probes on the search path.
-pub fn run(search: &SearchPath) -> Result<ClaimsReport> {
+/// Runs every ZH3 measurement on the maps the search path has; returns the tables and the
+/// maps used (name, sha256 and reference).
+pub fn measure(search: &SearchPath) -> Result<(Vec<Measure>, Vec<(String, String)>)> {
     let grid = cases::grid();
-    let (cases, maps) = cases::paper_probes(search, &grid)?;
-    let mut findings = Vec::new();
-    let mut details = Vec::new();
-    let mut add = |c: Finding, d: String| {
-        details.push((format!("{} — {}", c.id, c.claim), d));
-        findings.push(c);
-    };
-    let (c, d) = axis::z1(&grid)?;
-    add(c, d);
-    let (c, d) = axis::z2(&grid, &cases)?;
-    add(c, d);
-    let (c, d) = axis::z3(&grid, &cases)?;
-    add(c, d);
-    let (c, d) = axis::z4(&grid, &cases)?;
-    add(c, d);
-    let (c, d) = geomerics::z5(&grid, &cases)?;
-    add(c, d);
-    let (c, d) = accuracy::z6(&grid, &cases)?;
-    add(c, d);
-    let (c, d) = accuracy::z7(&grid, &cases)?;
-    add(c, d);
-    let (c, d) = accuracy::z8(&grid, &cases)?;
-    add(c, d);
-    let (c, d) = blending::z9(&grid)?;
-    add(c, d);
-    let (c, d) = quantisation::z10(&grid, &cases)?;
-    add(c, d);
-    Ok(ClaimsReport { findings, details, maps })
-}
-
-/// The claims as CSV.
-pub fn to_csv(r: &ClaimsReport) -> Result<Vec<u8>> {
-    let mut w = csv::Writer::from_writer(Vec::new());
-    w.write_record(["id", "claim", "paper_figure", "our_figure", "holds", "notes"])?;
-    for c in &r.findings {
-        w.write_record([c.id, c.claim, &c.paper_figure, &c.our_figure, &c.holds, &c.notes])?;
-    }
-    w.into_inner().map_err(|e| anyhow::anyhow!("csv: {e}"))
-}
-
-/// The Markdown summary.
-pub fn to_markdown(r: &ClaimsReport) -> String {
-    let mut s = String::from(
-        "# ZH3 claims (Z1–Z10), measured\n\n\
-         Generated by `probelab claims zh3` (src/claims/zh3/); do not edit by hand. Claims from \
-         `shared/papers/CLAIMS.md` (ZH3 talk, I3D 2024). Units E/π. Unless a section says otherwise: the exact \
-         metric (sphere, solid-angle weighted, 256x128 lat-long normals) against the exact cell-integrated reference \
-         (2 GL nodes per row piece); constructed scenes use closed-form irradiance. Percentages marked (prod) in the \
-         talk were measured on its production data and are anchors, not tests.\n\n\
-         | id | holds | our figure | paper |\n|---|---|---|---|\n",
-    );
-    for c in &r.findings {
-        let _ = writeln!(s, "| {} | {} | {} | {} |", c.id, c.holds, c.our_figure.replace('|', "/"), c.paper_figure);
-    }
-    s += "\n## Maps\n\n";
-    for (n, d) in &r.maps {
-        let _ = writeln!(s, "- `{n}`: {d}");
-    }
-    for (c, (title, body)) in r.findings.iter().zip(&r.details) {
-        let _ = write!(s, "\n## {title}\n\n**Holds:** {}. {}\n\n{body}\n", c.holds, c.notes);
-    }
-    s
-}
-
-/// Runs the claims and writes `claims.csv` and `CLAIMS.md` into `dir` (atomically).
-pub fn write(r: &ClaimsReport, dir: &Path) -> Result<()> {
-    crate::pipeline::atomic::write(&dir.join("claims.csv"), &to_csv(r)?)?;
-    crate::pipeline::atomic::write(&dir.join("CLAIMS.md"), to_markdown(r).as_bytes())?;
-    Ok(())
-}
-
-/// The claim sets `probelab claims` knows.
-pub fn check_set(set: &str) -> Result<()> {
-    if set != "zh3" {
-        bail!("claims: unknown set '{set}' (known: zh3, lightmap)");
-    }
-    Ok(())
+    let (cases, maps) = cases::probes(search, &grid)?;
+    let out = vec![
+        axis::z1(&grid)?,
+        axis::z2(&grid, &cases)?,
+        axis::z3(&grid, &cases)?,
+        axis::z4(&grid, &cases)?,
+        geomerics::z5(&grid, &cases)?,
+    ];
+    Ok((out, maps))
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    /// Z1 and Z9 need no maps: run them and check the figures that have closed forms.
+    /// Z1 needs no maps. ZH3 of a zonal light is its SH3 (a zonal function's band-2 part is a
+    /// multiple of the zonal harmonic about its axis), so every stored ZH3 must agree with SH3
+    /// to rounding on every zonal light.
     #[test]
-    fn z1_and_z9_hold() {
+    fn zonal_lights_agree_with_sh3() {
         let grid = cases::grid();
-        let (c, _) = axis::z1(&grid).unwrap();
-        assert_eq!(c.holds, "yes", "{}", c.our_figure);
-        let (c, _) = blending::z9(&grid).unwrap();
-        assert_eq!(c.holds, "yes", "{}", c.our_figure);
-        // Two perpendicular delta lights: P₂(cos 45°) = ¼.
-        assert!(c.our_figure.contains("0.2500"), "{}", c.our_figure);
-    }
-
-    #[test]
-    fn unknown_set() {
-        assert!(check_set("hemi").unwrap_err().to_string().contains("known: zh3, lightmap"));
-        check_set("zh3").unwrap();
+        let m = axis::z1(&grid).unwrap();
+        assert_eq!(m.rows.len(), 16);
+        for r in &m.rows {
+            let crate::claims::measure::Cell::Num(field) = r[2] else { panic!("a number") };
+            assert!(field < 1e-9, "{r:?}");
+        }
     }
 }

@@ -1,0 +1,124 @@
+//! The claims under regression: `probelab claims` (and `reproduce`, `check`, `bless`) run the
+//! claims measurements and judge every declared claim. The measurement tables
+//! (`results/claims/measures/*.csv`) are baselines like any `table.csv`: a fresh one is compared
+//! with the committed one (numbers within `tolerances.toml`, text exactly) and written only when
+//! none exists or nothing moved, or by `bless`. The verdicts (`results/CLAIMS.csv`) are judged on
+//! the evidence as it stands in `results/`, and `check` fails if a verdict differs from the
+//! committed one.
+//!
+//! The measurements need every map they name ([`crate::claims::zh3::MAPS`] and the lightmap
+//! study's). Without them the committed measurement tables are judged as they stand, and the
+//! command says so; nothing is rewritten from partial data.
+
+use crate::claims::declaration::{load_papers, Paper};
+use crate::claims::measure::Measure;
+use crate::claims::verdicts;
+use crate::envmap::search::SearchPath;
+use crate::regression::baseline::{compare, Change, Table};
+use crate::regression::tolerance::Tolerances;
+use anyhow::Result;
+use std::path::Path;
+
+/// The fresh measurements, or why they were not taken (a map is missing).
+pub fn measure(search: &SearchPath) -> std::result::Result<Vec<Measure>, String> {
+    let missing: Vec<&str> = crate::claims::zh3::MAPS.iter().copied().filter(|m| search.resolve(m).is_err()).collect();
+    if !missing.is_empty() {
+        return Err(format!("map(s) not on the search path: {}", missing.join(", ")));
+    }
+    let (zh3, _) = crate::claims::zh3::measure(search).map_err(|e| format!("{e:#}"))?;
+    Ok(zh3)
+}
+
+/// One measurement against its committed table: the changes (empty: nothing moved, or no
+/// committed table yet — `None`).
+fn compare_measure(results: &Path, m: &Measure, tolerances: &Tolerances) -> Result<Option<Vec<Change>>> {
+    let path = results.join(m.rel_path());
+    if !path.exists() {
+        return Ok(None);
+    }
+    let old = Table::read(&path)?;
+    let new = Table::parse(&m.to_csv()?, Path::new(&m.rel_path()))?;
+    let c = compare(&old, &new, &|_| false, &|_, col| tolerances.get(col, None));
+    Ok(Some(c.changes))
+}
+
+/// The outcome of a claims run.
+pub struct ClaimsRun {
+    /// Measurement tables written (relative to results).
+    pub written: Vec<String>,
+    /// Measurements whose numbers moved (not written unless blessed), with the changes.
+    pub moved: Vec<(String, Vec<Change>)>,
+    /// Why the measurements were not taken, if they were not.
+    pub skipped: Option<String>,
+    /// The verdicts that differ from the committed CLAIMS.csv: (id, old, new).
+    pub verdicts_changed: Vec<(String, String, String)>,
+}
+
+/// The committed verdicts, by id.
+fn committed_verdicts(results: &Path) -> Vec<(String, String)> {
+    let Ok(t) = Table::read(&results.join(verdicts::CSV)) else { return Vec::new() };
+    let (Some(i), Some(v)) = (t.columns.iter().position(|c| c == "id"), t.columns.iter().position(|c| c == "verdict"))
+    else {
+        return Vec::new();
+    };
+    t.rows.iter().map(|r| (r[i].clone(), r[v].clone())).collect()
+}
+
+/// Runs the measurements (when their maps are here), writes those that are new or unmoved
+/// (all of them with `bless`), then judges every claim and, with `write_verdicts`, writes
+/// CLAIMS.csv and the evidence pages.
+pub fn run(root: &Path, search: &SearchPath, results: &Path, bless: bool, write_verdicts: bool) -> Result<ClaimsRun> {
+    let tolerances = Tolerances::load(root)?;
+    let papers: Vec<Paper> = load_papers(&root.join("experiments"))?;
+    let mut run = ClaimsRun { written: vec![], moved: vec![], skipped: None, verdicts_changed: vec![] };
+    match measure(search) {
+        Err(why) => run.skipped = Some(why),
+        Ok(ms) => {
+            let mut keep = Vec::new();
+            for m in ms {
+                match compare_measure(results, &m, &tolerances)? {
+                    Some(ch) if !ch.is_empty() && !bless => run.moved.push((m.name.clone(), ch)),
+                    _ => keep.push(m),
+                }
+            }
+            if write_verdicts || bless {
+                run.written = crate::claims::measure::write_all(results, &keep)?;
+            }
+        }
+    }
+    let outcomes = verdicts::judge_all(results, &papers);
+    let old = committed_verdicts(results);
+    for (_, o) in &outcomes {
+        let new = o.verdict.word().to_string();
+        let before = old.iter().find(|(id, _)| id == &o.id).map(|(_, v)| v.clone()).unwrap_or_else(|| "-".into());
+        if before != new {
+            run.verdicts_changed.push((o.id.clone(), before, new));
+        }
+    }
+    if write_verdicts || bless {
+        run.written.extend(verdicts::write(results, &papers, &outcomes)?);
+    }
+    Ok(run)
+}
+
+/// Prints a claims run's outcome (to stdout, as `check` prints its report); true when nothing
+/// moved and no verdict changed.
+pub fn report(run: &ClaimsRun, checking: bool) -> (bool, String) {
+    let mut s = String::new();
+    if let Some(why) = &run.skipped {
+        s += &format!(
+            "claims: measurements not taken ({why}); the committed measurement tables are judged as they stand\n"
+        );
+    }
+    for (name, ch) in &run.moved {
+        s += &format!("claims: measurement {name} moved ({} change(s)); not written:\n", ch.len());
+        for c in ch.iter().take(20) {
+            s += &format!("  {c}\n");
+        }
+    }
+    for (id, old, new) in &run.verdicts_changed {
+        s += &format!("claims: verdict of {id}: {old} -> {new}\n");
+    }
+    let ok = run.moved.is_empty() && (!checking || run.verdicts_changed.is_empty());
+    (ok, s)
+}
