@@ -129,8 +129,9 @@ pub enum Command {
         #[arg(long, default_value = "rec709")]
         axis: String,
     },
-    /// Measure a set of paper claims (zh3, lightmap) and write claims.csv and CLAIMS.md in results/zh3_claims/ or
-    /// results/lightmap_study/.
+    /// Measure a set of paper claims (zh3, lightmap): zh3 writes claims.csv and CLAIMS.md (Z1–Z8) in
+    /// results/zh3_claims/; both write their measurement tables to results/claims/measures/ (lightmap: and the
+    /// blending strips to results/claims/).
     Claims {
         /// The claim set: zh3 or lightmap.
         set: String,
@@ -272,21 +273,39 @@ pub fn main_with(cli: Cli) -> Result<i32> {
             Ok(0)
         }
         Command::Claims { set, out } if set == "lightmap" => {
-            let dir = results(out).join(crate::claims::lightmap::OUTPUT_DIR);
+            let results = results(out);
             // The claims layer measures (the strips as data); the report layer draws the
             // strips; then every file is written, each atomically, after all are made.
-            let report = crate::claims::lightmap::run(&search)?;
-            let strips = crate::report::strip::pngs(&report.strips)?;
-            crate::claims::lightmap::write(&report, &strips, &dir)?;
-            eprintln!("wrote {} (claims.csv, CLAIMS.md, fig2*.csv, blend*.csv, real_maps.csv)", dir.display());
+            let study = crate::claims::lightmap::measure(&search)?;
+            let strips = crate::report::strip::pngs(&study.strips)?;
+            let written = crate::claims::measure::write_all(&results, &study.measures)?;
+            for (name, bytes) in &strips {
+                crate::pipeline::atomic::write(&results.join("claims").join(name), bytes)?;
+            }
+            eprintln!(
+                "wrote {} measurement table(s) under {} and {} blending strip(s) under {}",
+                written.len() - 1,
+                results.join("claims/measures").display(),
+                strips.len(),
+                results.join("claims").display()
+            );
             Ok(0)
         }
         Command::Claims { set, out } => {
             crate::claims::zh3::check_set(&set)?;
-            let dir = results(out).join(format!("{set}_claims"));
+            let results = results(out);
+            let dir = results.join(format!("{set}_claims"));
             let report = crate::claims::zh3::run(&search)?;
+            let measures = crate::claims::zh3::measure(&search)?;
             crate::claims::zh3::write(&report, &dir)?;
-            eprintln!("wrote {} and {}", dir.join("claims.csv").display(), dir.join("CLAIMS.md").display());
+            crate::claims::measure::write_all(&results, &measures)?;
+            eprintln!(
+                "wrote {} and {}, and {} measurement table(s) under {}",
+                dir.join("claims.csv").display(),
+                dir.join("CLAIMS.md").display(),
+                measures.len(),
+                results.join("claims/measures").display()
+            );
             Ok(0)
         }
         Command::Encoders => {
