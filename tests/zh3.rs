@@ -1,5 +1,6 @@
 //! ZH3 end to end: `fit-hallucination` fits the hallucination curve to a probe file, and
-//! `claims zh3` writes the table of the ZH3 claims from the paper probes (the shared maps).
+//! `claims zh3` writes the table of the ZH3 claims and the measurement tables of Z9 and Z10
+//! from the paper probes (the shared maps).
 
 mod common;
 
@@ -43,7 +44,8 @@ fn fit_hallucination_from_a_probe_file() {
     assert_eq!(out.status.code(), Some(2));
 }
 
-/// `claims zh3` writes both files with the ten claims.
+/// `claims zh3` writes both files with the eight judged claims, and the measurement tables
+/// of Z9 and Z10 under `claims/measures/`.
 #[test]
 #[cfg_attr(not(shared_maps), ignore = "needs the shared maps: set PROBELAB_ENVMAPS to the folder holding them")]
 fn claims_zh3_writes_the_table() {
@@ -55,10 +57,28 @@ fn claims_zh3_writes_the_table() {
     let csv = std::fs::read_to_string(dir.path().join("zh3_claims/claims.csv")).unwrap();
     let rows = parse_csv(&csv);
     let ids: Vec<&str> = rows.iter().map(|r| r["id"].as_str()).collect();
-    assert_eq!(ids, ["Z1", "Z2", "Z3", "Z4", "Z5", "Z6", "Z7", "Z8", "Z9", "Z10"]);
+    assert_eq!(ids, ["Z1", "Z2", "Z3", "Z4", "Z5", "Z6", "Z7", "Z8"]);
     assert!(rows.iter().all(|r| !r["holds"].is_empty() && !r["our_figure"].contains("NaN")));
     let md = std::fs::read_to_string(dir.path().join("zh3_claims/CLAIMS.md")).unwrap();
-    assert!(md.contains("## Z10"));
+    assert!(md.contains("## Z8"));
+    // Z10: per paper probe, the serialised sizes of the talk (13 / 13 / 16 / 28 bytes), each
+    // decoding to exactly what its quantised encoder evaluates.
+    let sizes = parse_csv(&std::fs::read_to_string(dir.path().join("claims/measures/quantised_sizes.csv")).unwrap());
+    assert_eq!(sizes.len(), 4 * PAPER_PROBES.len());
+    for r in &sizes {
+        let want = match r["encoder"].as_str() {
+            "sh1" | "zh3_hallucinate" => "13",
+            "zh3_solved_shared" => "16",
+            "sh2" => "28",
+            e => panic!("unexpected encoder {e}"),
+        };
+        assert_eq!((r["bytes"].as_str(), r["roundtrip_max_abs"].as_str()), (want, "0"), "{r:?}");
+    }
+    // Z9: the blend's own zonal coefficient is ¼ of an endpoint's (P₂(cos 45°)).
+    let blend = parse_csv(&std::fs::read_to_string(dir.path().join("claims/measures/zh3_blend.csv")).unwrap());
+    let own = blend.iter().find(|r| r["case"] == "deltas_x_y" && r["encoder"] == "sh3_blended").unwrap();
+    assert!((own["zonal_scale"].parse::<f64>().unwrap() - 0.25).abs() < 1e-12, "{own:?}");
+    assert!(dir.path().join("claims/measures/README.md").exists());
 }
 
 /// Without the paper probes, `claims zh3` fails with a clear error and exit code 2, and writes

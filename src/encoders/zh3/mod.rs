@@ -755,10 +755,10 @@ mod tests {
             let f = fit(kind, &sh);
             assert_eq!(c.fit(&FitInput::sphere(&sh)).sh3(), f.sh3(), "{kind}");
         }
-        let e = configured("sh1", toml::Table::new()).unwrap_err().to_string();
+        let e = configured("sh1", toml::Table::new()).err().unwrap().to_string();
         assert!(e.contains("'sh1' is not a ZH3 encoder"), "{e}");
         let mut t = toml::Table::new();
         t.insert("quantise".into(), toml::Value::String("bits".into()));
-        assert!(format!("{:#}", configured("zh3_hallucinate", t).unwrap_err()).contains("key 'quantise'"));
+        assert!(format!("{:#}", configured("zh3_hallucinate", t).err().unwrap()).contains("key 'quantise'"));
     }
 }
