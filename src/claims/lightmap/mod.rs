@@ -128,7 +128,14 @@ pub fn fig2_measures() -> (Measure, Measure) {
         }
     }
     for (a, t, v) in irradz_rows {
-        curve.row(vec![alpha_case(a).into(), "irradz".into(), a.into(), t.into(), v.into(), "E/pi (closed form)".into()]);
+        curve.row(vec![
+            alpha_case(a).into(),
+            "irradz".into(),
+            a.into(),
+            t.into(),
+            v.into(),
+            "E/pi (closed form)".into(),
+        ]);
     }
     (m, curve)
 }

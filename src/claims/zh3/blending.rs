@@ -35,7 +35,18 @@ pub(super) fn zh3_blend(grid: &OutputGrid) -> Result<Measure> {
          (red channel) about its axis / an endpoint's; rmse = E/pi RMSE of the blended encoding against the exact \
          irradiance of the blended lighting (closed form), sphere, solid-angle weighted, 256x128 lat-long normals \
          (empty where not scored)",
-        &["case", "encoder", "zonal_scale", "rmse", "metric", "domain", "weighting", "resolution", "reference", "units"],
+        &[
+            "case",
+            "encoder",
+            "zonal_scale",
+            "rmse",
+            "metric",
+            "domain",
+            "weighting",
+            "resolution",
+            "reference",
+            "units",
+        ],
     );
     let context = |m: &mut Measure, case: &str, encoder: &str, scale: f64, rmse: Option<f64>, reference: &str| {
         m.row(vec![

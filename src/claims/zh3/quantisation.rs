@@ -37,7 +37,12 @@ fn sh(band: usize, case: &Case) -> Result<Encoded> {
     let q = crate::encoders::build(quantised, None, toml::Table::new())?.encoder;
     let bytes = quantise::encode_sh(&case.sh, band);
     let decoded = quantise::decode_sh(&bytes).with_context(|| format!("Z10: {quantised} on {}", case.name))?;
-    Ok(Encoded { plain: fit(e.as_ref(), &case.sh), quantised: fit(q.as_ref(), &case.sh), bytes, decoded: decoded.convolve_cosine() })
+    Ok(Encoded {
+        plain: fit(e.as_ref(), &case.sh),
+        quantised: fit(q.as_ref(), &case.sh),
+        bytes,
+        decoded: decoded.convolve_cosine(),
+    })
 }
 
 /// A ZH3 encoder kind, unquantised and with `quantise = "ratio8"`.
@@ -142,11 +147,18 @@ mod tests {
     fn sizes_and_round_trips_on_a_scene() {
         let grid = crate::reference::domain::Domain::Sphere.output_grid((64, 32));
         let l = Lighting(vec![
-            Light::Cap { axis: DVec3::new(0.3, 0.9, 0.2).normalize(), half_angle: 0.3, radiance: Rgb::new(8.0, 6.0, 4.0) },
+            Light::Cap {
+                axis: DVec3::new(0.3, 0.9, 0.2).normalize(),
+                half_angle: 0.3,
+                radiance: Rgb::new(8.0, 6.0, 4.0),
+            },
             Light::Ambient(Rgb::new(0.2, 0.3, 0.4)),
         ]);
-        let case =
-            Case { name: "scene".into(), sh: l.sh(), reference: grid.normals.iter().map(|&n| l.irradiance(n)).collect() };
+        let case = Case {
+            name: "scene".into(),
+            sh: l.sh(),
+            reference: grid.normals.iter().map(|&n| l.irradiance(n)).collect(),
+        };
         let m = quantised_sizes(&grid, &[case]).unwrap();
         m.to_csv().unwrap();
         let col = |name: &str| m.columns.iter().position(|c| c == name).unwrap();
@@ -164,7 +176,8 @@ mod tests {
             for c in 0..3 {
                 sum += (dc.max_element() / 512.0).powi(2);
                 for i in 1..if band == 2 { 9 } else { 4 } {
-                    let (a, b) = if i < 4 { (2.0 / 3.0, quantise::bound_l1()) } else { (0.25, quantise::bounds_l2()[i - 4]) };
+                    let (a, b) =
+                        if i < 4 { (2.0 / 3.0, quantise::bound_l1()) } else { (0.25, quantise::bounds_l2()[i - 4]) };
                     sum += (a * b * dc[c] / 254.0).powi(2);
                 }
             }

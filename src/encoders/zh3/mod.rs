@@ -699,7 +699,8 @@ mod tests {
         let b1 = quantise::bound_l1();
         let l1: [DVec3; 3] = std::array::from_fn(|c| {
             let v = (z.l1[c] * 1.5).to_array();
-            DVec3::from_array(v.map(|x| quantise::ratio8_decode(quantise::ratio8_encode(x, dc[c], b1), dc[c], b1))) / 1.5
+            DVec3::from_array(v.map(|x| quantise::ratio8_decode(quantise::ratio8_encode(x, dc[c], b1), dc[c], b1)))
+                / 1.5
         });
         if !store_k {
             return finish_hallucinated(dc, l1, rule, curve);
@@ -724,7 +725,9 @@ mod tests {
                 sh = sh + delta_light(rng.unit(), Rgb::new(rng.uniform01(), rng.uniform01(), 1.0));
             }
             let irr = sh.convolve_cosine();
-            for (rule, store_k) in [(AxisRule::Shared(Rgb::ONE / 3.0), true), (AxisRule::Shared(crate::math::colour::REC709), false)] {
+            for (rule, store_k) in
+                [(AxisRule::Shared(Rgb::ONE / 3.0), true), (AxisRule::Shared(crate::math::colour::REC709), false)]
+            {
                 let z = if store_k { stored(&irr, rule) } else { hallucinate(&irr, rule, Curve::PAPER) };
                 let bytes = encode_zh3(&z, store_k);
                 assert_eq!(bytes.len(), if store_k { 16 } else { 13 });
