@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::harness::{parse_csv, probelab, run};
+use common::harness::{parse_csv, probelab, run, Run};
 use common::shared_maps::{shared_envmaps, PAPER_PROBES};
 use std::path::Path;
 
