@@ -228,6 +228,7 @@ pub fn main_with(cli: Cli) -> Result<i32> {
             let run = crate::regression::claims::run(&root, &search, &out, false, true)?;
             let (claims_ok, text) = crate::regression::claims::report(&run, false);
             print!("{text}");
+            write_strips(&out, &run)?;
             if !claims_ok {
                 refused.push("claims".into());
             }
@@ -269,6 +270,7 @@ pub fn main_with(cli: Cli) -> Result<i32> {
                 let run = crate::regression::claims::run(&root, &search, &out, true, true)?;
                 let (_, text) = crate::regression::claims::report(&run, false);
                 print!("{text}");
+                write_strips(&out, &run)?;
                 println!("claims: wrote {} file(s)", run.written.len());
             }
             Ok(code)
@@ -312,7 +314,8 @@ pub fn main_with(cli: Cli) -> Result<i32> {
             let run = crate::regression::claims::run(&root, &search, &out, false, true)?;
             let (ok, text) = crate::regression::claims::report(&run, false);
             print!("{text}");
-            eprintln!("wrote {} file(s) under {}", run.written.len(), out.display());
+            let strips = write_strips(&out, &run)?;
+            eprintln!("wrote {} file(s) and {strips} blending strip(s) under {}", run.written.len(), out.display());
             Ok(if ok { 0 } else { 1 })
         }
         Command::Encoders => {
@@ -366,6 +369,16 @@ fn describe_search(s: &SearchPath) -> String {
         .map(|d| if d.is_dir() { d.display().to_string() } else { format!("{} (missing)", d.display()) })
         .collect::<Vec<_>>()
         .join(", ")
+}
+
+/// Draws the lightmap study's blending strips (report layer) and writes them under
+/// `results/claims/`, each atomically; returns how many.
+fn write_strips(out: &Path, run: &crate::regression::claims::ClaimsRun) -> Result<usize> {
+    let strips = crate::report::strip::pngs(&run.strips)?;
+    for (name, bytes) in &strips {
+        crate::pipeline::atomic::write(&out.join("claims").join(name), bytes)?;
+    }
+    Ok(strips.len())
 }
 
 /// Writes results/REPORT.md with its pictures (`report::generate`).

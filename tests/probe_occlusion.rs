@@ -54,7 +54,9 @@ fn generated_experiment_rows_satisfy_the_identities() {
     assert_eq!(q2l.len(), 36);
     for (k, a) in &q2l {
         let b = full_l1[k];
-        assert!((a - b).abs() <= 1e-9 * a.abs().max(b.abs()).max(1e-12), "{k:?}: {a} vs {b}");
+        // Equal to rounding: 1e-9 relative, or 1e-12 absolute where both are at the reference's
+        // floor (the constant scene's errors are ~2e-9).
+        assert!((a - b).abs() <= (1e-9 * a.abs().max(b.abs())).max(1e-12), "{k:?}: {a} vs {b}");
     }
     let (hlsh, unocc) = (of("hlsh", "at_normal_abs_err"), of("probe_unoccluded", "at_normal_abs_err"));
     for (k, a) in &hlsh {

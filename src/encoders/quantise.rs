@@ -12,7 +12,9 @@
 //!   L1 component; for L2 √15/2 (m = −2, −1, 1, 2) and √5 (m = 0); √5 for the ZH3 coefficient
 //!   f/L₀₀ (its range is [−√5/2, √5]). Ratios are taken to the *decoded* DC, as a decoder sees it.
 //!
-//! So L1 = 4 + 9 = 13 bytes, ZH3 = 13 + 3 = 16 bytes, L2 = 13 + 15 = 28 bytes.
+//! So L1 = 4 + 9 = 13 bytes, ZH3 = 13 + 3 = 16 bytes, L2 = 13 + 15 = 28 bytes. The encoders
+//! store exactly these bytes ([`encode_sh`]; ZH3: `zh3::encode_zh3`) and evaluate what their
+//! decoder reads back ([`decode_sh`]; `zh3::decode_zh3`), so the sizes are counted, not assumed.
 //!
 //! | id       | what | bytes | stored scalars |
 //! |----------|------|-------|----------------|
@@ -25,7 +27,7 @@ use crate::encoders::encoder::{Encoder, FitInput, Fitted, Params};
 use crate::encoders::sh::ShIrradiance;
 use crate::math::colour::Rgb;
 use crate::math::sh::Sh9;
-use anyhow::Result;
+use anyhow::{bail, Result};
 
 /// Bytes of a quantised L1, ZH3 and L2 probe (FORMULAS §11).
 pub const BYTES_L1: usize = 13;
@@ -98,21 +100,60 @@ pub fn ratio8_decode(q: i8, dc: f64, bound: f64) -> f64 {
     q as f64 / 127.0 * bound * dc
 }
 
-/// Quantises a radiance SH through band `max_band` (1 or 2): DC in RGB9E5, the rest as ratio
-/// bytes. Returns the decoded radiance SH (higher bands zero).
-pub fn quantise_sh(sh: &Sh9, max_band: usize) -> Sh9 {
-    let dc = rgb9e5_decode(rgb9e5_encode(sh[0]));
-    let mut out = Sh9::ZERO;
-    out[0] = dc;
-    let b2 = bounds_l2();
+/// The ratio bound of radiance SH coefficient `i` (1..8): [`bound_l1`] for band 1,
+/// [`bounds_l2`] for band 2.
+fn bound_of(i: usize) -> f64 {
+    if i < 4 {
+        bound_l1()
+    } else {
+        bounds_l2()[i - 4]
+    }
+}
+
+/// Serialises a radiance SH through band `max_band` (2 for L2, otherwise L1) as FORMULAS §11
+/// (module doc): DC in RGB9E5 (4 bytes, little-endian), then one signed ratio byte per
+/// coefficient i = 1.. and channel r, g, b, each a ratio to the *decoded* DC. 13 bytes for L1,
+/// 28 for L2.
+pub fn encode_sh(sh: &Sh9, max_band: usize) -> Vec<u8> {
+    let packed = rgb9e5_encode(sh[0]);
+    let dc = rgb9e5_decode(packed);
     let last = if max_band >= 2 { 9 } else { 4 };
+    let mut out = Vec::with_capacity(if max_band >= 2 { BYTES_L2 } else { BYTES_L1 });
+    out.extend_from_slice(&packed.to_le_bytes());
     for i in 1..last {
-        let bound = if i < 4 { bound_l1() } else { b2[i - 4] };
         for c in 0..3 {
-            out[i][c] = ratio8_decode(ratio8_encode(sh[i][c], dc[c], bound), dc[c], bound);
+            out.push(ratio8_encode(sh[i][c], dc[c], bound_of(i)) as u8);
         }
     }
     out
+}
+
+/// Decodes [`encode_sh`]'s bytes: the length decides the band (13: L1, 28: L2; higher bands
+/// zero); any other length is an error.
+pub fn decode_sh(bytes: &[u8]) -> Result<Sh9> {
+    let last = match bytes.len() {
+        BYTES_L1 => 4,
+        BYTES_L2 => 9,
+        n => bail!("quantised SH: {n} bytes; expected {BYTES_L1} (L1) or {BYTES_L2} (L2)"),
+    };
+    let dc = rgb9e5_decode(u32::from_le_bytes([bytes[0], bytes[1], bytes[2], bytes[3]]));
+    let mut out = Sh9::ZERO;
+    out[0] = dc;
+    let mut q = bytes[4..].iter();
+    for i in 1..last {
+        for c in 0..3 {
+            let b = *q.next().expect("the length was checked");
+            out[i][c] = ratio8_decode(b as i8, dc[c], bound_of(i));
+        }
+    }
+    Ok(out)
+}
+
+/// Quantises a radiance SH through band `max_band` (1 or 2): its serialised form
+/// ([`encode_sh`]), decoded ([`decode_sh`]). Returns the decoded radiance SH (higher bands
+/// zero).
+pub fn quantise_sh(sh: &Sh9, max_band: usize) -> Sh9 {
+    decode_sh(&encode_sh(sh, max_band)).expect("encode_sh writes 13 or 28 bytes")
 }
 
 /// SH L1 or L2 quantised to 13 or 28 bytes.
@@ -133,8 +174,10 @@ impl Encoder for ShQuantised {
         3 * (self.max_band + 1) * (self.max_band + 1)
     }
     fn fit(&self, input: &FitInput) -> Box<dyn Fitted> {
-        let q = quantise_sh(input.visible_sh, self.max_band);
-        Box::new(Quantised(ShIrradiance(q.convolve_cosine()), if self.max_band == 1 { BYTES_L1 } else { BYTES_L2 }))
+        // The stored bytes, decoded: what a shader would read.
+        let bytes = encode_sh(input.visible_sh, self.max_band);
+        let q = decode_sh(&bytes).expect("encode_sh writes 13 or 28 bytes");
+        Box::new(Quantised(ShIrradiance(q.convolve_cosine()), bytes.len()))
     }
 }
 
@@ -197,6 +240,74 @@ mod tests {
         }
         // Exactly representable values survive.
         assert_eq!(rgb9e5_decode(rgb9e5_encode(Rgb::new(256.0, 128.0, 1.0))), Rgb::new(256.0, 128.0, 1.0));
+    }
+
+    /// The quantisation as it was specified scalar by scalar (DC through RGB9E5, each other
+    /// coefficient through a ratio byte to the decoded DC), independently of the byte layout.
+    fn per_scalar(sh: &Sh9, max_band: usize) -> Sh9 {
+        let dc = rgb9e5_decode(rgb9e5_encode(sh[0]));
+        let mut out = Sh9::ZERO;
+        out[0] = dc;
+        for i in 1..if max_band >= 2 { 9 } else { 4 } {
+            let b = if i < 4 { bound_l1() } else { bounds_l2()[i - 4] };
+            for c in 0..3 {
+                out[i][c] = ratio8_decode(ratio8_encode(sh[i][c], dc[c], b), dc[c], b);
+            }
+        }
+        out
+    }
+
+    /// Serialising and decoding is the scalar-by-scalar quantisation, bit for bit, has the
+    /// talk's sizes, and is idempotent (decoded values re-encode to the same values).
+    #[test]
+    fn serialised_round_trip() {
+        let mut rng = crate::math::test_rng::Rng::new(7);
+        for k in 0..300 {
+            // Non-negative lighting (three delta lights, some ambient), and every fourth an
+            // arbitrary SH (negative DC, ratios beyond the bounds: clamped).
+            let mut sh = Sh9::ZERO;
+            for _ in 0..3 {
+                sh = sh + delta_light(rng.unit(), Rgb::new(rng.uniform01(), rng.uniform01(), rng.uniform01()) * 3.0);
+            }
+            sh[0] += Rgb::splat(0.1 * (k % 3) as f64);
+            if k % 4 == 3 {
+                sh = rng.sh();
+            }
+            for (band, len) in [(1, BYTES_L1), (2, BYTES_L2)] {
+                let bytes = encode_sh(&sh, band);
+                assert_eq!(bytes.len(), len);
+                let d = decode_sh(&bytes).unwrap();
+                assert_eq!(d, per_scalar(&sh, band), "{k} band {band}");
+                assert_eq!(quantise_sh(&sh, band), d);
+                assert_eq!(decode_sh(&encode_sh(&d, band)).unwrap(), d, "{k} band {band}: not idempotent");
+            }
+        }
+    }
+
+    /// Hand-made bytes decode to the values the layout defines: RGB9E5 (256, 256, 256, exponent
+    /// 16) is 1.0 per channel, and ratio bytes ±127 are ±bound × DC.
+    #[test]
+    fn bytes_decode_by_the_layout() {
+        let dc: u32 = 256 | (256 << 9) | (256 << 18) | (16 << 27);
+        let mut b = dc.to_le_bytes().to_vec();
+        b.extend_from_slice(&[127, 0, 129, 0, 0, 0, 0, 0, 0]); // L1₋₁: r = √3, b = −√3
+        let sh = decode_sh(&b).unwrap();
+        assert_eq!(sh[0], Rgb::ONE);
+        assert_eq!(sh[1], Rgb::new(3f64.sqrt(), 0.0, -(3f64.sqrt())));
+        assert_eq!(encode_sh(&sh, 1), b);
+        b.extend_from_slice(&[0; 15]);
+        b[4 + 9 + 6] = 127; // L2₀, red: √5
+        let sh = decode_sh(&b).unwrap();
+        assert_eq!(sh[6], Rgb::new(5f64.sqrt(), 0.0, 0.0));
+        assert_eq!(encode_sh(&sh, 2), b);
+    }
+
+    #[test]
+    fn wrong_lengths_are_refused() {
+        for n in [0, 4, 12, 14, 16, 27, 29] {
+            let e = decode_sh(&vec![0u8; n]).unwrap_err().to_string();
+            assert!(e.contains(&format!("{n} bytes")) && e.contains("13") && e.contains("28"), "{e}");
+        }
     }
 
     /// A delta light's ratios sit on the bounds, so quantisation keeps them to the byte step.

@@ -11,6 +11,7 @@
 //! command says so; nothing is rewritten from partial data.
 
 use crate::claims::declaration::{load_papers, Paper};
+use crate::claims::lightmap::strip::BlendStrip;
 use crate::claims::measure::Measure;
 use crate::claims::verdicts;
 use crate::envmap::search::SearchPath;
@@ -19,14 +20,17 @@ use crate::regression::tolerance::Tolerances;
 use anyhow::Result;
 use std::path::Path;
 
-/// The fresh measurements, or why they were not taken (a map is missing).
-pub fn measure(search: &SearchPath) -> std::result::Result<Vec<Measure>, String> {
+/// The fresh measurements and the blending strips (as data), or why they were not taken (a
+/// map is missing).
+pub fn measure(search: &SearchPath) -> std::result::Result<(Vec<Measure>, Vec<BlendStrip>), String> {
     let missing: Vec<&str> = crate::claims::zh3::MAPS.iter().copied().filter(|m| search.resolve(m).is_err()).collect();
     if !missing.is_empty() {
         return Err(format!("map(s) not on the search path: {}", missing.join(", ")));
     }
-    let (zh3, _) = crate::claims::zh3::measure(search).map_err(|e| format!("{e:#}"))?;
-    Ok(zh3)
+    let (mut all, _) = crate::claims::zh3::measure(search).map_err(|e| format!("{e:#}"))?;
+    let study = crate::claims::lightmap::measure(search).map_err(|e| format!("{e:#}"))?;
+    all.extend(study.measures);
+    Ok((all, study.strips))
 }
 
 /// One measurement against its committed table: the changes (empty: nothing moved, or no
@@ -52,6 +56,9 @@ pub struct ClaimsRun {
     pub skipped: Option<String>,
     /// The verdicts that differ from the committed CLAIMS.csv: (id, old, new).
     pub verdicts_changed: Vec<(String, String, String)>,
+    /// The blending strips of the lightmap study, for the report layer to draw (empty when
+    /// the measurements were not taken).
+    pub strips: Vec<BlendStrip>,
 }
 
 /// The committed verdicts, by id.
@@ -70,10 +77,11 @@ fn committed_verdicts(results: &Path) -> Vec<(String, String)> {
 pub fn run(root: &Path, search: &SearchPath, results: &Path, bless: bool, write_verdicts: bool) -> Result<ClaimsRun> {
     let tolerances = Tolerances::load(root)?;
     let papers: Vec<Paper> = load_papers(&root.join("experiments"))?;
-    let mut run = ClaimsRun { written: vec![], moved: vec![], skipped: None, verdicts_changed: vec![] };
+    let mut run = ClaimsRun { written: vec![], moved: vec![], skipped: None, verdicts_changed: vec![], strips: vec![] };
     match measure(search) {
         Err(why) => run.skipped = Some(why),
-        Ok(ms) => {
+        Ok((ms, strips)) => {
+            run.strips = strips;
             let mut keep = Vec::new();
             for m in ms {
                 match compare_measure(results, &m, &tolerances)? {

@@ -3,7 +3,7 @@
 //! of [`blend::METHODS`] — each row holding E/π at the strip's normals ([`strip_normals`]: a
 //! disc looking down N, [`STRIP_DISC`] pixels across). The claims layer measures it; the
 //! report layer draws it (`report::strip`), and `probelab claims lightmap` writes the picture
-//! as `blend_strip_<pair>.png` beside `blend.csv`.
+//! as `results/claims/blend_strip_<pair>.png`.
 
 use super::blend;
 use crate::math::colour::Rgb;

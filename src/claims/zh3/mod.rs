@@ -1,6 +1,7 @@
 //! The ZH3 talk's measurements that no experiment table row holds: zonal lights against SH3
 //! (Z1), the chroma error of per-channel axes (Z2), the solved axis on a constructed scene
-//! (Z3), mismatched axis weights per channel (Z4) and the Geomerics moments (Z5). Z6–Z8 are
+//! (Z3), mismatched axis weights per channel (Z4), the Geomerics moments (Z5), blending (Z9) and
+//! the serialised quantised sizes (Z10). Z6–Z8 are
 //! judged on the `zh3_table` experiment; the claims themselves, their criteria and verdicts
 //! are data (`experiments/claims/zh3.toml`) judged by the one engine (`claims::judge`).
 //!
@@ -14,10 +15,10 @@
 //! (`geomerics`: Z5), blending (`blending`: Z9) and quantisation (`quantisation`: Z10).
 
 mod axis;
-// mod blending; (converted to a measure on the claims-measures branch)
+mod blending;
 mod cases;
 mod geomerics;
-// mod quantisation; (converted to a measure on the claims-measures branch)
+mod quantisation;
 
 use crate::claims::measure::Measure;
 use crate::envmap::search::SearchPath;
@@ -59,6 +60,8 @@ pub fn measure(search: &SearchPath) -> Result<(Vec<Measure>, Vec<(String, String
         axis::z3(&grid, &cases)?,
         axis::z4(&grid, &cases)?,
         geomerics::z5(&grid, &cases)?,
+        blending::zh3_blend(&grid)?,
+        quantisation::quantised_sizes(&grid, &cases)?,
     ];
     Ok((out, maps))
 }

@@ -50,7 +50,7 @@ use crate::encoders::zh3::solve::{
 };
 use crate::math::colour::Rgb;
 use crate::math::sh::Sh9;
-use anyhow::{bail, Result};
+use anyhow::{bail, Context, Result};
 use glam::DVec3;
 
 /// Where the zonal axis of each channel comes from.
@@ -171,31 +171,53 @@ pub fn solved(irr: &Sh9, rule: AxisRule, err_w: Rgb, zonal: Zonal, settings: &So
     Solved { zh3, stats }
 }
 
-/// Quantises a ZH3 as FORMULAS §11 (`quantise.rs`): DC in RGB9E5, the radiance L1 components and
-/// (if `store_k`) f/L₀₀ as ratio bytes. The decoder recomputes the axes from the decoded L1 by
-/// `rule`; without a stored coefficient it hallucinates k from the decoded L1 with `curve`.
-pub fn quantise_zh3(z: &Zh3, rule: AxisRule, store_k: bool, curve: Curve) -> Zh3 {
-    let dc = quantise::rgb9e5_decode(quantise::rgb9e5_encode(z.l0));
-    let b1 = quantise::bound_l1();
-    let l1: [DVec3; 3] = std::array::from_fn(|c| {
-        // Radiance L1 = 1.5 × irradiance L1.
+/// f_rad/k_irr: the radiance coefficient of the rotated Y₂₀ per irradiance zonal coefficient,
+/// f_rad = 4·f_irr = 4·√(5/4π)·k_irr.
+fn f_of_k() -> f64 {
+    4.0 * (5.0 / (4.0 * std::f64::consts::PI)).sqrt()
+}
+
+/// Serialises a ZH3 as FORMULAS §11 (`quantise.rs`): the radiance L0 and L1 as SH L1's 13
+/// bytes ([`quantise::encode_sh`]), then, if `store_k`, the ratio f/L₀₀ of each channel as one
+/// signed byte (bound [`quantise::bound_zh3`]): 16 bytes. Without it (hallucinated ZH3) the
+/// decoder hallucinates k from the decoded L1: 13 bytes.
+pub fn encode_zh3(z: &Zh3, store_k: bool) -> Vec<u8> {
+    // Radiance SH of L0 and L1: L₀₀ = irradiance L0 (E/π), L1 = 1.5 × irradiance L1.
+    let mut rad = Sh9::ZERO;
+    rad[0] = z.l0;
+    for c in 0..3 {
         let v = z.l1[c] * 1.5;
-        DVec3::from_array(
-            v.to_array().map(|x| quantise::ratio8_decode(quantise::ratio8_encode(x, dc[c], b1), dc[c], b1)),
-        ) / 1.5
-    });
-    if !store_k {
-        return finish_hallucinated(dc, l1, rule, curve);
+        (rad[1][c], rad[2][c], rad[3][c]) = (-v.y, v.z, -v.x);
     }
-    let axes = rule.axes(&l1);
-    // f_rad = 4·f_irr = 4·√(5/4π)·k_irr.
-    let f_of_k = 4.0 * (5.0 / (4.0 * std::f64::consts::PI)).sqrt();
+    let mut out = quantise::encode_sh(&rad, 1);
+    if store_k {
+        let dc = quantise::rgb9e5_decode(quantise::rgb9e5_encode(z.l0));
+        let bz = quantise::bound_zh3();
+        out.extend((0..3).map(|c| quantise::ratio8_encode(z.k[c] * f_of_k(), dc[c], bz) as u8));
+    }
+    out
+}
+
+/// Decodes [`encode_zh3`]'s bytes: 13 (hallucinated: k from the decoded L1 with `curve`) or 16
+/// (stored k); the axes come from the decoded L1 by `rule`. Any other length is an error.
+pub fn decode_zh3(bytes: &[u8], rule: AxisRule, curve: Curve) -> Result<Zh3> {
+    if bytes.len() != quantise::BYTES_L1 && bytes.len() != quantise::BYTES_ZH3 {
+        bail!(
+            "quantised ZH3: {} bytes; expected {} (hallucinated) or {} (stored zonal coefficient)",
+            bytes.len(),
+            quantise::BYTES_L1,
+            quantise::BYTES_ZH3
+        );
+    }
+    let rad = quantise::decode_sh(&bytes[..quantise::BYTES_L1])?;
+    let dc = rad[0];
+    let l1: [DVec3; 3] = std::array::from_fn(|c| rad.l1_vector(c) / 1.5);
+    let Some(kb) = bytes.get(quantise::BYTES_L1..).filter(|k| !k.is_empty()) else {
+        return Ok(finish_hallucinated(dc, l1, rule, curve));
+    };
     let bz = quantise::bound_zh3();
-    let k = Rgb::from_array(std::array::from_fn(|c| {
-        let f = z.k[c] * f_of_k;
-        quantise::ratio8_decode(quantise::ratio8_encode(f, dc[c], bz), dc[c], bz) / f_of_k
-    }));
-    Zh3 { l0: dc, l1, axes, k }
+    let k = Rgb::from_array(std::array::from_fn(|c| quantise::ratio8_decode(kb[c] as i8, dc[c], bz) / f_of_k()));
+    Ok(Zh3 { l0: dc, l1, axes: rule.axes(&l1), k })
 }
 
 /// What a ZH3 encoder does.
@@ -286,13 +308,35 @@ impl Zh3Encoder {
             diag.extend([("c1", c1), ("c2", c2), ("c3", c3)]);
         }
         let zh3 = if self.quantise {
-            let store_k = curve.is_none();
-            diag.push(("bytes", if store_k { quantise::BYTES_ZH3 } else { quantise::BYTES_L1 } as f64));
-            quantise_zh3(&zh3, self.rule, store_k, curve.unwrap_or(Curve::PAPER))
+            // The stored bytes, decoded: what a shader would read.
+            let bytes = self.encode(&zh3);
+            diag.push(("bytes", bytes.len() as f64));
+            self.decode(&bytes).expect("encode_zh3 writes 13 or 16 bytes")
         } else {
             zh3
         };
         Zh3Fit { zh3, sh: zh3.to_sh(), diagnostics: diag }
+    }
+}
+
+impl Zh3Encoder {
+    /// The curve that gives k when none is stored (hallucinated variants), or None (stored k).
+    fn curve(&self) -> Option<Curve> {
+        match self.method {
+            Method::Hallucinate(c) | Method::Solved(Zonal::Hallucinated(c)) => Some(c),
+            Method::Stored | Method::Solved(Zonal::Stored) => None,
+        }
+    }
+
+    /// The bytes this encoder stores for a ZH3 when quantised ([`encode_zh3`]): 16 with a
+    /// stored zonal coefficient, 13 when it hallucinates one.
+    pub fn encode(&self, z: &Zh3) -> Vec<u8> {
+        encode_zh3(z, self.curve().is_none())
+    }
+
+    /// Decodes this encoder's bytes ([`decode_zh3`] with its axis rule and curve).
+    pub fn decode(&self, bytes: &[u8]) -> Result<Zh3> {
+        decode_zh3(bytes, self.rule, self.curve().unwrap_or(Curve::PAPER))
     }
 }
 
@@ -386,54 +430,106 @@ fn make(
     rule: AxisRule,
     err_w: Rgb,
     settings: SolverSettings,
-) -> Result<Box<dyn Encoder>> {
+) -> Result<Zh3Encoder> {
     let quantise = quantise_key(p)?;
     p.finish(id)?;
-    Ok(Box::new(Zh3Encoder { id, method, rule, err_w, settings, quantise }))
+    Ok(Zh3Encoder { id, method, rule, err_w, settings, quantise })
 }
 
-pub fn build_hallucinate(p: &mut Params) -> Result<Box<dyn Encoder>> {
+fn hallucinate_encoder(p: &mut Params) -> Result<Zh3Encoder> {
     let rule = AxisRule::Shared(weights(p, "axis_weights", "rec709")?);
     let c = curve(p)?;
     make(p, "zh3_hallucinate", Method::Hallucinate(c), rule, Rgb::ZERO, SolverSettings::default())
 }
-pub fn build_hallucinate_channel(p: &mut Params) -> Result<Box<dyn Encoder>> {
+fn hallucinate_channel_encoder(p: &mut Params) -> Result<Zh3Encoder> {
     let c = curve(p)?;
     make(p, "zh3_hallucinate_channel", Method::Hallucinate(c), AxisRule::Channel, Rgb::ZERO, SolverSettings::default())
 }
-pub fn build_hallucinate_ambdir(p: &mut Params) -> Result<Box<dyn Encoder>> {
+fn hallucinate_ambdir_encoder(p: &mut Params) -> Result<Zh3Encoder> {
     let rule = AxisRule::Shared(weights(p, "axis_weights", "rec709")?);
     let m = Method::Hallucinate(Curve::AmbientDirectional);
     make(p, "zh3_hallucinate_ambdir", m, rule, Rgb::ZERO, SolverSettings::default())
 }
-pub fn build_hallucinate_sphere(p: &mut Params) -> Result<Box<dyn Encoder>> {
+fn hallucinate_sphere_encoder(p: &mut Params) -> Result<Zh3Encoder> {
     let rule = AxisRule::Shared(weights(p, "axis_weights", "rec709")?);
     let m = Method::Hallucinate(Curve::SphereLight);
     make(p, "zh3_hallucinate_sphere", m, rule, Rgb::ZERO, SolverSettings::default())
 }
-pub fn build_stored_channel(p: &mut Params) -> Result<Box<dyn Encoder>> {
+fn stored_channel_encoder(p: &mut Params) -> Result<Zh3Encoder> {
     make(p, "zh3_stored_channel", Method::Stored, AxisRule::Channel, Rgb::ZERO, SolverSettings::default())
 }
-pub fn build_stored_shared(p: &mut Params) -> Result<Box<dyn Encoder>> {
+fn stored_shared_encoder(p: &mut Params) -> Result<Zh3Encoder> {
     let rule = AxisRule::Shared(weights(p, "axis_weights", "equal")?);
     make(p, "zh3_stored_shared", Method::Stored, rule, Rgb::ZERO, SolverSettings::default())
 }
-pub fn build_solved_channel(p: &mut Params) -> Result<Box<dyn Encoder>> {
+fn solved_channel_encoder(p: &mut Params) -> Result<Zh3Encoder> {
     let s = settings(p, true)?;
     make(p, "zh3_solved_channel", Method::Solved(Zonal::Stored), AxisRule::Channel, Rgb::ONE, s)
 }
-pub fn build_solved_shared(p: &mut Params) -> Result<Box<dyn Encoder>> {
+fn solved_shared_encoder(p: &mut Params) -> Result<Zh3Encoder> {
     let rule = AxisRule::Shared(weights(p, "axis_weights", "equal")?);
     let err_w = error_weights(p)?;
     let s = settings(p, true)?;
     make(p, "zh3_solved_shared", Method::Solved(Zonal::Stored), rule, err_w, s)
 }
-pub fn build_hallucinate_solved(p: &mut Params) -> Result<Box<dyn Encoder>> {
+fn hallucinate_solved_encoder(p: &mut Params) -> Result<Zh3Encoder> {
     let rule = AxisRule::Shared(weights(p, "axis_weights", "equal")?);
     let err_w = error_weights(p)?;
     let c = curve(p)?;
     let s = settings(p, false)?;
     make(p, "zh3_hallucinate_solved", Method::Solved(Zonal::Hallucinated(c)), rule, err_w, s)
+}
+
+/// The ZH3 kinds and their configurations (the registry's `build_*` box these).
+type Configure = fn(&mut Params) -> Result<Zh3Encoder>;
+const KINDS: [(&str, Configure); 9] = [
+    ("zh3_hallucinate", hallucinate_encoder),
+    ("zh3_hallucinate_channel", hallucinate_channel_encoder),
+    ("zh3_hallucinate_ambdir", hallucinate_ambdir_encoder),
+    ("zh3_hallucinate_sphere", hallucinate_sphere_encoder),
+    ("zh3_stored_channel", stored_channel_encoder),
+    ("zh3_stored_shared", stored_shared_encoder),
+    ("zh3_solved_channel", solved_channel_encoder),
+    ("zh3_solved_shared", solved_shared_encoder),
+    ("zh3_hallucinate_solved", hallucinate_solved_encoder),
+];
+
+pub fn build_hallucinate(p: &mut Params) -> Result<Box<dyn Encoder>> {
+    Ok(Box::new(hallucinate_encoder(p)?))
+}
+pub fn build_hallucinate_channel(p: &mut Params) -> Result<Box<dyn Encoder>> {
+    Ok(Box::new(hallucinate_channel_encoder(p)?))
+}
+pub fn build_hallucinate_ambdir(p: &mut Params) -> Result<Box<dyn Encoder>> {
+    Ok(Box::new(hallucinate_ambdir_encoder(p)?))
+}
+pub fn build_hallucinate_sphere(p: &mut Params) -> Result<Box<dyn Encoder>> {
+    Ok(Box::new(hallucinate_sphere_encoder(p)?))
+}
+pub fn build_stored_channel(p: &mut Params) -> Result<Box<dyn Encoder>> {
+    Ok(Box::new(stored_channel_encoder(p)?))
+}
+pub fn build_stored_shared(p: &mut Params) -> Result<Box<dyn Encoder>> {
+    Ok(Box::new(stored_shared_encoder(p)?))
+}
+pub fn build_solved_channel(p: &mut Params) -> Result<Box<dyn Encoder>> {
+    Ok(Box::new(solved_channel_encoder(p)?))
+}
+pub fn build_solved_shared(p: &mut Params) -> Result<Box<dyn Encoder>> {
+    Ok(Box::new(solved_shared_encoder(p)?))
+}
+pub fn build_hallucinate_solved(p: &mut Params) -> Result<Box<dyn Encoder>> {
+    Ok(Box::new(hallucinate_solved_encoder(p)?))
+}
+
+/// The concrete encoder of a ZH3 kind with TOML settings — what `encoders::build` boxes —
+/// for a caller that needs the ZH3 itself or its stored bytes (claim Z10's byte counts).
+pub fn configured(kind: &str, params: toml::Table) -> Result<Zh3Encoder> {
+    let Some((_, f)) = KINDS.iter().find(|(k, _)| *k == kind) else {
+        bail!("'{kind}' is not a ZH3 encoder (known: {})", KINDS.map(|k| k.0).join(", "));
+    };
+    let mut p = Params::new(params);
+    f(&mut p).with_context(|| format!("configuring encoder '{kind}'"))
 }
 
 #[cfg(test)]
@@ -593,5 +689,79 @@ mod tests {
         assert!(q.diagnostics().contains(&("bytes", 16.0)));
         let h = build("zh3_hallucinate", None, t).unwrap().encoder.fit(&FitInput::sphere(&sh));
         assert!(h.diagnostics().contains(&("bytes", 13.0)));
+    }
+
+    /// The quantisation as specified scalar by scalar (DC through RGB9E5; each radiance L1
+    /// component and f/L₀₀ through a ratio byte to the decoded DC), independently of the byte
+    /// layout.
+    fn per_scalar(z: &Zh3, rule: AxisRule, store_k: bool, curve: Curve) -> Zh3 {
+        let dc = quantise::rgb9e5_decode(quantise::rgb9e5_encode(z.l0));
+        let b1 = quantise::bound_l1();
+        let l1: [DVec3; 3] = std::array::from_fn(|c| {
+            let v = (z.l1[c] * 1.5).to_array();
+            DVec3::from_array(v.map(|x| quantise::ratio8_decode(quantise::ratio8_encode(x, dc[c], b1), dc[c], b1)))
+                / 1.5
+        });
+        if !store_k {
+            return finish_hallucinated(dc, l1, rule, curve);
+        }
+        let f_of_k = 4.0 * (5.0 / (4.0 * std::f64::consts::PI)).sqrt();
+        let bz = quantise::bound_zh3();
+        let k = Rgb::from_array(std::array::from_fn(|c| {
+            quantise::ratio8_decode(quantise::ratio8_encode(z.k[c] * f_of_k, dc[c], bz), dc[c], bz) / f_of_k
+        }));
+        Zh3 { l0: dc, l1, axes: rule.axes(&l1), k }
+    }
+
+    /// The serialised form is the scalar-by-scalar quantisation bit for bit, is 16 bytes with
+    /// a stored coefficient and 13 without, starts with SH L1's 13 bytes, and decodes
+    /// idempotently.
+    #[test]
+    fn serialised_zh3_round_trip() {
+        let mut rng = crate::math::test_rng::Rng::new(11);
+        for i in 0..200 {
+            let mut sh = constant(Rgb::splat(0.2 * rng.uniform01()));
+            for _ in 0..2 {
+                sh = sh + delta_light(rng.unit(), Rgb::new(rng.uniform01(), rng.uniform01(), 1.0));
+            }
+            let irr = sh.convolve_cosine();
+            for (rule, store_k) in
+                [(AxisRule::Shared(Rgb::ONE / 3.0), true), (AxisRule::Shared(crate::math::colour::REC709), false)]
+            {
+                let z = if store_k { stored(&irr, rule) } else { hallucinate(&irr, rule, Curve::PAPER) };
+                let bytes = encode_zh3(&z, store_k);
+                assert_eq!(bytes.len(), if store_k { 16 } else { 13 });
+                let mut rad = Sh9::ZERO;
+                rad[0] = irr[0];
+                for j in 1..4 {
+                    rad[j] = irr[j] * 1.5;
+                }
+                assert_eq!(bytes[..13], quantise::encode_sh(&rad, 1), "{i}: the first 13 bytes are SH L1's");
+                let d = decode_zh3(&bytes, rule, Curve::PAPER).unwrap();
+                assert_eq!(d, per_scalar(&z, rule, store_k, Curve::PAPER), "{i}");
+                assert_eq!(decode_zh3(&encode_zh3(&d, store_k), rule, Curve::PAPER).unwrap(), d, "{i}");
+            }
+        }
+        for n in [0, 12, 14, 15, 17, 28] {
+            let e = decode_zh3(&vec![0u8; n], AxisRule::Channel, Curve::PAPER).unwrap_err().to_string();
+            assert!(e.contains(&format!("{n} bytes")) && e.contains("13") && e.contains("16"), "{e}");
+        }
+    }
+
+    /// `configured` gives the registry's encoder (the same fit), and refuses other kinds.
+    #[test]
+    fn configured_is_the_registered_encoder() {
+        let sh = Light::Cap { axis: DVec3::X, half_angle: 0.3, radiance: Rgb::new(2.0, 3.0, 4.0) }.sh();
+        for (kind, _) in KINDS {
+            let c = configured(kind, toml::Table::new()).unwrap();
+            assert_eq!(c.id(), kind);
+            let f = fit(kind, &sh);
+            assert_eq!(c.fit(&FitInput::sphere(&sh)).sh3(), f.sh3(), "{kind}");
+        }
+        let e = configured("sh1", toml::Table::new()).err().unwrap().to_string();
+        assert!(e.contains("'sh1' is not a ZH3 encoder"), "{e}");
+        let mut t = toml::Table::new();
+        t.insert("quantise".into(), toml::Value::String("bits".into()));
+        assert!(format!("{:#}", configured("zh3_hallucinate", t).err().unwrap()).contains("key 'quantise'"));
     }
 }
