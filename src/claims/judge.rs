@@ -235,7 +235,8 @@ fn judge_set(t: &Evidence, k: &CheckDecl, set: &str, set_maps: Option<&[String]>
         }
         Some(cell.parse::<f64>().map_err(|_| anyhow::anyhow!("'{cell}' is not a number")))
     };
-    let label = |r: &[String]| keys.iter().map(|&c| r[c].as_str()).filter(|s| !s.is_empty()).collect::<Vec<_>>().join(" · ");
+    let label =
+        |r: &[String]| keys.iter().map(|&c| r[c].as_str()).filter(|s| !s.is_empty()).collect::<Vec<_>>().join(" · ");
     let mut picked: Vec<Picked> = Vec::new();
     for r in &t.rows {
         if let Some(v) = pick(r, &k.encoder) {
@@ -245,7 +246,12 @@ fn judge_set(t: &Evidence, k: &CheckDecl, set: &str, set_maps: Option<&[String]>
                 Err(e) if e.to_string() == "empty" => None,
                 Err(e) => bail!("row {}: {}: {e}", label(r), k.column),
             };
-            picked.push(Picked { row: r, label: label(r), map: map_col.map(|m| r[m].clone()).unwrap_or_default(), value });
+            picked.push(Picked {
+                row: r,
+                label: label(r),
+                map: map_col.map(|m| r[m].clone()).unwrap_or_default(),
+                value,
+            });
         }
     }
     let maps_judged = {
@@ -268,7 +274,11 @@ fn judge_set(t: &Evidence, k: &CheckDecl, set: &str, set_maps: Option<&[String]>
     }
     if let Some(s) = set_maps {
         let present: Vec<&str> = picked.iter().map(|p| p.map.as_str()).collect();
-        let missing: Vec<&String> = s.iter().filter(|m| k.maps.as_ref().is_none_or(|l| l.contains(m))).filter(|m| !present.contains(&m.as_str())).collect();
+        let missing: Vec<&String> = s
+            .iter()
+            .filter(|m| k.maps.as_ref().is_none_or(|l| l.contains(m)))
+            .filter(|m| !present.contains(&m.as_str()))
+            .collect();
         if !missing.is_empty() {
             return Ok(untestable(format!(
                 "{} map(s) of set '{set}' have no rows of '{}': {}",
@@ -390,7 +400,13 @@ fn judge_set(t: &Evidence, k: &CheckDecl, set: &str, set_maps: Option<&[String]>
             .map(|(p, a, b)| {
                 let d = (a - b).abs();
                 let scale = a.abs().max(b.abs());
-                let rel = if d <= abs_tolerance { 0.0 } else if scale > 0.0 { d / scale } else { f64::INFINITY };
+                let rel = if d <= abs_tolerance {
+                    0.0
+                } else if scale > 0.0 {
+                    d / scale
+                } else {
+                    f64::INFINITY
+                };
                 RowValue { label: p.label.clone(), map: p.map.clone(), value: rel, pass: rel <= tolerance }
             })
             .collect();
@@ -425,12 +441,23 @@ fn judge_set(t: &Evidence, k: &CheckDecl, set: &str, set_maps: Option<&[String]>
             let values: Vec<RowValue> = pairs
                 .iter()
                 .zip(&ratios)
-                .map(|((p, _, _), &r)| RowValue { label: p.label.clone(), map: p.map.clone(), value: r, pass: r < below })
+                .map(|((p, _, _), &r)| RowValue {
+                    label: p.label.clone(),
+                    map: p.map.clone(),
+                    value: r,
+                    pass: r < below,
+                })
                 .collect();
             let passing = values.iter().filter(|v| v.pass).count();
             let every = matches!(k.test, Test::RatioEvery { .. });
             let ok = if every { passing == n } else { passing > 0 };
-            let headline = format!("{name} median {}, range {}–{}; < {} in {passing}/{n}", fmt3(med), fmt3(lo), fmt3(hi), fmt3(below));
+            let headline = format!(
+                "{name} median {}, range {}–{}; < {} in {passing}/{n}",
+                fmt3(med),
+                fmt3(lo),
+                fmt3(hi),
+                fmt3(below)
+            );
             (ok, values, headline)
         }
         Test::RatioStat { statistic, min, max } => {
@@ -468,26 +495,25 @@ fn judge_set(t: &Evidence, k: &CheckDecl, set: &str, set_maps: Option<&[String]>
 
 /// Judges one check on every set it declares. `table` is its evidence, or why there is none.
 pub fn judge_check(paper: &Paper, k: &CheckDecl, table: &std::result::Result<Evidence, String>) -> CheckOutcome {
-    let sets = k
-        .on
-        .iter()
-        .map(|set| {
-            let set_maps = (set != "all").then(|| paper.map_sets.get(set).map(|v| v.as_slice()).unwrap_or(&[]));
-            let out = match table {
-                Err(why) => Err(why.clone()),
-                Ok(t) => judge_set(t, k, set, set_maps).map_err(|e| format!("{}: {e:#}", k.source.label())),
-            };
-            out.unwrap_or_else(|why| SetOutcome {
-                set: set.clone(),
-                maps: 0,
-                status: Status::Untestable(why),
-                headline: "no data".into(),
-                figure: String::new(),
-                values: vec![],
-                excluded: 0,
+    let sets =
+        k.on.iter()
+            .map(|set| {
+                let set_maps = (set != "all").then(|| paper.map_sets.get(set).map(|v| v.as_slice()).unwrap_or(&[]));
+                let out = match table {
+                    Err(why) => Err(why.clone()),
+                    Ok(t) => judge_set(t, k, set, set_maps).map_err(|e| format!("{}: {e:#}", k.source.label())),
+                };
+                out.unwrap_or_else(|why| SetOutcome {
+                    set: set.clone(),
+                    maps: 0,
+                    status: Status::Untestable(why),
+                    headline: "no data".into(),
+                    figure: String::new(),
+                    values: vec![],
+                    excluded: 0,
+                })
             })
-        })
-        .collect();
+            .collect();
     CheckOutcome { decl: k.clone(), sets }
 }
 
@@ -548,7 +574,12 @@ pub fn judge_claim(
 /// The detail of one claim, as Markdown (for the evidence pages).
 pub fn detail_md(c: &ClaimDecl, o: &ClaimOutcome) -> String {
     let mut s = String::new();
-    let _ = writeln!(s, "**Verdict: {}**{}\n", o.verdict.word(), if o.verdict.why().is_empty() { String::new() } else { format!(" — {}", o.verdict.why()) });
+    let _ = writeln!(
+        s,
+        "**Verdict: {}**{}\n",
+        o.verdict.word(),
+        if o.verdict.why().is_empty() { String::new() } else { format!(" — {}", o.verdict.why()) }
+    );
     let _ = writeln!(s, "- **Paper:** {}", c.statement);
     let _ = writeln!(s, "- **Paper's figure:** {}", c.paper_figure);
     let _ = writeln!(s, "- **Criterion:** {}", c.criterion);
@@ -567,7 +598,10 @@ pub fn detail_md(c: &ClaimDecl, o: &ClaimOutcome) -> String {
             if d.filter.is_empty() {
                 String::new()
             } else {
-                format!(", rows with {}", d.filter.iter().map(|(k, v)| format!("{k} = {}", v.join("|"))).collect::<Vec<_>>().join(", "))
+                format!(
+                    ", rows with {}",
+                    d.filter.iter().map(|(k, v)| format!("{k} = {}", v.join("|"))).collect::<Vec<_>>().join(", ")
+                )
             },
             test_text(d)
         );
@@ -577,13 +611,22 @@ pub fn detail_md(c: &ClaimDecl, o: &ClaimOutcome) -> String {
                 Status::Fail => "fails".to_string(),
                 Status::Untestable(w) => format!("untestable ({w})"),
             };
-            let _ = writeln!(s, "- on {}: **{status}** — {}", set_label(set), if set.figure.is_empty() { &set.headline } else { &set.figure });
+            let _ = writeln!(
+                s,
+                "- on {}: **{status}** — {}",
+                set_label(set),
+                if set.figure.is_empty() { &set.headline } else { &set.figure }
+            );
         }
         // The per-row values of the widest set.
         if let Some(w) = k.sets.iter().max_by_key(|s| s.values.len()) {
             if !w.values.is_empty() && w.values.len() <= 60 {
                 let what = if d.test.needs_baseline() {
-                    if matches!(d.test, Test::Equal { .. }) { "relative difference" } else { "ratio" }
+                    if matches!(d.test, Test::Equal { .. }) {
+                        "relative difference"
+                    } else {
+                        "ratio"
+                    }
                 } else {
                     d.column.as_str()
                 };
@@ -604,7 +647,8 @@ pub fn detail_md(c: &ClaimDecl, o: &ClaimOutcome) -> String {
 pub fn test_text(d: &CheckDecl) -> String {
     let base = d.baseline.as_deref().unwrap_or("");
     let col = &d.column;
-    let floor = if d.floor > 0.0 { format!(" (rows with {base} {col} ≤ {} left out)", fmt3(d.floor)) } else { String::new() };
+    let floor =
+        if d.floor > 0.0 { format!(" (rows with {base} {col} ≤ {} left out)", fmt3(d.floor)) } else { String::new() };
     match &d.test {
         Test::RatioEvery { below } => format!("every {} / {base} {col} ratio < {}{floor}", d.encoder, fmt3(*below)),
         Test::RatioSome { below } => format!("some {} / {base} {col} ratio < {}{floor}", d.encoder, fmt3(*below)),
@@ -686,7 +730,10 @@ mod tests {
     #[test]
     fn ratio_statistics_are_never_a_mean_of_ratios() {
         // Ratio of means over m1..m3: (0.5 + 0.8 + 3) / (1 + 1 + 2) = 1.075; median 0.8.
-        let rom = judge(&format!("{CHECK}test='ratio_stat'\nstatistic='ratio_of_means'\nmin=1.07\nmax=1.08\nfloor=1e-6"), "all");
+        let rom = judge(
+            &format!("{CHECK}test='ratio_stat'\nstatistic='ratio_of_means'\nmin=1.07\nmax=1.08\nfloor=1e-6"),
+            "all",
+        );
         assert_eq!(rom.verdict, Verdict::Holds, "{}", rom.checks[0].sets[0].figure);
         let med = judge(&format!("{CHECK}test='ratio_stat'\nstatistic='median_ratio'\nmax=0.8\nfloor=1e-6"), "all");
         assert_eq!(med.verdict, Verdict::Holds);

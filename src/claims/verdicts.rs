@@ -74,11 +74,25 @@ pub fn paper_md(p: &Paper, outcomes: &[(String, ClaimOutcome)]) -> String {
     }
     s += "| id | verdict | our figure |\n|---|---|---|\n";
     for (_, o) in outcomes.iter().filter(|(k, _)| k == &p.key) {
-        let _ = writeln!(s, "| [{}](#{}) | {} | {} |", o.id, o.id.to_lowercase(), o.verdict.word(), o.our_figure().replace('|', "/"));
+        let _ = writeln!(
+            s,
+            "| [{}](#{}) | {} | {} |",
+            o.id,
+            o.id.to_lowercase(),
+            o.verdict.word(),
+            o.our_figure().replace('|', "/")
+        );
     }
     for c in &p.claims {
         let Some((_, o)) = outcomes.iter().find(|(k, o)| k == &p.key && o.id == c.id) else { continue };
-        let _ = write!(s, "\n<a id=\"{}\"></a>\n\n## {} — {}\n\n{}", c.id.to_lowercase(), c.id, c.says, judge::detail_md(c, o));
+        let _ = write!(
+            s,
+            "\n<a id=\"{}\"></a>\n\n## {} — {}\n\n{}",
+            c.id.to_lowercase(),
+            c.id,
+            c.says,
+            judge::detail_md(c, o)
+        );
     }
     s
 }

@@ -97,7 +97,8 @@ pub struct RatioStats {
 /// Ratio statistics of `(rmse, baseline rmse, baseline rel_rmse)` triples. `None` when every
 /// row is below the floor (or there are none). `worst_at` indexes `pairs`.
 pub fn ratio_stats(pairs: &[(f64, f64, f64)]) -> Option<RatioStats> {
-    let kept: Vec<usize> = (0..pairs.len()).filter(|&i| pairs[i].2 >= RATIO_FLOOR_REL_RMSE && pairs[i].1 > 0.0).collect();
+    let kept: Vec<usize> =
+        (0..pairs.len()).filter(|&i| pairs[i].2 >= RATIO_FLOOR_REL_RMSE && pairs[i].1 > 0.0).collect();
     if kept.is_empty() {
         return None;
     }

@@ -95,7 +95,10 @@ fn map_case(search: &SearchPath, name: &str, grid: &OutputGrid) -> Result<(Case,
     let reference = Reference::new(&rm, vec![], DEFAULT_POLAR_NODES);
     let values = reference.irradiance_latlong(grid.latlong.expect("the sphere grid is a lat-long grid"));
     let case = Case { name: name.to_string(), sh: crate::reference::projection::project(&map), reference: values };
-    Ok((case, format!("{} ({}x{}, {})", path.display(), map.width(), map.height(), reference.describe())))
+    // Named by file and sha256, never by path: results/ holds no machine paths.
+    let file = path.file_name().map(|f| f.to_string_lossy().into_owned()).unwrap_or_default();
+    let sha = map.sha256.clone().unwrap_or_default();
+    Ok((case, format!("{file} sha256 {sha} ({}x{}, {})", map.width(), map.height(), reference.describe())))
 }
 
 /// A constructed scene as a case: closed-form SH and irradiance.
