@@ -881,7 +881,7 @@ mod tests {
         let t = csv("map,encoder,metric,rmse,fit_ns\na,sh1,exact,0.5,10\na,sh2,exact,0.1,40\na,zz,exact,0.3,50\n");
         match error_vs_time(&t, "x").unwrap() {
             Outcome::Drawn { caption, image } => {
-                assert!(caption.contains("Pareto front: sh1, sh2"), "{caption}");
+                assert!(caption.contains("both better): sh1, sh2"), "{caption}");
                 assert_eq!(image.dimensions(), (820, 560));
             }
             Outcome::Skipped(s) => panic!("{s}"),

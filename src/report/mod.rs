@@ -262,7 +262,7 @@ fn opening(
         if !commits.contains(&c) {
             commits.push(c);
         }
-        dates.push(pr.date.chars().take(10).collect());
+        dates.push(pr.date.clone());
         dirty += usize::from(pr.git_dirty == Some(true));
     }
     dates.sort();
