@@ -63,7 +63,7 @@ fn results(root: &Scratch) -> BTreeMap<PathBuf, Vec<u8>> {
             let text = String::from_utf8(std::mem::take(bytes)).unwrap();
             *bytes = text.lines().filter(|l| !l.starts_with("date = ")).collect::<Vec<_>>().join("\n").into_bytes();
         }
-        if p.file_name().is_some_and(|n| n == "REPORT.md") {
+        if p.file_name().is_some_and(|n| n == "REPORT.md" || n == "PROVENANCE.md") {
             // The report quotes those dates (from provenance.toml): blank them too.
             *bytes = blank_dates(&String::from_utf8(std::mem::take(bytes)).unwrap()).into_bytes();
         }

@@ -1,7 +1,11 @@
 //! `probelab report` end to end: on a scratch repository with small
-//! generated maps, every link of REPORT.md resolves, the pictures exist with the sizes their
-//! layout gives, charts appear for the CSV formats the report reads and are skipped (with a
-//! reason) where a column is absent; and the committed results/REPORT.md has no broken link.
+//! generated maps, REPORT.md opens with what probelab is, how the run was made and the
+//! reproduction at a glance (from a fixture CLAIMS.csv and fixture declarations, every cell
+//! within the length limit), then one section per paper; per-experiment detail sits in
+//! `results/<name>/README.md`; every link of every page resolves, the pictures exist with the
+//! sizes their layout gives, charts appear for the CSV formats the report reads and are
+//! skipped (with a reason) where a column is absent, and no page holds an absolute path. The
+//! committed results/ has no broken link and no absolute machine path.
 
 mod common;
 
@@ -33,6 +37,63 @@ fn check_links(report: &Path) -> Vec<String> {
         assert!(headings.iter().any(|h| h == a), "{}: anchor #{a} has no heading", report.display());
     }
     links
+}
+
+/// `a/b/../c` → `a/c` (links of a page, made relative to the results folder).
+fn normalise(p: &str) -> String {
+    let mut out: Vec<&str> = Vec::new();
+    for part in p.split('/') {
+        match part {
+            ".." if out.last().is_some_and(|l| *l != "..") => {
+                out.pop();
+            }
+            "." | "" => {}
+            _ => out.push(part),
+        }
+    }
+    out.join("/")
+}
+
+/// The links of REPORT.md, PROVENANCE.md and every `<folder>/README.md` of `res`, each checked,
+/// relative to `res`.
+fn check_all_links(res: &Path) -> Vec<String> {
+    let mut links = check_links(&res.join("REPORT.md"));
+    links.extend(check_links(&res.join("PROVENANCE.md")));
+    for e in std::fs::read_dir(res).unwrap() {
+        let page = e.unwrap().path().join("README.md");
+        if page.is_file() {
+            let name = page.parent().unwrap().file_name().unwrap().to_string_lossy().into_owned();
+            links.extend(check_links(&page).into_iter().map(|l| normalise(&format!("{name}/{l}"))));
+        }
+    }
+    links
+}
+
+/// Text files under `dir` (recursively) that contain an absolute path: `needle` (the scratch
+/// root), or a Unix home/work/temp folder or a drive letter.
+fn absolute_paths(dir: &Path, needle: Option<&str>) -> Vec<String> {
+    let mut bad = Vec::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        for e in std::fs::read_dir(&d).unwrap() {
+            let p = e.unwrap().path();
+            if p.is_dir() {
+                stack.push(p);
+                continue;
+            }
+            let ext = p.extension().map(|x| x.to_string_lossy().into_owned()).unwrap_or_default();
+            if !["md", "csv", "toml", "txt"].contains(&ext.as_str()) {
+                continue;
+            }
+            let text = std::fs::read_to_string(&p).unwrap_or_default();
+            let hit = needle.is_some_and(|n| text.contains(n))
+                || ["/home/", "/work/", "/tmp/", "/Users/", "/root/", "C:\\"].iter().any(|m| text.contains(m));
+            if hit {
+                bad.push(p.display().to_string());
+            }
+        }
+    }
+    bad
 }
 
 fn png_size(p: &Path) -> (u32, u32) {
@@ -108,7 +169,22 @@ fn report_on_a_scratch_repository() {
     assert!(log.contains("REPORT.md"), "{log}");
     let report = res.join("REPORT.md");
     let md = std::fs::read_to_string(&report).unwrap();
-    let links = check_links(&report);
+    let links = check_all_links(&res);
+    let page = |name: &str| std::fs::read_to_string(res.join(name).join("README.md")).unwrap();
+
+    // The opening: what probelab is, how the run was made, then the claims at a glance — with
+    // no CLAIMS.csv, one line says so — then the papers, in their order.
+    assert!(md.starts_with("# probelab"), "{md}");
+    let how = md.find("**How this run was made.**").expect("how the run was made");
+    let glance = md.find("## Reproduction at a glance").expect("at a glance");
+    assert!(how < glance, "{md}");
+    assert!(md.contains("`results/CLAIMS.csv` is not there yet"), "{md}");
+    assert!(md.contains("E/π") && md.contains("sha256") && md.contains("Reference: the exact irradiance"), "{md}");
+    let zh3 = md.find("## ZH3").expect("the ZH3 section");
+    let hemi = md.find("## Hemispherical Lighting Insights").expect("the hemispherical section");
+    let brief = md.find("## Directional Lightmap Encoding Insights").expect("the 2018 brief's section");
+    assert!(glance < zh3 && zh3 < hemi && hemi < brief, "papers in order");
+    assert!(!md.contains("No `table.csv`") && !md.contains("yet (run"), "no folder is said to lack a table");
 
     // Sheets: one per map, sizes from the layout (3 rows × 2 views; 2 rows × 1 view).
     let h = |rows: u32| HEADER_H + COLHEAD_H + rows * ROW_H + MARGIN;
@@ -119,9 +195,15 @@ fn report_on_a_scratch_repository() {
     assert_eq!(png_size(&res.join("b_floor/sheet_gen_hemisphere.png")), (w1, h(2)));
     assert!(!res.join("a_sphere/sheet_old_map.png").exists(), "stale sheet removed");
     for f in [
+        "a_sphere/README.md",
+        "b_floor/README.md",
+        "timing_only/README.md",
+        "PROVENANCE.md",
         "a_sphere/sheet_gen_sun_sky.png",
         "b_floor/sheet_gen_hemisphere.png",
         "a_sphere/chart_rmse.png",
+        "a_sphere/chart_cost_scalars.png",
+        "b_floor/chart_cost_scalars.png",
         "b_floor/chart_time.png",
         "a_sphere/chart_sweep_reference_polar_nodes.png",
         "a_sphere/chart_blend.png",
@@ -130,20 +212,86 @@ fn report_on_a_scratch_repository() {
         "a_sphere/claims.csv",
         "../experiments/a_sphere.toml",
     ] {
-        assert!(links.iter().any(|l| l == f), "REPORT.md links {f}; links: {links:?}");
+        assert!(links.iter().any(|l| l == f), "a page links {f}; links: {links:?}");
     }
     assert!(!res.join("a_sphere/chart_time.png").exists());
-    assert!(md.contains("no fit times"), "the missing timings are stated");
-    assert!(md.contains("Pareto front: "), "the time chart names its front");
-    assert!(md.contains("## Claims") && md.contains("| X1 | sh2 beats sh1 | yes | 0.47 vs 1.9 | **yes** |"));
-    assert!(md.contains("## c_missing") && md.contains("Not drawn: not every map"), "missing maps are stated");
-    assert!(md.contains("## timing_only"), "result folders without an experiment file get a section");
-    assert!(md.contains("mean / worst over the 6 cases"), "the floor experiment's six orientations are summarised");
-    assert!(md.contains("ahd: overshoot 0.200"), "blend overshoot in the caption");
+    let a = page("a_sphere");
+    assert!(a.contains("no fit times") || a.contains("--no-timing"), "the missing timings are stated");
+    assert!(a.contains("Pareto front (lower cost and lower error both better): "), "cost charts name their front");
+    assert!(a.contains("no encoder of this table is quantised"), "the bytes chart says why it is not drawn");
+    assert!(a.contains("## Claims checked here") && a.contains("| X1 | sh2 beats sh1 | yes | 0.47 vs 1.9 | **yes** |"));
+    assert!(md.contains("c_missing: no results yet"), "an experiment without results is listed, not paged");
+    assert!(
+        md.contains("[timing_only](timing_only/README.md)"),
+        "result folders without an experiment file get a page"
+    );
+    assert!(!page("timing_only").contains("table.csv"), "no 'no table' line for a folder that never has one");
+    assert!(page("b_floor").contains("mean / worst over the 6 cases"), "the floor experiment's six orientations");
+    assert!(a.contains("ahd: overshoot 0.200"), "blend overshoot in the caption");
+    let prov = std::fs::read_to_string(res.join("PROVENANCE.md")).unwrap();
     for m in ["gen_sun_sky", "gen_constant", "gen_hemisphere"] {
-        assert!(md.contains(&format!("| {m} | `{m}.exr` in")), "checksum row for {m}");
+        assert!(prov.contains(&format!("| {m} | `{m}.exr` in")), "checksum row for {m}");
     }
-    assert!(md.contains("| not_on_this_machine | not found on this machine |"));
+    assert!(prov.contains("| not_on_this_machine | not found on this machine |"));
+    assert_eq!(absolute_paths(&res, Some(rs)), Vec::<String>::new(), "no absolute path in results/");
+
+    // Claims: fixture declarations (two papers, out of file order) and a fixture CLAIMS.csv.
+    write(
+        &root.join("experiments/claims/zz_first.toml"),
+        "title = \"Paper One\"\nauthors = \"A. Author\"\nvenue = \"Conf 1\"\norder = 1\n\
+         [[claim]]\nid = \"P1\"\nsays = \"sh2 beats sh1\"\npaper_figure = \"yes\"\ncriterion = \"every map\"\n\
+         [[claim.check]]\nname = \"c\"\ntable = \"a_sphere\"\nencoder = \"sh2\"\nbaseline = \"sh1\"\ntest = \"ratio_every\"\n\
+         [[claim]]\nid = \"P2\"\nsays = \"never judged\"\npaper_figure = \"-\"\ncriterion = \"-\"\n\
+         [[claim.check]]\nname = \"c\"\ntable = \"a_sphere\"\nencoder = \"sh2\"\ntest = \"every_at_most\"\nbound = 1\n",
+    );
+    write(
+        &root.join("experiments/claims/aa_second.toml"),
+        "title = \"Paper Two\"\nauthors = \"B. Author\"\nvenue = \"Conf 2\"\norder = 2\n\
+         [[claim]]\nid = \"Q1\"\nsays = \"the second paper's claim\"\npaper_figure = \"27%\"\ncriterion = \"-\"\n\
+         [[claim.check]]\nname = \"c\"\ntable = \"a_sphere\"\nencoder = \"sh2\"\ntest = \"every_at_most\"\nbound = 1\n",
+    );
+    let long = "x ".repeat(200);
+    write(
+        &res.join("CLAIMS.csv"),
+        &format!(
+            "id,verdict,paper_figure,our_figure,criterion,maps,detail\n\
+             Q1,fails,27%,\"{long}\",c,all,claims/aa_second.md#q1\n\
+             P1,holds,yes,0.47 vs 1.9,c,all,claims/zz_first.md#p1\n"
+        ),
+    );
+    write(&res.join("claims/aa_second.md"), "# Paper Two\n\n<a id=\"q1\"></a>\n");
+    write(&res.join("claims/zz_first.md"), "# Paper One\n\n<a id=\"p1\"></a>\n");
+    stderr_ok(&probelab(&scratch, &["report"]));
+    let md = std::fs::read_to_string(&report).unwrap();
+    check_all_links(&res);
+    let rows: Vec<&str> = md.lines().filter(|l| l.starts_with("| [") || l.starts_with("| P2")).collect();
+    assert_eq!(rows.len(), 3, "{md}");
+    // Paper order (by `order`, not file name), then declaration order; a declared claim without
+    // a row is shown as not judged.
+    assert!(
+        rows[0].starts_with("| [P1](claims/zz_first.md#p1) | sh2 beats sh1 | yes | 0.47 vs 1.9 | **holds** |"),
+        "{}",
+        rows[0]
+    );
+    assert!(rows[1].starts_with("| P2 | never judged | - | - | not judged"), "{}", rows[1]);
+    assert!(rows[2].starts_with("| [Q1](claims/aa_second.md#q1) | the second paper's claim | 27% |"), "{}", rows[2]);
+    assert!(rows[2].contains("…") && rows[2].contains("**fails**"), "the long figure is cut: {}", rows[2]);
+    for r in &rows {
+        for c in r.trim_matches('|').split(" | ") {
+            assert!(c.trim().chars().count() <= 150, "cell over 150 characters: {c}");
+        }
+    }
+    assert!(md.contains("2 claims judged: 1 hold, 0 partly, 1 fail, 0 untestable"), "{md}");
+    assert!(md.find("## Paper One").unwrap() < md.find("## Paper Two").unwrap(), "sections in paper order");
+    assert!(md.contains("A. Author. Conf 1. Claims P1, P2"), "{md}");
+
+    // A verdict outside the four is refused with the file and claim named, exit 2.
+    write(&res.join("CLAIMS.csv"), "id,verdict,paper_figure,our_figure,criterion,maps,detail\nP1,yes,a,b,c,d,e\n");
+    let out = probelab(&scratch, &["report"]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("CLAIMS.csv") && err.contains("P1") && err.contains("holds, partly"), "{err}");
+    std::fs::remove_file(res.join("CLAIMS.csv")).unwrap();
 
     // Pictures are deterministic: a second report draws the same bytes.
     let before = std::fs::read(res.join("a_sphere/sheet_gen_sun_sky.png")).unwrap();
@@ -160,11 +308,16 @@ fn report_on_a_scratch_repository() {
     assert!(err.contains("claims.csv") && err.contains("paper_figure"), "{err}");
 }
 
-/// The committed report: every picture and file it links exists (what `reproduce` must leave).
+/// The committed report: every picture and file its pages link exists (what `reproduce` must
+/// leave), and nothing under results/ holds an absolute machine path.
 #[test]
 fn committed_report_links_resolve() {
-    let report = repo().join("results/REPORT.md");
-    assert!(report.is_file(), "results/REPORT.md is missing: run `probelab reproduce` (or `probelab report`)");
-    let links = check_links(&report);
+    let res = repo().join("results");
+    assert!(
+        res.join("REPORT.md").is_file(),
+        "results/REPORT.md is missing: run `probelab reproduce` (or `probelab report`)"
+    );
+    let links = check_all_links(&res);
     assert!(links.iter().any(|l| l.ends_with(".png")), "the report shows pictures");
+    assert_eq!(absolute_paths(&res, None), Vec::<String>::new(), "absolute paths in results/");
 }

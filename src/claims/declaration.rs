@@ -416,9 +416,13 @@ pub fn parse(key: &str, text: &str, origin: &Path) -> Result<Paper> {
 }
 
 /// Every declaration file in `experiments_dir/claims/`, in report order (by `order`, then
-/// key). Claim ids are unique across papers.
+/// key). Claim ids are unique across papers. A repository without the folder declares no
+/// claims.
 pub fn load_papers(experiments_dir: &Path) -> Result<Vec<Paper>> {
     let dir = experiments_dir.join(DIR);
+    if !dir.exists() {
+        return Ok(Vec::new());
+    }
     let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
         .with_context(|| format!("{}: cannot list the claims declarations", dir.display()))?
         .filter_map(|e| e.ok().map(|e| e.path()))

@@ -126,15 +126,23 @@ pub struct ClaimOutcome {
 }
 
 impl ClaimOutcome {
-    /// The headline: the first required check's phrase on each of its sets.
+    /// The headline: the first required check that does not pass (named), or else the first
+    /// required check, as its phrase on each of its sets.
     pub fn our_figure(&self) -> String {
-        let Some(c) = self.checks.iter().find(|c| !c.decl.anchor) else { return String::new() };
+        let required = || self.checks.iter().filter(|c| !c.decl.anchor);
+        let failing = required().find(|c| c.sets.iter().any(|s| s.status != Status::Pass));
+        let Some(c) = failing.or_else(|| required().next()) else { return String::new() };
         let parts: Vec<String> = c
             .sets
             .iter()
             .map(|s| if c.sets.len() > 1 { format!("{}: {}", set_short(s), s.headline) } else { s.headline.clone() })
             .collect();
-        parts.join("; ")
+        let body = parts.join("; ");
+        if failing.is_some() {
+            format!("{} — {body}", c.decl.name)
+        } else {
+            body
+        }
     }
 
     /// The map sets judged, with their map counts (e.g. `paper (5); all (19)`).

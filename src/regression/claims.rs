@@ -75,9 +75,13 @@ fn committed_verdicts(results: &Path) -> Vec<(String, String)> {
 /// (all of them with `bless`), then judges every claim and, with `write_verdicts`, writes
 /// CLAIMS.csv and the evidence pages.
 pub fn run(root: &Path, search: &SearchPath, results: &Path, bless: bool, write_verdicts: bool) -> Result<ClaimsRun> {
-    let tolerances = Tolerances::load(root)?;
     let papers: Vec<Paper> = load_papers(&root.join("experiments"))?;
     let mut run = ClaimsRun { written: vec![], moved: vec![], skipped: None, verdicts_changed: vec![], strips: vec![] };
+    if papers.is_empty() {
+        run.skipped = Some("no claims declared in experiments/claims/".into());
+        return Ok(run);
+    }
+    let tolerances = Tolerances::load(root)?;
     match measure(search) {
         Err(why) => run.skipped = Some(why),
         Ok((ms, strips)) => {

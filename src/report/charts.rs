@@ -225,15 +225,17 @@ pub fn rmse_bars(t: &CsvTable, title: &str) -> Result<Outcome> {
     Ok(Outcome::Drawn { image, caption })
 }
 
-/// Indices of the Pareto-optimal points of (time, error), sorted by time: no other point is
-/// at least as fast and at least as accurate while strictly better in one.
+/// Indices of the Pareto-optimal points of (cost, error), sorted by cost: lower cost and lower
+/// error are both better, and a point is on the front when no other point is at least as cheap
+/// and at least as accurate while strictly better in one. Equal points are all on the front.
 pub fn pareto_front(points: &[(f64, f64)]) -> Vec<usize> {
     let mut idx: Vec<usize> = (0..points.len()).collect();
     idx.sort_by(|&a, &b| points[a].0.total_cmp(&points[b].0).then(points[a].1.total_cmp(&points[b].1)));
-    let mut front = Vec::new();
+    let mut front: Vec<usize> = Vec::new();
     let mut best = f64::INFINITY;
     for i in idx {
-        if points[i].1 < best {
+        let same_as_last = front.last().is_some_and(|&l| points[l] == points[i]);
+        if points[i].1 < best || same_as_last {
             best = points[i].1;
             front.push(i);
         }
@@ -241,52 +243,161 @@ pub fn pareto_front(points: &[(f64, f64)]) -> Vec<usize> {
     front
 }
 
-/// Error against fit time per encoder (median fit_ns over the table's rows, mean rmse), log–log,
-/// with the Pareto front marked. Needs a `fit_ns` column.
-pub fn error_vs_time(t: &CsvTable, title: &str) -> Result<Outcome> {
-    let Some(fc) = t.col("fit_ns") else {
-        return Ok(Outcome::Skipped("not drawn: no fit times in this table (it has no `fit_ns` column)".into()));
-    };
-    if t.col("encoder").is_none() || t.col("rmse").is_none() {
-        return Ok(Outcome::Skipped("not drawn: the table has no encoder and rmse columns".into()));
+/// What an error-against-cost chart puts on x: a cost per encoder, read from the table by
+/// column name (or the `bytes` key of `diagnostics`), the same for every encoder set.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Cost {
+    /// `fit_ns`: the fit of one probe or texel (median over the table's rows).
+    FitNs,
+    /// `eval_ns`: one shaded normal (median over the table's rows).
+    EvalNs,
+    /// `stored_scalars`: what the encoding stores per probe or texel.
+    StoredScalars,
+    /// `bytes=` in `diagnostics`: the size of a quantised encoding (only quantised encoders
+    /// report it, so only they are drawn).
+    Bytes,
+}
+
+impl Cost {
+    /// Every cost, in the order the pages show them.
+    pub const ALL: [Cost; 4] = [Cost::StoredScalars, Cost::Bytes, Cost::EvalNs, Cost::FitNs];
+
+    /// The chart's file name.
+    pub fn file(self) -> &'static str {
+        match self {
+            Cost::FitNs => "chart_time.png",
+            Cost::EvalNs => "chart_cost_eval.png",
+            Cost::StoredScalars => "chart_cost_scalars.png",
+            Cost::Bytes => "chart_cost_bytes.png",
+        }
     }
+
+    /// A phrase: "fit time", "stored scalars", …
+    pub fn what(self) -> &'static str {
+        match self {
+            Cost::FitNs => "fit time",
+            Cost::EvalNs => "evaluation time per shaded normal",
+            Cost::StoredScalars => "stored scalars",
+            Cost::Bytes => "bytes (quantised encoders)",
+        }
+    }
+
+    fn axis(self) -> &'static str {
+        match self {
+            Cost::FitNs => "fit time per probe or texel, ns (median; log scale)",
+            Cost::EvalNs => "evaluation time per shaded normal, ns (median; log scale)",
+            Cost::StoredScalars => "stored scalars per probe or texel (log scale)",
+            Cost::Bytes => "bytes per probe (quantised; log scale)",
+        }
+    }
+
+    fn source(self) -> &'static str {
+        match self {
+            Cost::FitNs => "median `fit_ns`",
+            Cost::EvalNs => "median `eval_ns`",
+            Cost::StoredScalars => "`stored_scalars`",
+            Cost::Bytes => "`bytes` of `diagnostics`",
+        }
+    }
+
+    /// This cost in row `i`, when the row has it.
+    fn value(self, t: &CsvTable, i: usize) -> Result<Option<f64>> {
+        let col = match self {
+            Cost::FitNs => "fit_ns",
+            Cost::EvalNs => "eval_ns",
+            Cost::StoredScalars => "stored_scalars",
+            Cost::Bytes => {
+                let Some(c) = t.col("diagnostics") else { return Ok(None) };
+                return Ok(diagnostic(&t.rows[i][c], "bytes"));
+            }
+        };
+        match t.col(col) {
+            Some(c) => t.num(i, c),
+            None => Ok(None),
+        }
+    }
+
+    /// Why nothing was drawn, when no row has this cost.
+    fn missing(self, t: &CsvTable) -> String {
+        match self {
+            Cost::FitNs | Cost::EvalNs => {
+                let col = if self == Cost::FitNs { "fit_ns" } else { "eval_ns" };
+                if t.col(col).is_none() {
+                    format!("not drawn: no {} in this table (it has no `{col}` column)", self.what())
+                } else {
+                    format!("not drawn: the `{col}` column is empty (the run had `--no-timing`)")
+                }
+            }
+            Cost::StoredScalars => "not drawn: the table has no `stored_scalars` column".into(),
+            Cost::Bytes => "not drawn: no encoder of this table is quantised (none reports `bytes`)".into(),
+        }
+    }
+}
+
+/// The value of `key` in a `k=v;k=v` diagnostics cell.
+fn diagnostic(cell: &str, key: &str) -> Option<f64> {
+    cell.split(';')
+        .filter_map(|kv| kv.split_once('='))
+        .find(|(k, _)| k.trim() == key)
+        .and_then(|(_, v)| v.trim().parse().ok())
+}
+
+/// A chart's points, their encoders and the metric they are of.
+pub type CostPoints = (Vec<(f64, f64)>, Vec<String>, Option<String>);
+
+/// One point per encoder: (median cost over its rows, mean rmse), for the rows of the chart's
+/// metric; encoders without the cost (or with a cost ≤ 0, which a log axis cannot show) are
+/// left out. Returns the points, their encoders and the metric.
+pub fn cost_points(t: &CsvTable, cost: Cost) -> Result<CostPoints> {
+    let (Some(ec), Some(rc)) = (t.col("encoder"), t.col("rmse")) else { return Ok((vec![], vec![], None)) };
     let (rows, metric) = metric_rows(t);
-    let (ec, rc) = (t.col("encoder").expect("checked"), t.col("rmse").expect("checked"));
-    let encs = distinct(t, &rows, ec);
     let mut pts = Vec::new();
     let mut names = Vec::new();
-    for e in &encs {
-        let mine: Vec<usize> = rows.iter().copied().filter(|&i| t.rows[i][ec] == *e).collect();
-        let mut times = Vec::new();
+    for e in distinct(t, &rows, ec) {
+        let mut costs = Vec::new();
         let (mut sum, mut n) = (0.0, 0usize);
-        for &i in &mine {
-            if let Some(v) = t.num(i, fc)? {
-                times.push(v);
+        for &i in rows.iter().filter(|&&i| t.rows[i][ec] == e) {
+            if let Some(v) = cost.value(t, i)? {
+                costs.push(v);
             }
             if let Some(v) = t.num(i, rc)? {
                 sum += v;
                 n += 1;
             }
         }
-        if times.is_empty() || n == 0 {
+        if costs.is_empty() || n == 0 {
             continue;
         }
-        times.sort_by(f64::total_cmp);
-        let median = times[times.len() / 2];
-        if median > 0.0 {
+        costs.sort_by(f64::total_cmp);
+        let median = costs[costs.len() / 2];
+        if median > 0.0 && median.is_finite() {
             pts.push((median, sum / n as f64));
-            names.push(e.clone());
+            names.push(e);
         }
     }
+    Ok((pts, names, metric))
+}
+
+/// Error against fit time (kept for callers of the first cost chart).
+pub fn error_vs_time(t: &CsvTable, title: &str) -> Result<Outcome> {
+    error_vs_cost(t, Cost::FitNs, title)
+}
+
+/// Error against a cost per encoder (x = the cost, y = mean rmse), log–log, with the Pareto
+/// front (lower cost and lower error both better) drawn as a staircase and named in the caption.
+pub fn error_vs_cost(t: &CsvTable, cost: Cost, title: &str) -> Result<Outcome> {
+    if t.col("encoder").is_none() || t.col("rmse").is_none() {
+        return Ok(Outcome::Skipped("not drawn: the table has no encoder and rmse columns".into()));
+    }
+    let (pts, names, metric) = cost_points(t, cost)?;
     if pts.is_empty() {
-        return Ok(Outcome::Skipped(
-            "not drawn: no fit times in this table (the `fit_ns` column is empty: the run had `--no-timing`)".into(),
-        ));
+        return Ok(Outcome::Skipped(cost.missing(t)));
     }
     let front = pareto_front(&pts);
-    let (xlo, xhi) = decades(pts.iter().map(|p| p.0)).expect("positive times");
+    let (xlo, xhi) = decades(pts.iter().map(|p| p.0)).expect("positive costs");
     let (ylo, yhi) = decades(pts.iter().map(|p| p.1)).unwrap_or((1e-3, 1.0));
-    let image = canvas(820, 560, |root| {
+    let h = 560u32;
+    let image = canvas(820, h, |root| {
         root.fill(&WHITE).map_err(pe)?;
         let mut chart = ChartBuilder::on(root)
             .caption(title, (FONT, 16).into_font().style(FontStyle::Bold))
@@ -297,8 +408,8 @@ pub fn error_vs_time(t: &CsvTable, title: &str) -> Result<Outcome> {
             .map_err(pe)?;
         chart
             .configure_mesh()
-            .x_desc("fit time per probe, ns (median; log scale)")
-            .y_desc("rmse of E/pi (mean over maps; log scale)")
+            .x_desc(cost.axis())
+            .y_desc("rmse of E/pi (mean over the table's rows; log scale)")
             .x_label_formatter(&|v| tick(*v))
             .y_label_formatter(&|v| tick(*v))
             .label_style((FONT, 12))
@@ -307,20 +418,42 @@ pub fn error_vs_time(t: &CsvTable, title: &str) -> Result<Outcome> {
             .draw()
             .map_err(pe)?;
         let red = RGBColor(200, 30, 30);
-        let line: Vec<(f64, f64)> = front.iter().map(|&i| (pts[i].0, pts[i].1.max(ylo))).collect();
+        // The front as a staircase: the best error reachable at a cost of at most x.
+        let mut line: Vec<(f64, f64)> = Vec::new();
+        for &i in &front {
+            let p = (pts[i].0, pts[i].1.max(ylo));
+            if let Some(&last) = line.last() {
+                line.push((p.0, last.1));
+            }
+            line.push(p);
+        }
         chart
             .draw_series(LineSeries::new(line, red.stroke_width(2)))
             .map_err(pe)?
-            .label("Pareto front (none is both faster and more accurate)")
+            .label("Pareto front (none is both cheaper and more accurate)")
             .legend(move |(x, y)| PathElement::new([(x, y), (x + 18, y)], red.stroke_width(2)));
-        for (i, (p, name)) in pts.iter().zip(&names).enumerate() {
-            let on = front.contains(&i);
-            let c = if on { red } else { RGBColor(90, 90, 90) };
-            let p = (p.0, p.1.max(ylo));
-            let point = EmptyElement::at(p)
-                + Circle::new((0, 0), 5, c.filled())
-                + Text::new(name.clone(), (8, -16), (FONT, 12).into_font().color(&c));
-            chart.draw_series(std::iter::once(point)).map_err(pe)?;
+        // Labels of points at the same cost are stacked downwards in pixel space, each at least
+        // a line below the previous one, with a leader line when moved off its point.
+        let mut order: Vec<usize> = (0..pts.len()).collect();
+        order.sort_by(|&a, &b| pts[a].0.total_cmp(&pts[b].0).then(pts[b].1.total_cmp(&pts[a].1)));
+        let mut last: Option<(f64, i32)> = None;
+        let grey = RGBColor(90, 90, 90);
+        for i in order {
+            let (p, name) = (pts[i], &names[i]);
+            let c = if front.contains(&i) { red } else { grey };
+            let at = (p.0, p.1.max(ylo));
+            let (px, py) = chart.backend_coord(&at);
+            let ly = match last {
+                Some((x, prev)) if x == p.0 => (py - 6).max(prev + 13),
+                _ => py - 6,
+            };
+            last = Some((p.0, ly));
+            chart.draw_series(std::iter::once(Circle::new(at, 5, c.filled()))).map_err(pe)?;
+            if ly > py + 2 {
+                root.draw(&PathElement::new([(px + 4, py), (px + 10, ly + 6)], grey.mix(0.6).stroke_width(1)))
+                    .map_err(pe)?;
+            }
+            root.draw_text(name, &TextStyle::from((FONT, 12).into_font()).color(&c), (px + 12, ly)).map_err(pe)?;
         }
         chart
             .configure_series_labels()
@@ -333,13 +466,21 @@ pub fn error_vs_time(t: &CsvTable, title: &str) -> Result<Outcome> {
         Ok(())
     })?;
     let on: Vec<&str> = front.iter().map(|&i| names[i].as_str()).collect();
+    let left_out = {
+        let (rows, _) = metric_rows(t);
+        let ec = t.col("encoder").expect("checked");
+        distinct(t, &rows, ec).len() - names.len()
+    };
     Ok(Outcome::Drawn {
         image,
         caption: format!(
-            "error against fit time per encoder: x = median `fit_ns` over the table's rows, y = mean rmse{}; \
-             Pareto front: {}",
+            "error against {} per encoder: x = {} over the table's rows, y = mean rmse{}; Pareto front (lower cost \
+             and lower error both better): {}{}",
+            cost.what(),
+            cost.source(),
             metric.map(|m| format!(" (metric `{m}`)")).unwrap_or_default(),
-            on.join(", ")
+            on.join(", "),
+            if left_out > 0 { format!("; {left_out} encoder(s) without this cost not drawn") } else { String::new() }
         ),
     })
 }
@@ -663,13 +804,87 @@ mod tests {
     }
 
     #[test]
+    fn pareto_front_of_a_constructed_storage_set() {
+        // (stored scalars, error), as an encoder landscape would give, worked by hand:
+        //  0 (3, 0.9)   cheapest: on the front
+        //  1 (12, 0.5)  dominated by 2 (same cost, lower error)
+        //  2 (12, 0.3)  on: nothing at ≤ 12 scalars is below 0.3
+        //  3 (12, 0.3)  equal to 2: both on (neither is strictly better)
+        //  4 (15, 0.35) dominated by 2 (cheaper and more accurate)
+        //  5 (15, 0.2)  on
+        //  6 (27, 0.2)  dominated by 5 (same error, cheaper)
+        //  7 (27, 0.05) on
+        //  8 (75, 0.06) dominated by 7
+        // Expected front by cost: 0, 2, 3, 5, 7 (1 is dominated by 2).
+        let p = [
+            (3.0, 0.9),
+            (12.0, 0.5),
+            (12.0, 0.3),
+            (12.0, 0.3),
+            (15.0, 0.35),
+            (15.0, 0.2),
+            (27.0, 0.2),
+            (27.0, 0.05),
+            (75.0, 0.06),
+        ];
+        assert_eq!(pareto_front(&p), vec![0, 2, 3, 5, 7]);
+        // Brute force agrees: a point is on the front iff no other dominates it.
+        let dominated = |i: usize| {
+            p.iter()
+                .enumerate()
+                .any(|(j, q)| j != i && q.0 <= p[i].0 && q.1 <= p[i].1 && (q.0 < p[i].0 || q.1 < p[i].1))
+        };
+        let brute: Vec<usize> = (0..p.len()).filter(|&i| !dominated(i)).collect();
+        assert_eq!(brute, vec![0, 2, 3, 5, 7]);
+    }
+
+    #[test]
+    fn cost_charts_read_any_encoder_set() {
+        // Encoders with made-up names: costs by column name, bytes only where `diagnostics`
+        // has them, eval time per encoder the median of its rows.
+        let t = csv("map,encoder,metric,rmse,stored_scalars,diagnostics,fit_ns,eval_ns\n\
+             a,p,exact,0.5,12,,10,4\nb,p,exact,0.7,12,,10,6\na,q,exact,0.2,27,,20,9\nb,q,exact,0.2,27,,20,9\n\
+             a,r,exact,0.6,12,bytes=13;x=1,30,3\nb,r,exact,0.6,12,bytes=13;x=1,30,3\n\
+             a,s,exact,0.3,27,bytes=28,30,3\nb,s,exact,0.3,27,bytes=28,30,3\n");
+        let (pts, names, metric) = cost_points(&t, Cost::StoredScalars).unwrap();
+        assert_eq!(names, ["p", "q", "r", "s"]);
+        assert_eq!(metric.as_deref(), Some("exact"));
+        // p: 12 scalars, mean (0.5 + 0.7)/2 = 0.6; r: 12, 0.6 — equal points, both on the front.
+        assert_eq!(pts, vec![(12.0, 0.6), (27.0, 0.2), (12.0, 0.6), (27.0, 0.3)]);
+        assert_eq!(pareto_front(&pts), vec![0, 2, 1]);
+        let (pts, names, _) = cost_points(&t, Cost::Bytes).unwrap();
+        assert_eq!((pts, names), (vec![(13.0, 0.6), (28.0, 0.3)], vec!["r".to_string(), "s".to_string()]));
+        // Eval: p's median of {4, 6} is the upper middle (6); r and s share 3 ns, s is better.
+        let (pts, _, _) = cost_points(&t, Cost::EvalNs).unwrap();
+        assert_eq!(pts[0], (6.0, 0.6));
+        assert_eq!(pareto_front(&pts), vec![3, 1]);
+        for c in Cost::ALL {
+            match error_vs_cost(&t, c, "x").unwrap() {
+                Outcome::Drawn { caption, .. } => assert!(caption.contains("Pareto front"), "{caption}"),
+                Outcome::Skipped(s) => panic!("{c:?}: {s}"),
+            }
+        }
+        match error_vs_cost(&t, Cost::Bytes, "x").unwrap() {
+            Outcome::Drawn { caption, .. } => assert!(caption.contains("2 encoder(s) without this cost"), "{caption}"),
+            Outcome::Skipped(s) => panic!("{s}"),
+        }
+        let plain = csv("map,encoder,metric,rmse,stored_scalars,diagnostics\na,p,exact,0.5,12,\n");
+        assert!(
+            matches!(error_vs_cost(&plain, Cost::Bytes, "x").unwrap(), Outcome::Skipped(s) if s.contains("quantised"))
+        );
+        assert!(
+            matches!(error_vs_cost(&plain, Cost::EvalNs, "x").unwrap(), Outcome::Skipped(s) if s.contains("eval_ns"))
+        );
+    }
+
+    #[test]
     fn time_chart_skips_without_fit_ns_and_draws_with_it() {
         let t = csv("map,encoder,metric,rmse\na,sh1,exact,0.5\na,sh2,exact,0.1\n");
         assert!(matches!(error_vs_time(&t, "x").unwrap(), Outcome::Skipped(s) if s.contains("fit_ns")));
         let t = csv("map,encoder,metric,rmse,fit_ns\na,sh1,exact,0.5,10\na,sh2,exact,0.1,40\na,zz,exact,0.3,50\n");
         match error_vs_time(&t, "x").unwrap() {
             Outcome::Drawn { caption, image } => {
-                assert!(caption.contains("Pareto front: sh1, sh2"), "{caption}");
+                assert!(caption.contains("both better): sh1, sh2"), "{caption}");
                 assert_eq!(image.dimensions(), (820, 560));
             }
             Outcome::Skipped(s) => panic!("{s}"),

@@ -49,9 +49,12 @@ pub const MAPS: [&str; 19] = [
     "pmndrs_venice_256x128",
 ];
 
+/// The maps a measurement ran on: (name, sha256 and reference description).
+pub type MapsUsed = Vec<(String, String)>;
+
 /// Runs every ZH3 measurement on the maps the search path has; returns the tables and the
-/// maps used (name, sha256 and reference).
-pub fn measure(search: &SearchPath) -> Result<(Vec<Measure>, Vec<(String, String)>)> {
+/// maps used.
+pub fn measure(search: &SearchPath) -> Result<(Vec<Measure>, MapsUsed)> {
     let grid = cases::grid();
     let (cases, maps) = cases::probes(search, &grid)?;
     let out = vec![
