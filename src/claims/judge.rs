@@ -11,40 +11,12 @@
 use crate::claims::declaration::{CheckDecl, ClaimDecl, Paper, Rollup, Statistic, Test};
 use anyhow::{bail, Context, Result};
 use std::fmt::Write as _;
-use std::path::Path;
 
 /// The columns that identify a row besides its encoder (those present in a table are used).
 pub const KEY_COLUMNS: &[&str] = &["map", "domain", "effects", "metric", "case"];
 
-/// An evidence table: CSV text with a header.
-#[derive(Clone, Debug, Default)]
-pub struct Evidence {
-    pub columns: Vec<String>,
-    pub rows: Vec<Vec<String>>,
-}
-
-impl Evidence {
-    /// Parses CSV with a header; `origin` names the file in errors.
-    pub fn parse(bytes: &[u8], origin: &Path) -> Result<Self> {
-        let mut r = csv::ReaderBuilder::new().has_headers(true).from_reader(bytes);
-        let columns: Vec<String> = r
-            .headers()
-            .with_context(|| format!("{}: cannot read the CSV header", origin.display()))?
-            .iter()
-            .map(String::from)
-            .collect();
-        let mut rows = Vec::new();
-        for rec in r.records() {
-            let rec = rec.with_context(|| format!("{}: malformed CSV", origin.display()))?;
-            rows.push(rec.iter().map(String::from).collect());
-        }
-        Ok(Evidence { columns, rows })
-    }
-
-    fn col(&self, name: &str) -> Option<usize> {
-        self.columns.iter().position(|c| c == name)
-    }
-}
+/// An evidence table: CSV text with a header (the same text table the baselines use).
+pub use crate::pipeline::table::CsvText as Evidence;
 
 /// Where a check, or a claim, stands.
 #[derive(Clone, Debug, PartialEq)]
@@ -687,6 +659,7 @@ pub fn test_text(d: &CheckDecl) -> String {
 mod tests {
     use super::*;
     use crate::claims::declaration::parse;
+    use std::path::Path;
 
     /// A paper with one claim of the given checks, and a table with maps m1..m3 (m1, m2 the
     /// "paper" set): encoder `a` against `b`.

@@ -3,7 +3,7 @@
 //! after them.
 
 use crate::reference::metrics::Scores;
-use anyhow::Result;
+use anyhow::{bail, Context, Result};
 use std::path::Path;
 
 /// The CSV header.
@@ -116,4 +116,45 @@ pub fn to_csv(rows: &[Row]) -> Result<Vec<u8>> {
 /// Writes the rows to `path` atomically.
 pub fn write_csv(path: &Path, rows: &[Row]) -> Result<()> {
     crate::pipeline::atomic::write(path, &to_csv(rows)?)
+}
+
+/// A CSV table as text: the header and the records. Baselines compare tables in this form
+/// (`regression::baseline`) and the claims engine judges them in it (`claims::judge`).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct CsvText {
+    pub columns: Vec<String>,
+    pub rows: Vec<Vec<String>>,
+}
+
+impl CsvText {
+    /// Parses CSV with a header; `origin` names the source in errors. An empty header or a
+    /// column named twice is an error.
+    pub fn parse(bytes: &[u8], origin: &Path) -> Result<CsvText> {
+        let mut r = csv::ReaderBuilder::new().has_headers(true).from_reader(bytes);
+        let columns: Vec<String> = r
+            .headers()
+            .with_context(|| format!("{}: cannot read the CSV header", origin.display()))?
+            .iter()
+            .map(String::from)
+            .collect();
+        if columns.is_empty() || columns.iter().all(|c| c.is_empty()) {
+            bail!("{}: empty table (no header)", origin.display());
+        }
+        for (i, c) in columns.iter().enumerate() {
+            if columns[..i].contains(c) {
+                bail!("{}: column '{c}' appears twice in the header", origin.display());
+            }
+        }
+        let mut rows = Vec::new();
+        for rec in r.records() {
+            let rec = rec.with_context(|| format!("{}: malformed CSV", origin.display()))?;
+            rows.push(rec.iter().map(String::from).collect());
+        }
+        Ok(CsvText { columns, rows })
+    }
+
+    /// The index of a column.
+    pub fn col(&self, name: &str) -> Option<usize> {
+        self.columns.iter().position(|c| c == name)
+    }
 }

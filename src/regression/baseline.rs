@@ -20,47 +20,14 @@ pub const TABLE: &str = "table.csv";
 /// The columns that identify a row (those present in a table are used).
 pub const KEY_COLUMNS: &[&str] = &["map", "encoder", "domain", "effects", "metric"];
 
-/// A CSV table as text: the header and the records.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Table {
-    pub columns: Vec<String>,
-    pub rows: Vec<Vec<String>>,
-}
+/// A baseline table: CSV as text, the header and the records ([`CsvText`], which parses it).
+pub use crate::pipeline::table::CsvText as Table;
 
 impl Table {
-    /// Parses CSV with a header; `origin` names the source in errors.
-    pub fn parse(bytes: &[u8], origin: &Path) -> Result<Table> {
-        let mut r = csv::ReaderBuilder::new().has_headers(true).from_reader(bytes);
-        let columns: Vec<String> = r
-            .headers()
-            .with_context(|| format!("{}: cannot read the CSV header", origin.display()))?
-            .iter()
-            .map(String::from)
-            .collect();
-        if columns.is_empty() || columns.iter().all(|c| c.is_empty()) {
-            bail!("{}: empty table (no header)", origin.display());
-        }
-        for (i, c) in columns.iter().enumerate() {
-            if columns[..i].contains(c) {
-                bail!("{}: column '{c}' appears twice in the header", origin.display());
-            }
-        }
-        let mut rows = Vec::new();
-        for rec in r.records() {
-            let rec = rec.with_context(|| format!("{}: malformed CSV", origin.display()))?;
-            rows.push(rec.iter().map(String::from).collect());
-        }
-        Ok(Table { columns, rows })
-    }
-
     /// Reads a table file.
     pub fn read(path: &Path) -> Result<Table> {
         let bytes = std::fs::read(path).with_context(|| format!("{}: cannot read", path.display()))?;
         Self::parse(&bytes, path)
-    }
-
-    fn col(&self, name: &str) -> Option<usize> {
-        self.columns.iter().position(|c| c == name)
     }
 
     /// The row keys, in row order; identical keys get ordinals 1, 2, … in order of appearance.
