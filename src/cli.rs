@@ -6,6 +6,7 @@
 use crate::encoders;
 use crate::envmap::search::SearchPath;
 use crate::pipeline::experiment::{list_experiments, DomainKind, Effect, Experiment};
+use crate::pipeline::output::{self, noteln};
 use crate::pipeline::{runner, table};
 use crate::reference::domain::parse_axis;
 use crate::reference::metrics::Metric;
@@ -204,7 +205,7 @@ pub fn main_with(cli: Cli) -> Result<i32> {
                 if report.missing.is_empty() {
                     done.push((exp, report));
                 } else {
-                    eprintln!("skipped {}: map(s) not found: {}", exp.name, report.missing.join(", "));
+                    noteln!("skipped {}: map(s) not found: {}", exp.name, report.missing.join(", "));
                     skipped.push(exp.name.clone());
                 }
                 progress.inc();
@@ -216,7 +217,7 @@ pub fn main_with(cli: Cli) -> Result<i32> {
                 }
             }
             if !skipped.is_empty() {
-                eprintln!(
+                noteln!(
                     "{} experiment(s) skipped for missing maps ({}); their results were left unchanged.\n\
                      Searched: {}\nSet PROBELAB_ENVMAPS to the folder of the paper probes (see README).",
                     skipped.len(),
@@ -243,8 +244,7 @@ pub fn main_with(cli: Cli) -> Result<i32> {
             if !report.missing.is_empty() {
                 bail!("map(s) not found: {}\nSearched: {}", report.missing.join(", "), describe_search(&search));
             }
-            use std::io::Write;
-            std::io::stdout().write_all(&table::to_csv(&report.rows)?)?;
+            output::write(&table::to_csv(&report.rows)?)?;
             Ok(0)
         }
         Command::GenEnvmaps { out, width } => {
@@ -253,11 +253,14 @@ pub fn main_with(cli: Cli) -> Result<i32> {
             }
             let out = out.unwrap_or_else(|| root.join("envmaps"));
             std::fs::create_dir_all(&out).with_context(|| format!("{}: cannot create folder", out.display()))?;
+            // Every map, then every line (a failing stdout never stops the writes half way).
+            let mut lines = String::new();
             for s in crate::reference::scenes::generated() {
                 let path = out.join(format!("{}.exr", s.id));
                 crate::envmap::load::write_exr(&path, &s.map(width))?;
-                println!("{}  {}", path.display(), s.description);
+                lines += &format!("{}  {}\n", path.display(), s.description);
             }
+            output::write(lines.as_bytes())?;
             Ok(0)
         }
         Command::FitHallucination { maps, probes, cubic, axis } => {
@@ -268,7 +271,9 @@ pub fn main_with(cli: Cli) -> Result<i32> {
                 )),
                 None => None,
             };
-            print!("{}", crate::pipeline::hallucination_fit::run(&search, &maps, probe_file, &axis, cubic)?);
+            output::write(
+                crate::pipeline::hallucination_fit::run(&search, &maps, probe_file, &axis, cubic)?.as_bytes(),
+            )?;
             Ok(0)
         }
         Command::Claims { set, out } if set == "lightmap" => {
@@ -278,7 +283,7 @@ pub fn main_with(cli: Cli) -> Result<i32> {
             let report = crate::claims::lightmap::run(&search)?;
             let strips = crate::report::strip::pngs(&report.strips)?;
             crate::claims::lightmap::write(&report, &strips, &dir)?;
-            eprintln!("wrote {} (claims.csv, CLAIMS.md, fig2*.csv, blend*.csv, real_maps.csv)", dir.display());
+            noteln!("wrote {} (claims.csv, CLAIMS.md, fig2*.csv, blend*.csv, real_maps.csv)", dir.display());
             Ok(0)
         }
         Command::Claims { set, out } => {
@@ -286,17 +291,16 @@ pub fn main_with(cli: Cli) -> Result<i32> {
             let dir = results(out).join(format!("{set}_claims"));
             let report = crate::claims::zh3::run(&search)?;
             crate::claims::zh3::write(&report, &dir)?;
-            eprintln!("wrote {} and {}", dir.join("claims.csv").display(), dir.join("CLAIMS.md").display());
+            noteln!("wrote {} and {}", dir.join("claims.csv").display(), dir.join("CLAIMS.md").display());
             Ok(0)
         }
         Command::Encoders => {
-            for k in encoders::REGISTRY {
-                println!("{:28} {}", k.id, k.summary);
-            }
+            let text: String = encoders::REGISTRY.iter().map(|k| format!("{:28} {}\n", k.id, k.summary)).collect();
+            output::write(text.as_bytes())?;
             Ok(0)
         }
         Command::Maps => {
-            println!("search path: {}", describe_search(&search));
+            let mut text = format!("search path: {}\n", describe_search(&search));
             for d in search.dirs() {
                 let Ok(entries) = std::fs::read_dir(d) else {
                     continue;
@@ -307,11 +311,12 @@ pub fn main_with(cli: Cli) -> Result<i32> {
                     .filter(|n| n.ends_with(".exr") || n.ends_with(".hdr"))
                     .collect();
                 names.sort();
-                println!("{}:", d.display());
+                text += &format!("{}:\n", d.display());
                 for n in names {
-                    println!("  {n}");
+                    text += &format!("  {n}\n");
                 }
             }
+            output::write(text.as_bytes())?;
             Ok(0)
         }
         Command::Probes(args) => crate::pipeline::probeset::command(args, &search),
@@ -345,9 +350,9 @@ fn describe_search(s: &SearchPath) -> String {
 /// Writes results/REPORT.md with its pictures (`report::generate`).
 fn write_report(root: &Path, out: &Path, search: &SearchPath) -> Result<()> {
     let g = crate::report::generate(&crate::report::Options { root, out, search })?;
-    eprintln!("wrote {} ({} picture(s) drawn)", g.report.display(), g.pictures);
+    noteln!("wrote {} ({} picture(s) drawn)", g.report.display(), g.pictures);
     if !g.kept.is_empty() {
-        eprintln!("sheets not redrawn (maps not on the search path): {}", g.kept.join(", "));
+        noteln!("sheets not redrawn (maps not on the search path): {}", g.kept.join(", "));
     }
     Ok(())
 }
@@ -371,10 +376,10 @@ pub fn write_results(root: &Path, out: &Path, exp: &Experiment, report: &runner:
         };
         if let Some(baseline) = &exp.summary {
             crate::pipeline::summary::write(&dir, baseline.as_deref(), &rows)?;
-            eprintln!("wrote {}", dir.join("summary.csv").display());
+            noteln!("wrote {}", dir.join("summary.csv").display());
         }
         for f in crate::claims::declared::write(&dir, &exp.name, &exp.description, &exp.claims, &rows)? {
-            eprintln!("wrote {}", dir.join(f).display());
+            noteln!("wrote {}", dir.join(f).display());
         }
     }
     Ok(ok)

@@ -3,7 +3,7 @@
 //! encoder, scoring), the timing pass (`timing`), result rows and CSV (`table`), summaries
 //! (`summary`), declared claims as written (`claim_spec`; the claims layer judges them), one-knob sweeps (`sweep`), probe sets at scale (`probeset`), the ZH3
 //! hallucination-curve fit (`hallucination_fit`), and the plumbing every writer shares:
-//! atomic writes (`atomic`), `--profile` spans (`profile`) and progress bars (`progress`).
+//! atomic writes and the lock on `results/` (`atomic`), stdout and stderr that never panic (`output`), `--profile` spans (`profile`) and progress bars (`progress`).
 //!
 //! May use: `math`, `envmap`, `reference`, `encoders`.
 
@@ -11,6 +11,7 @@ pub mod atomic;
 pub mod claim_spec;
 pub mod experiment;
 pub mod hallucination_fit;
+pub mod output;
 pub mod probeset;
 pub mod profile;
 pub mod progress;
