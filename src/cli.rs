@@ -7,7 +7,7 @@ use crate::encoders;
 use crate::envmap::search::SearchPath;
 use crate::pipeline::experiment::{list_experiments, DomainKind, Effect, Experiment};
 use crate::pipeline::output::{self, noteln};
-use crate::pipeline::{runner, table};
+use crate::pipeline::{atomic, runner, table};
 use crate::reference::domain::parse_axis;
 use crate::reference::metrics::Metric;
 use anyhow::{bail, Context, Result};
@@ -170,6 +170,7 @@ pub fn main_with(cli: Cli) -> Result<i32> {
         // each file is then written atomically.
         Command::Run { experiments, out } => {
             let out = results(out);
+            let _lock = writing(&out)?;
             let exps = experiments.iter().map(|p| Experiment::load(p)).collect::<Result<Vec<_>>>()?;
             // Run everything first, write only then: a failure leaves results/ untouched.
             let mut done = Vec::new();
@@ -194,6 +195,7 @@ pub fn main_with(cli: Cli) -> Result<i32> {
         }
         Command::Reproduce { out } => {
             let out = results(out);
+            let _lock = writing(&out)?;
             let dir = root.join("experiments");
             let exps = list_experiments(&dir)?.iter().map(|p| Experiment::load(p)).collect::<Result<Vec<_>>>()?;
             let (mut skipped, mut refused) = (Vec::new(), Vec::new());
@@ -229,14 +231,21 @@ pub fn main_with(cli: Cli) -> Result<i32> {
             Ok(crate::regression::check::refused_exit(&refused))
         }
         Command::Report { out } => {
-            write_report(&root, &results(out), &search)?;
+            let out = results(out);
+            let _lock = writing(&out)?;
+            write_report(&root, &out, &search)?;
             Ok(0)
         }
         Command::Check { experiments, all, allow_missing, out } => {
-            crate::regression::check::check_command(&root, &search, &results(out), &experiments, all, allow_missing)
+            let out = results(out);
+            // A shared lock: no bless rewrites a baseline while it is read.
+            let _lock = if out.is_dir() { Some(atomic::lock(&out, false, || waiting(&out))?) } else { None };
+            crate::regression::check::check_command(&root, &search, &out, &experiments, all, allow_missing)
         }
         Command::Bless { experiments, force, out } => {
-            crate::regression::check::bless_command(&root, &search, &results(out), &experiments, force)
+            let out = results(out);
+            let _lock = writing(&out)?;
+            crate::regression::check::bless_command(&root, &search, &out, &experiments, force)
         }
         Command::Eval { maps, encoders: list, domain, metric, resolution, polar_nodes } => {
             let exp = eval_experiment(maps, &list, &domain, &metric, &resolution, polar_nodes)?;
@@ -252,7 +261,7 @@ pub fn main_with(cli: Cli) -> Result<i32> {
                 bail!("--width {width}: expected an even width from 4 to 8192");
             }
             let out = out.unwrap_or_else(|| root.join("envmaps"));
-            std::fs::create_dir_all(&out).with_context(|| format!("{}: cannot create folder", out.display()))?;
+            let _lock = writing(&out)?;
             // Every map, then every line (a failing stdout never stops the writes half way).
             let mut lines = String::new();
             for s in crate::reference::scenes::generated() {
@@ -277,7 +286,9 @@ pub fn main_with(cli: Cli) -> Result<i32> {
             Ok(0)
         }
         Command::Claims { set, out } if set == "lightmap" => {
-            let dir = results(out).join(crate::claims::lightmap::OUTPUT_DIR);
+            let out = results(out);
+            let _lock = writing(&out)?;
+            let dir = out.join(crate::claims::lightmap::OUTPUT_DIR);
             // The claims layer measures (the strips as data); the report layer draws the
             // strips; then every file is written, each atomically, after all are made.
             let report = crate::claims::lightmap::run(&search)?;
@@ -288,7 +299,9 @@ pub fn main_with(cli: Cli) -> Result<i32> {
         }
         Command::Claims { set, out } => {
             crate::claims::zh3::check_set(&set)?;
-            let dir = results(out).join(format!("{set}_claims"));
+            let out = results(out);
+            let _lock = writing(&out)?;
+            let dir = out.join(format!("{set}_claims"));
             let report = crate::claims::zh3::run(&search)?;
             crate::claims::zh3::write(&report, &dir)?;
             noteln!("wrote {} and {}", dir.join("claims.csv").display(), dir.join("CLAIMS.md").display());
@@ -321,8 +334,26 @@ pub fn main_with(cli: Cli) -> Result<i32> {
         }
         Command::Probes(args) => crate::pipeline::probeset::command(args, &search),
         Command::Merge(args) => crate::pipeline::probeset::merge_command(args),
-        Command::Sweep(args) => crate::pipeline::sweep::command(args, &root, &search),
+        Command::Sweep(args) => {
+            let _lock = writing(&results(args.out.clone()))?;
+            crate::pipeline::sweep::command(args, &root, &search)
+        }
     }
+}
+
+/// Takes the exclusive lock on an output folder for a writing command (waiting, with a note,
+/// while another probelab command holds it), then removes the temporary files that killed
+/// runs left there, saying so (`pipeline::atomic`).
+fn writing(out: &Path) -> Result<atomic::DirLock> {
+    let lock = atomic::lock(out, true, || waiting(out))?;
+    for p in atomic::remove_stale(out)? {
+        noteln!("removed {} (left by a killed run whose process is gone)", p.display());
+    }
+    Ok(lock)
+}
+
+fn waiting(out: &Path) {
+    noteln!("waiting for {}: another probelab command is using it", out.display());
 }
 
 /// "FILE:LINE: map 'x' not found" for each missing map (the line where the experiment file
@@ -331,7 +362,8 @@ fn missing_maps(exp: &Experiment, missing: &[String]) -> String {
     let file = exp.source.as_ref().map(|p| p.display().to_string()).unwrap_or_else(|| exp.name.clone());
     missing
         .iter()
-        .map(|m| match exp.source_line(m) {
+        .zip(exp.source_lines(missing))
+        .map(|(m, line)| match line {
             Some(l) => format!("{file}:{l}: map '{m}' not found"),
             None => format!("{file}: map '{m}' not found"),
         })
@@ -394,7 +426,7 @@ fn eval_experiment(
     resolution: &str,
     polar_nodes: usize,
 ) -> Result<Experiment> {
-    let res = crate::pipeline::experiment::parse_resolution(resolution)?;
+    let res = crate::pipeline::experiment::parse_resolution(resolution).context("--resolution")?;
     let metric = Metric::parse(metric)?;
     let (kind, orientations, effects) = if domain == "sphere" {
         (DomainKind::Sphere, vec![], vec![])

@@ -698,6 +698,6 @@ mod tests {
         let mut t = toml::Table::new();
         t.insert("output_bands".into(), toml::Value::Integer(3));
         let e = format!("{:#}", crate::encoders::build("probe_hemi_full", None, t).err().unwrap());
-        assert!(e.contains("output_bands 3"), "{e}");
+        assert!(e.contains("key 'output_bands': expected an integer in [1, 2], got 3"), "{e}");
     }
 }
