@@ -6,7 +6,8 @@
 use crate::encoders;
 use crate::envmap::search::SearchPath;
 use crate::pipeline::experiment::{list_experiments, DomainKind, Effect, Experiment};
-use crate::pipeline::{runner, table};
+use crate::pipeline::output::{self, noteln, outln};
+use crate::pipeline::{atomic, runner, table};
 use crate::reference::domain::parse_axis;
 use crate::reference::metrics::Metric;
 use anyhow::{bail, Context, Result};
@@ -168,6 +169,7 @@ pub fn main_with(cli: Cli) -> Result<i32> {
         // each file is then written atomically.
         Command::Run { experiments, out } => {
             let out = results(out);
+            let _lock = writing(&out)?;
             let exps = experiments.iter().map(|p| Experiment::load(p)).collect::<Result<Vec<_>>>()?;
             // Run everything first, write only then: a failure leaves results/ untouched.
             let mut done = Vec::new();
@@ -192,6 +194,7 @@ pub fn main_with(cli: Cli) -> Result<i32> {
         }
         Command::Reproduce { out } => {
             let out = results(out);
+            let _lock = writing(&out)?;
             let dir = root.join("experiments");
             let exps = list_experiments(&dir)?.iter().map(|p| Experiment::load(p)).collect::<Result<Vec<_>>>()?;
             let (mut skipped, mut refused) = (Vec::new(), Vec::new());
@@ -203,7 +206,7 @@ pub fn main_with(cli: Cli) -> Result<i32> {
                 if report.missing.is_empty() {
                     done.push((exp, report));
                 } else {
-                    eprintln!("skipped {}: map(s) not found: {}", exp.name, report.missing.join(", "));
+                    noteln!("skipped {}: map(s) not found: {}", exp.name, report.missing.join(", "));
                     skipped.push(exp.name.clone());
                 }
                 progress.inc();
@@ -215,7 +218,7 @@ pub fn main_with(cli: Cli) -> Result<i32> {
                 }
             }
             if !skipped.is_empty() {
-                eprintln!(
+                noteln!(
                     "{} experiment(s) skipped for missing maps ({}); their results were left unchanged.\n\
                      Searched: {}\nSet PROBELAB_ENVMAPS to the folder of the paper probes (see README).",
                     skipped.len(),
@@ -227,8 +230,8 @@ pub fn main_with(cli: Cli) -> Result<i32> {
             // maps are here), before the report that presents them.
             let run = crate::regression::claims::run(&root, &search, &out, false, true)?;
             let (claims_ok, text) = crate::regression::claims::report(&run, false);
-            print!("{text}");
             write_strips(&out, &run)?;
+            output::write(text.as_bytes())?;
             if !claims_ok {
                 refused.push("claims".into());
             }
@@ -236,11 +239,15 @@ pub fn main_with(cli: Cli) -> Result<i32> {
             Ok(crate::regression::check::refused_exit(&refused))
         }
         Command::Report { out } => {
-            write_report(&root, &results(out), &search)?;
+            let out = results(out);
+            let _lock = writing(&out)?;
+            write_report(&root, &out, &search)?;
             Ok(0)
         }
         Command::Check { experiments, all, allow_missing, out } => {
             let out = results(out);
+            // A shared lock: no bless rewrites a baseline while it is read.
+            let _lock = if out.is_dir() { Some(atomic::lock(&out, false, || waiting(&out))?) } else { None };
             let claims = all || experiments.iter().any(|e| e == "claims");
             let names: Vec<String> = experiments.into_iter().filter(|e| e != "claims").collect();
             let mut code = 0;
@@ -250,8 +257,8 @@ pub fn main_with(cli: Cli) -> Result<i32> {
             if claims {
                 let run = crate::regression::claims::run(&root, &search, &out, false, false)?;
                 let (ok, text) = crate::regression::claims::report(&run, true);
-                print!("{text}");
-                println!("claims: {}", if ok { "ok: no measurement moved, no verdict changed" } else { "FAILED" });
+                output::write(text.as_bytes())?;
+                outln!("claims: {}", if ok { "ok: no measurement moved, no verdict changed" } else { "FAILED" })?;
                 if !ok {
                     code = code.max(1);
                 }
@@ -260,19 +267,26 @@ pub fn main_with(cli: Cli) -> Result<i32> {
         }
         Command::Bless { experiments, force, out } => {
             let out = results(out);
+            let _lock = writing(&out)?;
             let claims = experiments.is_empty() || experiments.iter().any(|e| e == "claims");
             let names: Vec<String> = experiments.iter().filter(|e| *e != "claims").cloned().collect();
             let mut code = 0;
+            // Every write, then every line (pipeline::output): a failing stdout never stops a
+            // bless between two baselines.
+            let mut lines = String::new();
             if experiments.is_empty() || !names.is_empty() {
-                code = crate::regression::check::bless_command(&root, &search, &out, &names, force)?;
+                let (c, text) = crate::regression::check::bless_command(&root, &search, &out, &names, force)?;
+                code = c;
+                lines += &text;
             }
             if claims {
                 let run = crate::regression::claims::run(&root, &search, &out, true, true)?;
                 let (_, text) = crate::regression::claims::report(&run, false);
-                print!("{text}");
                 write_strips(&out, &run)?;
-                println!("claims: wrote {} file(s)", run.written.len());
+                lines += &text;
+                lines += &format!("claims: wrote {} file(s)\n", run.written.len());
             }
+            output::write(lines.as_bytes())?;
             Ok(code)
         }
         Command::Eval { maps, encoders: list, domain, metric, resolution, polar_nodes } => {
@@ -281,8 +295,7 @@ pub fn main_with(cli: Cli) -> Result<i32> {
             if !report.missing.is_empty() {
                 bail!("map(s) not found: {}\nSearched: {}", report.missing.join(", "), describe_search(&search));
             }
-            use std::io::Write;
-            std::io::stdout().write_all(&table::to_csv(&report.rows)?)?;
+            output::write(&table::to_csv(&report.rows)?)?;
             Ok(0)
         }
         Command::GenEnvmaps { out, width } => {
@@ -290,12 +303,15 @@ pub fn main_with(cli: Cli) -> Result<i32> {
                 bail!("--width {width}: expected an even width from 4 to 8192");
             }
             let out = out.unwrap_or_else(|| root.join("envmaps"));
-            std::fs::create_dir_all(&out).with_context(|| format!("{}: cannot create folder", out.display()))?;
+            let _lock = writing(&out)?;
+            // Every map, then every line (a failing stdout never stops the writes half way).
+            let mut lines = String::new();
             for s in crate::reference::scenes::generated() {
                 let path = out.join(format!("{}.exr", s.id));
                 crate::envmap::load::write_exr(&path, &s.map(width))?;
-                println!("{}  {}", path.display(), s.description);
+                lines += &format!("{}  {}\n", path.display(), s.description);
             }
+            output::write(lines.as_bytes())?;
             Ok(0)
         }
         Command::FitHallucination { maps, probes, cubic, axis } => {
@@ -306,26 +322,28 @@ pub fn main_with(cli: Cli) -> Result<i32> {
                 )),
                 None => None,
             };
-            print!("{}", crate::pipeline::hallucination_fit::run(&search, &maps, probe_file, &axis, cubic)?);
+            output::write(
+                crate::pipeline::hallucination_fit::run(&search, &maps, probe_file, &axis, cubic)?.as_bytes(),
+            )?;
             Ok(0)
         }
         Command::Claims { out } => {
             let out = results(out);
+            let _lock = writing(&out)?;
             let run = crate::regression::claims::run(&root, &search, &out, false, true)?;
             let (ok, text) = crate::regression::claims::report(&run, false);
-            print!("{text}");
             let strips = write_strips(&out, &run)?;
-            eprintln!("wrote {} file(s) and {strips} blending strip(s) under {}", run.written.len(), out.display());
+            output::write(text.as_bytes())?;
+            noteln!("wrote {} file(s) and {strips} blending strip(s) under {}", run.written.len(), out.display());
             Ok(if ok { 0 } else { 1 })
         }
         Command::Encoders => {
-            for k in encoders::REGISTRY {
-                println!("{:28} {}", k.id, k.summary);
-            }
+            let text: String = encoders::REGISTRY.iter().map(|k| format!("{:28} {}\n", k.id, k.summary)).collect();
+            output::write(text.as_bytes())?;
             Ok(0)
         }
         Command::Maps => {
-            println!("search path: {}", describe_search(&search));
+            let mut text = format!("search path: {}\n", describe_search(&search));
             for d in search.dirs() {
                 let Ok(entries) = std::fs::read_dir(d) else {
                     continue;
@@ -336,17 +354,36 @@ pub fn main_with(cli: Cli) -> Result<i32> {
                     .filter(|n| n.ends_with(".exr") || n.ends_with(".hdr"))
                     .collect();
                 names.sort();
-                println!("{}:", d.display());
+                text += &format!("{}:\n", d.display());
                 for n in names {
-                    println!("  {n}");
+                    text += &format!("  {n}\n");
                 }
             }
+            output::write(text.as_bytes())?;
             Ok(0)
         }
         Command::Probes(args) => crate::pipeline::probeset::command(args, &search),
         Command::Merge(args) => crate::pipeline::probeset::merge_command(args),
-        Command::Sweep(args) => crate::pipeline::sweep::command(args, &root, &search),
+        Command::Sweep(args) => {
+            let _lock = writing(&results(args.out.clone()))?;
+            crate::pipeline::sweep::command(args, &root, &search)
+        }
     }
+}
+
+/// Takes the exclusive lock on an output folder for a writing command (waiting, with a note,
+/// while another probelab command holds it), then removes the temporary files that killed
+/// runs left there, saying so (`pipeline::atomic`).
+fn writing(out: &Path) -> Result<atomic::DirLock> {
+    let lock = atomic::lock(out, true, || waiting(out))?;
+    for p in atomic::remove_stale(out)? {
+        noteln!("removed {} (left by a killed run whose process is gone)", p.display());
+    }
+    Ok(lock)
+}
+
+fn waiting(out: &Path) {
+    noteln!("waiting for {}: another probelab command is using it", out.display());
 }
 
 /// "FILE:LINE: map 'x' not found" for each missing map (the line where the experiment file
@@ -355,7 +392,8 @@ fn missing_maps(exp: &Experiment, missing: &[String]) -> String {
     let file = exp.source.as_ref().map(|p| p.display().to_string()).unwrap_or_else(|| exp.name.clone());
     missing
         .iter()
-        .map(|m| match exp.source_line(m) {
+        .zip(exp.source_lines(missing))
+        .map(|(m, line)| match line {
             Some(l) => format!("{file}:{l}: map '{m}' not found"),
             None => format!("{file}: map '{m}' not found"),
         })
@@ -384,9 +422,9 @@ fn write_strips(out: &Path, run: &crate::regression::claims::ClaimsRun) -> Resul
 /// Writes results/REPORT.md with its pictures (`report::generate`).
 fn write_report(root: &Path, out: &Path, search: &SearchPath) -> Result<()> {
     let g = crate::report::generate(&crate::report::Options { root, out, search })?;
-    eprintln!("wrote {} ({} picture(s) drawn)", g.report.display(), g.pictures);
+    noteln!("wrote {} ({} picture(s) drawn)", g.report.display(), g.pictures);
     if !g.kept.is_empty() {
-        eprintln!("sheets not redrawn (maps not on the search path): {}", g.kept.join(", "));
+        noteln!("sheets not redrawn (maps not on the search path): {}", g.kept.join(", "));
     }
     Ok(())
 }
@@ -410,7 +448,7 @@ pub fn write_results(root: &Path, out: &Path, exp: &Experiment, report: &runner:
         };
         if let Some(baseline) = &exp.summary {
             crate::pipeline::summary::write(&dir, baseline.as_deref(), &rows)?;
-            eprintln!("wrote {}", dir.join("summary.csv").display());
+            noteln!("wrote {}", dir.join("summary.csv").display());
         }
     }
     Ok(ok)
@@ -425,7 +463,7 @@ fn eval_experiment(
     resolution: &str,
     polar_nodes: usize,
 ) -> Result<Experiment> {
-    let res = crate::pipeline::experiment::parse_resolution(resolution)?;
+    let res = crate::pipeline::experiment::parse_resolution(resolution).context("--resolution")?;
     let metric = Metric::parse(metric)?;
     let (kind, orientations, effects) = if domain == "sphere" {
         (DomainKind::Sphere, vec![], vec![])

@@ -11,8 +11,12 @@
 
 use crate::math::colour::Rgb;
 use crate::math::sh::Sh9;
-use anyhow::{bail, Result};
+use anyhow::{bail, Context, Result};
 use glam::DVec3;
+use std::ops::{Bound, RangeBounds, RangeInclusive};
+
+/// The largest channel weight a weighting key accepts (weights are relative).
+pub const MAX_WEIGHT: f64 = 1e6;
 
 /// Everything an encoder may be fitted from. SH are radiance coefficients (FORMULAS §2),
 /// exact cell integrals of the map.
@@ -130,7 +134,10 @@ pub trait Fitted: Send + Sync {
 }
 
 /// Encoder settings from an experiment file or the command line. Every key must be read:
-/// [`Params::finish`] rejects the ones no encoder asked for (pbrt's `ReportUnused`).
+/// [`Params::finish`] rejects the ones no encoder asked for (pbrt's `ReportUnused`). Every
+/// numeric setting declares its valid range where it is read ([`Params::f64_in`],
+/// [`Params::usize_in`], [`Params::weights_or`]): this is the one place settings are checked,
+/// so no NaN, infinity or out-of-range value reaches a fit.
 #[derive(Clone, Debug, Default)]
 pub struct Params {
     table: toml::Table,
@@ -142,24 +149,39 @@ impl Params {
         Params { table, used: Vec::new() }
     }
 
-    /// An optional float with a default.
-    pub fn f64_or(&mut self, key: &str, default: f64) -> Result<f64> {
+    /// An optional float with a default, which must lie in `range` (its declared valid range;
+    /// NaN and ±Inf never do). TOML integers are read as floats. The error names the key, the
+    /// range and the value: `key 'tolerance_rad': expected a number in (0, 3.14], got 0`.
+    pub fn f64_in(&mut self, key: &str, default: f64, range: impl RangeBounds<f64>) -> Result<f64> {
+        debug_assert!(range.contains(&default), "key '{key}': the default {default} is outside its range");
         self.used.push(key.into());
-        match self.table.get(key) {
-            None => Ok(default),
-            Some(toml::Value::Float(f)) if f.is_finite() => Ok(*f),
-            Some(toml::Value::Integer(i)) => Ok(*i as f64),
-            Some(v) => bail!("key '{key}': expected a finite number, got {v}"),
+        let v = match self.table.get(key) {
+            None => return Ok(default),
+            Some(toml::Value::Float(f)) => *f,
+            Some(toml::Value::Integer(i)) => *i as f64,
+            Some(v) => bail!("key '{key}': expected a number in {}, got {v}", interval(&range)),
+        };
+        if !v.is_finite() || !range.contains(&v) {
+            bail!("key '{key}': expected a number in {}, got {}", interval(&range), short(v));
         }
+        Ok(v)
     }
 
-    /// An optional integer with a default.
-    pub fn usize_or(&mut self, key: &str, default: usize) -> Result<usize> {
+    /// An optional integer with a default, which must lie in `range` (its declared valid
+    /// range). The error names the key, the range and the value.
+    pub fn usize_in(&mut self, key: &str, default: usize, range: RangeInclusive<usize>) -> Result<usize> {
+        debug_assert!(range.contains(&default), "key '{key}': the default {default} is outside its range");
         self.used.push(key.into());
+        let bad = |v: &dyn std::fmt::Display| {
+            anyhow::anyhow!("key '{key}': expected an integer in [{}, {}], got {v}", range.start(), range.end())
+        };
         match self.table.get(key) {
             None => Ok(default),
-            Some(toml::Value::Integer(i)) if *i >= 0 => Ok(*i as usize),
-            Some(v) => bail!("key '{key}': expected a non-negative integer, got {v}"),
+            Some(toml::Value::Integer(i)) => match usize::try_from(*i) {
+                Ok(u) if range.contains(&u) => Ok(u),
+                _ => Err(bad(i)),
+            },
+            Some(v) => Err(bad(v)),
         }
     }
 
@@ -173,25 +195,30 @@ impl Params {
         }
     }
 
-    /// An optional RGB triple with a default (a 3-element array), or a named weighting
-    /// (`rec709`, `equal`).
-    pub fn rgb_or(&mut self, key: &str, default: Rgb) -> Result<Rgb> {
+    /// An optional channel weighting with a default: a named weighting (`rec709`, `equal`) or
+    /// `[r, g, b]`, each weight in [0, 1e6] and the largest positive. Channel weights are
+    /// relative, so the upper bound loses nothing and keeps every weighted sum finite.
+    pub fn weights_or(&mut self, key: &str, default: Rgb) -> Result<Rgb> {
         self.used.push(key.into());
+        let range = "[r, g, b] with each weight in [0, 1e6] and not all 0, or 'rec709'/'equal'";
         match self.table.get(key) {
             None => Ok(default),
-            Some(toml::Value::String(s)) => named_weights(s),
+            Some(toml::Value::String(s)) => named_weights(s).with_context(|| format!("key '{key}'")),
             Some(toml::Value::Array(a)) if a.len() == 3 => {
                 let mut v = [0.0; 3];
                 for (o, x) in v.iter_mut().zip(a) {
                     *o = match x {
                         toml::Value::Float(f) => *f,
                         toml::Value::Integer(i) => *i as f64,
-                        _ => bail!("key '{key}': expected three numbers"),
+                        _ => bail!("key '{key}': expected {range}, got {x}"),
                     };
+                }
+                if v.iter().any(|w| !(0.0..=MAX_WEIGHT).contains(w)) || v.iter().all(|w| *w == 0.0) {
+                    bail!("key '{key}': expected {range}, got [{}, {}, {}]", short(v[0]), short(v[1]), short(v[2]));
                 }
                 Ok(Rgb::from_array(v))
             }
-            Some(v) => bail!("key '{key}': expected [r, g, b] or 'rec709'/'equal', got {v}"),
+            Some(v) => bail!("key '{key}': expected {range}, got {v}"),
         }
     }
 
@@ -217,11 +244,87 @@ impl Params {
     }
 }
 
+/// A number as a message shows it: shortest round trip, in exponent form when large or small.
+fn short(v: f64) -> String {
+    if v == 0.0 || !v.is_finite() || (1e-4..1e6).contains(&v.abs()) {
+        format!("{v}")
+    } else {
+        format!("{v:e}")
+    }
+}
+
+/// A range in interval notation: `[0, 1]`, `(0, 90)`, `[1, inf)`.
+fn interval(r: &impl RangeBounds<f64>) -> String {
+    let lo = match r.start_bound() {
+        Bound::Included(a) => format!("[{a}"),
+        Bound::Excluded(a) => format!("({a}"),
+        Bound::Unbounded => "(-inf".to_string(),
+    };
+    let hi = match r.end_bound() {
+        Bound::Included(b) => format!("{b}]"),
+        Bound::Excluded(b) => format!("{b})"),
+        Bound::Unbounded => "inf)".to_string(),
+    };
+    format!("{lo}, {hi}")
+}
+
 /// Channel weightings by name: `rec709` (0.2126, 0.7152, 0.0722) or `equal` (⅓ each).
 pub fn named_weights(s: &str) -> Result<Rgb> {
     match s {
         "rec709" => Ok(crate::math::colour::REC709),
         "equal" => Ok(Rgb::splat(1.0 / 3.0)),
         _ => bail!("unknown weighting '{s}' (expected rec709, equal or [r, g, b])"),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn params(text: &str) -> Params {
+        Params::new(toml::from_str(text).unwrap())
+    }
+
+    /// Every numeric setting is checked against its declared range, in one place; NaN and
+    /// ±Inf (TOML `nan`, `inf`) are never in range; the error names key, range and value.
+    #[test]
+    fn numeric_settings_are_range_checked() {
+        let err =
+            |text: &str, f: &dyn Fn(&mut Params) -> Result<f64>| format!("{:#}", f(&mut params(text)).unwrap_err());
+        let f = |p: &mut Params| p.f64_in("x", 1.0, (Bound::Excluded(0.0), Bound::Included(2.0)));
+        assert_eq!(f(&mut params("")).unwrap(), 1.0);
+        assert_eq!(f(&mut params("x = 2")).unwrap(), 2.0);
+        assert_eq!(f(&mut params("x = 0.5")).unwrap(), 0.5);
+        for bad in ["x = nan", "x = inf", "x = -inf", "x = 0.0", "x = 2.0000001", "x = 1e308", "x = 'a'"] {
+            let e = err(bad, &f);
+            assert!(e.starts_with("key 'x': expected a number in (0, 2], got "), "{bad}: {e}");
+        }
+        assert!(err("x = 1e308", &f).ends_with("got 1e308"));
+        let u = |p: &mut Params| p.usize_in("m", 5, 1..=64).map(|v| v as f64);
+        assert_eq!(u(&mut params("m = 64")).unwrap(), 64.0);
+        for bad in ["m = 0", "m = 65", "m = -1", "m = 1000000000000000000", "m = 1.0", "m = nan"] {
+            let e = err(bad, &u);
+            assert!(e.starts_with("key 'm': expected an integer in [1, 64], got "), "{bad}: {e}");
+        }
+    }
+
+    #[test]
+    fn weights_are_finite_bounded_and_not_all_zero() {
+        let w = |text: &str| params(text).weights_or("w", Rgb::ONE);
+        assert_eq!(w("").unwrap(), Rgb::ONE);
+        assert_eq!(w("w = [1, 0, 2.5]").unwrap(), Rgb::new(1.0, 0.0, 2.5));
+        assert_eq!(w("w = 'rec709'").unwrap(), crate::math::colour::REC709);
+        for bad in [
+            "w = [nan, 1, 1]",
+            "w = [inf, 1, 1]",
+            "w = [0, 0, 0]",
+            "w = [-1, 1, 1]",
+            "w = [1e7, 1, 1]",
+            "w = [1, 1]",
+            "w = 'red'",
+        ] {
+            let e = format!("{:#}", w(bad).unwrap_err());
+            assert!(e.starts_with("key 'w'"), "{bad}: {e}");
+        }
     }
 }

@@ -164,8 +164,17 @@ pub fn build(kind: &str, name: Option<&str>, params: toml::Table) -> Result<Name
 }
 
 /// Builds encoders from a comma-separated list of kinds (the `--encoders` option).
+/// An empty list, or a kind listed twice, is an error (as in experiment files).
 pub fn build_list(list: &str) -> Result<Vec<NamedEncoder>> {
-    list.split(',').map(str::trim).filter(|s| !s.is_empty()).map(|k| build(k, None, toml::Table::new())).collect()
+    let kinds: Vec<&str> = list.split(',').map(str::trim).filter(|s| !s.is_empty()).collect();
+    if kinds.is_empty() {
+        bail!("--encoders '{list}': list at least one encoder (valid: {})", known_ids());
+    }
+    let mut seen = std::collections::HashSet::new();
+    if let Some(k) = kinds.iter().find(|k| !seen.insert(**k)) {
+        bail!("--encoders '{list}': '{k}' appears twice");
+    }
+    kinds.into_iter().map(|k| build(k, None, toml::Table::new())).collect()
 }
 
 #[cfg(test)]

@@ -349,11 +349,8 @@ fn build(p: &mut Params, id: &'static str, op: Op) -> Result<Box<dyn Encoder>> {
 }
 
 fn output_bands(p: &mut Params) -> Result<usize> {
-    let b = p.usize_or("output_bands", 2)?;
-    if !(1..=2).contains(&b) {
-        bail!("output_bands {b}: expected 1 (linear) or 2 (quadratic)");
-    }
-    Ok(b)
+    // 1 (linear) or 2 (quadratic).
+    p.usize_in("output_bands", 2, 1..=2)
 }
 
 pub fn build_unoccluded(p: &mut Params) -> Result<Box<dyn Encoder>> {
@@ -384,10 +381,7 @@ pub fn build_hlsh(p: &mut Params) -> Result<Box<dyn Encoder>> {
     build(p, "hlsh", Op::Hlsh { cone: false, pin_iz })
 }
 pub fn build_hhd_lum(p: &mut Params) -> Result<Box<dyn Encoder>> {
-    let weights = p.rgb_or("weights", named_weights("rec709")?)?;
-    if weights.min_element() < 0.0 || weights.element_sum() <= 0.0 {
-        bail!("weights {weights}: expected non-negative weights with a positive sum");
-    }
+    let weights = p.weights_or("weights", named_weights("rec709")?)?;
     build(p, "probe_hhd_lum", Op::HhdLum { weights })
 }
 pub fn build_cone_multiply(p: &mut Params) -> Result<Box<dyn Encoder>> {
@@ -704,6 +698,6 @@ mod tests {
         let mut t = toml::Table::new();
         t.insert("output_bands".into(), toml::Value::Integer(3));
         let e = format!("{:#}", crate::encoders::build("probe_hemi_full", None, t).err().unwrap());
-        assert!(e.contains("output_bands 3"), "{e}");
+        assert!(e.contains("key 'output_bands': expected an integer in [1, 2], got 3"), "{e}");
     }
 }

@@ -75,7 +75,7 @@ pub struct ReportOnDrop(pub Instant);
 impl Drop for ReportOnDrop {
     fn drop(&mut self) {
         if enabled() {
-            eprint!("{}", report(self.0.elapsed().as_secs_f64()));
+            crate::pipeline::output::note_fmt(format_args!("{}", report(self.0.elapsed().as_secs_f64())));
         }
     }
 }

@@ -20,7 +20,7 @@ use crate::reference::domain::{frame_to, Domain, OutputGrid};
 use crate::reference::exact::Reference;
 use crate::reference::metrics::{score, Metric, Scores};
 use crate::reference::projection::{project, project_visible};
-use anyhow::Result;
+use anyhow::{bail, Result};
 use glam::DVec3;
 use rayon::prelude::*;
 use std::path::PathBuf;
@@ -149,6 +149,9 @@ pub fn run(exp: &Experiment, search: &SearchPath) -> Result<RunReport> {
     let mut rows = Vec::new();
     let mut maps = Vec::new();
     let mut missing = Vec::new();
+    // Rows are keyed by the map's file stem: two entries naming one stem would give rows with
+    // identical keys.
+    let mut stems = std::collections::HashMap::new();
     for name in &exp.maps {
         let path = match search.resolve(name) {
             Ok(p) => p,
@@ -157,6 +160,12 @@ pub fn run(exp: &Experiment, search: &SearchPath) -> Result<RunReport> {
                 continue;
             }
         };
+        let stem = path.file_stem().unwrap_or(path.as_os_str()).to_string_lossy().into_owned();
+        if let Some(first) = stems.insert(stem.clone(), name) {
+            bail!(
+                "maps '{first}' and '{name}' are both the map '{stem}' (rows are keyed by the file stem); list it once"
+            );
+        }
         // Load first: the loader refuses what is not a regular file (reading a FIFO would block).
         let map = {
             let _s = crate::pipeline::profile::span("decode");

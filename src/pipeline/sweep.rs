@@ -33,6 +33,7 @@ use crate::envmap::search::SearchPath;
 use crate::envmap::{EnvMap, LatLong};
 use crate::math::colour::Rgb;
 use crate::pipeline::experiment::{Experiment, ExperimentFile};
+use crate::pipeline::output::noteln;
 use crate::pipeline::runner::{cases, score_fit, Case, CaseData, MapData};
 use crate::pipeline::timing::median_ns_with;
 use crate::reference::domain::OutputGrid;
@@ -510,14 +511,14 @@ pub fn command(a: SweepArgs, root: &Path, search: &SearchPath) -> Result<i32> {
         let (rows, missing) = run(&sweep, search)?;
         if !missing.is_empty() {
             if all {
-                eprintln!("skipped sweep {}: map(s) not found: {}", sweep.name, missing.join(", "));
+                noteln!("skipped sweep {}: map(s) not found: {}", sweep.name, missing.join(", "));
                 continue;
             }
             bail!("{}: map(s) not found: {}; nothing written", path.display(), missing.join(", "));
         }
         let file = out.join(format!("{}.csv", sweep.name));
         crate::pipeline::atomic::write(&file, &to_csv(&sweep, &rows)?)?;
-        eprintln!("wrote {} ({} rows)", file.display(), rows.len());
+        noteln!("wrote {} ({} rows)", file.display(), rows.len());
     }
     Ok(0)
 }
@@ -635,7 +636,7 @@ mod tests {
             let mut t = toml::Table::new();
             t.insert("bands".into(), v.clone());
             let mut p = Params::new(t);
-            let b = p.usize_or("bands", 2)?;
+            let b = p.usize_in("bands", 2, 0..=2)?;
             p.finish("bands")?;
             Ok(vec![NamedEncoder { name: "bands".into(), encoder: Box::new(Bands(b)) }])
         };

@@ -74,6 +74,39 @@ pub fn num(v: f64) -> String {
 }
 
 impl Row {
+    /// Fails, naming the row and the column, if any number of the row is NaN or infinite.
+    pub fn check_finite(&self) -> Result<()> {
+        let s = &self.scores;
+        let cells = [
+            ("rmse_r", Some(s.rmse_rgb[0])),
+            ("rmse_g", Some(s.rmse_rgb[1])),
+            ("rmse_b", Some(s.rmse_rgb[2])),
+            ("rmse", Some(s.rmse)),
+            ("rel_rmse", Some(s.rel_rmse)),
+            ("neg_frac", Some(s.neg_frac)),
+            ("max_abs_err", Some(s.max_abs)),
+            ("at_normal_abs_err", self.at_normal_abs_err),
+            ("fit_ns", self.fit_ns),
+            ("eval_ns", self.eval_ns),
+        ];
+        if let Some((col, Some(v))) = cells.iter().find(|(_, v)| v.is_some_and(|v| !v.is_finite())) {
+            let case = [&self.orientation_set, &self.effects]
+                .iter()
+                .filter(|t| !t.is_empty())
+                .map(|t| t.as_str())
+                .collect::<Vec<_>>()
+                .join(", ");
+            bail!(
+                "map '{}', encoder '{}'{}: {col} is {v}, not a finite number; no table is written \
+                 (a setting or the map is out of range)",
+                self.map,
+                self.encoder,
+                if case.is_empty() { String::new() } else { format!(" ({case})") }
+            );
+        }
+        Ok(())
+    }
+
     pub fn fields(&self) -> Vec<String> {
         let s = &self.scores;
         vec![
@@ -103,11 +136,13 @@ impl Row {
     }
 }
 
-/// The rows as CSV text with the header.
+/// The rows as CSV text with the header. A row with a non-finite number is an error naming
+/// its map, encoder, case and column: such a table is never printed nor kept as a baseline.
 pub fn to_csv(rows: &[Row]) -> Result<Vec<u8>> {
     let mut w = csv::Writer::from_writer(Vec::new());
     w.write_record(COLUMNS)?;
     for r in rows {
+        r.check_finite()?;
         w.write_record(r.fields())?;
     }
     w.into_inner().map_err(|e| anyhow::anyhow!("csv: {e}"))

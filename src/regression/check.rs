@@ -15,6 +15,7 @@
 use crate::envmap::load::sha256_hex;
 use crate::envmap::search::SearchPath;
 use crate::pipeline::experiment::{list_experiments, Experiment};
+use crate::pipeline::output::{noteln, outln};
 use crate::pipeline::runner::{self, RunReport};
 use crate::regression::baseline::{self, Comparison, Table, TABLE};
 use crate::regression::provenance::{self, Provenance};
@@ -347,11 +348,11 @@ pub fn print_stored(exp: &Experiment, out: &Path, stored: &Stored, rows: usize) 
     let dir = out.join(&exp.name);
     match stored {
         Stored::New => {
-            eprintln!("wrote {} ({rows} rows) and {} (new baseline)", dir.join(TABLE).display(), provenance::FILE_NAME);
+            noteln!("wrote {} ({rows} rows) and {} (new baseline)", dir.join(TABLE).display(), provenance::FILE_NAME);
             true
         }
         Stored::Unchanged(c) => {
-            eprintln!(
+            noteln!(
                 "{}: matches the baseline ({} numbers compared); left unchanged",
                 dir.join(TABLE).display(),
                 c.comparison.numbers
@@ -359,8 +360,8 @@ pub fn print_stored(exp: &Experiment, out: &Path, stored: &Stored, rows: usize) 
             true
         }
         Stored::Refused(c) => {
-            eprint!("{}", c.report());
-            eprintln!(
+            crate::pipeline::output::note_fmt(format_args!("{}", c.report()));
+            noteln!(
                 "{}: NOT overwritten: the baseline changes only through `probelab bless`",
                 dir.join(TABLE).display()
             );
@@ -374,7 +375,7 @@ pub fn refused_exit(refused: &[String]) -> i32 {
     if refused.is_empty() {
         return 0;
     }
-    eprintln!(
+    noteln!(
         "{} experiment(s) differ from their baselines and were not written: {}.\n\
          Review the differences above; if they are intended, run `probelab bless {}` and quote its \
          output in the commit message.",
@@ -451,8 +452,8 @@ pub fn check_command(
         let t = std::time::Instant::now();
         let report = runner::run(exp, search)?;
         let c = compare_with_baseline(&out.join(&exp.name), exp, &report, &tolerances, allow_missing)?;
-        print!("{}", c.report());
-        eprintln!("  ({}: {:.1} s)", exp.name, t.elapsed().as_secs_f64());
+        crate::pipeline::output::write(c.report().as_bytes())?;
+        noteln!("  ({}: {:.1} s)", exp.name, t.elapsed().as_secs_f64());
         numbers += c.comparison.numbers;
         moved += c.moved();
         unchecked += c.unchecked_maps();
@@ -461,26 +462,26 @@ pub fn check_command(
         }
     }
     if !left.is_empty() {
-        println!("not checked (ci = false): {}; `probelab check --all` includes them", left.join(", "));
+        outln!("not checked (ci = false): {}; `probelab check --all` includes them", left.join(", "))?;
     }
     let elapsed = start.elapsed().as_secs_f64();
     if failed.is_empty() {
         let note =
             if unchecked > 0 { format!("; {unchecked} map(s) missing here were NOT checked") } else { String::new() };
-        println!(
+        outln!(
             "check: ok: {} experiment(s), {numbers} numbers compared, nothing moved{note} ({elapsed:.1} s)",
             exps.len()
-        );
+        )?;
         Ok(0)
     } else {
-        println!(
+        outln!(
             "check: FAILED: {} of {} experiment(s) differ from their baselines ({}); {moved} number(s) moved. \
              If intended, run `probelab bless {}` and quote its output in the commit message. ({elapsed:.1} s)",
             failed.len(),
             exps.len(),
             failed.join(", "),
             failed.join(" ")
-        );
+        )?;
         Ok(1)
     }
 }
@@ -490,7 +491,15 @@ pub fn check_command(
 /// refreshes the provenance and ignored columns such as timings). Every experiment is run and compared
 /// before anything is written. A named experiment whose maps are missing is an error (nothing
 /// is written); by default such experiments are skipped and listed.
-pub fn bless_command(root: &Path, search: &SearchPath, out: &Path, names: &[String], force: bool) -> Result<i32> {
+/// Returns the exit code and the lines to print, which the caller prints after its own last
+/// write.
+pub fn bless_command(
+    root: &Path,
+    search: &SearchPath,
+    out: &Path,
+    names: &[String],
+    force: bool,
+) -> Result<(i32, String)> {
     let tolerances = Tolerances::load(root)?;
     let (exps, _) = select(root, names, false)?;
     let mut staged = Vec::new();
@@ -509,26 +518,29 @@ pub fn bless_command(root: &Path, search: &SearchPath, out: &Path, names: &[Stri
             continue;
         }
         let c = compare_with_baseline(&out.join(&exp.name), exp, &report, &tolerances, false)?;
-        print!("{}", c.report());
+        crate::pipeline::output::write(c.report().as_bytes())?;
         let files = if c.passed() && !force { None } else { Some(baseline_files(exp, &report, root)?) };
         staged.push((exp.name.clone(), c.passed(), files));
     }
+    // Every write, then every line: a stdout that fails (a closed pipe) can stop the command
+    // before its first write (above) or after its last, never between two baselines.
+    let mut lines = Vec::new();
     for (name, passed, files) in staged {
         let dir = out.join(&name);
         match files {
-            None => println!("bless {name}: nothing moved; {} left unchanged", dir.display()),
+            None => lines.push(format!("bless {name}: nothing moved; {} left unchanged", dir.display())),
             Some(files) => {
                 baseline::write_all(&dir, &files)?;
                 let list: Vec<&str> = files.iter().map(|(n, _)| n.as_str()).collect();
                 let why = if passed { " (nothing moved; rewritten because of --force)" } else { "" };
-                println!("bless {name}: wrote {} in {}{why}", list.join(", "), dir.display());
+                lines.push(format!("bless {name}: wrote {} in {}{why}", list.join(", "), dir.display()));
             }
         }
     }
     if !skipped.is_empty() {
-        println!("not blessed, maps not found on this machine: {}", skipped.join("; "));
+        lines.push(format!("not blessed, maps not found on this machine: {}", skipped.join("; ")));
     }
-    Ok(0)
+    Ok((0, lines.iter().map(|l| format!("{l}\n")).collect()))
 }
 
 #[cfg(test)]

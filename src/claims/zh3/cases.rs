@@ -85,7 +85,7 @@ pub(super) fn probes(search: &SearchPath, grid: &OutputGrid) -> Result<Probes> {
                 maps.push((name.to_string(), desc));
                 cases.push(c);
             }
-            Err(e) => eprintln!("claims: map {name} left out: {e:#}"),
+            Err(e) => crate::pipeline::output::noteln!("claims: map {name} left out: {e:#}"),
         }
     }
     Ok((cases, maps))

@@ -9,22 +9,23 @@
 //! | `colours` | `free`, `irradz` | non-negative least squares, or I_z fixed with the ambient weight in [0, 1] |
 //! | `iz` | `exact`, `sh` | I_z from the bake's exact irradiance at N, or from the L2 SH at N |
 //! | `max_tilt_deg` | (0, 90) | largest tilt of d from N (default 89) |
-//! | `weights` | `equal`, `rec709`, [r, g, b] | channel weights of the search error (default equal: the tables' rmse) |
+//! | `weights` | `equal`, `rec709`, [r, g, b] (each in [0, 1e6], not all 0) | channel weights of the search error (default equal: the tables' rmse) |
 //! | `direction_weights` | as `weights` | channel weights of the linear L1 direction (default rec709, FORMULAS §4) |
-//! | `iterations` | integer | golden-section iterations, searched encoders (default 30) |
-//! | `tolerance_rad` | > 0 | stop when the θ bracket is narrower (default 1e-6) |
+//! | `iterations` | 0 to 200 | golden-section iterations, searched encoders (default 30) |
+//! | `tolerance_rad` | (0, π] | stop when the θ bracket is narrower (default 1e-6) |
 //! | `search` | `theta`, `theta_phi` | searched encoders: golden section in θ at the L1 azimuth (default), or alternating θ and φ (2-D) |
-//! | `rounds` | integer | `theta_phi`: alternations of φ and θ (default 2) |
+//! | `rounds` | 0 to 16 | `theta_phi`: alternations of φ and θ (default 2) |
 //!
 //! Diagnostics: `theta_deg` (tilt of d from N), and for searched encoders `iters`, `evals`;
 //! `fallback` = 1 when the pure-ambient fallback was used (see `lightmap::fit`).
 
 use crate::encoders::encoder::{named_weights, Encoder, FitInput, Fitted, Params};
-use crate::encoders::lightmap::fit::{fit, Colours, Direction, FitSpec, Gram};
+use crate::encoders::lightmap::fit::{fit, Colours, Direction, FitSpec, Gram, MAX_GOLDEN_STEPS};
 use crate::encoders::lightmap::{Basis, Model, Storage, Texel};
 use crate::math::colour::Rgb;
 use anyhow::{bail, Result};
 use glam::DVec3;
+use std::ops::Bound::{Excluded, Included};
 
 /// An AHD/HHD lightmap encoder.
 pub struct LightmapEncoder {
@@ -70,26 +71,15 @@ pub fn build(id: &'static str, def: Defaults, p: &mut Params) -> Result<Box<dyn 
         "sh" => false,
         s => bail!("key 'iz': expected 'exact' or 'sh', got '{s}'"),
     };
-    let max_tilt = p.f64_or("max_tilt_deg", 89.0)?;
-    if !(max_tilt > 0.0 && max_tilt < 90.0) {
-        bail!("key 'max_tilt_deg': expected a value in (0, 90), got {max_tilt}");
-    }
-    let weights = p.rgb_or("weights", named_weights("equal")?)?;
-    let direction_weights = p.rgb_or("direction_weights", named_weights("rec709")?)?;
-    for (k, w) in [("weights", weights), ("direction_weights", direction_weights)] {
-        if w.min_element() < 0.0 || w.max_element() <= 0.0 || !w.is_finite() {
-            bail!("key '{k}': weights must be finite, non-negative and not all zero, got {w}");
-        }
-    }
+    let max_tilt = p.f64_in("max_tilt_deg", 89.0, (Excluded(0.0), Excluded(90.0)))?;
+    let weights = p.weights_or("weights", named_weights("equal")?)?;
+    let direction_weights = p.weights_or("direction_weights", named_weights("rec709")?)?;
     let direction = if def.search {
-        let iterations = p.usize_or("iterations", 30)?;
-        let tolerance = p.f64_or("tolerance_rad", 1e-6)?;
-        if tolerance <= 0.0 {
-            bail!("key 'tolerance_rad': expected a positive number, got {tolerance}");
-        }
+        let iterations = p.usize_in("iterations", 30, 0..=MAX_GOLDEN_STEPS)?;
+        let tolerance = p.f64_in("tolerance_rad", 1e-6, (Excluded(0.0), Included(std::f64::consts::PI)))?;
         match p.str_or("search", "theta")?.as_str() {
             "theta" => Direction::Search { iterations, tolerance },
-            "theta_phi" => Direction::Search2d { iterations, tolerance, rounds: p.usize_or("rounds", 2)? },
+            "theta_phi" => Direction::Search2d { iterations, tolerance, rounds: p.usize_in("rounds", 2, 0..=16)? },
             s => bail!("key 'search': expected 'theta' or 'theta_phi', got '{s}'"),
         }
     } else {

@@ -537,9 +537,15 @@ fn solve_by(spec: &FitSpec, theta_lin: f64, objective: impl Fn(f64) -> f64, colo
     }
 }
 
-/// Golden-section search for the minimum of `f` on [a, b]: at most `iterations` steps,
-/// stopping when the bracket is narrower than `tolerance`. Returns the better of the last two
-/// points, its value, and the number of steps (each costs one evaluation, after the first two).
+/// The most golden-section steps any search takes, whatever its settings: the bracket shrinks
+/// by 0.618 a step, so 200 steps take [0, π] far below one ulp.
+pub const MAX_GOLDEN_STEPS: usize = 200;
+
+/// Golden-section search for the minimum of `f` on [a, b]: at most `iterations` steps (and
+/// never more than [`MAX_GOLDEN_STEPS`]), stopping when the bracket is narrower than
+/// `tolerance` or stops shrinking (it cannot narrow below one ulp, so a tolerance under that
+/// must not keep it going). Returns the better of the last two points, its value, and the
+/// number of steps (each costs one evaluation, after the first two).
 fn golden_section(
     mut a: f64,
     mut b: f64,
@@ -551,7 +557,8 @@ fn golden_section(
     let mut x2 = a + INV_PHI * (b - a);
     let (mut f1, mut f2) = (f(x1), f(x2));
     let mut iters = 0;
-    while iters < iterations && b - a > tolerance {
+    while iters < iterations.min(MAX_GOLDEN_STEPS) && b - a > tolerance {
+        let width = b - a;
         iters += 1;
         if f1 <= f2 {
             b = x2;
@@ -563,6 +570,9 @@ fn golden_section(
             (x1, f1) = (x2, f2);
             x2 = a + INV_PHI * (b - a);
             f2 = f(x2);
+        }
+        if b - a >= width {
+            break;
         }
     }
     if f1 <= f2 {
@@ -834,6 +844,27 @@ mod tests {
     /// path `fit` takes: frame at the L1 azimuth, `ThetaObjective`, `solve_by`). Only objectives
     /// with one minimum on the coarse grid are compared (a golden section finds a local one);
     /// the test requires most cases to qualify.
+    /// Issue 17 item 7: a tolerance below one ulp (and a huge step count) once looped forever,
+    /// the bracket no longer shrinking. The search now stops when the bracket stops shrinking:
+    /// from [0, 1.55] that is about 80 steps (0.618^k · 1.55 < 2^-52 for k ≥ 78), and never
+    /// more than the cap.
+    #[test]
+    fn golden_section_stops_when_the_bracket_stops_shrinking() {
+        let mut evals = 0usize;
+        let (x, _, iters) = golden_section(0.0, 1.55, usize::MAX, 1e-300, |t| {
+            evals += 1;
+            (t - 0.3).powi(2)
+        });
+        assert!(iters < MAX_GOLDEN_STEPS, "{iters} steps");
+        assert!((70..=90).contains(&iters), "{iters} steps: one ulp is reached near 80");
+        assert_eq!(evals, iters + 2);
+        assert!((x - 0.3).abs() < 1e-7, "{x}");
+        // A bracket that cannot shrink at all (one ulp wide) ends at once.
+        let one = 1.0f64;
+        let (_, _, k) = golden_section(one, one.next_up(), usize::MAX, 0.0, |t| t);
+        assert!(k <= 2, "{k}");
+    }
+
     #[test]
     fn golden_section_converges_to_the_scanned_minimum() {
         let mut r = Rng::new(2026);

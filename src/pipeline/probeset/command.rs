@@ -3,13 +3,13 @@
 
 use crate::encoders::NamedEncoder;
 use crate::math::sh::Sh9;
+use crate::pipeline::output::noteln;
 use crate::pipeline::probeset::format::{write_probes, Format, ProbeReader, DEFAULT_CHUNK};
 use crate::pipeline::probeset::score::{score, SetStats, Source, SphereRule};
 use crate::pipeline::probeset::shard::Shard;
 use crate::pipeline::probeset::synth::{scene_palette, Synth};
 use anyhow::{bail, Context, Result};
 use rayon::prelude::*;
-use std::io::Write;
 use std::path::PathBuf;
 
 /// `probelab probes`: score encoders over a probe set (a file or synthetic).
@@ -160,9 +160,9 @@ pub fn command(a: ProbesArgs, search: &crate::envmap::search::SearchPath) -> Res
     };
     if let Some(out) = &a.out {
         crate::pipeline::atomic::write(out, stats.to_toml()?.as_bytes())?;
-        eprintln!("wrote {}", out.display());
+        noteln!("wrote {}", out.display());
     }
-    eprintln!(
+    noteln!(
         "probes: {} (shard {}/{}), wall {:.3} s, input {:.3} s, peak memory {:.1} MiB (VmHWM), {} thread(s)",
         stats.probes,
         shard.index,
@@ -172,7 +172,7 @@ pub fn command(a: ProbesArgs, search: &crate::envmap::search::SearchPath) -> Res
         stats.peak_mem_bytes as f64 / (1024.0 * 1024.0),
         stats.threads
     );
-    std::io::stdout().write_all(&stats.summary_csv()?)?;
+    crate::pipeline::output::write(&stats.summary_csv()?)?;
     Ok(0)
 }
 
@@ -189,12 +189,12 @@ pub fn merge_command(a: MergeArgs) -> Result<i32> {
     let merged = merged.expect("clap requires at least one file");
     if !merged.complete() {
         let missing: Vec<usize> = (0..merged.shard_count).filter(|s| !merged.shards.contains(s)).collect();
-        eprintln!("warning: partial merge: shard(s) {missing:?} of {} missing", merged.shard_count);
+        noteln!("warning: partial merge: shard(s) {missing:?} of {} missing", merged.shard_count);
     }
     if let Some(out) = &a.out {
         crate::pipeline::atomic::write(out, merged.to_toml()?.as_bytes())?;
-        eprintln!("wrote {}", out.display());
+        noteln!("wrote {}", out.display());
     }
-    std::io::stdout().write_all(&merged.summary_csv()?)?;
+    crate::pipeline::output::write(&merged.summary_csv()?)?;
     Ok(0)
 }
