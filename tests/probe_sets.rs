@@ -151,9 +151,9 @@ fn probe_kinds() -> Vec<(&'static str, Vec<u8>, &'static [&'static str])> {
     vec![
         ("overflow_1e160.csv", row("1e160").into_bytes(), &[":1: field 1 ('1e160') is out of range", "1e30"]),
         (
-            "overflow_line_4.csv",
+            "overflow_line_5.csv",
             format!("# probes\n{}\n{}{}", row("0.5"), row("1"), row("-2e31")).into_bytes(),
-            &[":4: field 1 ('-2e31') is out of range"],
+            &[":5: field 1 ('-2e31') is out of range"],
         ),
         (
             "overflow_f32_max.f32",
