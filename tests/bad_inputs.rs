@@ -55,6 +55,40 @@ fn patch_data_window(path: &Path, window: [i32; 4]) {
     fs::write(path, bytes).unwrap();
 }
 
+/// The offset table of a single-part OpenEXR file: its byte position and entry count. The table
+/// follows the header's terminating null byte, and its first entry points just past it.
+fn offset_table(bytes: &[u8]) -> (usize, usize) {
+    let mut at = 8; // magic number and version
+    while bytes[at] != 0 {
+        let name_end = at + bytes[at..].iter().position(|&b| b == 0).unwrap();
+        let type_end = name_end + 1 + bytes[name_end + 1..].iter().position(|&b| b == 0).unwrap();
+        let size = i32::from_le_bytes(bytes[type_end + 1..type_end + 5].try_into().unwrap()) as usize;
+        at = type_end + 5 + size;
+    }
+    let table = at + 1;
+    let first = u64::from_le_bytes(bytes[table..table + 8].try_into().unwrap()) as usize;
+    (table, (first - table) / 8)
+}
+
+/// Entry `k` of the offset table.
+fn offset(bytes: &[u8], k: usize) -> usize {
+    let (table, _) = offset_table(bytes);
+    u64::from_le_bytes(bytes[table + 8 * k..table + 8 * k + 8].try_into().unwrap()) as usize
+}
+
+/// An 8×4 map of ones, uncompressed: one scanline per chunk, so 4 chunks.
+fn write_ones(path: &Path) {
+    let v = vec![1.0f32; 32];
+    write_channels(path, 8, 4, &[("R", v.clone()), ("G", v.clone()), ("B", v)]);
+}
+
+/// Applies `edit` to the bytes of the file at `path`.
+fn patch(path: &Path, edit: impl FnOnce(&mut Vec<u8>)) {
+    let mut b = fs::read(path).unwrap();
+    edit(&mut b);
+    fs::write(path, b).unwrap();
+}
+
 fn write_hdr(path: &Path, w: usize, h: usize) {
     use image::codecs::hdr::HdrEncoder;
     let px: Vec<image::Rgb<f32>> = (0..w * h).map(|k| image::Rgb([(k % 5) as f32, 0.5, 1.0])).collect();
@@ -239,6 +273,77 @@ fn kinds() -> Vec<Kind> {
             file: "header_only.hdr",
             make: |p| fs::write(p, b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n").unwrap(),
             fault: &["radiance hdr"],
+        },
+        // Issue 17, item 1: chunks that do not store every scanline exactly once. The exr crate
+        // places a chunk by the y in it and leaves uncovered rows black; each is refused.
+        Kind {
+            file: "chunk_offset_duplicated.exr",
+            make: |p| {
+                write_ones(p);
+                patch(p, |b| {
+                    let (table, _) = offset_table(b);
+                    let first = b[table..table + 8].to_vec();
+                    b[table + 8..table + 16].copy_from_slice(&first);
+                });
+            },
+            fault: &["corrupt openexr chunk layout", "stored twice", "exactly once"],
+        },
+        Kind {
+            file: "chunk_y_duplicated.exr",
+            make: |p| {
+                write_ones(p);
+                patch(p, |b| {
+                    let at = offset(b, 1);
+                    b[at..at + 4].copy_from_slice(&0i32.to_le_bytes());
+                });
+            },
+            fault: &["corrupt openexr chunk layout", "(x=0, y=0) is stored twice"],
+        },
+        Kind {
+            file: "chunk_y_outside.exr",
+            make: |p| {
+                write_ones(p);
+                patch(p, |b| {
+                    let at = offset(b, 3);
+                    b[at..at + 4].copy_from_slice(&9i32.to_le_bytes());
+                });
+            },
+            fault: &["openexr"],
+        },
+        Kind {
+            file: "chunk_offset_to_nowhere.exr",
+            make: |p| {
+                write_ones(p);
+                patch(p, |b| {
+                    let (table, n) = offset_table(b);
+                    let k = table + 8 * (n - 1);
+                    b[k..k + 8].copy_from_slice(&(b.len() as u64 + 1000).to_le_bytes());
+                });
+            },
+            fault: &["openexr"],
+        },
+        Kind {
+            file: "tile_duplicated.exr",
+            make: |p| {
+                let layer = Layer::new(
+                    (16, 8),
+                    LayerAttributes::default(),
+                    Encoding {
+                        compression: Compression::Uncompressed,
+                        blocks: Blocks::Tiles(Vec2(8, 4)),
+                        line_order: LineOrder::Increasing,
+                    },
+                    SpecificChannels::rgb(|_: Vec2<usize>| (1.0f32, 1.0f32, 1.0f32)),
+                );
+                Image::from_layer(layer).write().to_file(p).unwrap();
+                patch(p, |b| {
+                    let (table, n) = offset_table(b);
+                    assert_eq!(n, 4, "a 16x8 image in 8x4 tiles");
+                    let first = b[table..table + 8].to_vec();
+                    b[table + 24..table + 32].copy_from_slice(&first);
+                });
+            },
+            fault: &["corrupt openexr chunk layout", "stored twice"],
         },
         Kind { file: "empty.exr", make: |p| fs::write(p, b"").unwrap(), fault: &["empty (0 bytes)"] },
         Kind {

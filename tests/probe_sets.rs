@@ -139,3 +139,149 @@ fn readme_gnu_parallel_recipe() {
     let whole = stdout_ok(&run_in(&["probes", "--synth", "20000", "--seed", "7", "--encoders", "all"], dir.path()));
     assert_eq!(figures(&merged), figures(&whole));
 }
+
+/// The bad-probe corpus `tests/bad_probes/`: one small file per kind of bad probe file, written
+/// by [`probe_kinds`] (regenerate with `PROBELAB_REGEN_BAD_INPUTS=1 cargo test --test
+/// probe_sets`). Each is issue 17, item 2, or a member of its class: values that would overflow
+/// the scoring (refused with the line or probe index and field), and files without a single
+/// probe (refused, where they used to print `rmse_mean 0` and exit 0).
+fn probe_kinds() -> Vec<(&'static str, Vec<u8>, &'static [&'static str])> {
+    let row = |v: &str| format!("{}\n", vec![v; 27].join(","));
+    let f32s = |v: f32| (0..27).flat_map(|_| v.to_le_bytes()).collect::<Vec<u8>>();
+    vec![
+        ("overflow_1e160.csv", row("1e160").into_bytes(), &[":1: field 1 ('1e160') is out of range", "1e30"]),
+        (
+            "overflow_line_5.csv",
+            format!("# probes\n{}\n{}{}", row("0.5"), row("1"), row("-2e31")).into_bytes(),
+            &[":5: field 1 ('-2e31') is out of range"],
+        ),
+        (
+            "overflow_f32_max.f32",
+            [f32s(1.0), f32s(3.0e38)].concat(),
+            &[": probe 1 (byte 108), value 1", "out of range"],
+        ),
+        ("header_only.csv", b"c0_r,c0_g,c0_b\n".to_vec(), &["no probes"]),
+        ("comment_only.csv", b"# a comment\n# and another\n".to_vec(), &["no probes"]),
+        ("blank_lines.csv", b"\n \n\t\n".to_vec(), &["no probes"]),
+        ("empty.csv", Vec::new(), &["no probes"]),
+        ("empty.f32", Vec::new(), &["empty probe file (0 bytes)"]),
+    ]
+}
+
+fn bad_probe_dir() -> PathBuf {
+    repo().join("tests").join("bad_probes")
+}
+
+#[test]
+fn bad_probe_corpus_is_current() {
+    if std::env::var_os("PROBELAB_REGEN_BAD_INPUTS").is_some() {
+        std::fs::create_dir_all(bad_probe_dir()).unwrap();
+        for (file, bytes, _) in probe_kinds() {
+            std::fs::write(bad_probe_dir().join(file), bytes).unwrap();
+        }
+    }
+    let kinds = probe_kinds();
+    for (file, bytes, _) in &kinds {
+        let committed = std::fs::read(bad_probe_dir().join(file)).unwrap_or_else(|e| panic!("{file}: {e}"));
+        assert!(committed == *bytes, "{file} differs from its generator");
+    }
+    for e in std::fs::read_dir(bad_probe_dir()).unwrap() {
+        let name = e.unwrap().file_name().into_string().unwrap();
+        assert!(kinds.iter().any(|k| k.0 == name) || name == "fuzz", "{name} is not made by the generator");
+    }
+}
+
+/// Every bad probe file: exit 2, an error naming the file (and line or probe) and the fault,
+/// nothing on stdout, for every registered encoder, whole and as a shard.
+#[test]
+fn bad_probe_corpus_fails_cleanly() {
+    let dir = bad_probe_dir();
+    for (file, _, words) in probe_kinds() {
+        for shard in ["0/1", "1/2"] {
+            let out = run_in(&["probes", "--input", file, "--encoders", "all", "--shard", shard], &dir);
+            let err = String::from_utf8_lossy(&out.stderr);
+            assert_eq!(out.status.code(), Some(2), "{file} {shard}: {err}");
+            assert!(err.starts_with(&format!("error: {file}")), "{file} {shard}: {err}");
+            for w in words {
+                assert!(err.contains(w), "{file} {shard}: lacks '{w}': {err}");
+            }
+            assert!(!err.contains("panicked"), "{err}");
+            assert!(out.stdout.is_empty(), "{file} {shard}: output on stdout");
+        }
+    }
+}
+
+/// At the range's edge every registered encoder still scores finitely; and a shard holding no
+/// probe (shard 1 of 2 of a one-probe file) prints empty statistics, never 0.
+#[test]
+fn edge_of_the_range_and_empty_shards() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let big: Vec<String> =
+        (0..27).map(|k| if k % 4 == 0 { "-1e30".into() } else { format!("{}e29", k % 9 + 1) }).collect();
+    std::fs::write(d.join("edge.csv"), format!("{}\n{}\n", big.join(","), vec!["1e-300"; 27].join(","))).unwrap();
+    let csv = stdout_ok(&run_in(&["probes", "--input", "edge.csv", "--encoders", "all"], d));
+    for r in parse_csv(&csv) {
+        for col in ["rmse_mean", "rmse_max", "rel_rmse_mean", "rel_rmse_max"] {
+            let v: f64 = r[col].parse().unwrap_or_else(|_| panic!("{}: {col} = '{}'", r["encoder"], r[col]));
+            assert!(v.is_finite(), "{}: {col} = {v}", r["encoder"]);
+        }
+        assert_eq!(r["invalid"], "0");
+    }
+    std::fs::write(d.join("one.csv"), format!("{}\n", vec!["1"; 27].join(","))).unwrap();
+    let csv = stdout_ok(&run_in(&["probes", "--input", "one.csv", "--shard", "0/2", "--encoders", "sh1,sh2"], d));
+    for r in parse_csv(&csv) {
+        assert_eq!(r["probes"], "0");
+        for col in ["rmse_mean", "rmse_p50", "rmse_max", "rel_rmse_mean", "rel_rmse_max", "reduction_vs_sh1"] {
+            assert_eq!(r[col], "", "{}: {col} of no probes", r["encoder"]);
+        }
+    }
+}
+
+/// Issue 17, item 4: `merge` refuses shards of different sets, repeated shards, counts that
+/// overflow or do not add up, and corrupt exact-sum digits; each names the file.
+#[test]
+fn merge_refuses_mismatched_or_corrupt_shards() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // Two different .f32 sets with one name and one size, in two folders.
+    for (sub, seed) in [("a", "1"), ("b", "2")] {
+        std::fs::create_dir_all(d.join(sub)).unwrap();
+        let save = format!("{sub}/set.f32");
+        stdout_ok(&run_in(&["probes", "--synth", "40", "--seed", seed, "--encoders", "sh1", "--save", &save], d));
+    }
+    let shard = |set: &str, i: usize| {
+        let (input, out) = (format!("{set}/set.f32"), format!("{set}{i}.toml"));
+        let s = format!("{i}/2");
+        stdout_ok(&run_in(&["probes", "--input", &input, "--encoders", "sh1", "--shard", &s, "--out", &out], d));
+        out
+    };
+    let (a0, b1, a1) = (shard("a", 0), shard("b", 1), shard("a", 1));
+    stdout_ok(&run_in(&["merge", &a0, &a1], d));
+    let text = std::fs::read_to_string(d.join(&a0)).unwrap();
+    let edited = |name: &str, from: &str, to: &str| {
+        assert!(text.contains(from), "{from} not in the state");
+        std::fs::write(d.join(name), text.replacen(from, to, 1)).unwrap();
+        name.to_string()
+    };
+    let dup = edited("dup.toml", "shards = [0]", "shards = [0, 0]");
+    let wrap = edited("wrap.toml", "probes = 20", "probes = 18446744073709551615");
+    let digits = text.split("sum_digits = [[").nth(1).unwrap();
+    let digit = digits.split(']').next().unwrap().split(", ").nth(1).unwrap().to_string();
+    let corrupt = edited("digit.toml", &format!(", {digit}]"), ", 99999999999]");
+    for (files, want) in [
+        (vec![a0.as_str(), b1.as_str()], "different probe sets"),
+        (vec![dup.as_str(), a1.as_str()], "dup.toml: shards [0, 0] must be strictly increasing"),
+        (vec![wrap.as_str(), a1.as_str()], "wrap.toml: corrupt statistics: encoder sh1: counts do not add up"),
+        (vec![corrupt.as_str(), a1.as_str()], "digit.toml: corrupt statistics"),
+        (vec![a0.as_str(), a0.as_str()], "appears twice"),
+    ] {
+        let mut args = vec!["merge"];
+        args.extend(&files);
+        let out = run_in(&args, d);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{files:?}: {err}");
+        assert!(err.contains(want), "{files:?}: {err}");
+        assert!(out.stdout.is_empty());
+    }
+}

@@ -3,8 +3,10 @@
 //!
 //! [`load`] identifies the format from the first bytes of the file (the extension is not
 //! trusted), reads and checks the header before any pixel is decoded (size limits, aspect,
-//! channels, sample types, single part, no deep data), then decodes the pixels and checks
-//! every texel through [`EnvMap::new`]. Every failure is a [`LoadError`] whose message
+//! channels, sample types, single part, no deep data), then decodes the pixels, refusing an
+//! OpenEXR file whose chunks do not store every pixel exactly once (a duplicated, missing or
+//! misplaced chunk is never read as default-filled pixels), and checks every texel through
+//! [`EnvMap::new`]. Every failure is a [`LoadError`] whose message
 //! starts with the file path and says what is wrong; a decoder panic on malformed data is
 //! caught and reported as an error too.
 //!
@@ -91,6 +93,10 @@ pub enum LoadError {
     /// A colour channel is subsampled.
     #[error("{}: channel {channel} is subsampled ({x}x{y}); only full-resolution channels are supported", .path.display())]
     Subsampled { path: PathBuf, channel: String, x: usize, y: usize },
+    /// The OpenEXR chunks do not store every pixel exactly once (a duplicated, missing or
+    /// misplaced scanline block or tile).
+    #[error("{}: corrupt OpenEXR chunk layout: {detail}; every scanline block and tile must be stored exactly once", .path.display())]
+    CorruptChunks { path: PathBuf, detail: String },
     /// The OpenEXR decoder rejected the file.
     #[error("{}: invalid or unsupported OpenEXR data: {message}", .path.display())]
     Exr { path: PathBuf, message: String },
@@ -158,7 +164,26 @@ pub fn load(path: &Path) -> Result<EnvMap, LoadError> {
 /// Lower-case hex sha256 of `bytes`: a map file's identity ([`EnvMap::sha256`]), and a result
 /// table's (`regression::provenance`).
 pub fn sha256_hex(bytes: &[u8]) -> String {
-    Sha256::digest(bytes).iter().map(|b| format!("{b:02x}")).collect()
+    hex(&Sha256::digest(bytes))
+}
+
+/// Lower-case hex sha256 of everything `reader` yields, read in 1 MiB pieces (a probe file's
+/// identity, `pipeline::probeset`, without holding the file in memory).
+pub fn sha256_hex_of(mut reader: impl Read) -> io::Result<String> {
+    let mut h = Sha256::new();
+    let mut buf = vec![0u8; 1 << 20];
+    loop {
+        match reader.read(&mut buf) {
+            Ok(0) => return Ok(hex(&h.finalize())),
+            Ok(n) => h.update(&buf[..n]),
+            Err(e) if e.kind() == io::ErrorKind::Interrupted => {}
+            Err(e) => return Err(e),
+        }
+    }
+}
+
+fn hex(digest: &[u8]) -> String {
+    digest.iter().map(|b| format!("{b:02x}")).collect()
 }
 
 /// Writes `map` to `path` as a single-part scanline OpenEXR with f32 R, G, B channels and
@@ -397,13 +422,9 @@ fn read_exr(path: &Path, file: &mut (impl Read + Seek), len: u64) -> Result<(usi
             .required(b)
             .collect_pixels(
                 |size: Vec2<usize>, _: &(ChannelDescription, ChannelDescription, ChannelDescription)| {
-                    (size.width(), vec![[0.0f32; 3]; size.area()])
+                    Coverage::new(size.width(), size.height())
                 },
-                |(w, texels): &mut (usize, Vec<Texel>), pos: Vec2<usize>, (r, g, b): (f32, f32, f32)| {
-                    if let Some(t) = texels.get_mut(pos.y() * *w + pos.x()) {
-                        *t = [r, g, b];
-                    }
-                },
+                |c: &mut Coverage, pos: Vec2<usize>, (r, g, b): (f32, f32, f32)| c.set(pos.x(), pos.y(), [r, g, b]),
             )
             .first_valid_layer()
             .all_attributes()
@@ -422,8 +443,74 @@ fn read_exr(path: &Path, file: &mut (impl Read + Seek), len: u64) -> Result<(usi
             ),
         });
     }
-    let (_, texels) = layer.channel_data.pixels;
+    let texels = layer
+        .channel_data
+        .pixels
+        .finish()
+        .map_err(|detail| LoadError::CorruptChunks { path: path.to_path_buf(), detail })?;
     Ok((width, height, texels))
+}
+
+/// The pixels of an OpenEXR layer as the decoder delivers them, with a record of which were
+/// delivered: every pixel must come exactly once. The `exr` crate reads whatever chunk each
+/// offset-table entry points at and places it by the y (or tile) coordinate stored in the chunk,
+/// and leaves pixels no chunk covered at their initial value; so a duplicated or corrupt
+/// offset, or a chunk whose coordinate was changed, would otherwise read as black rows.
+struct Coverage {
+    width: usize,
+    texels: Vec<Texel>,
+    /// One bit per pixel: delivered at least once.
+    seen: Vec<u64>,
+    /// The first pixel delivered twice.
+    twice: Option<(usize, usize)>,
+    /// The first pixel delivered outside the layer, and how many were.
+    outside: Option<(usize, usize)>,
+}
+
+impl Coverage {
+    fn new(width: usize, height: usize) -> Self {
+        let n = width * height;
+        Coverage { width, texels: vec![[0.0; 3]; n], seen: vec![0; n.div_ceil(64)], twice: None, outside: None }
+    }
+
+    fn set(&mut self, x: usize, y: usize, t: Texel) {
+        let k = y.checked_mul(self.width).and_then(|k| k.checked_add(x)).filter(|_| x < self.width);
+        let Some(slot) = k.and_then(|k| self.texels.get_mut(k).map(|s| (k, s))) else {
+            self.outside.get_or_insert((x, y));
+            return;
+        };
+        let (k, s) = slot;
+        *s = t;
+        let (word, bit) = (k / 64, 1u64 << (k % 64));
+        if self.seen[word] & bit != 0 {
+            self.twice.get_or_insert((x, y));
+        }
+        self.seen[word] |= bit;
+    }
+
+    /// The texels, if every pixel was delivered exactly once; else what went wrong.
+    fn finish(self) -> Result<Vec<Texel>, String> {
+        if let Some((x, y)) = self.twice {
+            return Err(format!(
+                "pixel (x={x}, y={y}) is stored twice (a duplicated chunk: two offset-table entries point at \
+                 one chunk, or a chunk's coordinate is corrupt)"
+            ));
+        }
+        if let Some((x, y)) = self.outside {
+            return Err(format!("a chunk holds pixel (x={x}, y={y}), outside the data window"));
+        }
+        let ones: u64 = self.seen.iter().map(|w| w.count_ones() as u64).sum();
+        let missing = self.texels.len() as u64 - ones;
+        if missing > 0 {
+            let k = (0..self.texels.len()).find(|&k| self.seen[k / 64] & (1 << (k % 64)) == 0).unwrap_or(0);
+            let (x, y) = (k % self.width.max(1), k / self.width.max(1));
+            return Err(format!(
+                "{missing} pixel(s) are in no chunk, the first at (x={x}, y={y}) (a chunk is missing or \
+                 its offset or coordinate is corrupt)"
+            ));
+        }
+        Ok(self.texels)
+    }
 }
 
 /// Validates OpenEXR meta data before any pixel is read: no deep data, one part, a size

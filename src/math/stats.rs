@@ -121,16 +121,30 @@ impl ExactSum {
         s.digits.iter().enumerate().filter(|(_, &d)| d != 0).map(|(i, &d)| (i as u32, d)).collect()
     }
 
-    /// The inverse of [`Self::to_sparse`]; rejects indices out of range.
+    /// The inverse of [`Self::to_sparse`]. Accepts exactly what `to_sparse` writes: indices
+    /// strictly increasing and below the digit count, every digit but the top one in
+    /// [1, 2³²), the top one non-zero and below 2³¹ in magnitude; anything else is an error
+    /// naming the pair (a corrupt digit would silently change the sum).
     pub fn from_sparse(v: &[(u32, i64)]) -> anyhow::Result<Self> {
         let mut s = ExactSum::default();
+        let mut last = None;
         for &(i, d) in v {
             let i = i as usize;
             anyhow::ensure!(i < DIGITS, "exact-sum digit index {i} out of range (0..{DIGITS})");
-            s.digits[i] += d;
+            anyhow::ensure!(last.is_none_or(|l| i > l), "exact-sum digit indices must be strictly increasing (at {i})");
+            let ok = if i == DIGITS - 1 { d != 0 && d.unsigned_abs() < 1 << 31 } else { (1..1 << 32).contains(&d) };
+            anyhow::ensure!(ok, "exact-sum digit {i} = {d} is not a normalised base-2^32 digit");
+            s.digits[i] = d;
+            last = Some(i);
         }
-        s.normalize();
         Ok(s)
+    }
+
+    /// Whether the sum is negative.
+    pub fn is_negative(&self) -> bool {
+        let mut s = self.clone();
+        s.normalize();
+        s.digits[DIGITS - 1] < 0
     }
 }
 
@@ -199,22 +213,28 @@ impl Sketch {
         }
     }
 
-    pub fn merge(&mut self, o: &Sketch) {
-        for (a, b) in self.counts.iter_mut().zip(&o.counts) {
-            *a += b;
+    /// Adds another sketch's counts; an error (and no change) if a count would overflow.
+    pub fn merge(&mut self, o: &Sketch) -> anyhow::Result<()> {
+        let overflow = || anyhow::anyhow!("sketch counts overflow 64 bits");
+        let mut counts = self.counts.clone();
+        for (a, b) in counts.iter_mut().zip(&o.counts) {
+            *a = a.checked_add(*b).ok_or_else(overflow)?;
         }
-        self.under += o.under;
-        self.over += o.over;
+        let under = self.under.checked_add(o.under).ok_or_else(overflow)?;
+        let over = self.over.checked_add(o.over).ok_or_else(overflow)?;
+        *self = Sketch { counts, under, over };
+        Ok(())
     }
 
-    pub fn count(&self) -> u64 {
-        self.under + self.over + self.counts.iter().sum::<u64>()
+    /// The number of values; None if it exceeds 64 bits (only a corrupt state can).
+    pub fn count(&self) -> Option<u64> {
+        self.counts.iter().try_fold(self.under.checked_add(self.over)?, |a, &c| a.checked_add(c))
     }
 
     /// The nearest-rank q-quantile (rank ⌈q·n⌉, at least 1), as a bucket midpoint clamped to
     /// [min, max] (ranks 1 and n give min and max exactly); None when empty.
     pub fn quantile(&self, q: f64, min: f64, max: f64) -> Option<f64> {
-        let n = self.count();
+        let n = self.count()?;
         if n == 0 {
             return None;
         }
@@ -245,13 +265,20 @@ impl Sketch {
         (v, self.under, self.over)
     }
 
+    /// The inverse of [`Self::to_sparse`]: bucket indices strictly increasing and in range,
+    /// counts non-zero, the total within 64 bits.
     pub fn from_sparse(v: &[(u32, u64)], under: u64, over: u64) -> anyhow::Result<Self> {
         let mut s = Sketch { under, over, ..Default::default() };
+        let mut last = None;
         for &(i, c) in v {
             let i = i as usize;
             anyhow::ensure!(i < BUCKETS, "sketch bucket {i} out of range (0..{BUCKETS})");
-            s.counts[i] += c;
+            anyhow::ensure!(last.is_none_or(|l| i > l), "sketch buckets must be strictly increasing (at {i})");
+            anyhow::ensure!(c > 0, "sketch bucket {i} has count 0 (empty buckets are not written)");
+            s.counts[i] = c;
+            last = Some(i);
         }
+        anyhow::ensure!(s.count().is_some(), "sketch counts overflow 64 bits");
         Ok(s)
     }
 }
@@ -288,7 +315,12 @@ impl Summary {
         self.sketch.add(v);
     }
 
-    pub fn merge(&mut self, o: &Summary) {
+    /// Adds another summary; an error (and no change) if a count would overflow.
+    pub fn merge(&mut self, o: &Summary) -> anyhow::Result<()> {
+        let count = self.count.checked_add(o.count).ok_or_else(|| anyhow::anyhow!("value count overflows 64 bits"))?;
+        let invalid =
+            self.invalid.checked_add(o.invalid).ok_or_else(|| anyhow::anyhow!("invalid count overflows 64 bits"))?;
+        self.sketch.merge(&o.sketch)?;
         if o.count > 0 {
             if self.count == 0 {
                 self.min = o.min;
@@ -298,19 +330,26 @@ impl Summary {
                 self.max = self.max.max(o.max);
             }
         }
-        self.count += o.count;
-        self.invalid += o.invalid;
+        self.count = count;
+        self.invalid = invalid;
         self.sum.merge(&o.sum);
-        self.sketch.merge(&o.sketch);
+        Ok(())
     }
 
-    /// The mean (exact sum rounded, divided by the count); 0 when empty.
-    pub fn mean(&self) -> f64 {
+    /// The mean (exact sum rounded, divided by the count); None when no valid value was seen
+    /// (a statistic over nothing is empty, never 0), or when the sum of valid values exceeds
+    /// the f64 range.
+    pub fn mean(&self) -> Option<f64> {
         if self.count == 0 {
-            0.0
-        } else {
-            self.sum.value() / self.count as f64
+            return None;
         }
+        let m = self.sum.value() / self.count as f64;
+        m.is_finite().then_some(m)
+    }
+
+    /// The exact minimum and maximum of the valid values; None when there were none.
+    pub fn extrema(&self) -> Option<(f64, f64)> {
+        (self.count > 0).then_some((self.min, self.max))
     }
 
     pub fn quantile(&self, q: f64) -> Option<f64> {
@@ -351,22 +390,46 @@ impl From<&Summary> for SummaryState {
 }
 
 impl SummaryState {
+    /// The summary this state describes, checked for consistency: a sketch holding exactly
+    /// `count` values, with its under/overflow buckets matching the extrema; 0 ≤ min ≤ max, both
+    /// finite (0 and 0 when empty); a non-negative exact sum between count·min and count·max
+    /// (every value lies between them). A state that fails any check is corrupt, not merged.
     pub fn to_summary(&self) -> anyhow::Result<Summary> {
         let sketch = Sketch::from_sparse(&self.buckets, self.under, self.over)?;
-        anyhow::ensure!(
-            sketch.count() == self.count,
-            "sketch holds {} values but count is {}",
-            sketch.count(),
-            self.count
-        );
-        Ok(Summary {
-            count: self.count,
-            invalid: self.invalid,
-            sum: ExactSum::from_sparse(&self.sum_digits)?,
-            min: self.min,
-            max: self.max,
-            sketch,
-        })
+        let held = sketch.count().unwrap_or(u64::MAX);
+        anyhow::ensure!(held == self.count, "sketch holds {held} values but count is {}", self.count);
+        let sum = ExactSum::from_sparse(&self.sum_digits)?;
+        let (min, max) = (self.min, self.max);
+        if self.count == 0 {
+            anyhow::ensure!(min == 0.0 && max == 0.0 && self.sum_digits.is_empty(), "no values, but a min, max or sum");
+        } else {
+            anyhow::ensure!(
+                min.is_finite() && max.is_finite() && 0.0 <= min && min <= max,
+                "min {min} and max {max} must be finite with 0 <= min <= max"
+            );
+            anyhow::ensure!(!sum.is_negative(), "the sum of non-negative values is negative");
+            let (n, v) = (self.count as f64, sum.value());
+            // The f64 sum is within a relative 2⁻⁶³ of the exact one; n·min, n·max within 2⁻⁵².
+            let slack = 1.0 + 1e-12;
+            anyhow::ensure!(
+                v >= n * min / slack && v <= n * max * slack,
+                "the sum {v:e} of {} values is outside count*min..count*max ({:e}..{:e})",
+                self.count,
+                n * min,
+                n * max
+            );
+            anyhow::ensure!(
+                (self.under > 0) == (min < pow2(E_MIN)),
+                "the sketch's underflow count {} does not match min {min}",
+                self.under
+            );
+            anyhow::ensure!(
+                (self.over > 0) == (max >= pow2(E_MAX)),
+                "the sketch's overflow count {} does not match max {max}",
+                self.over
+            );
+        }
+        Ok(Summary { count: self.count, invalid: self.invalid, sum, min, max, sketch })
     }
 }
 
@@ -471,9 +534,9 @@ mod tests {
             let (mut a, mut b) = (Summary::default(), Summary::default());
             v[..cut].iter().for_each(|&x| a.add(x));
             v[cut..].iter().for_each(|&x| b.add(x));
-            a.merge(&b);
+            a.merge(&b).unwrap();
             assert_eq!(a, whole, "cut {cut}");
-            assert_eq!(a.mean().to_bits(), whole.mean().to_bits());
+            assert_eq!(a.mean().unwrap().to_bits(), whole.mean().unwrap().to_bits());
         }
         let state = SummaryState::from(&whole);
         let text = toml::to_string(&state).unwrap();

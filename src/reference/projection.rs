@@ -283,4 +283,23 @@ mod tests {
         assert!(max_diff(&got, &project(&lower_zero)) < 1e-12);
         assert!(max_diff(&got, &want) < 0.5, "sanity");
     }
+
+    /// Issue 17, item 5, for the masked projection: a constant map's projection under the
+    /// hemisphere about a tilted axis has c₀ = √π (Y₀₀ = 1/(2√π) over 2π sr) at every map size,
+    /// the 2×1 map included, and every coefficient equals the 256×128 map's (the same integral)
+    /// to 1e-6, since rows are cut into pieces of at most π/128.
+    #[test]
+    fn masked_projection_is_exact_on_every_map_size() {
+        let cap = Cap::hemisphere(DVec3::new(0.3, 0.8, -0.2).normalize());
+        let of = |w: usize| {
+            let map = EnvMap::from_fn("c", w, w / 2, |_, _| [1.0; 3]).unwrap();
+            project_visible(&RowMoments::new(&map), std::slice::from_ref(&cap), 2)
+        };
+        let fine = of(256);
+        for w in [2, 4, 6, 16, 64] {
+            let got = of(w);
+            assert!((got[0] - Rgb::splat(PI.sqrt())).abs().max_element() < 1e-6, "{w}: c0 {}", got[0]);
+            assert!(max_diff(&got, &fine) < 1e-6, "{w}: {}", max_diff(&got, &fine));
+        }
+    }
 }

@@ -4,7 +4,7 @@
 use crate::encoders::NamedEncoder;
 use crate::math::sh::Sh9;
 use crate::pipeline::output::noteln;
-use crate::pipeline::probeset::format::{write_probes, Format, ProbeReader, DEFAULT_CHUNK};
+use crate::pipeline::probeset::format::{file_identity, write_probes, Format, ProbeReader, DEFAULT_CHUNK};
 use crate::pipeline::probeset::score::{score, SetStats, Source, SphereRule};
 use crate::pipeline::probeset::shard::Shard;
 use crate::pipeline::probeset::synth::{scene_palette, Synth};
@@ -127,11 +127,10 @@ pub fn command(a: ProbesArgs, search: &crate::envmap::search::SearchPath) -> Res
     let (mut source, source_id) = match (&a.input, a.synth) {
         (Some(path), _) => {
             let format = Format::resolve(path, a.format.as_deref())?;
-            let bytes =
-                std::fs::metadata(path).with_context(|| format!("{}: cannot open probe file", path.display()))?.len();
-            let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
-            (Source::File(ProbeReader::open(path, format, shard)?), format!("file {name} ({bytes} bytes)"))
+            let reader = ProbeReader::open(path, format, shard)?;
+            (Source::File(reader), file_identity(path)?)
         }
+        (None, Some(0)) => bail!("--synth 0: a probe set needs at least one probe"),
         (None, Some(n)) => {
             let synth = Synth::new(a.seed, palette(search, a.palette.as_deref())?);
             let id = format!(

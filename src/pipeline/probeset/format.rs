@@ -10,9 +10,15 @@
 //!
 //! - CSV (`.csv`): one probe per row, 27 numbers separated by commas (spaces around them are
 //!   allowed). Lines starting with `#` are comments; blank lines are skipped; a first row whose
-//!   first field starts with a letter is a header and is skipped. Every value must be finite.
+//!   first field starts with a letter is a header and is skipped.
 //! - Raw binary (`.f32`, `.bin`, `.raw`): little-endian IEEE f32, 27 per probe, no header; the
 //!   file size must be a multiple of 108 bytes.
+//!
+//! Every value must be finite with |v| ≤ [`MAX_PROBE_VALUE`] (so no encoder's arithmetic on it
+//! overflows; a value outside is refused with its line or probe index and field), and a file
+//! must hold at least one probe (an empty, comment-only or header-only file is an error). A
+//! file is identified by the sha256 of its bytes ([`file_identity`]), so shards of different
+//! files never merge.
 
 use crate::math::colour::Rgb;
 use crate::math::sh::{Sh9, N_SH};
@@ -26,6 +32,32 @@ use std::path::{Path, PathBuf};
 pub const COEFFS: usize = 3 * N_SH;
 /// Probes per chunk by default (about 7 MB of probes in flight).
 pub const DEFAULT_CHUNK: usize = 32_768;
+/// The largest accepted |coefficient| of a probe. Scoring squares sums of coefficients and some
+/// encoders take cubes and ratios of them; 1e30 keeps all of that far inside the f64 range
+/// (1e30³ = 1e90), while real radiance, even a sun, is below 1e10.
+pub const MAX_PROBE_VALUE: f64 = 1e30;
+
+/// The identity of a probe file: its name, size and the sha256 of its bytes. Shards merge only
+/// when their identities are equal, so two files of one size are never taken for one set.
+pub fn file_identity(path: &Path) -> Result<String> {
+    let f = std::fs::File::open(path).with_context(|| format!("{}: cannot open probe file", path.display()))?;
+    let bytes = f.metadata().with_context(|| format!("{}: cannot stat", path.display()))?.len();
+    let sha = crate::envmap::load::sha256_hex_of(BufReader::new(f))
+        .with_context(|| format!("{}: cannot read probe file", path.display()))?;
+    let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    Ok(format!("file {name} ({bytes} bytes, sha256 {sha})"))
+}
+
+/// Why a value is not a valid probe coefficient, if it is not.
+fn bad_value(x: f64) -> Option<&'static str> {
+    if !x.is_finite() {
+        Some("is not finite")
+    } else if x.abs() > MAX_PROBE_VALUE {
+        Some("is out of range (|value| must be at most 1e30)")
+    } else {
+        None
+    }
+}
 
 /// A probe file format.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -70,6 +102,14 @@ pub struct ProbeReader {
     remaining: u64,
     /// Probes in this shard.
     pub len: u64,
+    /// Index in the file of this shard's first probe.
+    start: u64,
+    /// Where the last chunk's probes are: their line numbers (CSV) or nothing (raw f32, whose
+    /// probes are numbered from `chunk_first`).
+    chunk_lines: Vec<u64>,
+    chunk_first: u64,
+    /// The file holds no probe at all (known only for unsharded CSV when its end is reached).
+    whole_file: bool,
 }
 
 enum Inner {
@@ -113,6 +153,9 @@ impl ProbeReader {
                         path.display()
                     );
                 }
+                if bytes == 0 {
+                    bail!("{}: empty probe file (0 bytes): no probes", path.display());
+                }
                 let (start, end) = shard.range(bytes / rec);
                 let mut rdr = BufReader::with_capacity(1 << 20, f);
                 rdr.seek(SeekFrom::Start(start * rec)).with_context(|| format!("{}: cannot seek", path.display()))?;
@@ -121,6 +164,10 @@ impl ProbeReader {
                     inner: Inner::F32 { rdr },
                     remaining: end - start,
                     len: end - start,
+                    start,
+                    chunk_lines: Vec::new(),
+                    chunk_first: start,
+                    whole_file: false,
                 })
             }
             Format::Csv => {
@@ -128,6 +175,9 @@ impl ProbeReader {
                     (0, u64::MAX)
                 } else {
                     let total = count_csv(path)?;
+                    if total == 0 {
+                        bail!("{}: {NO_PROBES}", path.display());
+                    }
                     shard.range(total)
                 };
                 let mut me = ProbeReader {
@@ -135,6 +185,10 @@ impl ProbeReader {
                     inner: Inner::Csv { rdr: csv_reader(path)?, header_checked: false },
                     remaining: end - start,
                     len: end - start,
+                    start,
+                    chunk_lines: Vec::new(),
+                    chunk_first: start,
+                    whole_file: shard.count == 1,
                 };
                 // Skip the probes before this shard (parsing only their boundaries).
                 let mut skip = start;
@@ -189,10 +243,21 @@ impl ProbeReader {
                         }))
                     })
                     .collect();
-                if let Some(i) = probes.iter().position(|p| !p.is_finite()) {
-                    let at = self.len - self.remaining + i as u64;
-                    bail!("{}: probe {at} (of this shard) holds a NaN or infinite value", self.path.display());
+                let first = self.start + (self.len - self.remaining);
+                for (i, p) in probes.iter().enumerate() {
+                    for (k, x) in to_coeffs(p).into_iter().enumerate() {
+                        if let Some(why) = bad_value(x) {
+                            bail!(
+                                "{}: probe {} (byte {}), value {} ({x}) {why}",
+                                self.path.display(),
+                                first + i as u64,
+                                (first + i as u64) * (COEFFS as u64 * 4) + 4 * k as u64,
+                                k + 1
+                            );
+                        }
+                    }
                 }
+                self.chunk_first = first;
                 probes
             }
             Inner::Csv { .. } => {
@@ -202,27 +267,43 @@ impl ProbeReader {
                     recs.push(rec.clone());
                 }
                 if recs.is_empty() {
+                    if self.whole_file && self.remaining == self.len {
+                        bail!("{}: {NO_PROBES}", self.path.display());
+                    }
                     self.remaining = 0;
                     return Ok(None);
                 }
                 let parsed: Vec<Result<Sh9, String>> = recs.par_iter().map(parse_record).collect();
                 let mut probes = Vec::with_capacity(parsed.len());
+                self.chunk_lines.clear();
                 for (r, p) in recs.iter().zip(parsed) {
+                    let line = r.position().map(|p| p.line()).unwrap_or(0);
                     match p {
                         Ok(p) => probes.push(p),
-                        Err(e) => {
-                            let line = r.position().map(|p| p.line()).unwrap_or(0);
-                            bail!("{}:{line}: {e}", self.path.display());
-                        }
+                        Err(e) => bail!("{}:{line}: {e}", self.path.display()),
                     }
+                    self.chunk_lines.push(line);
                 }
+                self.chunk_first = self.start + (self.len - self.remaining);
                 probes
             }
         };
         self.remaining -= out.len() as u64;
         Ok(Some(out))
     }
+
+    /// Where probe `k` of the last chunk is in the file: "FILE:LINE" (CSV) or "FILE: probe I"
+    /// (raw f32, I counted from 0 in the whole file).
+    pub fn locate(&self, k: usize) -> String {
+        match self.chunk_lines.get(k) {
+            Some(line) => format!("{}:{line}", self.path.display()),
+            None => format!("{}: probe {}", self.path.display(), self.chunk_first + k as u64),
+        }
+    }
 }
+
+/// What an input without a single probe is told.
+const NO_PROBES: &str = "no probes: the file is empty or holds only comments, blank lines or a header";
 
 fn parse_record(r: &csv::ByteRecord) -> Result<Sh9, String> {
     if r.len() != COEFFS {
@@ -235,8 +316,8 @@ fn parse_record(r: &csv::ByteRecord) -> Result<Sh9, String> {
     for (k, f) in r.iter().enumerate() {
         let s = std::str::from_utf8(f).map_err(|_| format!("field {} is not UTF-8", k + 1))?;
         let x: f64 = s.parse().map_err(|_| format!("field {} ('{s}') is not a number", k + 1))?;
-        if !x.is_finite() {
-            return Err(format!("field {} ('{s}') is not finite", k + 1));
+        if let Some(why) = bad_value(x) {
+            return Err(format!("field {} ('{s}') {why}", k + 1));
         }
         v[k] = x;
     }
@@ -250,6 +331,10 @@ fn count_csv(path: &Path) -> Result<u64> {
         inner: Inner::Csv { rdr: csv_reader(path)?, header_checked: false },
         remaining: u64::MAX,
         len: u64::MAX,
+        start: 0,
+        chunk_lines: Vec::new(),
+        chunk_first: 0,
+        whole_file: false,
     };
     let mut rec = csv::ByteRecord::new();
     let mut n = 0;

@@ -27,7 +27,7 @@ use crate::math::stats::Summary;
 use crate::pipeline::probeset::format::ProbeReader;
 use crate::pipeline::probeset::shard::Shard;
 use crate::pipeline::probeset::synth::Synth;
-use anyhow::{bail, Result};
+use anyhow::{bail, Context, Result};
 use glam::DVec3;
 use rayon::prelude::*;
 use std::f64::consts::{PI, TAU};
@@ -187,6 +187,15 @@ impl Source {
             Source::File(r) => r.next_chunk(max),
         }
     }
+
+    /// Where probe `k` of the chunk just returned comes from: "FILE:LINE" or "FILE: probe I",
+    /// or "synthetic probe I" (I its index in the whole set).
+    pub fn locate(&self, k: usize, chunk_len: usize) -> String {
+        match self {
+            Source::Synth { next, .. } => format!("synthetic probe {}", *next - chunk_len as u64 + k as u64),
+            Source::File(r) => r.locate(k),
+        }
+    }
 }
 
 /// Peak resident set size of this process (VmHWM in /proc/self/status), in bytes.
@@ -238,6 +247,17 @@ pub fn score(
                     (rmse, rel, method)
                 })
                 .collect();
+            // A non-finite error is the probe's arithmetic overflowing (or an encoder bug): an
+            // error naming the probe, never a value dropped from the statistics.
+            if let Some(k) = values.iter().position(|v| !v.0.is_finite() || !v.1.is_finite()) {
+                let (rmse, rel, _) = values[k];
+                bail!(
+                    "{}: encoder {} gives a non-finite error on this probe (rmse {rmse}, rel_rmse {rel}): its \
+                     coefficients overflow or underflow the encoder's arithmetic; scale the probe set",
+                    source.locate(k, set.len()),
+                    e.name
+                );
+            }
             // The two summaries fold on two threads (adding is exact and order-free).
             let (rmse, rel) = (&mut st.rmse, &mut st.rel_rmse);
             rayon::join(|| values.iter().for_each(|v| rmse.add(v.0)), || values.iter().for_each(|v| rel.add(v.1)));
@@ -262,7 +282,8 @@ pub fn score(
 }
 
 impl SetStats {
-    /// Merges another state of the same set (disjoint shards).
+    /// Merges another state of the same set (disjoint shards). Every count is added with
+    /// checked arithmetic; on any error `self` is unchanged.
     pub fn merge(&mut self, o: &SetStats) -> Result<()> {
         if o.source != self.source {
             bail!("different probe sets: '{}' vs '{}'", self.source, o.source);
@@ -280,20 +301,23 @@ impl SetStats {
         if names(self) != names(o) {
             bail!("different encoder lists: {:?} vs {:?}", names(self), names(o));
         }
-        self.shards.extend(&o.shards);
-        self.shards.sort_unstable();
-        self.probes += o.probes;
-        self.wall_s += o.wall_s;
-        self.input_s += o.input_s;
-        self.peak_mem_bytes = self.peak_mem_bytes.max(o.peak_mem_bytes);
-        self.threads = self.threads.max(o.threads);
-        for (a, b) in self.encoders.iter_mut().zip(&o.encoders) {
-            a.closed_form += b.closed_form;
-            a.quadrature += b.quadrature;
+        let overflow = |what: &str| anyhow::anyhow!("the merged {what} overflows 64 bits");
+        let mut m = self.clone();
+        m.shards.extend(&o.shards);
+        m.shards.sort_unstable();
+        m.probes = m.probes.checked_add(o.probes).ok_or_else(|| overflow("probe count"))?;
+        m.wall_s += o.wall_s;
+        m.input_s += o.input_s;
+        m.peak_mem_bytes = m.peak_mem_bytes.max(o.peak_mem_bytes);
+        m.threads = m.threads.max(o.threads);
+        for (a, b) in m.encoders.iter_mut().zip(&o.encoders) {
+            a.closed_form = a.closed_form.checked_add(b.closed_form).ok_or_else(|| overflow("closed-form count"))?;
+            a.quadrature = a.quadrature.checked_add(b.quadrature).ok_or_else(|| overflow("quadrature count"))?;
             a.seconds += b.seconds;
-            a.rmse.merge(&b.rmse);
-            a.rel_rmse.merge(&b.rel_rmse);
+            a.rmse.merge(&b.rmse).with_context(|| format!("{} rmse", a.name))?;
+            a.rel_rmse.merge(&b.rel_rmse).with_context(|| format!("{} rel_rmse", a.name))?;
         }
+        *self = m;
         Ok(())
     }
 
@@ -305,8 +329,9 @@ impl SetStats {
     /// The summary table (CSV): one row per encoder. Documented in README ("Probe sets").
     pub fn summary_csv(&self) -> Result<Vec<u8>> {
         let num = crate::pipeline::table::num;
+        // A statistic over no valid probe is empty, never 0.
         let opt = |v: Option<f64>| v.map(num).unwrap_or_default();
-        let sh1 = self.encoders.iter().find(|e| e.name == crate::encoders::BASELINE).map(|e| e.rmse.mean());
+        let sh1 = self.encoders.iter().find(|e| e.name == crate::encoders::BASELINE).and_then(|e| e.rmse.mean());
         let mut w = csv::Writer::from_writer(Vec::new());
         w.write_record(SUMMARY_COLUMNS)?;
         let shards = if self.complete() {
@@ -315,8 +340,8 @@ impl SetStats {
             format!("{:?} of {}", self.shards, self.shard_count)
         };
         for e in &self.encoders {
-            let reduction = match sh1 {
-                Some(b) if b > 0.0 => num(1.0 - e.rmse.mean() / b),
+            let reduction = match (sh1, e.rmse.mean()) {
+                (Some(b), Some(m)) if b > 0.0 => num(1.0 - m / b),
                 _ => String::new(),
             };
             let pps =
@@ -324,14 +349,14 @@ impl SetStats {
             w.write_record([
                 e.name.clone(),
                 self.probes.to_string(),
-                num(e.rmse.mean()),
+                opt(e.rmse.mean()),
                 opt(e.rmse.quantile(0.5)),
                 opt(e.rmse.quantile(0.95)),
-                num(e.rmse.max),
-                num(e.rel_rmse.mean()),
+                opt(e.rmse.extrema().map(|m| m.1)),
+                opt(e.rel_rmse.mean()),
                 opt(e.rel_rmse.quantile(0.5)),
                 opt(e.rel_rmse.quantile(0.95)),
-                num(e.rel_rmse.max),
+                opt(e.rel_rmse.extrema().map(|m| m.1)),
                 reduction,
                 e.stored_scalars.to_string(),
                 e.method(&self.quadrature),
@@ -553,12 +578,14 @@ pub(super) mod tests {
             })
             .collect();
         let mean = direct.iter().sum::<f64>() / n as f64;
-        assert!((sh1.rmse.mean() - mean).abs() < 1e-12 * mean, "{} vs {mean}", sh1.rmse.mean());
+        let got = sh1.rmse.mean().unwrap();
+        assert!((got - mean).abs() < 1e-12 * mean, "{got} vs {mean}");
         direct.sort_by(f64::total_cmp);
         let p95 = direct[(0.95 * n as f64).ceil() as usize - 1];
         let got = sh1.rmse.quantile(0.95).unwrap();
         assert!((got - p95).abs() <= crate::math::stats::SKETCH_RELATIVE_ERROR * p95);
         assert!(sh0.rmse.mean() > sh1.rmse.mean());
+        assert!(sh1.rmse.mean().is_some());
         let csv = String::from_utf8(s.summary_csv().unwrap()).unwrap();
         assert!(csv.starts_with(&SUMMARY_COLUMNS.join(",")));
         assert!(csv.contains("\nsh2,3000,0,"), "{csv}");

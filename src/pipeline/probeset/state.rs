@@ -83,9 +83,13 @@ impl SetStats {
         if f.reference != REFERENCE {
             bail!("{}: errors measured against '{}', expected '{REFERENCE}'", path.display(), f.reference);
         }
-        if f.shard_count == 0 || f.shards.iter().any(|&s| s >= f.shard_count) {
+        if f.shard_count == 0 || f.shards.is_empty() || f.shards.iter().any(|&s| s >= f.shard_count) {
             bail!("{}: shards {:?} do not fit shard_count {}", path.display(), f.shards, f.shard_count);
         }
+        if f.shards.windows(2).any(|w| w[0] >= w[1]) {
+            bail!("{}: shards {:?} must be strictly increasing (each shard once)", path.display(), f.shards);
+        }
+        check_fields(&f).map_err(|e| anyhow::anyhow!("{}: corrupt statistics: {e}", path.display()))?;
         let encoders = f
             .encoders
             .into_iter()
@@ -101,7 +105,7 @@ impl SetStats {
                 })
             })
             .collect::<Result<Vec<_>>>()
-            .with_context(|| format!("{}: corrupt statistics", path.display()))?;
+            .map_err(|e: anyhow::Error| anyhow::anyhow!("{}: corrupt statistics: {e:#}", path.display()))?;
         Ok(SetStats {
             source: f.source,
             shard_count: f.shard_count,
@@ -115,6 +119,52 @@ impl SetStats {
             encoders,
         })
     }
+}
+
+/// The consistency of a state's fields, beyond what each type checks: a known quadrature rule,
+/// a source, at least one thread; finite non-negative times; distinct, non-empty encoder names;
+/// and every encoder scored exactly `probes` probes (closed-form + quadrature counts, and each
+/// statistic's valid + invalid counts, added with checked arithmetic).
+fn check_fields(f: &StateFile) -> Result<()> {
+    crate::pipeline::probeset::score::SphereRule::parse(&f.quadrature)?;
+    if f.source.trim().is_empty() {
+        bail!("empty source");
+    }
+    if f.threads == 0 {
+        bail!("threads = 0");
+    }
+    let time_ok = |t: f64| t.is_finite() && t >= 0.0;
+    if !time_ok(f.wall_s) || !time_ok(f.input_s) {
+        bail!("wall_s {} and input_s {} must be finite and non-negative", f.wall_s, f.input_s);
+    }
+    if f.encoders.is_empty() {
+        bail!("no encoders");
+    }
+    for (k, e) in f.encoders.iter().enumerate() {
+        if e.name.trim().is_empty() || f.encoders[..k].iter().any(|o| o.name == e.name) {
+            bail!("encoder name '{}' is empty or repeated", e.name);
+        }
+        if !time_ok(e.seconds) {
+            bail!("encoder {}: seconds {} must be finite and non-negative", e.name, e.seconds);
+        }
+        let scored = e.closed_form.checked_add(e.quadrature);
+        let rmse = e.rmse.count.checked_add(e.rmse.invalid);
+        let rel = e.rel_rmse.count.checked_add(e.rel_rmse.invalid);
+        if [scored, rmse, rel].iter().any(|&n| n != Some(f.probes)) {
+            bail!(
+                "encoder {}: counts do not add up to probes = {} (closed_form {} + quadrature {}, rmse {} + {} invalid, rel_rmse {} + {} invalid)",
+                e.name,
+                f.probes,
+                e.closed_form,
+                e.quadrature,
+                e.rmse.count,
+                e.rmse.invalid,
+                e.rel_rmse.count,
+                e.rel_rmse.invalid
+            );
+        }
+    }
+    Ok(())
 }
 
 #[cfg(test)]
