@@ -7,6 +7,7 @@ pub mod lightmap;
 pub mod probe_occlusion;
 pub mod quantise;
 pub mod self_bounce;
+pub mod sg;
 pub mod sh;
 pub mod zh3;
 
