@@ -26,6 +26,7 @@ use nalgebra::{DMatrix, DVector};
 #[derive(Clone, Debug)]
 pub struct Design {
     lobes: Vec<Lobe>,
+    directions: Vec<DVec3>,
     /// A, row-major: sample i's K lobe weights at `weights[i*K..(i+1)*K]`.
     weights: Vec<f64>,
     gram: DMatrix<f64>,
@@ -61,11 +62,16 @@ impl Design {
         let svd = gram.clone().svd(true, true);
         let smax = svd.singular_values.iter().copied().fold(0.0, f64::max);
         let gram_pinv = svd.pseudo_inverse(smax * PINV_RCOND).unwrap_or_else(|_| DMatrix::zeros(k, k));
-        Design { lobes: lobes.to_vec(), weights, gram, gram_pinv }
+        Design { lobes: lobes.to_vec(), directions: directions.to_vec(), weights, gram, gram_pinv }
     }
 
     pub fn lobes(&self) -> &[Lobe] {
         &self.lobes
+    }
+
+    /// The sample directions, in their order.
+    pub fn directions(&self) -> &[DVec3] {
+        &self.directions
     }
 
     /// The number of sample directions.
@@ -106,9 +112,10 @@ pub fn naive(design: &Design, values: &[Rgb]) -> Vec<Rgb> {
     if n == 0 {
         return mu;
     }
+    let f: Vec<f64> = design.lobes.iter().map(|l| naive_normalisation(l.sharpness, k)).collect();
     for (i, &v) in values.iter().enumerate().take(n) {
-        for ((m, &w), lobe) in mu.iter_mut().zip(design.row(i)).zip(&design.lobes) {
-            *m += v * naive_normalisation(lobe.sharpness, k) * (w / n as f64);
+        for ((m, &w), &fk) in mu.iter_mut().zip(design.row(i)).zip(&f) {
+            *m += v * fk * (w / n as f64);
         }
     }
     mu
