@@ -47,6 +47,7 @@ fn encoders(c: &mut Criterion) {
         cone: None,
         exact_at_normal: Some(inp.exact_at_normal),
         surface_albedo: None,
+        radiance: None,
     };
     let normals = fibonacci_sphere(1024);
     let mut g = c.benchmark_group("encoder");

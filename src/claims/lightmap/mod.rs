@@ -124,6 +124,7 @@ impl ConstructedCase {
             cone: None,
             exact_at_normal: Some(self.at_n),
             surface_albedo: None,
+            radiance: None,
         }
     }
     /// (rmse, max abs error, relative error at N) of an encoder.
