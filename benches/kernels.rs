@@ -15,6 +15,7 @@ use probelab::pipeline::probeset::{probe_rmse, SphereRule, Synth};
 use probelab::reference::domain::fibonacci_sphere;
 use probelab::reference::exact::{Reference, DEFAULT_POLAR_NODES};
 use probelab::reference::projection::{project, project_visible};
+use probelab::reference::radiance::MapLight;
 use std::hint::black_box;
 
 /// The inputs every encoder is fitted from: the generated sky-and-sun scene seen by a probe
@@ -23,6 +24,10 @@ struct Inputs {
     probe: Sh9,
     visible: Sh9,
     exact_at_normal: Rgb,
+    /// The scene as a 256×128 map (the peer's resolution) and its row moments, for the
+    /// encoders that read radiance samples (`FitInput::radiance`).
+    map: probelab::envmap::EnvMap,
+    moments: RowMoments,
 }
 
 fn inputs() -> Inputs {
@@ -34,6 +39,8 @@ fn inputs() -> Inputs {
         probe: project(&map),
         visible: project_visible(&rm, &caps, DEFAULT_POLAR_NODES),
         exact_at_normal: Reference::new(&rm, caps, DEFAULT_POLAR_NODES).irradiance(DVec3::Y),
+        map,
+        moments: rm,
     }
 }
 
@@ -47,12 +54,18 @@ fn encoders(c: &mut Criterion) {
         cone: None,
         exact_at_normal: Some(inp.exact_at_normal),
         surface_albedo: None,
+        radiance: None,
     };
+    // The probe with the map's light behind it, as the runner passes it: radiance samples
+    // and SH4 are computed once (on first use) and cached, like the SH projection, so
+    // `fit/map` times the fit alone.
+    let light = MapLight::new(&inp.map, &inp.moments, Vec::new(), DEFAULT_POLAR_NODES);
+    let map_input = FitInput { radiance: Some(&light), ..FitInput::sphere(&inp.probe) };
     let normals = fibonacci_sphere(1024);
     let mut g = c.benchmark_group("encoder");
     for k in REGISTRY {
         let e = (k.build)(&mut Params::default()).expect("default settings build");
-        for (label, input) in [("sphere", &sphere), ("floor", &floor)] {
+        for (label, input) in [("sphere", &sphere), ("floor", &floor), ("map", &map_input)] {
             g.throughput(Throughput::Elements(1));
             g.bench_with_input(BenchmarkId::new(format!("fit/{label}"), k.id), input, |b, i| {
                 b.iter(|| black_box(e.fit(black_box(i))))

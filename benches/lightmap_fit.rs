@@ -53,6 +53,7 @@ fn main() {
             cone: None,
             exact_at_normal: Some(*iz),
             surface_albedo: None,
+            radiance: None,
         })
         .collect();
     let batches = 300;

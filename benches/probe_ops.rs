@@ -119,6 +119,7 @@ fn ops(c: &mut Criterion<CpuTime>) {
                 cone: Some(cone),
                 exact_at_normal: None,
                 surface_albedo: None,
+                radiance: None,
             })
             .collect();
         g.throughput(Throughput::Elements(inputs.len() as u64));
@@ -136,6 +137,7 @@ fn ops(c: &mut Criterion<CpuTime>) {
             cone: Some((cone_centre(shade_n, 30.0), 0.5)),
             exact_at_normal: None,
             surface_albedo: None,
+            radiance: None,
         });
         g.throughput(Throughput::Elements(shaded.len() as u64));
         g.bench_function(format!("{id}/eval per normal"), |b| {

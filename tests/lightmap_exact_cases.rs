@@ -212,6 +212,7 @@ fn h6_round_trip_through_the_encoder() {
             cone: None,
             exact_at_normal: Some(m.i_z()),
             surface_albedo: None,
+            radiance: None,
         };
         let f = e.fit(&input);
         for w in Domain::Sphere.output_grid((16, 8)).normals {

@@ -11,6 +11,7 @@
 
 use crate::math::colour::Rgb;
 use crate::math::sh::Sh9;
+use crate::reference::radiance::{RadianceSource, ShLight};
 use anyhow::{bail, Context, Result};
 use glam::DVec3;
 use std::ops::{Bound, RangeBounds, RangeInclusive};
@@ -38,6 +39,31 @@ pub struct FitInput<'a> {
     /// declared (the material's, known at shading time; not part of the bake). `None` without
     /// the effect: encoders that model the bounce then add nothing.
     pub surface_albedo: Option<f64>,
+    /// The visible light itself, for encoders that need more than L2 SH: SH through band 4,
+    /// the radiance in a direction and the peer tool's Halton sample set of it, the exact E/π
+    /// at any normal ([`RadianceSource`]). The runner passes the map's light under the case's
+    /// caps (`reference::radiance::MapLight`, lazy and cached: encoders that never ask pay
+    /// nothing). `None` where only SH exist (probe sets, strips, inputs built from SH); read
+    /// it through [`FitInput::light`], which then falls back to the light of `visible_sh`.
+    pub radiance: Option<&'a dyn RadianceSource>,
+}
+
+/// The light of a [`FitInput`]: the runner's source, or the fallback built from `visible_sh`
+/// ([`ShLight`]: radiance Σ L_i Y_i, bands 3–4 zero, E/π by cosine convolution). Dereferences
+/// to [`RadianceSource`].
+pub enum Light<'a> {
+    Source(&'a dyn RadianceSource),
+    Sh(Box<ShLight>),
+}
+
+impl<'a> std::ops::Deref for Light<'a> {
+    type Target = dyn RadianceSource + 'a;
+    fn deref(&self) -> &Self::Target {
+        match self {
+            Light::Source(s) => *s,
+            Light::Sh(s) => s.as_ref(),
+        }
+    }
 }
 
 impl<'a> FitInput<'a> {
@@ -50,6 +76,17 @@ impl<'a> FitInput<'a> {
             cone: None,
             exact_at_normal: None,
             surface_albedo: None,
+            radiance: None,
+        }
+    }
+
+    /// The visible light as a [`RadianceSource`]: `radiance` if the caller passed one, else
+    /// the light of `visible_sh` alone (so an encoder that reads it cannot fail; the fallback's
+    /// samples cost one L2 evaluation each, computed on first use).
+    pub fn light(&self) -> Light<'a> {
+        match self.radiance {
+            Some(s) => Light::Source(s),
+            None => Light::Sh(Box::new(ShLight::new(self.visible_sh))),
         }
     }
 }

@@ -7,6 +7,7 @@ pub mod lightmap;
 pub mod probe_occlusion;
 pub mod quantise;
 pub mod self_bounce;
+pub mod sg;
 pub mod sh;
 pub mod zh3;
 
@@ -135,6 +136,16 @@ pub const REGISTRY: &[EncoderKind] = &[
         build: hhd::build_search_hemi,
     },
     EncoderKind { id: "hhd_from_sh1", summary: "HHD from linear SH, talk's closed form", build: hhd::build_from_sh1 },
+    EncoderKind { id: "sg_naive", summary: "12 SGs, naive projection (peer SG)", build: sg::build_naive },
+    EncoderKind { id: "sg_ls", summary: "12 SGs, least squares (peer SGLS)", build: sg::build_ls },
+    EncoderKind {
+        id: "sg_ls_ambient",
+        summary: "12 SGs + ambient, least squares (peer SGLSA)",
+        build: sg::build_ls_ambient,
+    },
+    EncoderKind { id: "sg_nnls", summary: "12 SGs, non-negative least squares (peer SGNNLS)", build: sg::build_nnls },
+    EncoderKind { id: "sg_ra", summary: "12 SGs, running average (peer SGRA)", build: sg::build_ra },
+    EncoderKind { id: "sg_nnra", summary: "12 SGs, non-negative running average (peer SGNNRA)", build: sg::build_nnra },
     EncoderKind {
         id: "with_self_bounce",
         summary: "inner encoder + (1 - H) albedo I_z self-bounce",

@@ -411,6 +411,7 @@ mod tests {
             cone,
             exact_at_normal: None,
             surface_albedo: None,
+            radiance: None,
         }
     }
 

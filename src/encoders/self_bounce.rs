@@ -137,6 +137,7 @@ mod tests {
             cone: None,
             exact_at_normal: Some(a),
             surface_albedo: Some(rho),
+            radiance: None,
         };
         let fit = enc("inner = 'sh2'").fit(&input);
         for m in [n, -n, DVec3::X, DVec3::Y, DVec3::new(0.6, 0.0, 0.8)] {

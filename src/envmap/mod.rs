@@ -174,6 +174,17 @@ impl LatLong {
     pub fn direction(&self, i: usize, j: usize) -> DVec3 {
         direction(self.theta_centre(i), self.phi_centre(j))
     }
+    /// The texel (i, j) whose cell contains direction `d` (its nearest texel, as the peer tool
+    /// reads a map: `Image::sampleNearest` of `cartesianToLatLongTexcoord`): u = θ/2π + ½,
+    /// v = φ/π, (⌊uW⌋, ⌊vH⌋) clamped to the grid.
+    pub fn texel_at(&self, d: DVec3) -> (usize, usize) {
+        let (theta, phi) = crate::math::convention::angles(d);
+        let u = theta / (2.0 * PI) + 0.5;
+        let v = phi / PI;
+        let i = ((u * self.width as f64).floor().max(0.0) as usize).min(self.width - 1);
+        let j = ((v * self.height as f64).floor().max(0.0) as usize).min(self.height - 1);
+        (i, j)
+    }
 }
 
 #[cfg(test)]
@@ -200,6 +211,24 @@ mod tests {
         assert!(g.direction(128, eq).dot(DVec3::NEG_Z) > 0.99);
         assert!(g.direction(192, eq).dot(DVec3::X) > 0.99);
         assert!(g.direction(64, eq).dot(DVec3::NEG_X) > 0.99);
+    }
+
+    /// Every texel centre maps back to its texel, and so do points just inside its corners.
+    #[test]
+    fn texel_at_inverts_the_cell() {
+        let g = LatLong::new(16, 8);
+        for j in 0..8 {
+            for i in 0..16 {
+                assert_eq!(g.texel_at(g.direction(i, j)), (i, j));
+                for (fi, fj) in [(0.01, 0.01), (0.99, 0.99), (0.01, 0.99), (0.99, 0.01)] {
+                    let t = g.theta_edge(i) + fi * g.dtheta();
+                    let p = g.phi_edge(j) + fj * PI / 8.0;
+                    assert_eq!(g.texel_at(direction(t, p)), (i, j), "({i},{j}) at ({fi},{fj})");
+                }
+            }
+        }
+        assert_eq!(g.texel_at(DVec3::Y).1, 0);
+        assert_eq!(g.texel_at(DVec3::NEG_Y).1, 7);
     }
 
     #[test]

@@ -1,5 +1,6 @@
 //! The math layer: pure functions and small value types with no knowledge of maps, encoders
-//! or files. SH basis and band scales (`sh`), SH rotation (`sh_rotation`), Gram matrices over
+//! or files. SH basis and band scales (`sh`; through band 4: `sh4`), the peer tool's Halton
+//! sphere samples (`halton`), SH rotation (`sh_rotation`), Gram matrices over
 //! hemispheres and cones (`gram`), Gauss–Legendre quadrature (`quadrature`), spherical caps
 //! and their arcs on a parallel (`cap`), linear RGB and Rec.709 luminance (`colour`), the direction convention (`convention`), and exact
 //! mergeable statistics (`stats`).
@@ -10,8 +11,10 @@ pub mod cap;
 pub mod colour;
 pub mod convention;
 pub mod gram;
+pub mod halton;
 pub mod quadrature;
 pub mod sh;
+pub mod sh4;
 pub mod sh_rotation;
 pub mod stats;
 #[cfg(test)]

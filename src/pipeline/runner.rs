@@ -20,6 +20,7 @@ use crate::reference::domain::{frame_to, Domain, OutputGrid};
 use crate::reference::exact::Reference;
 use crate::reference::metrics::{score, Metric, Scores};
 use crate::reference::projection::{project, project_visible};
+use crate::reference::radiance::{MapLight, RadianceSource};
 use anyhow::{bail, Result};
 use glam::DVec3;
 use rayon::prelude::*;
@@ -208,8 +209,9 @@ pub struct CaseInputs {
 }
 
 impl CaseInputs {
-    /// The fit input of `case` (its surface normal, cone and albedo) from these inputs.
-    pub fn fit_input<'s>(&'s self, case: &Case) -> FitInput<'s> {
+    /// The fit input of `case` (its surface normal, cone and albedo) from these inputs and the
+    /// case's visible light (`None`: encoders fall back to the light of the visible SH).
+    pub fn fit_input<'s>(&'s self, case: &Case, light: Option<&'s dyn RadianceSource>) -> FitInput<'s> {
         FitInput {
             probe_sh: &self.probe_sh,
             visible_sh: &self.visible_sh,
@@ -217,16 +219,19 @@ impl CaseInputs {
             cone: case.cone,
             exact_at_normal: self.exact_at_normal,
             surface_albedo: case.albedo,
+            radiance: light,
         }
     }
 }
 
-/// Per-case data: the fit inputs, and the exact reference under the case's caps. Sweeps,
-/// claims and sheets build it too, so everything scores the same inputs.
+/// Per-case data: the fit inputs, the exact reference under the case's caps, and the visible
+/// light itself (lazy: nothing is computed unless an encoder asks). Sweeps, claims and sheets
+/// build it too, so everything scores the same inputs.
 pub struct CaseData<'a> {
     pub case: &'a Case,
     pub inputs: CaseInputs,
     pub reference: Reference<'a>,
+    pub light: MapLight<'a>,
 }
 
 impl<'a> CaseData<'a> {
@@ -239,12 +244,13 @@ impl<'a> CaseData<'a> {
         };
         let reference = Reference::new(&data.moments, case.masks.clone(), polar_nodes);
         let exact_at_normal = case.normal.map(|n| reference.irradiance(n));
-        CaseData { case, inputs: CaseInputs { probe_sh: data.probe_sh, visible_sh, exact_at_normal }, reference }
+        let light = MapLight::new(data.map, &data.moments, case.masks.clone(), polar_nodes);
+        CaseData { case, inputs: CaseInputs { probe_sh: data.probe_sh, visible_sh, exact_at_normal }, reference, light }
     }
 
     /// What every encoder is fitted from.
     pub fn fit_input(&self) -> FitInput<'_> {
-        self.inputs.fit_input(self.case)
+        self.inputs.fit_input(self.case, Some(&self.light))
     }
 
     /// The reference E/π at `normals`: the exact irradiance under the case's caps plus, under
@@ -290,22 +296,23 @@ pub fn run_map(exp: &Experiment, map: &EnvMap) -> Vec<Row> {
         MapData::new(map)
     };
     let all = cases(exp);
-    let (mut per_case, inputs): (Vec<Vec<Row>>, Vec<CaseInputs>) =
+    let (mut per_case, inputs): (Vec<Vec<Row>>, Vec<(CaseInputs, MapLight)>) =
         all.par_iter().map(|case| run_case(exp, &data, case)).unzip();
     fill_timing(exp, &all, &inputs, &mut per_case);
     per_case.into_iter().flatten().collect()
 }
 
 /// Fills `fit_ns` and `eval_ns` of the rows of one map, `rows[c]` being the rows of
-/// `cases[c]` and `inputs[c]` what scoring fitted them from: sequentially, after scoring, so
-/// timing never touches the numbers ([`crate::pipeline::timing`]).
-fn fill_timing(exp: &Experiment, cases: &[Case], inputs: &[CaseInputs], rows: &mut [Vec<Row>]) {
+/// `cases[c]` and `inputs[c]` what scoring fitted them from (with the case's light, whose
+/// caches scoring filled): sequentially, after scoring, so timing never touches the numbers
+/// ([`crate::pipeline::timing`]).
+fn fill_timing(exp: &Experiment, cases: &[Case], inputs: &[(CaseInputs, MapLight)], rows: &mut [Vec<Row>]) {
     if !timing::enabled() {
         return;
     }
     let _span = crate::pipeline::profile::span("timing pass");
-    for ((case, inputs), rows) in cases.iter().zip(inputs).zip(rows.iter_mut()) {
-        let input = inputs.fit_input(case);
+    for ((case, (inputs, light)), rows) in cases.iter().zip(inputs).zip(rows.iter_mut()) {
+        let input = inputs.fit_input(case, Some(light));
         let normals = timing::subsample(&case.domain.output_grid(exp.resolution).normals, timing::EVAL_NORMALS);
         for named in &exp.encoders {
             let (fit_ns, eval_ns) = timing::measure(named.encoder.as_ref(), &input, &normals);
@@ -322,7 +329,7 @@ fn fill_timing(exp: &Experiment, cases: &[Case], inputs: &[CaseInputs], rows: &m
 type ScoredGrid = ((usize, usize), bool, OutputGrid, Vec<Rgb>);
 
 /// Scores every encoder on one case; returns the rows and the inputs they were fitted from.
-fn run_case(exp: &Experiment, data: &MapData, case: &Case) -> (Vec<Row>, CaseInputs) {
+fn run_case<'d>(exp: &Experiment, data: &'d MapData, case: &'d Case) -> (Vec<Row>, (CaseInputs, MapLight<'d>)) {
     let map = data.map;
     let cd = {
         let _s = crate::pipeline::profile::span("case setup (visible SH)");
@@ -381,7 +388,7 @@ fn run_case(exp: &Experiment, data: &MapData, case: &Case) -> (Vec<Row>, CaseInp
             });
         }
     }
-    (rows, cd.inputs)
+    (rows, (cd.inputs, cd.light))
 }
 
 /// Evaluates a fit at every normal: E/π, in parallel, in the normals' order.

@@ -3,7 +3,8 @@
 //! projection of a map (`projection`); analytic lighting with closed-form irradiance and SH, its
 //! visible part under caps and its rotation (`lighting`); named analytic scenes and their exact
 //! cell-average maps (`scenes`); the output grids a score is taken over (`domain`); the error
-//! metrics (`metrics`); and the views of the sphere of normals that pictures evaluate at (`view`).
+//! metrics (`metrics`); the light an encoder may read beyond L2 SH — SH through band 4,
+//! radiance samples, exact E/π at any normal (`radiance`); and the views of the sphere of normals that pictures evaluate at (`view`).
 //!
 //! May use: `math`, `envmap`.
 
@@ -12,5 +13,6 @@ pub mod exact;
 pub mod lighting;
 pub mod metrics;
 pub mod projection;
+pub mod radiance;
 pub mod scenes;
 pub mod view;

@@ -97,6 +97,7 @@ impl Input {
             cone: self.surface.as_ref().and_then(|s| s.cone),
             exact_at_normal: self.exact_at_normal,
             surface_albedo: None,
+            radiance: None,
         }
     }
 

@@ -135,6 +135,7 @@ impl Bake {
             cone: None,
             exact_at_normal: Some(self.exact_at_normal),
             surface_albedo: None,
+            radiance: None,
         }
     }
 }
@@ -373,6 +374,7 @@ mod tests {
             cone: None,
             exact_at_normal: Some(iz),
             surface_albedo: None,
+            radiance: None,
         };
         for (basis, id) in [(Basis::Ahd, "ahd_search_hemi"), (Basis::Hhd, "hhd_search_hemi")] {
             let m = fitted_model(basis, &input);
