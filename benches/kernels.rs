@@ -6,6 +6,7 @@ use glam::DVec3;
 use probelab::encoders::encoder::{FitInput, Fitted, Params};
 use probelab::encoders::REGISTRY;
 use probelab::envmap::moments::RowMoments;
+use probelab::envmap::EnvMap;
 use probelab::math::cap::Cap;
 use probelab::math::colour::Rgb;
 use probelab::math::sh::Sh9;
@@ -15,6 +16,7 @@ use probelab::pipeline::probeset::{probe_rmse, SphereRule, Synth};
 use probelab::reference::domain::fibonacci_sphere;
 use probelab::reference::exact::{Reference, DEFAULT_POLAR_NODES};
 use probelab::reference::projection::{project, project_visible};
+use probelab::reference::radiance::MapLight;
 use std::hint::black_box;
 
 /// The inputs every encoder is fitted from: the generated sky-and-sun scene seen by a probe
@@ -25,21 +27,25 @@ struct Inputs {
     exact_at_normal: Rgb,
 }
 
-fn inputs() -> Inputs {
-    let scene = probelab::reference::scenes::generated().into_iter().find(|s| s.id == "gen_sky_sun").expect("scene");
-    let map = scene.map(256);
-    let rm = RowMoments::new(&map);
+fn inputs(map: &EnvMap, rm: &RowMoments) -> Inputs {
     let caps = vec![Cap::hemisphere(DVec3::Y)];
     Inputs {
-        probe: project(&map),
-        visible: project_visible(&rm, &caps, DEFAULT_POLAR_NODES),
-        exact_at_normal: Reference::new(&rm, caps, DEFAULT_POLAR_NODES).irradiance(DVec3::Y),
+        probe: project(map),
+        visible: project_visible(rm, &caps, DEFAULT_POLAR_NODES),
+        exact_at_normal: Reference::new(rm, caps, DEFAULT_POLAR_NODES).irradiance(DVec3::Y),
     }
 }
 
 fn encoders(c: &mut Criterion) {
-    let inp = inputs();
-    let sphere = FitInput::sphere(&inp.probe);
+    let scene = probelab::reference::scenes::generated().into_iter().find(|s| s.id == "gen_sky_sun").expect("scene");
+    let map = scene.map(256);
+    let rm = RowMoments::new(&map);
+    let inp = inputs(&map, &rm);
+    // The map's light, as the runner passes it (its caches fill on the first fit, as in a run:
+    // the SH through band 4, the samples and the E/π grids are inputs, not part of the fit).
+    let sphere_light = MapLight::new(&map, &rm, vec![], DEFAULT_POLAR_NODES);
+    let floor_light = MapLight::new(&map, &rm, vec![Cap::hemisphere(DVec3::Y)], DEFAULT_POLAR_NODES);
+    let sphere = FitInput { radiance: Some(&sphere_light), ..FitInput::sphere(&inp.probe) };
     let floor = FitInput {
         probe_sh: &inp.probe,
         visible_sh: &inp.visible,
@@ -47,7 +53,7 @@ fn encoders(c: &mut Criterion) {
         cone: None,
         exact_at_normal: Some(inp.exact_at_normal),
         surface_albedo: None,
-        radiance: None,
+        radiance: Some(&floor_light),
     };
     let normals = fibonacci_sphere(1024);
     let mut g = c.benchmark_group("encoder");
