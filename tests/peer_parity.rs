@@ -46,7 +46,8 @@ fn the_peer_encodings_match_peer_md() {
     let mut failures = Vec::new();
     for (id, figures) in PEER {
         for (map, peer) in PAPER_PROBES.iter().zip(figures) {
-            let r = rows.iter().find(|r| r["encoder"] == *id && r["map"] == *map).unwrap_or_else(|| panic!("{id} {map}"));
+            let r =
+                rows.iter().find(|r| r["encoder"] == *id && r["map"] == *map).unwrap_or_else(|| panic!("{id} {map}"));
             assert_eq!(r["weighting"], "per-pixel");
             let ours: f64 = r["rmse"].parse().unwrap();
             let rel = ours / peer - 1.0;
