@@ -317,7 +317,8 @@ fn kinds() -> Vec<Kind> {
                 patch(p, |b| {
                     let (table, n) = offset_table(b);
                     let k = table + 8 * (n - 1);
-                    b[k..k + 8].copy_from_slice(&(b.len() as u64 + 1000).to_le_bytes());
+                    let past_the_end = (b.len() as u64 + 1000).to_le_bytes();
+                    b[k..k + 8].copy_from_slice(&past_the_end);
                 });
             },
             fault: &["openexr"],

@@ -1,6 +1,7 @@
 //! The encoder registry: one line per encoder kind. Adding an encoder means adding its file
 //! and one entry here; nothing else in the program names an encoder.
 
+pub mod ambient_cube;
 pub mod encoder;
 pub mod geomerics;
 pub mod lightmap;
@@ -9,6 +10,7 @@ pub mod quantise;
 pub mod self_bounce;
 pub mod sg;
 pub mod sh;
+pub mod sh_high;
 pub mod zh3;
 
 use crate::encoders::encoder::{Encoder, Params};
@@ -136,6 +138,28 @@ pub const REGISTRY: &[EncoderKind] = &[
         build: hhd::build_search_hemi,
     },
     EncoderKind { id: "hhd_from_sh1", summary: "HHD from linear SH, talk's closed form", build: hhd::build_from_sh1 },
+    EncoderKind { id: "sh3", summary: "SH L3 irradiance (bands 0-3; peer SHL3)", build: sh_high::build_sh3 },
+    EncoderKind { id: "sh4", summary: "SH L4 irradiance (bands 0-4; peer SHL4)", build: sh_high::build_sh4 },
+    EncoderKind {
+        id: "sh2_windowed",
+        summary: "SH L2, Laplacian window (peer SHL2W, full band energy)",
+        build: sh_high::build_sh2_windowed,
+    },
+    EncoderKind {
+        id: "sh2_windowed_peer",
+        summary: "SH L2 windowed as the peer (its band-energy slip)",
+        build: sh_high::build_sh2_windowed_peer,
+    },
+    EncoderKind {
+        id: "ambient_cube",
+        summary: "ambient cube, NNLS to exact E/pi (peer AC)",
+        build: ambient_cube::build_ambient_cube,
+    },
+    EncoderKind {
+        id: "ambient_cube_proj",
+        summary: "ambient cube, exact E/pi at the axes (peer ACPROJ)",
+        build: ambient_cube::build_ambient_cube_proj,
+    },
     EncoderKind { id: "sg_naive", summary: "12 SGs, naive projection (peer SG)", build: sg::build_naive },
     EncoderKind { id: "sg_ls", summary: "12 SGs, least squares (peer SGLS)", build: sg::build_ls },
     EncoderKind {
