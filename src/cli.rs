@@ -493,5 +493,6 @@ fn eval_experiment(
         polar_nodes,
         ci: false,
         summary: None,
+        sheets: None,
     })
 }

@@ -117,6 +117,10 @@ fn nnls6(g: &[[f64; 6]; 6], r: &[f64; 6]) -> [f64; 6] {
 }
 
 impl Encoder for AmbientCubeEncoder {
+    fn reads_radiance(&self) -> bool {
+        true
+    }
+
     fn id(&self) -> &str {
         if self.projection {
             "ambient_cube_proj"

@@ -104,6 +104,13 @@ pub trait Encoder: Send + Sync {
     fn peer_clamps(&self) -> bool {
         true
     }
+    /// Whether the fit reads the light beyond its L2 SH, through [`FitInput::radiance`]
+    /// (SH bands 3–4, radiance samples or the exact E/π at given normals). A probe set stores
+    /// L2 SH only, so `probes` leaves these out of `--encoders all` and refuses them by name:
+    /// fitted to the band-limited radiance of an L2 probe they would measure something else.
+    fn reads_radiance(&self) -> bool {
+        false
+    }
     /// Whether the fit runs an iterative solver (a nonlinear least-squares or optimisation
     /// loop) rather than a closed form. `probelab check` gives iterative encoders the looser
     /// tolerances of `tolerances.toml` (`class = "iterative"`).

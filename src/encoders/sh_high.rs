@@ -69,6 +69,10 @@ impl Fitted for ShHighIrradiance {
 }
 
 impl Encoder for Sh3Encoder {
+    fn reads_radiance(&self) -> bool {
+        true
+    }
+
     fn id(&self) -> &str {
         "sh3"
     }
@@ -90,6 +94,10 @@ impl Encoder for Sh3Encoder {
 }
 
 impl Encoder for Sh4Encoder {
+    fn reads_radiance(&self) -> bool {
+        true
+    }
+
     fn id(&self) -> &str {
         "sh4"
     }

@@ -15,6 +15,7 @@
 //! | `polar_nodes`  | integer                   | 2              | Gauss–Legendre nodes per row piece of the reference |
 //! | `ci`           | bool                      | true           | whether the CI check re-runs it |
 //! | `summary`      | table                     | none           | `summary.csv` per orientation/map/set, ratios to `baseline` (`summary.rs`) |
+//! | `sheets`       | list of strings           | every map      | the maps that get a comparison sheet in the report (each one of `maps`) |
 //!
 //! Unknown keys are errors that name the key and the line.
 
@@ -66,6 +67,8 @@ pub struct ExperimentFile {
     pub polar_nodes: Option<usize>,
     pub ci: Option<bool>,
     pub summary: Option<crate::pipeline::summary::SummaryFile>,
+    /// The maps that get a comparison sheet in the report (default: every map).
+    pub sheets: Option<Vec<String>>,
 }
 
 /// A visibility effect applied to the radiance before it reaches the surface.
@@ -107,9 +110,20 @@ pub struct Experiment {
     pub ci: bool,
     /// `Some(baseline)` when a per-orientation summary is declared.
     pub summary: Option<Option<String>>,
+    /// The maps that get a comparison sheet in the report (`sheets = [...]`; `None`: every
+    /// map). Each is one of `maps`.
+    pub sheets: Option<Vec<String>>,
 }
 
 impl Experiment {
+    /// The maps that get a comparison sheet, in the experiment's map order.
+    pub fn sheet_maps(&self) -> Vec<String> {
+        match &self.sheets {
+            None => self.maps.clone(),
+            Some(s) => self.maps.iter().filter(|m| s.contains(m)).cloned().collect(),
+        }
+    }
+
     /// Reads and validates an experiment file; errors name the file and the line (see
     /// [`Experiment::parse`]).
     pub fn load(path: &Path) -> Result<Self> {
@@ -262,6 +276,15 @@ impl Experiment {
         }
         let names: Vec<String> = built.iter().map(|e| e.name.clone()).collect();
         let summary = f.summary.map(|s| crate::pipeline::summary::summary_baseline(s, &names)).transpose()?;
+        if let Some(sheets) = &f.sheets {
+            if let Some(m) = sheets.iter().find(|m| !f.maps.contains(m)) {
+                bail!("sheets: '{m}' is not one of the experiment's maps");
+            }
+            let mut seen = std::collections::HashSet::new();
+            if let Some(m) = sheets.iter().find(|m| !seen.insert(m.as_str())) {
+                bail!("sheets: '{m}' appears twice");
+            }
+        }
         Ok(Experiment {
             name,
             description: f.description,
@@ -276,6 +299,7 @@ impl Experiment {
             polar_nodes,
             ci: f.ci.unwrap_or(true),
             summary,
+            sheets: f.sheets,
         })
     }
 }

@@ -19,7 +19,7 @@ use crate::math::cap::{Arcs, Cap};
 use crate::math::colour::Rgb;
 use crate::math::convention::direction;
 use crate::math::halton::{peer_sphere_directions, PEER_SAMPLE_COUNT};
-use crate::math::quadrature::gauss_legendre;
+use crate::math::quadrature::{for_each_polar_node, gauss_legendre};
 use crate::math::sh::Sh9;
 use crate::math::sh4::{basis4, Sh25, N_SH4};
 use crate::reference::exact::Reference;
@@ -236,13 +236,12 @@ const SH4_AZIMUTH_SAMPLES: usize = 16;
 /// θ; its Fourier coefficients come exactly from 16 equally spaced samples, and the texels'
 /// ∫ cos mθ, ∫ sin mθ over their (visible part of the) cell are closed forms. Polar: the
 /// integrand is smooth in φ between cap breakpoints (a trigonometric polynomial of degree ≤ 6
-/// without caps); 8 Gauss–Legendre nodes per piece, rows split at the caps' breakpoints and into
-/// ⌈16/H⌉ equal pieces on maps with fewer than 16 rows. Without caps this agrees with the exact
+/// without caps); 8 Gauss–Legendre nodes per piece, rows split at the caps' breakpoints and
+/// into pieces no taller than π/128, as the reference's (`math::quadrature::for_each_polar_node`). Without caps this agrees with the exact
 /// L2 projection ([`crate::reference::projection::project`]) to ~1e-15 relative (tested).
 pub fn project_sh4(map: &EnvMap, masks: &[Cap]) -> Sh25 {
     let grid = map.grid();
     let rule = gauss_legendre(SH4_NODES);
-    let sub = 16usize.div_ceil(grid.height).max(1);
     let breaks: Vec<f64> = masks.iter().flat_map(|c| c.breakpoints()).collect();
     let rows: Vec<Sh25> = (0..grid.height)
         .into_par_iter()
@@ -250,41 +249,27 @@ pub fn project_sh4(map: &EnvMap, masks: &[Cap]) -> Sh25 {
             let row: Vec<Rgb> = map.row(j).iter().map(|t| Rgb::new(t[0] as f64, t[1] as f64, t[2] as f64)).collect();
             let full = if masks.is_empty() { Some(arc_moments(&row, &grid, -PI, TAU)) } else { None };
             let (p0, p1) = (grid.phi_edge(j), grid.phi_edge(j + 1));
-            let mut cuts = vec![p0];
-            for s in 1..sub {
-                cuts.push(p0 + (p1 - p0) * s as f64 / sub as f64);
-            }
-            cuts.extend(breaks.iter().copied().filter(|&b| b > p0 && b < p1));
-            cuts.push(p1);
-            cuts.sort_by(f64::total_cmp);
             let mut out = Sh25::ZERO;
-            for w in cuts.windows(2) {
-                let (a, b) = (w[0], w[1]);
-                if b <= a {
-                    continue;
-                }
-                for &(t, wt) in &rule {
-                    let phi = 0.5 * (a + b) + 0.5 * (b - a) * t;
-                    let weight = 0.5 * (b - a) * wt * phi.sin();
-                    let moments = match &full {
-                        Some(m) => *m,
-                        None => {
-                            let (s, c) = phi.sin_cos();
-                            let arcs = masks.iter().fold(Arcs::full(), |acc, m| acc.intersect(m.arc(s, c)));
-                            let mut m = [[Rgb::ZERO; 2]; 5];
-                            for arc in arcs.as_slice() {
-                                let am = arc_moments(&row, &grid, arc.lo, arc.len);
-                                for (x, y) in m.iter_mut().zip(am) {
-                                    x[0] += y[0];
-                                    x[1] += y[1];
-                                }
+            for_each_polar_node(p0, p1, &breaks, &rule, |phi, w| {
+                let weight = w * phi.sin();
+                let moments = match &full {
+                    Some(m) => *m,
+                    None => {
+                        let (s, c) = phi.sin_cos();
+                        let arcs = masks.iter().fold(Arcs::full(), |acc, m| acc.intersect(m.arc(s, c)));
+                        let mut m = [[Rgb::ZERO; 2]; 5];
+                        for arc in arcs.as_slice() {
+                            let am = arc_moments(&row, &grid, arc.lo, arc.len);
+                            for (x, y) in m.iter_mut().zip(am) {
+                                x[0] += y[0];
+                                x[1] += y[1];
                             }
-                            m
                         }
-                    };
-                    add_parallel(&mut out, phi, weight, &moments);
-                }
-            }
+                        m
+                    }
+                };
+                add_parallel(&mut out, phi, weight, &moments);
+            });
             out
         })
         .collect();

@@ -147,7 +147,7 @@ pub fn generate(opts: &Options) -> Result<Generated> {
         .iter()
         .filter(|s| s.exp.as_ref().is_some_and(|e| e.maps.iter().all(|m| maps.get(m).is_some_and(|u| u.is_some()))))
         .collect();
-    let total: usize = drawable.iter().map(|s| s.exp.as_ref().map_or(0, |e| e.maps.len())).sum();
+    let total: usize = drawable.iter().map(|s| s.exp.as_ref().map_or(0, |e| e.sheet_maps().len())).sum();
     let progress = Progress::new(total as u64, "sheets");
     let mut pictures = 0;
     let mut drawn_sheets: BTreeMap<String, Vec<String>> = BTreeMap::new();
@@ -160,7 +160,7 @@ pub fn generate(opts: &Options) -> Result<Generated> {
         // The sheets of one experiment are independent files: drawn in parallel (each one's
         // pixels do not depend on the thread count), named in the experiment's map order.
         let names = exp
-            .maps
+            .sheet_maps()
             .par_iter()
             .map(|m| -> Result<String> {
                 let path = opts.search.resolve(m).map_err(|e| anyhow::anyhow!("{e}"))?;

@@ -53,7 +53,8 @@ pub enum Figure {
     Costs { folder: &'static str },
 }
 
-/// The three papers, in the report's order when no declaration gives one.
+/// The three papers, in the report's order when no declaration gives one, then the landscape of
+/// every encoding (a section without claims).
 pub const PLANS: &[PaperPlan] = &[
     PaperPlan {
         key: "zh3",
@@ -123,6 +124,31 @@ pub const PLANS: &[PaperPlan] = &[
                 folder: "claims",
                 file: "blend_strip_grace_light_on.png",
                 caption: "Blending a light on (grace): parameter blends against the blended reference.",
+            },
+        ],
+    },
+    PaperPlan {
+        key: "landscape",
+        title: "The landscape: every encoding by what it stores",
+        pages: &["landscape", "landscape_hemi", "probulator_parity"],
+        figures: &[
+            Figure::Costs { folder: "landscape" },
+            Figure::Ratios {
+                folder: "landscape",
+                caption: "Every probe encoding (the papers' and the peer tool's) on every usable real map, whole \
+                          sphere: its error as a ratio to SH L1's.",
+            },
+            Figure::Costs { folder: "landscape_hemi" },
+            Figure::Ratios {
+                folder: "landscape_hemi",
+                caption: "Every encoding on the hemisphere about N (lightmap use: H-basis, AHD, HHD and SH at their \
+                          real storage), the light above the surface only, on every usable real map, six normals.",
+            },
+            Figure::Pivot {
+                folder: "probulator_parity",
+                caption: "Parity with the peer tool (Probulator): every encoding it has, on the five paper probes, \
+                          scored with its metric against our exact reference; its own figures are in \
+                          docs/peer_encodings.md.",
             },
         ],
     },

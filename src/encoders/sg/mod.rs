@@ -189,6 +189,10 @@ impl SphericalGaussians {
 }
 
 impl Encoder for SphericalGaussians {
+    fn reads_radiance(&self) -> bool {
+        true
+    }
+
     fn id(&self) -> &str {
         self.variant.id()
     }

@@ -64,14 +64,32 @@ pub struct MergeArgs {
     pub out: Option<PathBuf>,
 }
 
-/// The encoders of `--encoders` (`all` = the registry), with sh1 first if it was not listed.
+/// The encoders of `--encoders` (`all` = every registered encoder fitted from L2 SH alone),
+/// with sh1 first if it was not listed. An encoder that reads the light beyond L2 SH
+/// ([`crate::encoders::encoder::Encoder::reads_radiance`]) is refused by name: a probe stores
+/// L2 SH only.
 pub fn encoder_list(list: &str) -> Result<Vec<NamedEncoder>> {
-    let list = if list.trim() == "all" {
+    let all = list.trim() == "all";
+    let list = if all {
         crate::encoders::REGISTRY.iter().map(|k| k.id).collect::<Vec<_>>().join(",")
     } else {
         list.to_string()
     };
     let mut v = crate::encoders::build_list(&list)?;
+    let beyond: Vec<String> = v.iter().filter(|e| e.encoder.reads_radiance()).map(|e| e.name.clone()).collect();
+    if all {
+        v.retain(|e| !e.encoder.reads_radiance());
+        noteln!(
+            "--encoders all: left out {} (fitted from the light beyond L2 SH, which a probe does not store)",
+            beyond.join(", ")
+        );
+    } else if !beyond.is_empty() {
+        bail!(
+            "--encoders: {} fit(s) the light beyond L2 SH (bands 3-4, radiance samples or exact irradiance); a probe \
+             stores L2 SH only, so a probe set cannot score them (use `eval` or an experiment on a map)",
+            beyond.join(", ")
+        );
+    }
     if !v.iter().any(|e| e.name == crate::encoders::BASELINE) {
         v.insert(0, crate::encoders::build(crate::encoders::BASELINE, None, toml::Table::new())?);
     }
