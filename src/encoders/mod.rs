@@ -2,6 +2,7 @@
 //! and one entry here; nothing else in the program names an encoder.
 
 pub mod ambient_cube;
+pub mod ambient_dice;
 pub mod encoder;
 pub mod geomerics;
 pub mod lightmap;
@@ -159,6 +160,21 @@ pub const REGISTRY: &[EncoderKind] = &[
         id: "ambient_cube_proj",
         summary: "ambient cube, exact E/pi at the axes (peer ACPROJ)",
         build: ambient_cube::build_ambient_cube_proj,
+    },
+    EncoderKind {
+        id: "ambient_dice",
+        summary: "ambient dice, Bezier, LS to exact E/pi (peer AD)",
+        build: ambient_dice::build_ambient_dice,
+    },
+    EncoderKind {
+        id: "ambient_dice_ycocg",
+        summary: "ambient dice, Bezier Y + linear Co/Cg (peer ADYCoCg)",
+        build: ambient_dice::build_ambient_dice_ycocg,
+    },
+    EncoderKind {
+        id: "ambient_dice_srbf",
+        summary: "ambient dice, 12 cosine SRBF lobes (peer ADRBF)",
+        build: ambient_dice::build_ambient_dice_srbf,
     },
     EncoderKind { id: "sg_naive", summary: "12 SGs, naive projection (peer SG)", build: sg::build_naive },
     EncoderKind { id: "sg_ls", summary: "12 SGs, least squares (peer SGLS)", build: sg::build_ls },
