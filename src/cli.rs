@@ -479,12 +479,15 @@ fn eval_experiment(
     if !(1..=16).contains(&polar_nodes) {
         bail!("--polar-nodes {polar_nodes}: expected 1..=16");
     }
+    let encoders = encoders::build_list(list)?;
+    crate::pipeline::experiment::check_surface_encoders(kind, &encoders)
+        .map_err(|e| anyhow::anyhow!("--encoders: {e:#}; or pass --domain hemisphere:AXIS"))?;
     Ok(Experiment {
         name: "eval".into(),
         description: String::new(),
         source: None,
         maps,
-        encoders: encoders::build_list(list)?,
+        encoders,
         metrics: vec![metric],
         domain: kind,
         orientations,

@@ -5,6 +5,7 @@ pub mod ambient_cube;
 pub mod ambient_dice;
 pub mod encoder;
 pub mod geomerics;
+pub mod hbasis;
 pub mod lightmap;
 pub mod probe_occlusion;
 pub mod quantise;
@@ -186,6 +187,16 @@ pub const REGISTRY: &[EncoderKind] = &[
     EncoderKind { id: "sg_nnls", summary: "12 SGs, non-negative least squares (peer SGNNLS)", build: sg::build_nnls },
     EncoderKind { id: "sg_ra", summary: "12 SGs, running average (peer SGRA)", build: sg::build_ra },
     EncoderKind { id: "sg_nnra", summary: "12 SGs, non-negative running average (peer SGNNRA)", build: sg::build_nnra },
+    EncoderKind {
+        id: "hbasis4",
+        summary: "H-basis 4, E/pi over the hemisphere about N (peer H4)",
+        build: hbasis::build_hbasis4,
+    },
+    EncoderKind {
+        id: "hbasis6",
+        summary: "H-basis 6, E/pi over the hemisphere about N (peer H6)",
+        build: hbasis::build_hbasis6,
+    },
     EncoderKind {
         id: "with_self_bounce",
         summary: "inner encoder + (1 - H) albedo I_z self-bounce",

@@ -64,14 +64,26 @@ pub struct MergeArgs {
     pub out: Option<PathBuf>,
 }
 
-/// The encoders of `--encoders` (`all` = the registry), with sh1 first if it was not listed.
+/// The encoders of `--encoders` (`all` = the registry, less the encoders defined only about a
+/// surface normal, which a probe does not have), with sh1 first if it was not listed. Naming
+/// such an encoder is an error.
 pub fn encoder_list(list: &str) -> Result<Vec<NamedEncoder>> {
-    let list = if list.trim() == "all" {
+    let all = list.trim() == "all";
+    let list = if all {
         crate::encoders::REGISTRY.iter().map(|k| k.id).collect::<Vec<_>>().join(",")
     } else {
         list.to_string()
     };
     let mut v = crate::encoders::build_list(&list)?;
+    if all {
+        v.retain(|e| !e.encoder.needs_surface_normal());
+    } else if let Some(e) = v.iter().find(|e| e.encoder.needs_surface_normal()) {
+        bail!(
+            "--encoders: '{}' is defined only on the hemisphere about a surface normal N; probes are spheres \
+             without one",
+            e.name
+        );
+    }
     if !v.iter().any(|e| e.name == crate::encoders::BASELINE) {
         v.insert(0, crate::encoders::build(crate::encoders::BASELINE, None, toml::Table::new())?);
     }
