@@ -480,8 +480,15 @@ fn eval_experiment(
         bail!("--polar-nodes {polar_nodes}: expected 1..=16");
     }
     let encoders = encoders::build_list(list)?;
-    crate::pipeline::experiment::check_surface_encoders(kind, &encoders)
-        .map_err(|e| anyhow::anyhow!("--encoders: {e:#}; or pass --domain hemisphere:AXIS"))?;
+    if kind == DomainKind::Sphere {
+        if let Some(e) = encoders.iter().find(|e| e.encoder.needs_surface_normal()) {
+            bail!(
+                "--encoders: '{}' is defined only on the hemisphere about a surface normal N; pass --domain \
+                 hemisphere:AXIS",
+                e.name
+            );
+        }
+    }
     Ok(Experiment {
         name: "eval".into(),
         description: String::new(),

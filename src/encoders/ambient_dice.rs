@@ -47,7 +47,9 @@
 //! areas and whose Gram matrix is a uniform Hammersley sum); `weights = "pixel"` weights every
 //! pixel alike (the `probulator` metric's weighting). The normal matrix depends only on the
 //! basis and the grid, so it is built and Cholesky-factored once per process; a fit is the
-//! moments of the target and two triangular solves. The Y/Co/Cg variant minimises the RGB
+//! moments of the target and two triangular solves. Without a radiance source (probe sets:
+//! L2 SH only) the target is the E/π of the SH, and its moments are a 9-column product, the
+//! same fit without evaluating the grid. The Y/Co/Cg variant minimises the RGB
 //! error, which couples Y and Cg (the RGB error is 3e_Y² + 2e_Co² + 3e_Cg² − 2e_Y·e_Cg); the peer
 //! fits Y, Co and Cg each on its own.
 //!
@@ -62,6 +64,7 @@
 
 use crate::encoders::encoder::{Encoder, FitInput, Fitted, Params};
 use crate::math::colour::Rgb;
+use crate::math::sh::{basis as sh_basis, Sh9, N_SH};
 use crate::reference::radiance::latlong_normals;
 use anyhow::{bail, Result};
 use glam::DVec3;
@@ -334,6 +337,8 @@ struct Design {
     entries: Vec<(u16, f64)>,
     weights: Vec<f64>,
     normal: nalgebra::Cholesky<f64, nalgebra::Dyn>,
+    /// Per scalar basis function j, Σ_p w_p φ_j(n_p) Y_i(n_p) for the nine SH functions Y_i.
+    sh_moments: Vec<[f64; N_SH]>,
 }
 
 impl Design {
@@ -355,11 +360,16 @@ impl Design {
         }
         let m = variant.functions();
         let mut gram = DMatrix::<f64>::zeros(m, m);
-        for p in 0..normals.len() {
+        let mut sh_moments = vec![[0.0; N_SH]; m];
+        for (p, &n) in normals.iter().enumerate() {
             let row = &entries[start[p]..start[p + 1]];
+            let y = sh_basis(n);
             for &(a, x) in row {
-                for &(b, y) in row {
-                    gram[(a as usize, b as usize)] += weights[p] * x * y;
+                for &(b, z) in row {
+                    gram[(a as usize, b as usize)] += weights[p] * x * z;
+                }
+                for (q, yi) in sh_moments[a as usize].iter_mut().zip(y) {
+                    *q += weights[p] * x * yi;
                 }
             }
         }
@@ -381,7 +391,7 @@ impl Design {
         };
         debug_assert_eq!(matrix.nrows(), variant.unknowns());
         let normal = nalgebra::Cholesky::new(matrix).expect("the dice's normal matrix is positive definite (tested)");
-        Design { start, entries, weights, normal }
+        Design { start, entries, weights, normal, sh_moments }
     }
 
     /// The design of `variant` with the given weighting, built on first use.
@@ -458,17 +468,42 @@ impl AmbientDiceEncoder {
 
     /// The least-squares fit to E/π on the fitting grid (`target`, row-major, [`FIT_GRID`]).
     pub fn fit_target(&self, target: &[Rgb]) -> DiceFit {
-        let variant = self.variant;
-        let zero = || DiceFit { variant, coeffs: vec![Rgb::ZERO; variant.functions()] };
         // Least squares is scale covariant: solve for the target divided by its largest
         // magnitude, so that a 1e-300 light does not underflow in the products below.
         let scale = target.iter().map(|e| e.abs().max_element()).fold(0.0, f64::max);
         if !(scale > 0.0 && scale.is_finite()) {
-            return zero();
+            return self.zero();
         }
-        let design = Design::get(variant, self.pixel_weights);
-        let m = design.moments(variant.functions(), target, scale);
-        let coeffs = match variant {
+        let design = Design::get(self.variant, self.pixel_weights);
+        self.solve(design, &design.moments(self.variant.functions(), target, scale), scale)
+    }
+
+    /// The same fit when the target is the E/π of L2 SH `e` (the light of SH alone, where no
+    /// radiance source is given): E/π = Σ_i e_i Y_i is linear in the nine coefficients, so the
+    /// grid moments are `Design::sh_moments` times e, with no grid to evaluate (probe sets fit
+    /// millions of these). Equal to [`AmbientDiceEncoder::fit_target`] of the grid to rounding
+    /// (tested).
+    pub fn fit_sh(&self, e: &Sh9) -> DiceFit {
+        let scale = e.0.iter().map(|c| c.abs().max_element()).fold(0.0, f64::max);
+        if !(scale > 0.0 && scale.is_finite()) {
+            return self.zero();
+        }
+        let design = Design::get(self.variant, self.pixel_weights);
+        let m: Vec<Rgb> = design
+            .sh_moments
+            .iter()
+            .map(|q| q.iter().zip(&e.0).fold(Rgb::ZERO, |acc, (qi, ei)| acc + *ei / scale * *qi))
+            .collect();
+        self.solve(design, &m, scale)
+    }
+
+    fn zero(&self) -> DiceFit {
+        DiceFit { variant: self.variant, coeffs: vec![Rgb::ZERO; self.variant.functions()] }
+    }
+
+    /// The coefficients from the moments of the target divided by `scale`.
+    fn solve(&self, design: &Design, m: &[Rgb], scale: f64) -> DiceFit {
+        let coeffs = match self.variant {
             Variant::Bezier | Variant::Srbf => {
                 let mut out = vec![Rgb::ZERO; m.len()];
                 for c in 0..3 {
@@ -502,9 +537,9 @@ impl AmbientDiceEncoder {
             }
         };
         if coeffs.iter().all(|c| c.is_finite()) {
-            DiceFit { variant, coeffs }
+            DiceFit { variant: self.variant, coeffs }
         } else {
-            zero()
+            self.zero()
         }
     }
 }
@@ -521,9 +556,15 @@ impl Encoder for AmbientDiceEncoder {
         }
     }
     fn fit(&self, input: &FitInput) -> Box<dyn Fitted> {
-        let (w, h) = FIT_GRID;
-        let target = input.light().irradiance_latlong(w, h);
-        Box::new(self.fit_target(&target))
+        match input.radiance {
+            Some(light) => {
+                let (w, h) = FIT_GRID;
+                Box::new(self.fit_target(&light.irradiance_latlong(w, h)))
+            }
+            // The fallback light of the visible SH alone (`FitInput::light`): its E/π is the
+            // cosine-convolved SH, fitted in closed form.
+            None => Box::new(self.fit_sh(&input.visible_sh.convolve_cosine())),
+        }
     }
     /// The peer scores its dice unclamped (PEER.md).
     fn peer_clamps(&self) -> bool {
@@ -783,6 +824,29 @@ mod tests {
             eprintln!("{variant:?}: the constant {a} is fitted to {worst:e} at worst, {rms:e} RMS");
             assert!(worst < worst_at_most && rms < rms_at_most, "{variant:?} {a}: {worst} {rms}");
         }
+    }
+
+    /// Without a radiance source the target is the E/π of the visible SH, fitted in closed form
+    /// from the nine coefficients: the same fit as from that light's E/π grid, to rounding.
+    #[test]
+    fn the_sh_path_equals_the_grid_path() {
+        let mut rng = Rng::new(21);
+        for variant in [Variant::Bezier, Variant::BezierYCoCg, Variant::Srbf] {
+            for pixel in [false, true] {
+                let e = AmbientDiceEncoder::new(variant, pixel);
+                let sh = rng.sh();
+                let light = crate::reference::radiance::ShLight::new(&sh);
+                let grid = e.fit(&FitInput { radiance: Some(&light), ..FitInput::sphere(&sh) });
+                let closed = e.fit(&FitInput::sphere(&sh));
+                for _ in 0..100 {
+                    let n = rng.unit();
+                    let (a, b) = (grid.irradiance(n), closed.irradiance(n));
+                    assert!((a - b).abs().max_element() < 1e-12, "{variant:?} {pixel}: {a} vs {b}");
+                }
+            }
+        }
+        let e = AmbientDiceEncoder::new(Variant::Bezier, false);
+        assert_eq!(e.fit(&FitInput::sphere(&Sh9::ZERO)).irradiance(DVec3::X), Rgb::ZERO);
     }
 
     /// Black in, black out; a non-finite target gives black; k·target gives k·fit.
