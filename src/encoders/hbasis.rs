@@ -336,6 +336,40 @@ mod tests {
         }
     }
 
+    /// H4 is the least-squares fit over the hemisphere within span{1, x, y, z}, which holds
+    /// the SH L1 irradiance of the visible light, and H6 contains H4: so on a sun and sky under
+    /// the hemisphere effect, the hemisphere RMSE (measured by a 64 × 128 rule, not the fit's)
+    /// goes sh1 ≥ H4 ≥ H6, and H4 is strictly better than sh1 here.
+    #[test]
+    fn h4_beats_the_sh1_irradiance_and_h6_beats_h4() {
+        let n = DVec3::new(-0.2, 0.9, 0.4).normalize();
+        let sun = (n + frame(n)[1] * 1.3).normalize();
+        let lighting = Lighting(vec![
+            Light::Ambient(Rgb::new(0.3, 0.35, 0.5)),
+            Light::Cap { axis: sun, half_angle: 3f64.to_radians(), radiance: Rgb::new(300.0, 250.0, 200.0) },
+        ])
+        .visible(&[Cap::hemisphere(n)]);
+        let sh = lighting.sh();
+        let light = Analytic(lighting.clone(), Sh25::from_sh9(&sh));
+        let input = FitInput { surface_normal: Some(n), radiance: Some(&light), ..FitInput::sphere(&sh) };
+        let [t, s, nn] = frame(n);
+        let err = |f: &dyn Fn(DVec3) -> Rgb| {
+            let sum: f64 = local_rule(64, 128)
+                .iter()
+                .map(|&([x, y, z], w)| {
+                    let d = t * x + s * y + nn * z;
+                    w * (f(d) - lighting.irradiance(d)).length_squared()
+                })
+                .sum();
+            (sum / TAU).sqrt()
+        };
+        let sh1 = sh.truncate(1).convolve_cosine();
+        let (h4, h6) = (HBasisEncoder::new(4).fit(&input), HBasisEncoder::new(6).fit(&input));
+        let (e1, e4, e6) = (err(&|d| sh1.eval(d)), err(&|d| h4.irradiance(d)), err(&|d| h6.irradiance(d)));
+        eprintln!("hemisphere RMSE: sh1 {e1:.5}, H4 {e4:.5}, H6 {e6:.5}");
+        assert!(e4 < 0.9 * e1 && e6 <= e4 * (1.0 + 1e-9), "{e1} {e4} {e6}");
+    }
+
     /// Under a sun (a small cap 500 times the sky's radiance, 50° from a tilted N, so its
     /// terminator crosses the hemisphere and puts a kink in E/π) and a sky, visible under the
     /// hemisphere effect, the 16 × 32 rule's coefficients are within 1e-4 of the largest of a
