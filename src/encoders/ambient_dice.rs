@@ -430,9 +430,9 @@ impl Fitted for DiceFit {
             Variant::Bezier => {
                 let (v, w) = g.bezier(n);
                 let mut e = Rgb::ZERO;
-                for i in 0..3 {
-                    for slot in 0..3 {
-                        e += self.coeffs[3 * v[i] + slot] * w[i][slot];
+                for (vi, wi) in v.iter().zip(&w) {
+                    for (slot, ws) in wi.iter().enumerate() {
+                        e += self.coeffs[3 * vi + slot] * *ws;
                     }
                 }
                 e
@@ -442,8 +442,8 @@ impl Fitted for DiceFit {
                 let w = bezier_weights(face, b);
                 let (mut y, mut co, mut cg) = (0.0, 0.0, 0.0);
                 for (i, &v) in face.vertices.iter().enumerate() {
-                    for slot in 0..3 {
-                        y += self.coeffs[3 * v + slot].x * w[i][slot];
+                    for (slot, ws) in w[i].iter().enumerate() {
+                        y += self.coeffs[3 * v + slot].x * ws;
                     }
                     co += self.coeffs[36 + v].x * b[i];
                     cg += self.coeffs[36 + v].y * b[i];

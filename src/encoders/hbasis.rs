@@ -230,10 +230,10 @@ mod tests {
             }
         }
         for (g, tol) in [(gram(&local_rule(3, 5)), 1e-14), (gram(&mid), 1e-5)] {
-            for i in 0..6 {
-                for j in 0..6 {
+            for (i, row) in g.iter().enumerate() {
+                for (j, v) in row.iter().enumerate() {
                     let want = if i == j { 1.0 } else { 0.0 };
-                    assert!((g[i][j] - want).abs() < tol, "<H{}, H{}> = {}", i + 1, j + 1, g[i][j]);
+                    assert!((v - want).abs() < tol, "<H{}, H{}> = {v}", i + 1, j + 1);
                 }
             }
         }

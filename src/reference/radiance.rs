@@ -338,18 +338,18 @@ fn add_parallel(out: &mut Sh25, phi: f64, weight: f64, moments: &[[Rgb; 2]; 5]) 
         for m in 0..5 {
             let (sm, cm) = (m as f64 * theta).sin_cos();
             let scale = if m == 0 { 1.0 / n as f64 } else { 2.0 / n as f64 };
-            for i in 0..N_SH4 {
-                fc[i][m][0] += scale * y[i] * cm;
-                fc[i][m][1] += scale * y[i] * sm;
+            for (f, yi) in fc.iter_mut().zip(y) {
+                f[m][0] += scale * yi * cm;
+                f[m][1] += scale * yi * sm;
             }
         }
     }
-    for i in 0..N_SH4 {
+    for (o, f) in out.0.iter_mut().zip(&fc) {
         let mut acc = Rgb::ZERO;
-        for m in 0..5 {
-            acc += moments[m][0] * fc[i][m][0] + moments[m][1] * fc[i][m][1];
+        for (mm, fm) in moments.iter().zip(f) {
+            acc += mm[0] * fm[0] + mm[1] * fm[1];
         }
-        out.0[i] += acc * weight;
+        *o += acc * weight;
     }
 }
 
