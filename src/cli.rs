@@ -479,12 +479,22 @@ fn eval_experiment(
     if !(1..=16).contains(&polar_nodes) {
         bail!("--polar-nodes {polar_nodes}: expected 1..=16");
     }
+    let encoders = encoders::build_list(list)?;
+    if kind == DomainKind::Sphere {
+        if let Some(e) = encoders.iter().find(|e| e.encoder.needs_surface_normal()) {
+            bail!(
+                "--encoders: '{}' is defined only on the hemisphere about a surface normal N; pass --domain \
+                 hemisphere:AXIS",
+                e.name
+            );
+        }
+    }
     Ok(Experiment {
         name: "eval".into(),
         description: String::new(),
         source: None,
         maps,
-        encoders: encoders::build_list(list)?,
+        encoders,
         metrics: vec![metric],
         domain: kind,
         orientations,

@@ -100,6 +100,26 @@ fn lightmap_encoders_run_on_a_hemisphere_domain() {
     }
 }
 
+/// The H-basis needs a surface normal: `eval` on the sphere and `probes` refuse it (exit 2,
+/// naming it); on a wall under the hemisphere effect a constant map's E/π is (1 + n·N)/2, which
+/// is linear in n, so H4 and H6 hold it exactly.
+#[test]
+fn the_hbasis_needs_a_surface_normal() {
+    let out = run(&["eval", "gen_constant", "--encoders", "sh1,hbasis4"]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("'hbasis4' is defined only on the hemisphere about a surface normal"), "{err}");
+    let out = run(&["probes", "--synth", "10", "--encoders", "sh2,hbasis6"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("'hbasis6'"));
+    let out = run(&["eval", "gen_constant", "--encoders", "hbasis4,hbasis6", "--domain", "hemisphere:+x"]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    for r in parse_csv(&String::from_utf8(out.stdout).unwrap()) {
+        let rmse: f64 = r["rmse"].parse().unwrap();
+        assert!(rmse < 1e-6, "{}: {rmse}", r["encoder"]);
+    }
+}
+
 /// Tables carry the timing columns after the others; --no-timing leaves them empty; --profile
 /// reports phases.
 #[test]

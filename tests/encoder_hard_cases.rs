@@ -565,18 +565,23 @@ fn fallback_bound_is_the_error_of_the_mean() {
 }
 
 /// Tiny maps with the same trouble, through the whole pipeline (projection, exact reference,
-/// metrics, CSV) for every registered encoder, on the sphere (both metrics) and on hemispheres
-/// about the six axes under the hemisphere and cone effects (cos α up to 1 − 1e-12): every score
-/// is finite and the table never says "nonfinite".
+/// metrics, CSV) for every registered encoder, on the sphere (both metrics; every encoder that
+/// does not need a surface normal) and on hemispheres about the six axes under the hemisphere
+/// and cone effects (cos α up to 1 − 1e-12): every score is finite and the table never says
+/// "nonfinite".
 #[test]
 fn tiny_hard_maps_score_finite_through_the_pipeline() {
     use probelab::envmap::EnvMap;
     use probelab::pipeline::experiment::Experiment;
     use std::path::Path;
-    let ids: Vec<String> = probelab::encoders::REGISTRY.iter().map(|k| format!("'{}'", k.id)).collect();
-    let ids = ids.join(", ");
+    let quoted = |e: &[(String, Box<dyn probelab::encoders::encoder::Encoder>)]| {
+        e.iter().map(|(id, _)| format!("'{id}'")).collect::<Vec<_>>().join(", ")
+    };
+    let all = registry_encoders();
+    let sphere: Vec<_> = registry_encoders().into_iter().filter(|(_, e)| !e.needs_surface_normal()).collect();
+    let (ids, sphere_ids) = (quoted(&all), quoted(&sphere));
     let exps = [
-        format!("maps = ['x']\nencoders = [{ids}]\nmetrics = ['exact', 'probulator']\nresolution = [16, 8]\n"),
+        format!("maps = ['x']\nencoders = [{sphere_ids}]\nmetrics = ['exact', 'probulator']\nresolution = [16, 8]\n"),
         format!(
             "maps = ['x']\nencoders = [{ids}]\ndomain = 'hemisphere'\norientations = ['axes6']\nresolution = [16, 8]\n\
              effects = ['hemisphere', {{ kind = 'cone', cos_alpha = [0.5, 0.999999999999], tilt_deg = [0, 30] }}]\n"

@@ -84,10 +84,12 @@ fn nnls6(g: &[[f64; 6]; 6], r: &[f64; 6]) -> [f64; 6] {
                 break;
             }
             m.swap(c, p);
-            for rr in c + 1..k {
-                let f = m[rr][c] / m[c][c];
-                for cc in c..=k {
-                    m[rr][cc] -= f * m[c][cc];
+            let (top, rest) = m.split_at_mut(c + 1);
+            let pivot = &top[c];
+            for row in rest.iter_mut() {
+                let f = row[c] / pivot[c];
+                for (x, p) in row[c..=k].iter_mut().zip(&pivot[c..=k]) {
+                    *x -= f * p;
                 }
             }
         }
@@ -99,7 +101,7 @@ fn nnls6(g: &[[f64; 6]; 6], r: &[f64; 6]) -> [f64; 6] {
             let s: f64 = (a + 1..k).map(|b| m[a][b] * xs[b]).sum();
             xs[a] = (m[a][k] - s) / m[a][a];
         }
-        if xs.iter().any(|v| !(*v >= 0.0)) {
+        if xs.iter().any(|v| v.is_nan() || *v < 0.0) {
             continue;
         }
         let mut x = [0.0; 6];

@@ -117,6 +117,17 @@ pub trait Encoder: Send + Sync {
     fn is_iterative(&self) -> bool {
         false
     }
+    /// Whether the encoding is defined only on the hemisphere about a surface normal N: its fit
+    /// reads `FitInput::surface_normal` and its output means something only for n′·N ≥ 0. The
+    /// experiment loader refuses such an encoder unless the domain is `hemisphere`, naming the
+    /// file and the encoder (`pipeline::experiment::check_surface_encoders`), and probe sets
+    /// (spheres, no N) refuse it or leave it out of `all`; so it is never scored where it is
+    /// not defined. Only the H-basis says so today; the AHD/HHD lightmap encoders are next (they
+    /// still fall back to a direction of their own without N). Without N, `fit` must still
+    /// return a documented answer (encoders cannot fail).
+    fn needs_surface_normal(&self) -> bool {
+        false
+    }
     /// True for encodings that deliberately lose or bias information — quantised storage, or a
     /// peer tool's biased variant kept for cross-checks. They are exempt from the hard cases'
     /// "no usable direction → no worse than pure ambient" bound; every other check applies.

@@ -2,8 +2,10 @@
 //! and one entry here; nothing else in the program names an encoder.
 
 pub mod ambient_cube;
+pub mod ambient_dice;
 pub mod encoder;
 pub mod geomerics;
+pub mod hbasis;
 pub mod lightmap;
 pub mod probe_occlusion;
 pub mod quantise;
@@ -160,6 +162,21 @@ pub const REGISTRY: &[EncoderKind] = &[
         summary: "ambient cube, exact E/pi at the axes (peer ACPROJ)",
         build: ambient_cube::build_ambient_cube_proj,
     },
+    EncoderKind {
+        id: "ambient_dice",
+        summary: "ambient dice, Bezier, LS to exact E/pi (peer AD)",
+        build: ambient_dice::build_ambient_dice,
+    },
+    EncoderKind {
+        id: "ambient_dice_ycocg",
+        summary: "ambient dice, Bezier Y + linear Co/Cg (peer ADYCoCg)",
+        build: ambient_dice::build_ambient_dice_ycocg,
+    },
+    EncoderKind {
+        id: "ambient_dice_srbf",
+        summary: "ambient dice, 12 cosine SRBF lobes (peer ADRBF)",
+        build: ambient_dice::build_ambient_dice_srbf,
+    },
     EncoderKind { id: "sg_naive", summary: "12 SGs, naive projection (peer SG)", build: sg::build_naive },
     EncoderKind { id: "sg_ls", summary: "12 SGs, least squares (peer SGLS)", build: sg::build_ls },
     EncoderKind {
@@ -170,6 +187,16 @@ pub const REGISTRY: &[EncoderKind] = &[
     EncoderKind { id: "sg_nnls", summary: "12 SGs, non-negative least squares (peer SGNNLS)", build: sg::build_nnls },
     EncoderKind { id: "sg_ra", summary: "12 SGs, running average (peer SGRA)", build: sg::build_ra },
     EncoderKind { id: "sg_nnra", summary: "12 SGs, non-negative running average (peer SGNNRA)", build: sg::build_nnra },
+    EncoderKind {
+        id: "hbasis4",
+        summary: "H-basis 4, E/pi over the hemisphere about N (peer H4)",
+        build: hbasis::build_hbasis4,
+    },
+    EncoderKind {
+        id: "hbasis6",
+        summary: "H-basis 6, E/pi over the hemisphere about N (peer H6)",
+        build: hbasis::build_hbasis6,
+    },
     EncoderKind {
         id: "with_self_bounce",
         summary: "inner encoder + (1 - H) albedo I_z self-bounce",

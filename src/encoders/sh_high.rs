@@ -145,7 +145,7 @@ impl WindowedSh {
         let b = self.band_energy(lum);
         // Scaled by the largest energy so that no square overflows (hard cases reach 1e150).
         let scale = b[1].max(b[2]);
-        if !(scale > 0.0) || !scale.is_finite() {
+        if !(scale > 0.0 && scale.is_finite()) {
             return 0.0;
         }
         let bs = [0.0, b[1] / scale, b[2] / scale];

@@ -221,6 +221,7 @@ impl Experiment {
             "hemisphere" => DomainKind::Hemisphere,
             d => bail!("domain '{d}': expected sphere or hemisphere"),
         };
+        check_surface_encoders(domain, &built)?;
         let mut orientations = Vec::new();
         for o in &f.orientations {
             orientations.extend(expand_orientations(o).context("orientations")?);
@@ -302,6 +303,24 @@ impl Experiment {
             sheets: f.sheets,
         })
     }
+}
+
+/// Refuses an encoder defined only on the hemisphere about a surface normal
+/// ([`crate::encoders::encoder::Encoder::needs_surface_normal`], the H-basis) unless the domain
+/// is `hemisphere`: on the sphere there is no N, and it must not be scored where it is not
+/// defined. The error names the encoder (and, through [`Experiment::parse`], the file and line).
+pub fn check_surface_encoders(domain: DomainKind, encoders: &[NamedEncoder]) -> Result<()> {
+    if domain == DomainKind::Hemisphere {
+        return Ok(());
+    }
+    if let Some(e) = encoders.iter().find(|e| e.encoder.needs_surface_normal()) {
+        bail!(
+            "encoders: '{}' is defined only on the hemisphere about a surface normal N, and this domain is the \
+             sphere; use domain = \"hemisphere\" with orientations (and the hemisphere effect), or remove it",
+            e.name
+        );
+    }
+    Ok(())
 }
 
 fn parse_effect(e: EffectEntry) -> Result<Effect> {
@@ -531,11 +550,27 @@ mod tests {
             ("maps = ['a']\n\nencoders = ['sh1']\nwhat = 1\n", 4),
             ("maps = ['a']\nencoders = ['sh1'\n", 2),
             ("maps = ['a']\nencoders = ['sh1']\nresolution = [100, 10]\n", 3),
+            // An encoder defined only about a surface normal, on the sphere.
+            ("maps = ['a']\nencoders = ['sh1',\n  'hbasis4']\n", 3),
         ];
         for (text, want) in cases {
             let (got, msg) = line(text);
             assert_eq!(got, *want, "{msg}");
         }
+    }
+
+    /// The H-basis needs N: refused on the sphere (and on a sphere with effects about N), with
+    /// the encoder's name and what to do; accepted on the hemisphere domain.
+    #[test]
+    fn surface_encoders_need_the_hemisphere_domain() {
+        let e = |s: &str| format!("{:#}", parse(s).err().expect("must fail"));
+        let msg = e("maps = ['a']\nencoders = [{ kind = 'hbasis6', name = 'h6' }]\n");
+        assert!(msg.contains("'h6' is defined only on the hemisphere about a surface normal"), "{msg}");
+        assert!(msg.contains("domain = \"hemisphere\""), "{msg}");
+        let msg = e("maps = ['a']\nencoders = ['hbasis4']\norientations = ['up']\neffects = ['hemisphere']\n");
+        assert!(msg.contains("'hbasis4'"), "{msg}");
+        let ok = parse("maps = ['a']\nencoders = ['hbasis4']\ndomain = 'hemisphere'\norientations = ['up']\n");
+        assert!(ok.is_ok());
     }
 
     #[test]

@@ -1,6 +1,6 @@
 //! The commands' standard output and standard error. Command code never uses `println!` or
-//! `eprintln!`, which panic (exit 101) when the stream fails: it writes through [`outln!`] /
-//! [`write`], whose errors are returned, and [`noteln!`], which ignores them.
+//! `eprintln!`, which panic (exit 101) when the stream fails: it writes through `outln!` /
+//! [`write()`], whose errors are returned, and `noteln!`, which ignores them.
 //!
 //! - stdout fails because its reader went away (a closed pipe, `| head`): the error is a
 //!   [`StdoutError`] and the command ends quietly with exit [`BROKEN_PIPE_EXIT`] (141, what a
@@ -43,12 +43,12 @@ pub fn write(bytes: &[u8]) -> Result<(), StdoutError> {
     out.write_all(bytes).and_then(|()| out.flush()).map_err(StdoutError)
 }
 
-/// Writes formatted text to stdout and flushes it (what [`outln!`] calls).
+/// Writes formatted text to stdout and flushes it (what `outln!` calls).
 pub fn write_fmt(args: fmt::Arguments) -> Result<(), StdoutError> {
     write(args.to_string().as_bytes())
 }
 
-/// Writes formatted text to stderr, ignoring any error (what [`noteln!`] calls).
+/// Writes formatted text to stderr, ignoring any error (what `noteln!` calls).
 pub fn note_fmt(args: fmt::Arguments) {
     let _ = std::io::stderr().lock().write_fmt(args);
 }

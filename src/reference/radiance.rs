@@ -60,25 +60,50 @@ pub trait RadianceSource: Send + Sync + std::fmt::Debug {
     /// orientation, row-major, [`LatLong::direction`]), cached per size: fitting targets that
     /// are the input, not part of the fit (its `fit_ns` excludes them, like the SH projection).
     fn irradiance_latlong(&self, width: usize, height: usize) -> Arc<Vec<Rgb>>;
+    /// E/π at a fixed set of normals, such as a fit's quadrature rule (the H-basis's rule over
+    /// the hemisphere about N), in their order. A map's light caches it by the set, compared
+    /// bit for bit, so that it is input like [`RadianceSource::irradiance_latlong`] and not part
+    /// of the fit's time; the default computes it on every call.
+    fn irradiance_set(&self, normals: &[DVec3]) -> Arc<Vec<Rgb>> {
+        Arc::new(self.irradiance_many(normals))
+    }
 }
 
-/// A per-size cache of lat-long irradiance grids.
-#[derive(Default)]
-struct GridCache(Mutex<Vec<((usize, usize), Arc<Vec<Rgb>>)>>);
+/// A cache of irradiance targets by key: lat-long grids by size, normal sets by the normals.
+struct Cache<K>(Mutex<Vec<(K, Arc<Vec<Rgb>>)>>);
 
-impl GridCache {
-    fn get(&self, size: (usize, usize), compute: impl FnOnce() -> Vec<Rgb>) -> Arc<Vec<Rgb>> {
-        if let Some((_, v)) = self.0.lock().expect("grid cache").iter().find(|(s, _)| *s == size) {
+impl<K> Default for Cache<K> {
+    fn default() -> Self {
+        Cache(Mutex::new(Vec::new()))
+    }
+}
+
+impl<K: PartialEq> Cache<K> {
+    fn get(&self, key: K, compute: impl FnOnce() -> Vec<Rgb>) -> Arc<Vec<Rgb>> {
+        if let Some((_, v)) = self.0.lock().expect("target cache").iter().find(|(k, _)| *k == key) {
             return v.clone();
         }
         // Computed outside the lock (it may run in parallel); a racing duplicate is identical.
         let v = Arc::new(compute());
-        let mut g = self.0.lock().expect("grid cache");
-        if let Some((_, old)) = g.iter().find(|(s, _)| *s == size) {
+        let mut g = self.0.lock().expect("target cache");
+        if let Some((_, old)) = g.iter().find(|(k, _)| *k == key) {
             return old.clone();
         }
-        g.push((size, v.clone()));
+        g.push((key, v.clone()));
         v
+    }
+}
+
+/// Lat-long grids by (width, height).
+type GridCache = Cache<(usize, usize)>;
+
+/// Normal sets, keyed by their normals' bits (so −0 and 0 differ, and no NaN ever matches).
+#[derive(PartialEq)]
+struct NormalsKey(Vec<[u64; 3]>);
+
+impl NormalsKey {
+    fn of(normals: &[DVec3]) -> Self {
+        NormalsKey(normals.iter().map(|n| [n.x.to_bits(), n.y.to_bits(), n.z.to_bits()]).collect())
     }
 }
 
@@ -98,6 +123,7 @@ pub struct MapLight<'a> {
     samples: OnceLock<Vec<RadianceSample>>,
     reference: OnceLock<Reference<'a>>,
     grids: GridCache,
+    sets: Cache<NormalsKey>,
 }
 
 impl std::fmt::Debug for MapLight<'_> {
@@ -120,6 +146,7 @@ impl<'a> MapLight<'a> {
             samples: OnceLock::new(),
             reference: OnceLock::new(),
             grids: GridCache::default(),
+            sets: Cache::default(),
         }
     }
 
@@ -161,6 +188,10 @@ impl RadianceSource for MapLight<'_> {
 
     fn irradiance_latlong(&self, width: usize, height: usize) -> Arc<Vec<Rgb>> {
         self.grids.get((width, height), || self.reference().irradiance_latlong(LatLong::new(width, height)))
+    }
+
+    fn irradiance_set(&self, normals: &[DVec3]) -> Arc<Vec<Rgb>> {
+        self.sets.get(NormalsKey::of(normals), || self.reference().irradiance_many(normals))
     }
 }
 
@@ -292,18 +323,18 @@ fn add_parallel(out: &mut Sh25, phi: f64, weight: f64, moments: &[[Rgb; 2]; 5]) 
         for m in 0..5 {
             let (sm, cm) = (m as f64 * theta).sin_cos();
             let scale = if m == 0 { 1.0 / n as f64 } else { 2.0 / n as f64 };
-            for i in 0..N_SH4 {
-                fc[i][m][0] += scale * y[i] * cm;
-                fc[i][m][1] += scale * y[i] * sm;
+            for (f, yi) in fc.iter_mut().zip(y) {
+                f[m][0] += scale * yi * cm;
+                f[m][1] += scale * yi * sm;
             }
         }
     }
-    for i in 0..N_SH4 {
+    for (o, f) in out.0.iter_mut().zip(&fc) {
         let mut acc = Rgb::ZERO;
-        for m in 0..5 {
-            acc += moments[m][0] * fc[i][m][0] + moments[m][1] * fc[i][m][1];
+        for (mm, fm) in moments.iter().zip(f) {
+            acc += mm[0] * fm[0] + mm[1] * fm[1];
         }
-        out.0[i] += acc * weight;
+        *o += acc * weight;
     }
 }
 
@@ -432,8 +463,9 @@ mod tests {
     }
 
     /// The map light's radiance is the texel's, zero outside its caps; its samples are the
-    /// peer's directions; its irradiance is the exact reference's, bit for bit; the SH light's
-    /// irradiance is the cosine-convolved SH.
+    /// peer's directions; its irradiance (one normal, a cached lat-long grid, a cached normal set)
+    /// is the exact reference's, bit for bit; the SH light's irradiance is the cosine-convolved
+    /// SH.
     #[test]
     fn map_and_sh_lights_agree_with_their_definitions() {
         let map = test_map();
@@ -454,6 +486,11 @@ mod tests {
         assert_eq!(grid.len(), 32);
         assert_eq!(grid[9], r.irradiance(LatLong::new(8, 4).direction(1, 1)));
         assert!(Arc::ptr_eq(&grid, &light.irradiance_latlong(8, 4)));
+        let set = [n, DVec3::X];
+        let targets = light.irradiance_set(&set);
+        assert_eq!(*targets, vec![r.irradiance(n), r.irradiance(DVec3::X)]);
+        assert!(Arc::ptr_eq(&targets, &light.irradiance_set(&set)));
+        assert!(!Arc::ptr_eq(&targets, &light.irradiance_set(&[DVec3::X, n])));
 
         let sh = project(&map);
         let sl = ShLight::new(&sh);

@@ -20,7 +20,8 @@ pub const TABLE: &str = "table.csv";
 /// The columns that identify a row (those present in a table are used).
 pub const KEY_COLUMNS: &[&str] = &["map", "encoder", "domain", "effects", "metric"];
 
-/// A baseline table: CSV as text, the header and the records ([`CsvText`], which parses it).
+/// A baseline table: CSV as text, the header and the records
+/// ([`CsvText`](crate::pipeline::table::CsvText), which parses it).
 pub use crate::pipeline::table::CsvText as Table;
 
 impl Table {

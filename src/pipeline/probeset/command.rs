@@ -64,10 +64,11 @@ pub struct MergeArgs {
     pub out: Option<PathBuf>,
 }
 
-/// The encoders of `--encoders` (`all` = every registered encoder fitted from L2 SH alone),
-/// with sh1 first if it was not listed. An encoder that reads the light beyond L2 SH
-/// ([`crate::encoders::encoder::Encoder::reads_radiance`]) is refused by name: a probe stores
-/// L2 SH only.
+/// The encoders of `--encoders` (`all` = every registered encoder a probe can be scored with),
+/// with sh1 first if it was not listed. Two kinds cannot be, and are refused by name: encoders
+/// defined only about a surface normal ([`crate::encoders::encoder::Encoder::needs_surface_normal`]),
+/// which a probe does not have, and encoders that fit the light beyond L2 SH
+/// ([`crate::encoders::encoder::Encoder::reads_radiance`]), which a probe does not store.
 pub fn encoder_list(list: &str) -> Result<Vec<NamedEncoder>> {
     let all = list.trim() == "all";
     let list = if all {
@@ -78,10 +79,17 @@ pub fn encoder_list(list: &str) -> Result<Vec<NamedEncoder>> {
     let mut v = crate::encoders::build_list(&list)?;
     let beyond: Vec<String> = v.iter().filter(|e| e.encoder.reads_radiance()).map(|e| e.name.clone()).collect();
     if all {
-        v.retain(|e| !e.encoder.reads_radiance());
+        v.retain(|e| !e.encoder.needs_surface_normal() && !e.encoder.reads_radiance());
         noteln!(
-            "--encoders all: left out {} (fitted from the light beyond L2 SH, which a probe does not store)",
+            "--encoders all: left out {} (fitted from the light beyond L2 SH, which a probe does not store) and the \
+             encoders defined only about a surface normal",
             beyond.join(", ")
+        );
+    } else if let Some(e) = v.iter().find(|e| e.encoder.needs_surface_normal()) {
+        bail!(
+            "--encoders: '{}' is defined only on the hemisphere about a surface normal N; probes are spheres \
+             without one",
+            e.name
         );
     } else if !beyond.is_empty() {
         bail!(
