@@ -634,3 +634,25 @@ fn small_many_missing_maps_are_each_located() {
     }
     assert!(root.snapshot("results").is_empty());
 }
+
+// ---------------------------------------------------------------------------------------------
+// Beyond the list: what the audit of user-data paths found.
+
+/// A result table or summary that holds only its header (a user's edit, or a table emptied by
+/// hand) made `probelab report` panic (exit 101): the pivot of REPORT.md labelled its units
+/// from the first row, and the summary's ratio pivot picked its metric from it. The report is
+/// now written, without those pivots.
+#[test]
+fn audit_header_only_tables_do_not_stop_the_report() {
+    let text = format!("{SMALL}\n[summary]\nbaseline = 'sh1'\n");
+    let root = root_with(&[("x", &text)]);
+    assert_ok(&run_experiments(&root, &["x"]), "run x");
+    for file in ["table.csv", "summary.csv"] {
+        let p = root.path().join("results/x").join(file);
+        let header = std::fs::read_to_string(&p).unwrap().lines().next().unwrap().to_string();
+        std::fs::write(&p, format!("{header}\n")).unwrap();
+    }
+    let out = run(&root, &["report"]);
+    assert_ok(&out, "report on header-only tables");
+    assert!(root.path().join("results/REPORT.md").is_file());
+}

@@ -68,6 +68,7 @@ struct GridCache(Mutex<Vec<((usize, usize), Arc<Vec<Rgb>>)>>);
 
 impl GridCache {
     fn get(&self, size: (usize, usize), compute: impl FnOnce() -> Vec<Rgb>) -> Arc<Vec<Rgb>> {
+        // The lock fails only if a thread panicked holding it; nothing here panics under it.
         if let Some((_, v)) = self.0.lock().expect("grid cache").iter().find(|(s, _)| *s == size) {
             return v.clone();
         }
