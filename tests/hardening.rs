@@ -656,3 +656,15 @@ fn audit_header_only_tables_do_not_stop_the_report() {
     assert_ok(&out, "report on header-only tables");
     assert!(root.path().join("results/REPORT.md").is_file());
 }
+
+/// `--jobs 1000000` spent minutes creating a million threads before doing anything (a hang to
+/// the user), and `--jobs 0` was quietly taken as 1. Both are refused, naming the option and
+/// its range.
+#[test]
+fn audit_jobs_is_bounded() {
+    for jobs in ["0", "1000000", "18446744073709551615"] {
+        let out = common::harness::run(&["--jobs", jobs, "encoders"]);
+        assert_refused(&out, &[&format!("--jobs {jobs}: expected 1 to 1024")], &format!("--jobs {jobs}"));
+    }
+    assert_ok(&common::harness::run(&["--jobs", "1024", "encoders"]), "--jobs 1024");
+}
