@@ -17,7 +17,7 @@ use std::path::{Path, PathBuf};
 #[derive(Parser, Debug)]
 #[command(name = "probelab", version, about = "Measure compact diffuse-lighting encodings against an exact reference")]
 pub struct Cli {
-    /// Worker threads (default: all cores). Results do not depend on it.
+    /// Worker threads, 1 to 1024 (default: all cores). Results do not depend on it.
     #[arg(long, global = true)]
     pub jobs: Option<usize>,
     /// Repository root holding experiments/, results/ and envmaps/.
@@ -150,10 +150,17 @@ pub enum Command {
     Sweep(crate::pipeline::sweep::SweepArgs),
 }
 
+/// The most worker threads `--jobs` may ask for.
+pub const MAX_JOBS: usize = 1024;
+
 /// Runs the command line; returns the process exit code.
 pub fn main_with(cli: Cli) -> Result<i32> {
     if let Some(j) = cli.jobs {
-        rayon::ThreadPoolBuilder::new().num_threads(j.max(1)).build_global().context("--jobs")?;
+        // A bound not from user input alone: `--jobs 1000000` once spent minutes creating threads.
+        if !(1..=MAX_JOBS).contains(&j) {
+            bail!("--jobs {j}: expected 1 to {MAX_JOBS} worker threads");
+        }
+        rayon::ThreadPoolBuilder::new().num_threads(j).build_global().context("--jobs")?;
     }
     if cli.profile {
         crate::pipeline::profile::enable();

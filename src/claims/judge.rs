@@ -294,6 +294,7 @@ fn judge_set(t: &Evidence, k: &CheckDecl, set: &str, set_maps: Option<&[String]>
             .iter()
             .map(|(p, v)| RowValue { label: p.label.clone(), map: p.map.clone(), value: *v, pass: ok(*v) })
             .collect();
+        // Cannot fail: `values` has one entry per `vals`, and an empty `vals` returned above.
         let worst = values
             .iter()
             .max_by(|a, b| if upper { a.value.total_cmp(&b.value) } else { b.value.total_cmp(&a.value) })
@@ -321,6 +322,7 @@ fn judge_set(t: &Evidence, k: &CheckDecl, set: &str, set_maps: Option<&[String]>
         return Ok(SetOutcome { set: set.into(), maps: maps_judged, status, headline, figure, values, excluded });
     }
     // Tests against a baseline: match rows on the key columns.
+    // Cannot fail: `declaration` refuses a test that needs a baseline without one.
     let base = k.baseline.as_deref().expect("validated: the test needs a baseline");
     let key_of = |r: &[String]| keys.iter().map(|&c| r[c].clone()).collect::<Vec<_>>();
     let mut base_rows: std::collections::HashMap<Vec<String>, Option<f64>> = std::collections::HashMap::new();
@@ -395,6 +397,7 @@ fn judge_set(t: &Evidence, k: &CheckDecl, set: &str, set_maps: Option<&[String]>
                 RowValue { label: p.label.clone(), map: p.map.clone(), value: rel, pass: rel <= tolerance }
             })
             .collect();
+        // Cannot fail: `values` has one entry per pair, and no pairs returned above.
         let worst = values.iter().max_by(|a, b| a.value.total_cmp(&b.value)).expect("non-empty");
         let passing = values.iter().filter(|v| v.pass).count();
         let headline = format!(

@@ -83,12 +83,12 @@ impl ProbeOp {
     }
 }
 
-/// The visibility the operator multiplies by: (axis, cos α). `None` without a surface normal.
-fn visibility(input: &FitInput, use_cone: bool) -> Option<(DVec3, f64)> {
-    let n = input.surface_normal?.normalize();
+/// The visibility the operator multiplies by about the surface normal `n`: (axis, cos α), the
+/// declared cone when `use_cone` and there is one, else the hemisphere about `n`.
+fn visibility(n: DVec3, input: &FitInput, use_cone: bool) -> (DVec3, f64) {
     match input.cone {
-        Some((c, cos_alpha)) if use_cone => Some((c.normalize(), cos_alpha)),
-        _ => Some((n, 0.0)),
+        Some((c, cos_alpha)) if use_cone => (c.normalize(), cos_alpha),
+        _ => (n, 0.0),
     }
 }
 
@@ -107,12 +107,12 @@ impl Encoder for ProbeOp {
         match self.op {
             Op::Unoccluded => Box::new(ShIrradiance(f.convolve_cosine())),
             Op::Full { cone, bands } => {
-                let (axis, c) = visibility(input, cone).expect("normal present");
+                let (axis, c) = visibility(n, input, cone);
                 Box::new(ShIrradiance(multiply_full(f, c, axis).truncate(bands).convolve_cosine()))
             }
             Op::Q2l => Box::new(Linear::from_linear_sh(&multiply_to_linear(&axial_parts(f, n), &self.hemi_gram))),
             Op::Hlsh { cone, pin_iz } => {
-                let (axis, c) = visibility(input, cone).expect("normal present");
+                let (axis, c) = visibility(n, input, cone);
                 let parts = axial_parts(f, axis);
                 let fit = if c == 0.0 { self.hemi.fit(&parts) } else { HlshOperator::new(c, pin_iz).fit(&parts) };
                 Box::new(fit)
@@ -122,12 +122,12 @@ impl Encoder for ProbeOp {
                 Box::new(HhdLum::fit(&lin, n, weights))
             }
             Op::AoScale => {
-                let (c, cos_alpha) = visibility(input, true).expect("normal present");
+                let (c, cos_alpha) = visibility(n, input, true);
                 let ao = cone_visibility(n, c, cos_alpha);
                 Box::new(ShIrradiance(f.convolve_cosine() * ao))
             }
             Op::BentNormal => {
-                let (c, cos_alpha) = visibility(input, true).expect("normal present");
+                let (c, cos_alpha) = visibility(n, input, true);
                 let ao = cone_visibility(n, c, cos_alpha);
                 Box::new(Constant(f.convolve_cosine().eval(c) * ao))
             }

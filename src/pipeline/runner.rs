@@ -150,9 +150,11 @@ pub fn run(exp: &Experiment, search: &SearchPath) -> Result<RunReport> {
     let mut rows = Vec::new();
     let mut maps = Vec::new();
     let mut missing = Vec::new();
-    // Rows are keyed by the map's file stem: two entries naming one stem would give rows with
-    // identical keys.
+    // Every map is resolved before any is loaded. Rows are keyed by the map's file stem: two
+    // entries naming one stem would give rows with identical keys, so that is refused before
+    // any work, naming the experiment file's line of the second.
     let mut stems = std::collections::HashMap::new();
+    let mut found = Vec::new();
     for name in &exp.maps {
         let path = match search.resolve(name) {
             Ok(p) => p,
@@ -163,10 +165,18 @@ pub fn run(exp: &Experiment, search: &SearchPath) -> Result<RunReport> {
         };
         let stem = path.file_stem().unwrap_or(path.as_os_str()).to_string_lossy().into_owned();
         if let Some(first) = stems.insert(stem.clone(), name) {
+            let at = match (&exp.source, exp.source_lines(std::slice::from_ref(name))[0]) {
+                (Some(file), Some(line)) => format!("{}:{line}: maps ", file.display()),
+                (Some(file), None) => format!("{}: maps ", file.display()),
+                (None, _) => "maps ".to_string(),
+            };
             bail!(
-                "maps '{first}' and '{name}' are both the map '{stem}' (rows are keyed by the file stem); list it once"
+                "{at}'{first}' and '{name}' are both the map '{stem}' (rows are keyed by the file stem); list it once"
             );
         }
+        found.push(path);
+    }
+    for path in found {
         // Load first: the loader refuses what is not a regular file (reading a FIFO would block).
         let map = {
             let _s = crate::pipeline::profile::span("decode");
@@ -356,6 +366,7 @@ fn run_case<'d>(exp: &Experiment, data: &'d MapData, case: &'d Case) -> (Vec<Row
             let values = cd.reference_on(&grid);
             grids.push((res, sphere, grid, values));
         }
+        // Cannot fail: the grid was pushed just above when it was not there.
         let (_, _, grid, ref_values) = grids.iter().find(|g| g.0 == res && g.1 == sphere).expect("grid just added");
         for (named, fit) in exp.encoders.iter().zip(&fitted) {
             let scores = score_fit(named.encoder.as_ref(), fit.as_ref(), grid, ref_values, *metric);

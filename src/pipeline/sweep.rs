@@ -368,6 +368,7 @@ pub fn sweep_map_with(
                             Some((w, _)) if w > map.width() => continue,
                             Some((w, h)) => (Some(area_average(map, w, h)?), exp.polar_nodes),
                         },
+                        // Cannot fail: `from_table` accepts only integers 1..=16 for polar_nodes.
                         _ => (None, v.as_integer().expect("validated") as usize),
                     };
                     let input = reduced.as_ref().unwrap_or(map);
@@ -430,6 +431,7 @@ pub fn sweep_map_with(
                 let cd = CaseData::new(&full, case, exp.polar_nodes);
                 let fits: Vec<_> = exp.encoders.iter().map(|e| e.encoder.fit(&cd.fit_input())).collect();
                 for v in &sweep.values {
+                    // Cannot fail: without "full" allowed, a value parses to Some or is an error.
                     let res = parse_res_value(v, false)?.expect("WxH");
                     let grid = case.domain.output_grid(res);
                     let label = format!("{}x{}", grid.resolution.0, grid.resolution.1);

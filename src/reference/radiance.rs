@@ -80,6 +80,7 @@ impl<K> Default for Cache<K> {
 
 impl<K: PartialEq> Cache<K> {
     fn get(&self, key: K, compute: impl FnOnce() -> Vec<Rgb>) -> Arc<Vec<Rgb>> {
+        // The lock fails only if a thread panicked holding it; nothing here panics under it.
         if let Some((_, v)) = self.0.lock().expect("target cache").iter().find(|(k, _)| *k == key) {
             return v.clone();
         }

@@ -143,6 +143,7 @@ fn mean_rmse(t: &CsvTable, rows: &[usize]) -> Result<MeanRmse> {
     let mut sum = vec![vec![(0.0, 0usize); encs.len()]; maps.len()];
     for &i in rows {
         let Some(v) = t.num(i, rc)? else { continue };
+        // Cannot fail: `maps` and `encs` were collected from these very rows.
         let m = maps.iter().position(|x| *x == t.rows[i][mc]).expect("collected");
         let e = encs.iter().position(|x| *x == t.rows[i][ec]).expect("collected");
         sum[m][e].0 += v;
@@ -394,6 +395,7 @@ pub fn error_vs_cost(t: &CsvTable, cost: Cost, title: &str) -> Result<Outcome> {
         return Ok(Outcome::Skipped(cost.missing(t)));
     }
     let front = pareto_front(&pts);
+    // Cannot fail: `cost_points` keeps only finite costs > 0, and `pts` is not empty.
     let (xlo, xhi) = decades(pts.iter().map(|p| p.0)).expect("positive costs");
     let (ylo, yhi) = decades(pts.iter().map(|p| p.1)).unwrap_or((1e-3, 1.0));
     let h = 560u32;
@@ -468,7 +470,7 @@ pub fn error_vs_cost(t: &CsvTable, cost: Cost, title: &str) -> Result<Outcome> {
     let on: Vec<&str> = front.iter().map(|&i| names[i].as_str()).collect();
     let left_out = {
         let (rows, _) = metric_rows(t);
-        let ec = t.col("encoder").expect("checked");
+        let ec = t.col("encoder").expect("checked"); // cannot fail: checked on entry
         distinct(t, &rows, ec).len() - names.len()
     };
     Ok(Outcome::Drawn {
@@ -697,6 +699,7 @@ pub fn blend_charts(t: &CsvTable) -> Result<Vec<(String, Outcome)>> {
             let (Some(x), Some(y), Some(z)) = (t.num(i, r)?, t.num(i, g)?, t.num(i, b)?) else { return Ok(None) };
             return Ok(Some(luminance(Rgb::new(x, y, z))));
         }
+        // Cannot fail: without all three rgb columns, `require` above refused a table without luma.
         t.num(i, luma.expect("checked"))
     };
     // The blended reference: a method of its own, or a column beside every method's rows.
@@ -726,6 +729,7 @@ pub fn blend_charts(t: &CsvTable) -> Result<Vec<(String, Outcome)>> {
             let picked = if from_column { &first } else { &m };
             for &i in rows.iter().filter(|&&i| t.rows[i][mc] == *picked) {
                 let Some(tv) = t.num(i, tc)? else { continue };
+                // Cannot fail: `from_column` implies `refc.is_some()`.
                 let v = if from_column { t.num(i, refc.expect("checked"))? } else { at_n(i)? };
                 let Some(v) = v else { continue };
                 a.push((tv, v));

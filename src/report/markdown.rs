@@ -82,22 +82,23 @@ pub fn pivot(t: &CsvTable) -> Result<Option<String>> {
     let (Some(mc), Some(ec), Some(rc)) = (t.col("map"), t.col("encoder"), t.col("rmse")) else { return Ok(None) };
     let all: Vec<usize> = (0..t.rows.len()).collect();
     let metrics = match t.col("metric") {
-        Some(c) => distinct(t, c, &all).into_iter().map(Some).collect(),
+        Some(c) => distinct(t, c, &all).into_iter().map(|m| Some((c, m))).collect(),
         None => vec![None],
     };
     let mut out = String::new();
     for metric in metrics {
-        let rows: Vec<usize> = all
-            .iter()
-            .copied()
-            .filter(|&i| metric.as_ref().is_none_or(|m| t.rows[i][t.col("metric").unwrap()] == *m))
-            .collect();
+        let rows: Vec<usize> =
+            all.iter().copied().filter(|&i| metric.as_ref().is_none_or(|(c, m)| t.rows[i][*c] == *m)).collect();
+        if rows.is_empty() {
+            continue; // a header-only table: nothing to pivot (and no rows[0] to label it)
+        }
         let maps = distinct(t, mc, &rows);
         let encs = distinct(t, ec, &rows);
         // (sum, count, worst) per (map, encoder).
         let mut cells = vec![vec![(0.0, 0usize, f64::NEG_INFINITY); encs.len()]; maps.len()];
         for &i in &rows {
             if let Some(v) = t.num(i, rc)? {
+                // Cannot fail: `maps` and `encs` were collected from these very rows.
                 let m = maps.iter().position(|x| *x == t.rows[i][mc]).expect("collected");
                 let e = encs.iter().position(|x| *x == t.rows[i][ec]).expect("collected");
                 let c = &mut cells[m][e];
@@ -109,7 +110,7 @@ pub fn pivot(t: &CsvTable) -> Result<Option<String>> {
         let k = cells.iter().flatten().map(|c| c.1).max().unwrap_or(0);
         let unit = t.col("units").map(|c| format!(" of {}", t.rows[rows[0]][c])).unwrap_or_default();
         let mut what = format!("rmse{unit}");
-        if let Some(m) = &metric {
+        if let Some((_, m)) = &metric {
             what.push_str(&format!(", metric `{m}`"));
             if let Some(wc) = t.col("weighting") {
                 what.push_str(&format!(" ({})", t.rows[rows[0]][wc]));

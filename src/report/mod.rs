@@ -152,6 +152,7 @@ pub fn generate(opts: &Options) -> Result<Generated> {
     let mut pictures = 0;
     let mut drawn_sheets: BTreeMap<String, Vec<String>> = BTreeMap::new();
     for s in &drawable {
+        // Cannot fail: `drawable` holds only the sections that have an experiment.
         let exp = s.exp.as_ref().expect("drawable sections are experiments");
         let dir = out.join(&s.name);
         let table_path = dir.join("table.csv");

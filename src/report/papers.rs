@@ -255,15 +255,15 @@ pub fn at_a_glance(papers: &[Paper], claims: Option<&CsvTable>) -> Result<String
 /// Every encoder's ratio to the summary's baseline over all maps, from a `summary.csv`: one
 /// row per encoder, one column per (effects, orientation set) — either left out of the label
 /// when it has one value — each cell "ratio of means (median ratio)". Rows of metric `exact`
-/// when there are any. `None` when the file has no ratio columns.
+/// when there are any. `None` when the file has no ratio columns or no rows.
 pub fn ratio_pivot(t: &CsvTable) -> Result<Option<String>> {
-    let need = ["encoder", "effects", "metric", "orientation_set", "domain", "map", "baseline"];
-    if need.iter().any(|c| t.col(c).is_none()) || t.col("ratio_of_means").is_none() {
+    let need = ["encoder", "effects", "metric", "orientation_set", "domain", "map", "baseline", "ratio_of_means"];
+    if need.iter().any(|c| t.col(c).is_none()) || t.rows.is_empty() {
         return Ok(None);
     }
     let c = t.require(&need)?;
-    let (ec, fc, mc, sc, dc, pc, bc) = (c[0], c[1], c[2], c[3], c[4], c[5], c[6]);
-    let (rc, medc) = (t.col("ratio_of_means").expect("checked"), t.col("median_ratio"));
+    let (ec, fc, mc, sc, dc, pc, bc, rc) = (c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]);
+    let medc = t.col("median_ratio");
     let nc = t.col("n_ratio");
     let exc = t.col("n_below_floor");
     let metric = if t.rows.iter().any(|r| r[mc] == "exact") { "exact".to_string() } else { t.rows[0][mc].clone() };

@@ -211,6 +211,7 @@ pub fn merge_command(a: MergeArgs) -> Result<i32> {
             Some(m) => m.merge(&s).with_context(|| format!("merging {}", f.display()))?,
         }
     }
+    // Cannot fail: `files` is `required = true`, so the loop ran at least once.
     let merged = merged.expect("clap requires at least one file");
     if !merged.complete() {
         let missing: Vec<usize> = (0..merged.shard_count).filter(|s| !merged.shards.contains(s)).collect();
