@@ -85,7 +85,16 @@ fn root_with(experiments: &[(&str, String)]) -> Scratch {
 }
 
 fn encoder_list() -> String {
-    probelab::encoders::REGISTRY.iter().map(|k| format!("'{}'", k.id)).collect::<Vec<_>>().join(", ")
+    // Every registered encoder defined on the sphere (these experiments are sphere ones).
+    probelab::encoders::REGISTRY
+        .iter()
+        .filter(|k| {
+            let e = (k.build)(&mut probelab::encoders::encoder::Params::default()).expect("default settings build");
+            !e.needs_surface_normal()
+        })
+        .map(|k| format!("'{}'", k.id))
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 fn bad_map() -> String {
