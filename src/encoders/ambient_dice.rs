@@ -1,7 +1,7 @@
 //! The ambient dice (Iwanicki & Sloan 2017, "Ambient Dice", JCGT 6(2)): colours and tangential
 //! derivatives stored at the 12 vertices of an icosahedron, blended over each face. The peer
 //! tool's `AD`, `ADYCoCg` and `ADRBF` (Probulator `Source/Probulator/ExperimentAmbientDice.h`,
-//! `.cpp`); the definitions below are the peer's, which is the dice as the ZH3 talk compared it.
+//! `.cpp`). The definitions below are the peer's; the paper was not at hand to check them.
 //!
 //! | id | basis | stored scalars |
 //! |---|---|---|
@@ -33,8 +33,9 @@
 //!
 //! **Linear basis** (Co and Cg of the Y/Co/Cg variant, the peer's `evaluateLinear`): Σ b_i c_i
 //! over the face's vertices. With Σ b_i between 1 and 1.258 it cannot hold a constant either:
-//! a strongly coloured constant, (0.5, 1, 2), is fitted to 29% at worst, 9% RMS (tested). The colour transform is the peer's: Y = R/4 + G/2 + B/4,
-//! Co = (R − B)/2, Cg = −R/4 + G/2 − B/4, so R = Y + Co − Cg, G = Y + Cg, B = Y − Co − Cg.
+//! a strongly coloured constant, (0.5, 1, 2), is fitted to 29% at worst, 9% RMS (tested). The
+//! colour transform is the peer's: Y = R/4 + G/2 + B/4, Co = (R − B)/2, Cg = −R/4 + G/2 − B/4,
+//! so R = Y + Co − Cg, G = Y + Cg, B = Y − Co − Cg.
 //!
 //! **Cosine SRBF** (the peer's `srbfWeights`): lobe i is 0.7·c²/2 + 0.3·5c⁴/6 with
 //! c = max(n·v_i, 0). The lobes sum to 1 at every n (the six vertex axes a form a spherical
@@ -49,9 +50,9 @@
 //! basis and the grid, so it is built and Cholesky-factored once per process; a fit is the
 //! moments of the target and two triangular solves. Without a radiance source (probe sets:
 //! L2 SH only) the target is the E/π of the SH, and its moments are a 9-column product, the
-//! same fit without evaluating the grid. The Y/Co/Cg variant minimises the RGB
-//! error, which couples Y and Cg (the RGB error is 3e_Y² + 2e_Co² + 3e_Cg² − 2e_Y·e_Cg); the peer
-//! fits Y, Co and Cg each on its own.
+//! same fit without evaluating the grid. The Y/Co/Cg variant minimises the RGB error, which
+//! couples Y and Cg (the RGB error is 3e_Y² + 2e_Co² + 3e_Cg² − 2e_Y·e_Cg); the peer fits Y,
+//! Co and Cg each on its own.
 //!
 //! The peer fits its dice to its own Monte Carlo irradiance image and keeps the output
 //! unclamped; here the target is the exact E/π of the visible light
