@@ -1,5 +1,5 @@
 //! Scoring sets of probes end to end: `probelab probes` on synthetic and saved sets, shards
-//! merged by `probelab merge` equal one run (also through the README's GNU parallel recipe),
+//! merged by `probelab merge` equal one run (also through the GNU parallel recipe of docs/scale.md),
 //! and bad probe files exit 2 naming the file.
 
 mod common;
@@ -111,16 +111,16 @@ fn bad_probe_files_exit_2_naming_the_file() {
     }
 }
 
-/// The GNU parallel recipe of the README, run as written (with a smaller set); its merge
+/// The GNU parallel recipe of docs/scale.md, run as written (with a smaller set); its merge
 /// equals one run.
 #[test]
 #[cfg_attr(
     not(gnu_parallel),
     ignore = "needs GNU parallel on PATH (Debian package `parallel`; once installed, `touch build.rs`)"
 )]
-fn readme_gnu_parallel_recipe() {
-    let readme = std::fs::read_to_string(repo().join("README.md")).unwrap();
-    let block = readme.split("<!-- recipe:parallel -->").nth(1).unwrap().split("<!-- /recipe -->").next().unwrap();
+fn docs_gnu_parallel_recipe() {
+    let doc = std::fs::read_to_string(repo().join("docs/scale.md")).unwrap();
+    let block = doc.split("<!-- recipe:parallel -->").nth(1).unwrap().split("<!-- /recipe -->").next().unwrap();
     let script: String = block.lines().filter(|l| !l.starts_with("```")).collect::<Vec<_>>().join("\n");
     assert!(script.contains("3000000"));
     // 2000 probes: with every encoder (the SG fits cost tens of ms a probe) 20,000 took 18 min.

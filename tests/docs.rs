@@ -1,0 +1,275 @@
+//! The documentation says what the binary does: every command of `probelab --help` (and of
+//! each command's own `--help`, for nested commands) and every option of each command has its
+//! place in docs/commands.md, and nothing there is absent from the help; every relative link of
+//! README.md, ARCHITECTURE.md and docs/*.md resolves; README.md stays short, opens with the two
+//! commands, and `.ci/run` runs its test command.
+//!
+//! docs/commands.md's layout, which this file parses: one `## `probelab CMD`` heading per
+//! command (`## `probelab maps import`` for a nested one), a `## Global options` section for the
+//! options of `probelab --help`, and in each section a table whose first cell names an option
+//! in backticks (`` `--out <OUT>` ``; several may share a cell).
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn repo() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn read(rel: &str) -> String {
+    std::fs::read_to_string(repo().join(rel)).unwrap_or_else(|e| panic!("{rel}: {e}"))
+}
+
+/// `probelab ARGS --help`, as text.
+fn help(args: &[String]) -> String {
+    let out = Command::new(env!("CARGO_BIN_EXE_probelab")).args(args).arg("--help").output().unwrap();
+    assert!(
+        out.status.success(),
+        "probelab {} --help failed: {}",
+        args.join(" "),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8(out.stdout).unwrap()
+}
+
+/// The lines of the `TITLE:` block of a clap help text (up to the next blank line).
+fn block<'a>(text: &'a str, title: &str) -> Vec<&'a str> {
+    text.lines().skip_while(|l| l.trim_end() != title).skip(1).take_while(|l| !l.trim().is_empty()).collect()
+}
+
+/// The long option names (`--jobs`) of a help text's `Options:` block.
+fn help_options(text: &str) -> BTreeSet<String> {
+    block(text, "Options:").iter().filter_map(|l| long_option(l.trim_start())).collect()
+}
+
+/// The first `--name` in `s`, if `s` starts with an option (`-h, --help`, `--out <OUT>`).
+fn long_option(s: &str) -> Option<String> {
+    if !s.starts_with('-') {
+        return None;
+    }
+    let at = s.find("--")?;
+    let name: String = s[at..].chars().take_while(|c| c.is_ascii_alphanumeric() || *c == '-').collect();
+    (name.len() > 2).then_some(name)
+}
+
+/// The command names of a help text's `Commands:` block (without clap's `help`).
+fn help_commands(text: &str) -> Vec<String> {
+    block(text, "Commands:")
+        .iter()
+        .filter_map(|l| l.split_whitespace().next())
+        .filter(|c| *c != "help")
+        .map(String::from)
+        .collect()
+}
+
+/// Every command path (`["maps", "import"]`) with its options, from the binary's help,
+/// depth first; `[]` is the top level (the global options).
+fn commands_from_help() -> BTreeMap<Vec<String>, BTreeSet<String>> {
+    let mut all = BTreeMap::new();
+    let mut todo = vec![Vec::new()];
+    while let Some(path) = todo.pop() {
+        let text = help(&path);
+        for c in help_commands(&text) {
+            let mut sub = path.clone();
+            sub.push(c);
+            todo.push(sub);
+        }
+        all.insert(path, help_options(&text));
+    }
+    all
+}
+
+/// docs/commands.md's sections: command path → options named in its tables.
+fn commands_from_doc(doc: &str) -> BTreeMap<Vec<String>, BTreeSet<String>> {
+    let mut all: BTreeMap<Vec<String>, BTreeSet<String>> = BTreeMap::new();
+    let mut current: Option<Vec<String>> = None;
+    for line in doc.lines() {
+        if let Some(h) = line.strip_prefix("## ") {
+            let h = h.trim();
+            current = if h == "Global options" {
+                Some(Vec::new())
+            } else {
+                h.strip_prefix("`probelab ")
+                    .and_then(|c| c.strip_suffix('`'))
+                    .map(|cmd| cmd.split_whitespace().map(String::from).collect())
+            };
+            if let Some(c) = &current {
+                all.entry(c.clone()).or_default();
+            }
+        } else if let (Some(c), Some(row)) = (&current, line.strip_prefix('|')) {
+            let first = row.split('|').next().unwrap_or("");
+            let names = first.split('`').skip(1).step_by(2).filter_map(long_option);
+            all.get_mut(c).unwrap().extend(names);
+        }
+    }
+    all
+}
+
+fn show(path: &[String]) -> String {
+    if path.is_empty() {
+        "probelab".into()
+    } else {
+        format!("probelab {}", path.join(" "))
+    }
+}
+
+#[test]
+fn command_table_matches_help_both_ways() {
+    let doc = read("docs/commands.md");
+    let from_help = commands_from_help();
+    let from_doc = commands_from_doc(&doc);
+    let global = from_help.get(&Vec::new()).cloned().unwrap_or_default();
+    assert!(global.contains("--jobs"), "parsed no global options from `probelab --help`: {global:?}");
+    assert!(from_help.len() > 10, "parsed too few commands from `probelab --help`: {:?}", from_help.keys());
+    let mut faults = Vec::new();
+    for (path, opts) in &from_help {
+        let section = if path.is_empty() { "## Global options".to_string() } else { format!("## `{}`", show(path)) };
+        let Some(documented) = from_doc.get(path) else {
+            faults.push(format!(
+                "docs/commands.md has no section '{section}' for the command `{}` (in its parent's --help)",
+                show(path)
+            ));
+            continue;
+        };
+        for o in opts {
+            // Global options are documented once, under "Global options".
+            if !path.is_empty() && global.contains(o) {
+                continue;
+            }
+            if !documented.contains(o) {
+                faults.push(format!(
+                    "docs/commands.md, section '{section}', lacks the option `{o}` (in `{} --help`)",
+                    show(path)
+                ));
+            }
+        }
+    }
+    for (path, documented) in &from_doc {
+        let Some(opts) = from_help.get(path) else {
+            faults.push(format!(
+                "docs/commands.md documents `{}`, which is not a command of the binary's --help",
+                show(path)
+            ));
+            continue;
+        };
+        for o in documented.difference(opts) {
+            faults.push(format!(
+                "docs/commands.md documents the option `{o}` under `{}`, but `{} --help` has no such option",
+                show(path),
+                show(path)
+            ));
+        }
+    }
+    assert!(faults.is_empty(), "docs/commands.md and --help disagree:\n  {}", faults.join("\n  "));
+}
+
+/// The relative link targets of a Markdown text, outside code blocks and code spans.
+fn links(text: &str) -> Vec<String> {
+    let mut out = Vec::new();
+    let mut fenced = false;
+    for line in text.lines() {
+        if line.trim_start().starts_with("```") {
+            fenced = !fenced;
+            continue;
+        }
+        if fenced {
+            continue;
+        }
+        // Drop code spans: `[a](b)` inside backticks is not a link.
+        let plain: String = line.split('`').step_by(2).collect::<Vec<_>>().join(" ");
+        let mut rest = plain.as_str();
+        while let Some(at) = rest.find("](") {
+            rest = &rest[at + 2..];
+            let Some(end) = rest.find(')') else { break };
+            let target = rest[..end].split_whitespace().next().unwrap_or("").to_string();
+            rest = &rest[end..];
+            if target.is_empty() || target.starts_with('#') || target.contains("://") || target.starts_with("mailto:") {
+                continue;
+            }
+            out.push(target);
+        }
+    }
+    out
+}
+
+#[test]
+fn every_relative_link_resolves() {
+    let mut pages: Vec<PathBuf> = vec![repo().join("README.md"), repo().join("ARCHITECTURE.md")];
+    let mut docs: Vec<PathBuf> = std::fs::read_dir(repo().join("docs"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|x| x == "md"))
+        .collect();
+    docs.sort();
+    pages.extend(docs);
+    let mut broken = Vec::new();
+    let mut count = 0;
+    for page in &pages {
+        let text = std::fs::read_to_string(page).unwrap();
+        let dir = page.parent().unwrap();
+        for target in links(&text) {
+            count += 1;
+            let file = target.split('#').next().unwrap();
+            if !Path::new(dir).join(file).exists() {
+                broken.push(format!(
+                    "{}: link `{target}` does not resolve",
+                    page.strip_prefix(repo()).unwrap().display()
+                ));
+            }
+        }
+    }
+    assert!(count > 10, "found only {count} relative links: is the link parser broken?");
+    assert!(broken.is_empty(), "broken links:\n  {}", broken.join("\n  "));
+}
+
+#[test]
+fn links_parser_sees_links_and_skips_code() {
+    let md = "see [a](docs/a.md#x) and [web](https://x.org) and `[no](c.md)`\n```\n[no](d.md)\n```\n[b](../b.md)\n";
+    assert_eq!(links(md), ["docs/a.md#x", "../b.md"]);
+}
+
+#[test]
+fn readme_is_short_and_opens_with_the_two_commands() {
+    let readme = read("README.md");
+    assert!(
+        readme.len() < 10 * 1024,
+        "README.md is {} bytes; keep it under 10 KiB (details go in docs/)",
+        readme.len()
+    );
+    let block = readme.split("```sh").nth(1).expect("README.md has no ```sh block").split("```").next().unwrap();
+    let commands: Vec<&str> =
+        block.lines().map(|l| l.split('#').next().unwrap().trim()).filter(|l| !l.is_empty()).collect();
+    assert_eq!(
+        commands.get(..2),
+        Some(&["cargo run --release -- reproduce", "cargo test --release"][..]),
+        "README.md's first code block must open with the two commands"
+    );
+    for forbidden in ["FORMULAS.md", "CLAIMS.md", "SOURCES.md"] {
+        // results/CLAIMS.md is not cited either; the claims are in docs/claims.md.
+        assert!(!readme.contains(forbidden), "README.md cites {forbidden}, which is not in the repository");
+    }
+}
+
+#[test]
+fn ci_runs_the_readme_test_command() {
+    let ci = read(".ci/run");
+    let runs = ci.lines().map(|l| l.split('#').next().unwrap()).any(|l| {
+        let words: Vec<&str> = l.split_whitespace().collect();
+        words.windows(3).any(|w| w == ["cargo", "test", "--release"])
+    });
+    assert!(runs, ".ci/run does not run `cargo test --release`, the README's test command");
+}
+
+#[test]
+fn help_parsers_read_clap_blocks() {
+    let text =
+        "Usage: x\n\nCommands:\n  run   Run\n  help  Print\n\nOptions:\n      --jobs <JOBS>  J\n  -h, --help     H\n";
+    assert_eq!(help_commands(text), ["run"]);
+    assert_eq!(help_options(text).into_iter().collect::<Vec<_>>(), ["--help", "--jobs"]);
+    let doc = "## Global options\n| `--jobs <J>` | x |\n## `probelab maps import`\n| `--out <O>`, `-o` | y |\n## Other\n| `--no` | z |\n";
+    let parsed = commands_from_doc(doc);
+    assert_eq!(parsed[&Vec::new()].iter().collect::<Vec<_>>(), ["--jobs"]);
+    assert_eq!(parsed[&vec!["maps".to_string(), "import".to_string()]].iter().collect::<Vec<_>>(), ["--out"]);
+    assert_eq!(parsed.len(), 2);
+}
