@@ -6,7 +6,7 @@
 //! - `shared_maps`: `PROBELAB_ENVMAPS` is set (non-empty), or `CI` is `true`/`1`. Tests that
 //!   read the shared maps (the paper probes ennis, grace, pisa, uffizi, wells and the other maps
 //!   of that folder) carry
-//!   `#[cfg_attr(not(shared_maps), ignore = "needs the shared maps: set PROBELAB_ENVMAPS to the folder holding them")]`.
+//!   `#[cfg_attr(not(shared_maps), ignore = "needs the paper probes (not CC0, not in the repository): set PROBELAB_ENVMAPS to a folder holding them, see envmaps/README.md")]`.
 //!   Setting the variable (or running in CI) declares the maps present: the tests then run, and
 //!   a missing map fails them, loudly, rather than skipping. A build whose variable names no
 //!   folder holding the paper probes also prints a warning.

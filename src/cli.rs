@@ -45,7 +45,8 @@ pub enum Command {
         #[arg(long)]
         out: Option<PathBuf>,
     },
-    /// Run every experiment in experiments/; experiments whose maps are missing are skipped and listed.
+    /// Run every experiment in experiments/ on the maps found; an experiment missing some maps is
+    /// checked against its baseline on the others, one missing all of them is skipped and listed.
     Reproduce {
         /// Output folder (default: <root>/results).
         #[arg(long)]
@@ -205,34 +206,61 @@ pub fn main_with(cli: Cli) -> Result<i32> {
             let dir = root.join("experiments");
             let exps = list_experiments(&dir)?.iter().map(|p| Experiment::load(p)).collect::<Result<Vec<_>>>()?;
             let (mut skipped, mut refused) = (Vec::new(), Vec::new());
-            let mut done = Vec::new();
+            let (mut done, mut partial) = (Vec::new(), Vec::new());
             let progress = crate::pipeline::progress::Progress::new(exps.len() as u64, "experiments");
             for exp in &exps {
                 progress.message(exp.name.clone());
                 let report = runner::run(exp, &search)?;
                 if report.missing.is_empty() {
                     done.push((exp, report));
-                } else {
+                } else if report.missing.len() == exp.maps.len() {
                     noteln!("skipped {}: map(s) not found: {}", exp.name, report.missing.join(", "));
                     skipped.push(exp.name.clone());
+                } else {
+                    partial.push((exp, report));
                 }
                 progress.inc();
             }
             progress.finish();
+            // Every run is done before anything is written (a failing run writes nothing).
+            let mut summary = Vec::new();
             for (exp, report) in &done {
-                if !write_results(&root, &out, exp, report)? {
+                if let Some(told) = write_results_told(&root, &out, exp, report)? {
+                    let n = exp.maps.len();
+                    summary.push(format!("{}: {n} of {n} maps; {told}", exp.name));
+                } else {
                     refused.push(exp.name.clone());
                 }
             }
-            if !skipped.is_empty() {
+            // Some maps found: those maps' rows are compared with the committed baseline, which
+            // is never rewritten from a partial run.
+            let tolerances = crate::regression::tolerance::Tolerances::load(&root)?;
+            for (exp, report) in &partial {
+                let line = crate::regression::check::check_partial(&out, exp, report, &tolerances)?;
+                if !line.passed {
+                    refused.push(exp.name.clone());
+                }
+                summary.push(line.text);
+            }
+            for name in &skipped {
+                let exp = exps.iter().find(|e| &e.name == name).expect("a skipped experiment was listed");
+                summary.push(format!(
+                    "{name}: skipped, 0 of {n} maps (missing: {})",
+                    exp.maps.join(", "),
+                    n = exp.maps.len()
+                ));
+            }
+            if !skipped.is_empty() || !partial.is_empty() {
                 noteln!(
-                    "{} experiment(s) skipped for missing maps ({}); their results were left unchanged.\n\
-                     Searched: {}\nSet PROBELAB_ENVMAPS to the folder of the paper probes (see README).",
+                    "{} experiment(s) skipped and {} run on part of their maps, for missing maps; their \
+                     baselines were left unchanged.\nSearched: {}\nSet PROBELAB_ENVMAPS to the folder of the \
+                     paper probes (see envmaps/README.md).",
                     skipped.len(),
-                    skipped.join(", "),
+                    partial.len(),
                     describe_search(&search)
                 );
             }
+            noteln!("sweeps (experiments/sweeps/) are not re-run by reproduce: `probelab sweep` runs them");
             // The claims, judged on the tables just written (and the measurements, when their
             // maps are here), before the report that presents them.
             let run = crate::regression::claims::run(&root, &search, &out, false, true)?;
@@ -243,6 +271,10 @@ pub fn main_with(cli: Cli) -> Result<i32> {
                 refused.push("claims".into());
             }
             write_report(&root, &out, &search)?;
+            outln!("reproduce: {} experiment(s)", exps.len())?;
+            for line in &summary {
+                outln!("  {line}")?;
+            }
             Ok(crate::regression::check::refused_exit(&refused))
         }
         Command::Report { out } => {
@@ -441,9 +473,22 @@ fn write_report(root: &Path, out: &Path, search: &SearchPath) -> Result<()> {
 /// returns false, printing the differences, if its numbers moved (`check::store`). When the
 /// table stands, the summary files derived from it (summary.csv, claims) are written too.
 pub fn write_results(root: &Path, out: &Path, exp: &Experiment, report: &runner::RunReport) -> Result<bool> {
+    Ok(write_results_told(root, out, exp, report)?.is_some())
+}
+
+/// [`write_results`], saying what became of the table: `None` when refused, otherwise
+/// "new baseline written" or how many numbers matched the baseline.
+fn write_results_told(root: &Path, out: &Path, exp: &Experiment, report: &runner::RunReport) -> Result<Option<String>> {
     let _s = crate::pipeline::profile::span("write");
     let stored = crate::regression::check::store(out, root, exp, report)?;
     let ok = crate::regression::check::print_stored(exp, out, &stored, report.rows.len());
+    let told = match &stored {
+        crate::regression::check::Stored::New => "no baseline yet: new baseline written".to_string(),
+        crate::regression::check::Stored::Unchanged(c) => {
+            format!("{} numbers compared, nothing moved; baseline left unchanged", c.comparison.numbers)
+        }
+        crate::regression::check::Stored::Refused(c) => format!("FAILED ({} moved)", c.moved()),
+    };
     if ok {
         let dir = out.join(&exp.name);
         // A table that stood within tolerance is the one kept: summarise its numbers.
@@ -458,7 +503,7 @@ pub fn write_results(root: &Path, out: &Path, exp: &Experiment, report: &runner:
             noteln!("wrote {}", dir.join("summary.csv").display());
         }
     }
-    Ok(ok)
+    Ok(ok.then_some(told))
 }
 
 /// The experiment `probelab eval` runs.

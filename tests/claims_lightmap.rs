@@ -18,7 +18,10 @@ fn num(r: &std::collections::HashMap<String, String>, col: &str) -> f64 {
 }
 
 #[test]
-#[cfg_attr(not(shared_maps), ignore = "needs the shared maps: set PROBELAB_ENVMAPS to the folder holding them")]
+#[cfg_attr(
+    not(shared_maps),
+    ignore = "needs the paper probes (not CC0, not in the repository): set PROBELAB_ENVMAPS to a folder holding them, see envmaps/README.md"
+)]
 fn claims_lightmap_writes_the_tables_and_strips() {
     let env = shared_envmaps(&probelab::claims::zh3::MAPS);
     let dir = tempfile::tempdir().unwrap();

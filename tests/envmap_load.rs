@@ -527,7 +527,10 @@ fn errors_are_typed() {
 /// Every real map of the shared folders (`*_256x128`, `wells_probulator`) loads as a finite,
 /// non-negative 2:1 map, the paper probes among them, at their sizes.
 #[test]
-#[cfg_attr(not(shared_maps), ignore = "needs the shared maps: set PROBELAB_ENVMAPS to the folder holding them")]
+#[cfg_attr(
+    not(shared_maps),
+    ignore = "needs the paper probes (not CC0, not in the repository): set PROBELAB_ENVMAPS to a folder holding them, see envmaps/README.md"
+)]
 fn shared_probes_load() {
     let value = shared_envmaps(&PAPER_PROBES);
     let mut loaded = Vec::new();
@@ -557,4 +560,39 @@ fn shared_probes_load() {
         assert!(loaded.iter().any(|m| m == p), "{p} was not among the maps loaded: {loaded:?}");
     }
     println!("loaded {} shared probe(s)", loaded.len());
+}
+
+/// The CC0 maps committed in `envmaps/` (what a fresh clone has): each loads as a finite,
+/// non-negative 256x128 map, `envmaps/README.md` credits exactly these files with each one's
+/// sha256, and none of the paper probes (not CC0) is among them.
+#[test]
+fn committed_cc0_maps_load_and_match_their_readme() {
+    let dir = common::harness::repo().join("envmaps");
+    let readme = fs::read_to_string(dir.join("README.md")).expect("envmaps/README.md");
+    let mut files: Vec<PathBuf> = fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "exr" || e == "hdr"))
+        .filter(|p| !p.file_name().unwrap().to_string_lossy().starts_with("gen_"))
+        .collect();
+    files.sort();
+    assert_eq!(files.len(), 14, "the 14 CC0 maps: {files:?}");
+    for f in &files {
+        let name = f.file_name().unwrap().to_string_lossy().into_owned();
+        for probe in ["ennis", "grace", "pisa", "uffizi", "wells"] {
+            assert!(!name.starts_with(probe), "{name}: the paper probes are not CC0 and stay outside the repository");
+        }
+        let map = load(f).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!((map.width(), map.height()), (256, 128), "{name}");
+        assert!(map.texels().iter().flatten().all(|v| v.is_finite() && *v >= 0.0), "{name}");
+        let sha = probelab::envmap::load::sha256_hex(&fs::read(f).unwrap());
+        let row = readme
+            .lines()
+            .find(|l| l.starts_with(&format!("| `{name}` |")))
+            .unwrap_or_else(|| panic!("envmaps/README.md has no row for {name}"));
+        assert!(row.contains(&format!("`{sha}`")), "{name}: README's sha256 is not the file's ({sha}): {row}");
+        assert!(row.contains("Poly Haven"), "{name}: its row credits no source: {row}");
+    }
+    let rows = readme.lines().filter(|l| l.starts_with("| `") && l.contains("_256x128.exr` |")).count();
+    assert_eq!(rows, files.len(), "README rows for files that are not here");
 }

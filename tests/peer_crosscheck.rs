@@ -19,7 +19,10 @@ fn eval_on_grace(encoders: &str) -> Vec<std::collections::HashMap<String, String
 
 /// The peer reports sh1 = 0.08238 and sh2 = 0.01324; ours within 3%.
 #[test]
-#[cfg_attr(not(shared_maps), ignore = "needs the shared maps: set PROBELAB_ENVMAPS to the folder holding them")]
+#[cfg_attr(
+    not(shared_maps),
+    ignore = "needs the paper probes (not CC0, not in the repository): set PROBELAB_ENVMAPS to a folder holding them, see envmaps/README.md"
+)]
 fn sh_agrees_with_the_peer_on_grace() {
     let rows = eval_on_grace("sh1,sh2");
     assert_eq!(rows.len(), 2);
@@ -34,7 +37,10 @@ fn sh_agrees_with_the_peer_on_grace() {
 
 /// The peer reports 0.04191 (zh3_hallucinate) and 0.01395 (zh3_solved_shared); ours within 4%.
 #[test]
-#[cfg_attr(not(shared_maps), ignore = "needs the shared maps: set PROBELAB_ENVMAPS to the folder holding them")]
+#[cfg_attr(
+    not(shared_maps),
+    ignore = "needs the paper probes (not CC0, not in the repository): set PROBELAB_ENVMAPS to a folder holding them, see envmaps/README.md"
+)]
 fn zh3_agrees_with_the_peer_on_grace() {
     let rows = eval_on_grace("zh3_hallucinate,zh3_solved_shared");
     assert_eq!(rows.len(), 2);

@@ -52,7 +52,10 @@ const AD_YCOCG: [f64; 5] = [0.04162, 0.00985, 0.00547, 0.02078, 0.00756];
 const AD_RBF: [f64; 5] = [0.10649, 0.01489, 0.00447, 0.05708, 0.00764];
 
 #[test]
-#[cfg_attr(not(shared_maps), ignore = "needs the shared maps: set PROBELAB_ENVMAPS to the folder holding them")]
+#[cfg_attr(
+    not(shared_maps),
+    ignore = "needs the paper probes (not CC0, not in the repository): set PROBELAB_ENVMAPS to a folder holding them, see envmaps/README.md"
+)]
 fn the_peer_encodings_match_peer_md() {
     let env = shared_envmaps(&PAPER_PROBES);
     let s = Scratch::new();
@@ -110,7 +113,10 @@ fn the_peer_encodings_match_peer_md() {
 /// figures move by 0.04–6.3% (uffizi H6), so they carry the peer's H1, whose square integrates
 /// to ½ over the hemisphere: a slip that halves the constant term.
 #[test]
-#[cfg_attr(not(shared_maps), ignore = "needs the shared maps: set PROBELAB_ENVMAPS to the folder holding them")]
+#[cfg_attr(
+    not(shared_maps),
+    ignore = "needs the paper probes (not CC0, not in the repository): set PROBELAB_ENVMAPS to a folder holding them, see envmaps/README.md"
+)]
 fn the_peers_hbasis_figures_are_a_clamped_radiance_reconstruction() {
     use glam::DVec3;
     use probelab::envmap::moments::RowMoments;

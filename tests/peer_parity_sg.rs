@@ -26,7 +26,10 @@ const PEER: [(&str, [f64; 5], f64); 6] = [
 ];
 
 #[test]
-#[cfg_attr(not(shared_maps), ignore = "needs the shared maps: set PROBELAB_ENVMAPS to the folder holding them")]
+#[cfg_attr(
+    not(shared_maps),
+    ignore = "needs the paper probes (not CC0, not in the repository): set PROBELAB_ENVMAPS to a folder holding them, see envmaps/README.md"
+)]
 fn sg_encodings_match_the_peer_on_the_paper_probes() {
     let env = shared_envmaps(&PAPER_PROBES);
     let ids: Vec<&str> = PEER.iter().map(|p| p.0).collect();

@@ -80,13 +80,69 @@ fn committed_baselines_on_generated_maps_pass_check() {
 /// The CI check, part two: every committed `ci = true` experiment that reads the shared maps
 /// re-runs and matches its baseline; a missing map fails it.
 #[test]
-#[cfg_attr(not(shared_maps), ignore = "needs the shared maps: set PROBELAB_ENVMAPS to the folder holding them")]
+#[cfg_attr(
+    not(shared_maps),
+    ignore = "needs the paper probes (not CC0, not in the repository): set PROBELAB_ENVMAPS to a folder holding them, see envmaps/README.md"
+)]
 fn committed_baselines_on_shared_maps_pass_check() {
     let (_, shared) = ci_experiments();
     assert!(!shared.is_empty());
     let maps: Vec<&str> = shared.iter().flat_map(|(_, maps)| maps.iter().map(|m| m.as_str())).collect();
     let envmaps = shared_envmaps(&maps);
     check_passes(&shared.into_iter().map(|(name, _)| name).collect::<Vec<_>>(), Some(&envmaps));
+}
+
+/// The CI check on a fresh clone: every committed `ci = true` experiment that reads some of
+/// the repository's CC0 maps (`envmaps/`) as well as the shared ones re-runs on the CC0 maps
+/// alone and those rows match the baseline (`check --allow-missing`, `PROBELAB_ENVMAPS` unset).
+/// The numbers compared are exactly the baseline's numbers on the maps found: its numeric
+/// cells of those rows, less the columns `tolerances.toml` ignores. With the shared maps the
+/// test above checks every row, these included.
+#[test]
+#[cfg_attr(
+    shared_maps,
+    ignore = "the shared maps are here: committed_baselines_on_shared_maps_pass_check covers these rows"
+)]
+fn committed_baselines_on_cc0_maps_pass_check() {
+    let here = SearchPath::new(vec![repo().join("envmaps")]);
+    let (_, shared) = ci_experiments();
+    let partial: Vec<NameAndMaps> =
+        shared.into_iter().filter(|(_, maps)| maps.iter().any(|m| here.resolve(m).is_ok())).collect();
+    assert!(!partial.is_empty(), "no ci experiment reads the committed CC0 maps");
+    let names: Vec<String> = partial.iter().map(|(n, _)| n.clone()).collect();
+    let out = probelab().arg("check").arg("--allow-missing").args(&names).run();
+    let (stdout, stderr) = text(&out);
+    assert!(out.status.success(), "`probelab check --allow-missing {}` failed:\n{stdout}{stderr}", names.join(" "));
+    let tolerances = Tolerances::load(&repo()).unwrap();
+    for (name, maps) in &partial {
+        let found: Vec<&String> = maps.iter().filter(|m| here.resolve(m).is_ok()).collect();
+        let table = Table::read(&repo().join("results").join(name).join("table.csv")).unwrap();
+        let col = |c: &str| table.columns.iter().position(|x| x == c).unwrap();
+        // A cell is compared unless it is a key or ignored; `diagnostics` holds key=value items.
+        let number = |s: &str| s.parse::<f64>().is_ok_and(f64::is_finite);
+        let compared = |c: &str| {
+            !probelab::regression::baseline::KEY_COLUMNS.contains(&c)
+                && !matches!(tolerances.get(c, None), Tolerance::Ignore)
+        };
+        let mut expected = 0;
+        for r in table.rows.iter().filter(|r| found.iter().any(|m| **m == r[col("map")])) {
+            for (c, v) in table.columns.iter().zip(r) {
+                if c == "diagnostics" {
+                    expected += v.split(';').filter_map(|i| i.split_once('=')).filter(|(_, x)| number(x)).count();
+                } else if compared(c) && number(v) {
+                    expected += 1;
+                }
+            }
+        }
+        assert!(expected > 0, "{name}: no baseline numbers on the CC0 maps");
+        let line = stdout
+            .lines()
+            .find(|l| l.starts_with(&format!("{name}: ok")))
+            .unwrap_or_else(|| panic!("{name}: no verdict line\n{stdout}"));
+        assert!(line.contains(&format!(" {expected} numbers compared")), "{name}: expected {expected} numbers: {line}");
+        let missing = maps.len() - found.len();
+        assert!(missing == 0 || line.contains(&format!("but {missing} map(s) were not on this machine")), "{line}");
+    }
 }
 
 /// Every registered encoder, as TOML list items (`sphere`: all but those that need a surface

@@ -279,6 +279,53 @@ pub fn compare_with_baseline(
     Ok(ExperimentCheck { experiment: exp.name.clone(), dir: dir.to_path_buf(), findings, comparison, baseline: prov })
 }
 
+/// What `reproduce` did with an experiment run on only some of its maps.
+pub struct PartialCheck {
+    /// False when a number moved (or the baseline is unusable): `reproduce` then fails.
+    pub passed: bool,
+    /// One line for the closing summary: maps found of maps named, the missing ones, and how
+    /// many numbers were compared.
+    pub text: String,
+}
+
+/// `reproduce` on an experiment some of whose maps are not on the search path: the rows of
+/// the maps found are compared with the committed baseline in `<out>/<name>/` (the missing
+/// maps' rows are not, [`compare_with_baseline`] with `allow_missing`); nothing is written,
+/// since a baseline holds every map. Without a baseline there is nothing to compare with, and
+/// nothing is written either (a note, not a failure).
+pub fn check_partial(
+    out: &Path,
+    exp: &Experiment,
+    report: &RunReport,
+    tolerances: &Tolerances,
+) -> Result<PartialCheck> {
+    let dir = out.join(&exp.name);
+    let found = exp.maps.len() - report.missing.len();
+    let head = format!("{}: {found} of {} maps (missing: {})", exp.name, exp.maps.len(), report.missing.join(", "));
+    if !dir.join(TABLE).exists() {
+        noteln!("{}: no baseline, and a run missing maps writes none", dir.join(TABLE).display());
+        return Ok(PartialCheck {
+            passed: true,
+            text: format!("{head}; no baseline to compare with, nothing written"),
+        });
+    }
+    let c = compare_with_baseline(&dir, exp, report, tolerances, true)?;
+    crate::pipeline::output::note_fmt(format_args!("{}", c.report()));
+    let numbers = c.comparison.numbers;
+    Ok(if c.passed() {
+        PartialCheck {
+            passed: true,
+            text: format!("{head}; {numbers} numbers compared, nothing moved; baseline left unchanged"),
+        }
+    } else {
+        noteln!("{}: NOT overwritten: the baseline changes only through `probelab bless`", dir.join(TABLE).display());
+        PartialCheck {
+            passed: false,
+            text: format!("{head}; {numbers} numbers compared, FAILED ({} moved); baseline left unchanged", c.moved()),
+        }
+    })
+}
+
 /// The files of an experiment's baseline, in the order [`baseline::write_all`] renames them:
 /// the table, then the provenance that vouches for it.
 pub fn baseline_files(exp: &Experiment, report: &RunReport, root: &Path) -> Result<Vec<(String, Vec<u8>)>> {

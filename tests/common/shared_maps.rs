@@ -2,7 +2,7 @@
 //! which hold the papers' probes and the other real maps that cannot live in git.
 //!
 //! A test that reads them carries
-//! `#[cfg_attr(not(shared_maps), ignore = "needs the shared maps: set PROBELAB_ENVMAPS to the folder holding them")]`,
+//! `#[cfg_attr(not(shared_maps), ignore = "needs the paper probes (not CC0, not in the repository): set PROBELAB_ENVMAPS to a folder holding them, see envmaps/README.md")]`,
 //! so without them cargo reports it as ignored. The build script sets `shared_maps` when the
 //! variable (or `CI`) is set; the test then runs and asks [`shared_envmaps`] for the maps it
 //! needs, which fails the test when one is missing: a set variable declares the maps present.
