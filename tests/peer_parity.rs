@@ -187,8 +187,8 @@ fn the_peers_hbasis_figures_are_a_clamped_radiance_reconstruction() {
 /// sphere landscape lists none of them. Needs no maps.
 #[test]
 fn surface_encoders_are_in_hemisphere_experiments_only() {
+    use probelab::pipeline::experiment::DomainKind;
     use probelab::pipeline::experiment::Experiment;
-    use probelab::reference::domain::DomainKind;
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("experiments");
     let mut files: Vec<std::path::PathBuf> = Vec::new();
     for d in [dir.clone(), dir.join("sweeps")] {
