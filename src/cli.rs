@@ -535,9 +535,9 @@ fn eval_experiment(
     if kind == DomainKind::Sphere {
         if let Some(e) = encoders.iter().find(|e| e.encoder.needs_surface_normal()) {
             bail!(
-                "--encoders: '{}' is defined only on the hemisphere about a surface normal N; pass --domain \
-                 hemisphere:AXIS",
-                e.name
+                "--encoders: {}; pass --domain hemisphere:AXIS (AXIS one of +x, -x, +y, -y, +z, -z), or run an \
+                 experiment with domain = \"hemisphere\"",
+                crate::encoders::encoder::surface_normal_refusal(&e.name)
             );
         }
     }

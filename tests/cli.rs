@@ -108,7 +108,12 @@ fn the_hbasis_needs_a_surface_normal() {
     let out = run(&["eval", "gen_constant", "--encoders", "sh1,hbasis4"]);
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8_lossy(&out.stderr);
-    assert!(err.contains("'hbasis4' is defined only on the hemisphere about a surface normal"), "{err}");
+    assert!(
+        err.contains(
+            "'hbasis4' needs a surface normal N: it is defined only on the hemisphere about a surface normal N"
+        ),
+        "{err}"
+    );
     let out = run(&["probes", "--synth", "10", "--encoders", "sh2,hbasis6"]);
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("'hbasis6'"));
@@ -148,4 +153,97 @@ fn encoders_lists_the_registry() {
     for k in probelab::encoders::REGISTRY {
         assert!(ids.contains(&k.id), "{} is not listed:\n{s}", k.id);
     }
+}
+
+/// Every encoder that needs a surface normal N or an occluded bake about N (the H-basis, every
+/// AHD/HHD lightmap encoder, every probe-occlusion operator but the unoccluded leak baseline),
+/// listed here by hand rather than read from the program.
+const SURFACE_ONLY: &[&str] = &[
+    "hbasis4",
+    "hbasis6",
+    "ahd_linear_sphere",
+    "ahd_linear_hemi",
+    "ahd_search_sphere",
+    "ahd_search_hemi",
+    "ahd_irradz_2018",
+    "hhd_linear_sphere",
+    "hhd_linear_hemi",
+    "hhd_search_sphere",
+    "hhd_search_hemi",
+    "hhd_from_sh1",
+    "probe_hemi_full",
+    "probe_cone_full",
+    "probe_hemi_q2l",
+    "hlsh",
+    "probe_hhd_lum",
+    "cone_multiply",
+    "ao_scale",
+    "bent_normal",
+];
+
+/// On the sphere (no N) each surface-only encoder is refused by `eval` and `probes` with exit 2
+/// and the reason; on a hemisphere domain every one of them runs. `probe_unoccluded` (the leak
+/// baseline) and `with_self_bounce` around sh2 run on the sphere; `probes --encoders all` leaves
+/// the surface-only ones out with a note naming them.
+#[test]
+fn surface_only_encoders_are_refused_on_the_sphere() {
+    for id in SURFACE_ONLY {
+        let want =
+            format!("'{id}' needs a surface normal N: it is defined only on the hemisphere about a surface normal N");
+        let out = run(&["eval", "gen_constant", "--encoders", &format!("sh1,{id}"), "--resolution", "16x8"]);
+        assert_eq!(out.status.code(), Some(2), "eval {id}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.contains(&want) && err.contains("--domain hemisphere:AXIS"), "eval {id}: {err}");
+        assert!(out.stdout.is_empty(), "eval {id} printed a table");
+        let out = run(&["probes", "--synth", "4", "--encoders", &format!("sh2,{id}")]);
+        assert_eq!(out.status.code(), Some(2), "probes {id}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.contains(&want) && err.contains("a probe is a sphere"), "probes {id}: {err}");
+    }
+    let list = SURFACE_ONLY.join(",");
+    let out = run(&["eval", "gen_constant", "--encoders", &list, "--domain", "hemisphere:+z", "--resolution", "16x8"]);
+    let rows = parse_csv(&stdout_ok(&out));
+    assert_eq!(rows.len(), SURFACE_ONLY.len());
+    for (r, id) in rows.iter().zip(SURFACE_ONLY) {
+        assert_eq!(&r["encoder"], id);
+        assert!(r["rmse"].parse::<f64>().unwrap().is_finite(), "{id}");
+    }
+    let out = run(&["eval", "gen_constant", "--encoders", "probe_unoccluded,with_self_bounce", "--resolution", "16x8"]);
+    assert_eq!(parse_csv(&stdout_ok(&out)).len(), 2);
+
+    let out = run(&["probes", "--synth", "4", "--encoders", "all"]);
+    let table = stdout_ok(&out);
+    let err = String::from_utf8_lossy(&out.stderr);
+    for id in SURFACE_ONLY {
+        assert!(err.contains(id), "the note does not name {id}: {err}");
+        assert!(!table.lines().any(|l| l.starts_with(&format!("{id},"))), "probes all scored {id}");
+    }
+    assert!(table.lines().any(|l| l.starts_with("probe_unoccluded,")));
+}
+
+/// `with_self_bounce` needs N exactly when its inner encoder does: an experiment on the sphere
+/// wrapping hlsh is refused naming the file and the reason; wrapping sh2 it loads.
+#[test]
+fn with_self_bounce_delegates_the_surface_refusal() {
+    let root = common::harness::Scratch::new();
+    root.copy_from_repo("envmaps/gen_constant.exr");
+    let bad = root.write(
+        "experiments/wrap.toml",
+        "maps = ['gen_constant']\nresolution = [16, 8]\nencoders = [{ kind = 'with_self_bounce', inner = 'hlsh' }]\n",
+    );
+    let out = root.run(&["run", bad.to_str().unwrap(), "--out", root.path().join("out").to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("wrap.toml")
+            && err.contains("'with_self_bounce' needs a surface normal N")
+            && err.contains("domain = \"hemisphere\""),
+        "{err}"
+    );
+    let good = root.write(
+        "experiments/wrap_sh2.toml",
+        "maps = ['gen_constant']\nresolution = [16, 8]\nencoders = [{ kind = 'with_self_bounce', inner = 'sh2' }]\n",
+    );
+    let out = root.run(&["run", good.to_str().unwrap(), "--out", root.path().join("out").to_str().unwrap()]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
 }

@@ -187,33 +187,47 @@ fn the_peers_hbasis_figures_are_a_clamped_radiance_reconstruction() {
     assert!(normalised_miss > 0.05, "a normalised H1 also gives the peer's figures (at most {normalised_miss} off)");
 }
 
-/// Every registered encoder that needs a surface normal (the H-basis) is in the hemisphere
-/// landscape and not in the sphere one (where the loader would refuse it). Needs no maps.
+/// Every registered encoder that needs a surface normal (H-basis, AHD/HHD, the occlusion
+/// operators) is in some committed hemisphere experiment and in no sphere one: every committed
+/// experiment and sweep loads (the loader refuses a surface encoder on the sphere), and the
+/// sphere landscape lists none of them. Needs no maps.
 #[test]
-fn surface_encoders_are_in_the_hemisphere_landscape_only() {
+fn surface_encoders_are_in_hemisphere_experiments_only() {
+    use probelab::pipeline::experiment::DomainKind;
     use probelab::pipeline::experiment::Experiment;
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("experiments");
-    let names = |file: &str| -> Vec<String> {
-        let text = std::fs::read_to_string(dir.join(file)).unwrap();
-        let file: probelab::pipeline::experiment::ExperimentFile = toml::from_str(&text).unwrap();
-        file.encoders
-            .iter()
-            .map(|e| match e {
-                probelab::pipeline::experiment::EncoderEntry::Kind(k) => k.clone(),
-                probelab::pipeline::experiment::EncoderEntry::Table(t) => t["kind"].as_str().unwrap().to_string(),
-            })
-            .collect()
-    };
-    let (sphere, hemi) = (names("landscape.toml"), names("landscape_hemi.toml"));
-    assert!(Experiment::load(&dir.join("landscape_hemi.toml")).is_ok());
+    let mut files: Vec<std::path::PathBuf> = Vec::new();
+    for d in [dir.clone(), dir.join("sweeps")] {
+        for f in std::fs::read_dir(&d).unwrap() {
+            let f = f.unwrap().path();
+            if f.extension().is_some_and(|x| x == "toml") {
+                files.push(f);
+            }
+        }
+    }
+    let mut on_hemisphere = std::collections::BTreeSet::new();
+    for f in &files {
+        let e = if f.parent().unwrap().ends_with("sweeps") {
+            probelab::pipeline::sweep::Sweep::load(f).unwrap_or_else(|e| panic!("{e:#}")).exp
+        } else {
+            Experiment::load(f).unwrap_or_else(|e| panic!("{e:#}"))
+        };
+        for n in &e.encoders {
+            if e.domain == DomainKind::Hemisphere {
+                on_hemisphere.insert(n.encoder.id().to_string());
+            } else {
+                assert!(!n.encoder.needs_surface_normal(), "{}: {} on the sphere", f.display(), n.name);
+            }
+        }
+    }
     let mut needing = 0;
     for k in probelab::encoders::REGISTRY {
         let e = probelab::encoders::build(k.id, None, toml::Table::new()).unwrap();
         if e.encoder.needs_surface_normal() {
             needing += 1;
-            assert!(hemi.iter().any(|n| n == k.id), "{} is not in landscape_hemi.toml", k.id);
-            assert!(!sphere.iter().any(|n| n == k.id), "{} is in landscape.toml", k.id);
+            assert!(on_hemisphere.contains(k.id), "{} is in no committed hemisphere experiment", k.id);
         }
     }
-    assert!(needing > 0);
+    // H4, H6, 5 AHD, 5 HHD, 8 occlusion operators (all but probe_unoccluded).
+    assert_eq!(needing, 2 + 5 + 5 + 8);
 }

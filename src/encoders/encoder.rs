@@ -91,6 +91,16 @@ impl<'a> FitInput<'a> {
     }
 }
 
+/// Why an encoder named `name` that [`Encoder::needs_surface_normal`] cannot be scored on the
+/// sphere; every refusal (experiments, `eval`, probe sets) starts with this and adds its fix.
+pub fn surface_normal_refusal(name: &str) -> String {
+    format!(
+        "'{name}' needs a surface normal N: it is defined only on the hemisphere about a surface normal N \
+         (its fit reads N, or bakes the light occluded by the surface about N), and the sphere has no N, so \
+         it would silently return a fallback (another encoder's answer)"
+    )
+}
+
 /// An encoding method with its settings.
 pub trait Encoder: Send + Sync {
     /// The stable short id used in tables, on the command line and in file names.
@@ -122,9 +132,10 @@ pub trait Encoder: Send + Sync {
     /// experiment loader refuses such an encoder unless the domain is `hemisphere`, naming the
     /// file and the encoder (`pipeline::experiment::check_surface_encoders`), and probe sets
     /// (spheres, no N) refuse it or leave it out of `all`; so it is never scored where it is
-    /// not defined. Only the H-basis says so today; the AHD/HHD lightmap encoders are next (they
-    /// still fall back to a direction of their own without N). Without N, `fit` must still
-    /// return a documented answer (encoders cannot fail).
+    /// not defined. The H-basis, the AHD/HHD lightmap encoders (all, `hhd_from_sh1` too), every
+    /// probe-occlusion operator except the unoccluded leak baseline, and `with_self_bounce`
+    /// around any of these say so. Without N, `fit` must still return a documented answer
+    /// (encoders cannot fail). [`surface_normal_refusal`] is the reason the refusals give.
     fn needs_surface_normal(&self) -> bool {
         false
     }

@@ -99,6 +99,13 @@ impl Encoder for ProbeOp {
     fn stored_scalars(&self) -> usize {
         27
     }
+    /// Every operator but `probe_unoccluded` multiplies the probe by the visibility about the
+    /// surface normal N (or the cone about it); without N it is `probe_unoccluded` in disguise.
+    /// `probe_unoccluded` ignores the surface by definition (the leak baseline) and is defined
+    /// on the whole sphere.
+    fn needs_surface_normal(&self) -> bool {
+        self.op != Op::Unoccluded
+    }
     fn fit(&self, input: &FitInput) -> Box<dyn Fitted> {
         let f = input.probe_sh;
         let Some(n) = input.surface_normal.map(|n| n.normalize()) else {

@@ -88,6 +88,11 @@ impl Encoder for WithSelfBounce {
     fn is_iterative(&self) -> bool {
         self.inner.is_iterative()
     }
+    /// The bounce term needs N, but without it the wrapper is its inner encoder, so it needs N
+    /// exactly when the inner encoder does.
+    fn needs_surface_normal(&self) -> bool {
+        self.inner.needs_surface_normal()
+    }
     fn degrades_input(&self) -> bool {
         self.inner.degrades_input()
     }

@@ -306,7 +306,7 @@ impl Experiment {
 }
 
 /// Refuses an encoder defined only on the hemisphere about a surface normal
-/// ([`crate::encoders::encoder::Encoder::needs_surface_normal`], the H-basis) unless the domain
+/// ([`crate::encoders::encoder::Encoder::needs_surface_normal`]) unless the domain
 /// is `hemisphere`: on the sphere there is no N, and it must not be scored where it is not
 /// defined. The error names the encoder (and, through [`Experiment::parse`], the file and line).
 pub fn check_surface_encoders(domain: DomainKind, encoders: &[NamedEncoder]) -> Result<()> {
@@ -315,9 +315,9 @@ pub fn check_surface_encoders(domain: DomainKind, encoders: &[NamedEncoder]) -> 
     }
     if let Some(e) = encoders.iter().find(|e| e.encoder.needs_surface_normal()) {
         bail!(
-            "encoders: '{}' is defined only on the hemisphere about a surface normal N, and this domain is the \
-             sphere; use domain = \"hemisphere\" with orientations (and the hemisphere effect), or remove it",
-            e.name
+            "encoders: {}; this experiment's domain is the sphere: use domain = \"hemisphere\" with orientations \
+             (and the hemisphere effect), or remove it",
+            crate::encoders::encoder::surface_normal_refusal(&e.name)
         );
     }
     Ok(())
@@ -565,7 +565,7 @@ mod tests {
     fn surface_encoders_need_the_hemisphere_domain() {
         let e = |s: &str| format!("{:#}", parse(s).err().expect("must fail"));
         let msg = e("maps = ['a']\nencoders = [{ kind = 'hbasis6', name = 'h6' }]\n");
-        assert!(msg.contains("'h6' is defined only on the hemisphere about a surface normal"), "{msg}");
+        assert!(msg.contains("'h6' needs a surface normal N: it is defined only on the hemisphere"), "{msg}");
         assert!(msg.contains("domain = \"hemisphere\""), "{msg}");
         let msg = e("maps = ['a']\nencoders = ['hbasis4']\norientations = ['up']\neffects = ['hemisphere']\n");
         assert!(msg.contains("'hbasis4'"), "{msg}");

@@ -122,6 +122,11 @@ impl Encoder for LightmapEncoder {
     fn is_iterative(&self) -> bool {
         matches!(self.spec.direction, Direction::Search { .. } | Direction::Search2d { .. })
     }
+    /// AHD/HHD texels are fitted over the hemisphere about N (the HHD basis is H(n) = ½(1 + n·N));
+    /// without N every variant falls back to the same direction of its own.
+    fn needs_surface_normal(&self) -> bool {
+        true
+    }
     /// Colours are clamped non-negative and both basis functions are ≥ 0 on the sphere.
     fn promises_non_negative(&self) -> bool {
         true

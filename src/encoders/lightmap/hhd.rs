@@ -102,4 +102,8 @@ impl Encoder for HhdFromSh1 {
     fn is_rotation_covariant(&self) -> bool {
         true
     }
+    /// The talk's closed form solves the HHD about N; without N it uses the L1 direction.
+    fn needs_surface_normal(&self) -> bool {
+        true
+    }
 }

@@ -78,18 +78,20 @@ pub fn encoder_list(list: &str) -> Result<Vec<NamedEncoder>> {
     };
     let mut v = crate::encoders::build_list(&list)?;
     let beyond: Vec<String> = v.iter().filter(|e| e.encoder.reads_radiance()).map(|e| e.name.clone()).collect();
+    let surface: Vec<String> = v.iter().filter(|e| e.encoder.needs_surface_normal()).map(|e| e.name.clone()).collect();
     if all {
         v.retain(|e| !e.encoder.needs_surface_normal() && !e.encoder.reads_radiance());
         noteln!(
-            "--encoders all: left out {} (fitted from the light beyond L2 SH, which a probe does not store) and the \
-             encoders defined only about a surface normal",
-            beyond.join(", ")
+            "--encoders all: left out {} (fitted from the light beyond L2 SH, which a probe does not store) and {} \
+             (they need a surface normal N, which a probe does not have)",
+            beyond.join(", "),
+            surface.join(", ")
         );
-    } else if let Some(e) = v.iter().find(|e| e.encoder.needs_surface_normal()) {
+    } else if let Some(e) = surface.first() {
         bail!(
-            "--encoders: '{}' is defined only on the hemisphere about a surface normal N; probes are spheres \
-             without one",
-            e.name
+            "--encoders: {}; a probe is a sphere of light with no surface: score it on a map with `eval --domain \
+             hemisphere:AXIS` or an experiment with domain = \"hemisphere\"",
+            crate::encoders::encoder::surface_normal_refusal(e)
         );
     } else if !beyond.is_empty() {
         bail!(
