@@ -10,7 +10,7 @@
 //!   Setting the variable (or running in CI) declares the maps present: the tests then run, and
 //!   a missing map fails them, loudly, rather than skipping. A build whose variable names no
 //!   folder holding the paper probes also prints a warning.
-//! - `gnu_parallel`: GNU parallel is on `PATH` (the README's sharding recipe needs it).
+//! - `gnu_parallel`: GNU parallel is on `PATH` (the sharding recipe of docs/scale.md needs it).
 //! - `mode_000_readable`: this user can open a file of mode 000 (root can), so the tests that a
 //!   permission-denied error is reported cannot run.
 

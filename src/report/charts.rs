@@ -3,7 +3,7 @@
 //! chart. Every chart reads its CSV by column name; a chart whose columns are absent is not
 //! drawn and says why (the report prints the reason).
 //!
-//! File formats read here (also in README, "Pictures and the report"):
+//! File formats read here (also in docs/report.md):
 //! - `table.csv` (the runner's): `map`, `encoder`, `rmse`; optional `metric` (rows of `exact`
 //!   are charted when present), `fit_ns` (the error-against-time chart needs it).
 //! - `sweep*.csv`: `knob,value,rmse,time_ns,label` — one chart per knob, one line per label;

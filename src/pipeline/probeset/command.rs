@@ -16,7 +16,7 @@ use std::path::PathBuf;
 #[derive(clap::Args, Debug)]
 pub struct ProbesArgs {
     /// A probe file: CSV (27 numbers a row, coefficient-major RGB) or raw little-endian f32
-    /// (.f32/.bin/.raw, 27 per probe). See README, "Probe sets".
+    /// (.f32/.bin/.raw, 27 per probe). See docs/scale.md.
     #[arg(long, conflicts_with = "synth", required_unless_present = "synth")]
     pub input: Option<PathBuf>,
     /// File format: csv or f32 (default: from the extension).
@@ -42,7 +42,7 @@ pub struct ProbesArgs {
     #[arg(long)]
     pub out: Option<PathBuf>,
     /// Quadrature rule NZxNPHI for encoders whose fit is not SH3 (6x12 is exact for outputs in SH
-    /// bands <= 5; fewer nodes are faster and approximate; see README).
+    /// bands <= 5; fewer nodes are faster and approximate; see docs/scale.md).
     #[arg(long, default_value = "6x12")]
     pub quadrature: String,
     /// Probes per chunk (memory in flight; results do not depend on it).

@@ -326,7 +326,7 @@ impl SetStats {
         self.shards.len() == self.shard_count
     }
 
-    /// The summary table (CSV): one row per encoder. Documented in README ("Probe sets").
+    /// The summary table (CSV): one row per encoder. Documented in docs/scale.md.
     pub fn summary_csv(&self) -> Result<Vec<u8>> {
         let num = crate::pipeline::table::num;
         // A statistic over no valid probe is empty, never 0.
