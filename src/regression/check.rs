@@ -293,12 +293,8 @@ pub struct PartialCheck {
 /// maps' rows are not, [`compare_with_baseline`] with `allow_missing`); nothing is written,
 /// since a baseline holds every map. Without a baseline there is nothing to compare with, and
 /// nothing is written either (a note, not a failure).
-pub fn check_partial(
-    out: &Path,
-    exp: &Experiment,
-    report: &RunReport,
-    tolerances: &Tolerances,
-) -> Result<PartialCheck> {
+/// The tolerances are read from `root` only when there is a baseline to compare with.
+pub fn check_partial(out: &Path, root: &Path, exp: &Experiment, report: &RunReport) -> Result<PartialCheck> {
     let dir = out.join(&exp.name);
     let found = exp.maps.len() - report.missing.len();
     let head = format!("{}: {found} of {} maps (missing: {})", exp.name, exp.maps.len(), report.missing.join(", "));
@@ -309,7 +305,7 @@ pub fn check_partial(
             text: format!("{head}; no baseline to compare with, nothing written"),
         });
     }
-    let c = compare_with_baseline(&dir, exp, report, tolerances, true)?;
+    let c = compare_with_baseline(&dir, exp, report, &Tolerances::load(root)?, true)?;
     crate::pipeline::output::note_fmt(format_args!("{}", c.report()));
     let numbers = c.comparison.numbers;
     Ok(if c.passed() {
