@@ -247,3 +247,43 @@ fn with_self_bounce_delegates_the_surface_refusal() {
     let out = root.run(&["run", good.to_str().unwrap(), "--out", root.path().join("out").to_str().unwrap()]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
 }
+
+/// `eval --format json`: the same rows as the CSV, keyed by the same columns, each score a JSON
+/// number equal to the CSV's cell (both print f64 in shortest round-trip form), empty cells
+/// `null`; a format other than csv or json is refused.
+#[test]
+fn eval_prints_json_with_the_csv_columns() {
+    let args = ["eval", "blender_city_256x128", "--encoders", "sh1,zh3_hallucinate", "--resolution", "32x16"];
+    let csv = parse_csv(&stdout_ok(&run(&args)));
+    let json: serde_json::Value =
+        serde_json::from_str(&stdout_ok(&run(&[&args[..], &["--format", "json"]].concat()))).unwrap();
+    let rows = json.as_array().expect("an array of rows");
+    assert_eq!(rows.len(), csv.len());
+    assert_eq!(rows.len(), 2);
+    for (j, c) in rows.iter().zip(&csv) {
+        let j = j.as_object().unwrap();
+        assert_eq!(j.len(), c.len(), "the same columns");
+        for (col, cell) in c {
+            let v = &j[col];
+            match v {
+                serde_json::Value::String(s) => assert_eq!(s, cell, "{col}"),
+                serde_json::Value::Null => assert!(cell.is_empty(), "{col}: null for '{cell}'"),
+                // Wall-clock columns differ between the two runs; only their type is compared.
+                serde_json::Value::Number(_) if col.ends_with("_ns") => {}
+                serde_json::Value::Number(n) => {
+                    // serde_json's default parser may round the last bit; the printer does not.
+                    let (a, b) = (n.as_f64().unwrap(), cell.parse::<f64>().unwrap());
+                    assert!((a - b).abs() <= 1e-15 * a.abs().max(b.abs()), "{col}: {a} vs {b}")
+                }
+                other => panic!("{col}: {other}"),
+            }
+        }
+        for col in ["rmse", "rel_rmse", "max_abs_err", "stored_scalars"] {
+            assert!(j[col].is_number(), "{col} is a number");
+        }
+        assert!(j["units"].as_str().unwrap().contains("E/pi") || j["units"].as_str().unwrap().contains("E/π"));
+    }
+    let out = run(&[&args[..], &["--format", "xml"]].concat());
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("xml"));
+}

@@ -20,8 +20,9 @@ fn fit_hallucination_from_a_probe_file() {
         let axis = DVec3::new(1.0, i as f64, 0.5).normalize();
         let sh = Light::Cap { axis, half_angle: *half, radiance: Rgb::new(3.0, 2.0, 1.0) }.sh()
             + constant(Rgb::splat(0.05 * i as f64));
+        // Coefficient-major, as `probes --save` writes: c0.r c0.g c0.b c1.r … c8.b.
         let nums: Vec<String> =
-            (0..3).flat_map(|c| (0..9).map(move |k| (c, k))).map(|(c, k)| sh[k][c].to_string()).collect();
+            (0..9).flat_map(|k| (0..3).map(move |c| (k, c))).map(|(k, c)| sh[k][c].to_string()).collect();
         text += &nums.join(",");
         text += "\n";
     }
@@ -40,4 +41,44 @@ fn fit_hallucination_from_a_probe_file() {
 
     let out = run(&["fit-hallucination"]);
     assert_eq!(out.status.code(), Some(2));
+}
+
+/// One probe format: the probes of two committed CC0 maps, written coefficient-major as
+/// `probes --save` writes them (c0.r c0.g c0.b c1.r … c8.b, shortest round-trip decimals), fit
+/// exactly as the maps themselves do; and the same file re-saved by `probes --save` as raw f32
+/// is read too. A channel-major reader would see other probes and print another fit.
+#[test]
+fn fit_hallucination_reads_the_probe_format_probes_writes() {
+    use common::harness::{repo, stdout_ok};
+    let maps = ["blender_city_256x128", "pmndrs_forest_256x128"];
+    let dir = tempfile::tempdir().unwrap();
+    let csv = dir.path().join("maps.csv");
+    let mut text = String::from("# the two maps' L2 radiance SH, coefficient-major\n");
+    for m in maps {
+        let map = probelab::envmap::load::load(&repo().join("envmaps").join(format!("{m}.exr"))).unwrap();
+        let sh = probelab::reference::projection::project(&map);
+        let nums: Vec<String> =
+            (0..9).flat_map(|k| (0..3).map(move |c| (k, c))).map(|(k, c)| format!("{:?}", sh[k][c])).collect();
+        text += &nums.join(",");
+        text += "\n";
+    }
+    std::fs::write(&csv, &text).unwrap();
+    let from_maps = stdout_ok(&run(&["fit-hallucination", maps[0], maps[1]]));
+    let from_file = stdout_ok(&run(&["fit-hallucination", "--probes", csv.to_str().unwrap()]));
+    let body = |s: &str| s.lines().filter(|l| !l.starts_with("maps:")).collect::<Vec<_>>().join("\n");
+    assert!(from_maps.contains("2 probe(s)"), "{from_maps}");
+    assert_eq!(body(&from_maps), body(&from_file), "the file's probes are the maps' probes");
+
+    // `probes --save` writes the set it reads; fit-hallucination reads what it wrote.
+    let f32 = dir.path().join("maps.f32");
+    stdout_ok(&run(&["probes", "--input", csv.to_str().unwrap(), "--encoders", "sh1", "--save", f32.to_str().unwrap()]));
+    let from_f32 = stdout_ok(&run(&["fit-hallucination", "--probes", f32.to_str().unwrap()]));
+    assert!(from_f32.contains("2 probe(s), 6 channel sample(s)"), "{from_f32}");
+    let resaved = dir.path().join("again.csv");
+    stdout_ok(&run(&["probes", "--input", csv.to_str().unwrap(), "--encoders", "sh1", "--save", resaved.to_str().unwrap()]));
+    let from_resaved = stdout_ok(&run(&["fit-hallucination", "--probes", resaved.to_str().unwrap()]));
+    assert_eq!(body(&from_resaved), body(&from_file), "probes --save (CSV) keeps every digit");
+    let out = run(&["fit-hallucination", "--probes", csv.to_str().unwrap(), "--format", "f64"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("unknown probe file format 'f64'"));
 }

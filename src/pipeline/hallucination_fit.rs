@@ -15,10 +15,9 @@
 //! (r, r²[, r³]) with weights L₀₀², without an intercept (a constant environment, r = 0, has no
 //! zonal term).
 //!
-//! **Probe files** (CSV): one probe per line, 27 numbers: the nine radiance SH coefficients of R,
-//! then of G, then of B, each in probelab's order and sign convention (FORMULAS §2: index 0 = L₀₀,
-//! 1..3 = L₁,₋₁ L₁,₀ L₁,₁, 4..8 = L₂,₋₂ … L₂,₂). Blank lines and lines starting with `#` are
-//! skipped; a first line that is not numeric is taken as a header.
+//! **Probe files**: the one probe format of `probelab probes` (`--input`, `--save`):
+//! coefficient-major L2 radiance SH, CSV or raw f32 (`pipeline::probeset::format`), so a set
+//! saved by `probes --save` is fitted as it is.
 
 use crate::encoders::encoder::named_weights;
 use crate::encoders::zh3::solve::{band2, l2_band};
@@ -162,55 +161,14 @@ pub fn parse_axis(s: &str) -> Result<AxisRule> {
     }
 }
 
-/// Parses a probe file's text (see the module docs); errors name `name`, the line and the fault.
-pub fn parse_probes(text: &str, name: &str) -> Result<Vec<Sh9>> {
-    let mut out = Vec::new();
-    let mut first = true;
-    for (i, line) in text.lines().enumerate() {
-        let line = line.trim();
-        if line.is_empty() || line.starts_with('#') {
-            continue;
-        }
-        let fields: Vec<&str> = line.split(',').map(str::trim).collect();
-        let nums: Result<Vec<f64>, _> = fields.iter().map(|f| f.parse::<f64>()).collect();
-        let nums = match nums {
-            Ok(n) => n,
-            Err(_) if first && fields.iter().any(|f| f.chars().any(|c| c.is_ascii_alphabetic())) => {
-                first = false;
-                continue; // header
-            }
-            Err(e) => bail!("{name}:{}: not a number ({e}): '{line}'", i + 1),
-        };
-        first = false;
-        if nums.len() != 27 {
-            bail!("{name}:{}: expected 27 numbers (9 SH coefficients of R, G, B), found {}", i + 1, nums.len());
-        }
-        if let Some(j) = nums.iter().position(|v| !v.is_finite()) {
-            bail!("{name}:{}: value {} is not finite", i + 1, j + 1);
-        }
-        let mut sh = Sh9::ZERO;
-        for c in 0..3 {
-            for k in 0..9 {
-                sh[k][c] = nums[9 * c + k];
-            }
-        }
-        if sh[0].min_element() < 0.0 {
-            bail!("{name}:{}: negative L00 (radiance SH of non-negative light have L00 >= 0)", i + 1);
-        }
-        out.push(sh);
-    }
-    if out.is_empty() {
-        bail!("{name}: no probes (expected lines of 27 numbers)");
-    }
-    Ok(out)
-}
-
 /// `probelab fit-hallucination`: the radiance SH of the named maps (exact projection) and of
-/// the probe file (name, text), fitted and reported as text.
+/// the probe file (read as `probes --input` reads it; `format` as its `--format`), fitted and
+/// reported as text.
 pub fn run(
     search: &crate::envmap::search::SearchPath,
     maps: &[String],
-    probe_file: Option<(String, String)>,
+    probe_file: Option<&std::path::Path>,
+    format: Option<&str>,
     axis: &str,
     cubic: bool,
 ) -> Result<String> {
@@ -219,8 +177,8 @@ pub fn run(
     for m in maps {
         probes.push(crate::reference::projection::project(&search.load(m)?));
     }
-    if let Some((name, text)) = probe_file {
-        probes.extend(parse_probes(&text, &name)?);
+    if let Some(path) = probe_file {
+        probes.extend(crate::pipeline::probeset::format::read_all(path, format)?);
     }
     if probes.is_empty() {
         bail!("fit-hallucination: give map names and/or --probes FILE");
@@ -319,24 +277,5 @@ mod tests {
         // A delta light has r = √3.
         let (d, _) = samples(&[delta_light(axis, Rgb::ONE)], AxisRule::Channel);
         assert!((d[0].ratio - 3f64.sqrt()).abs() < 1e-14);
-    }
-
-    #[test]
-    fn probe_files() {
-        let row: Vec<String> =
-            (0..27).map(|i| if i % 9 == 0 { "1".into() } else { format!("{}", 0.01 * i as f64) }).collect();
-        let text = format!("r0,r1\n# comment\n{}\n\n{}\n", row.join(","), row.join(", "));
-        let p = parse_probes(&text, "p.csv").unwrap();
-        assert_eq!(p.len(), 2);
-        assert_eq!(p[0][1].x, 0.01);
-        assert_eq!(p[0][1].y, 0.1);
-        let e = parse_probes("1,2,3\n", "p.csv").err().unwrap().to_string();
-        assert!(e.contains("p.csv:1") && e.contains("27"), "{e}");
-        let e = parse_probes(&format!("{}\n1,x\n", row.join(",")), "p.csv").err().unwrap().to_string();
-        assert!(e.contains("p.csv:2") && e.contains("not a number"), "{e}");
-        let mut bad = row.clone();
-        bad[3] = "nan".into();
-        assert!(parse_probes(&bad.join(","), "p.csv").err().unwrap().to_string().contains("not finite"));
-        assert!(parse_probes("# nothing\n", "p.csv").is_err());
     }
 }
