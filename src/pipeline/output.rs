@@ -48,9 +48,12 @@ pub fn write_fmt(args: fmt::Arguments) -> Result<(), StdoutError> {
     write(args.to_string().as_bytes())
 }
 
-/// Writes formatted text to stderr, ignoring any error (what `noteln!` calls).
+/// Writes formatted text to stderr, ignoring any error (what `noteln!` calls); above the
+/// progress bars, when they are drawn ([`crate::pipeline::progress::suspend`]).
 pub fn note_fmt(args: fmt::Arguments) {
-    let _ = std::io::stderr().lock().write_fmt(args);
+    crate::pipeline::progress::suspend(|| {
+        let _ = std::io::stderr().lock().write_fmt(args);
+    });
 }
 
 /// The exit code and message of a failed command: a [`StdoutError`] anywhere in the chain

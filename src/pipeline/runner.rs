@@ -176,7 +176,9 @@ pub fn run(exp: &Experiment, search: &SearchPath) -> Result<RunReport> {
         }
         found.push(path);
     }
+    let progress = crate::pipeline::progress::Progress::new(found.len() as u64, &format!("{}: maps", exp.name));
     for path in found {
+        progress.message(path.file_stem().unwrap_or_default().to_string_lossy().into_owned());
         // Load first: the loader refuses what is not a regular file (reading a FIFO would block).
         let map = {
             let _s = crate::pipeline::profile::span("decode");
@@ -190,7 +192,9 @@ pub fn run(exp: &Experiment, search: &SearchPath) -> Result<RunReport> {
             sha256: map.sha256.clone().unwrap_or_default(),
         });
         rows.extend(run_map(exp, &map));
+        progress.inc();
     }
+    progress.finish();
     Ok(RunReport { rows, maps, missing })
 }
 

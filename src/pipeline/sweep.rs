@@ -477,14 +477,20 @@ pub fn sweep_map_with(
 /// Runs a sweep over the maps the search path finds; returns rows and the missing maps.
 pub fn run(sweep: &Sweep, search: &SearchPath) -> Result<(Vec<SweepRow>, Vec<String>)> {
     let (mut rows, mut missing) = (Vec::new(), Vec::new());
+    let progress =
+        crate::pipeline::progress::Progress::new(sweep.exp.maps.len() as u64, &format!("sweep {}: maps", sweep.name));
     for name in &sweep.exp.maps {
+        progress.message(name.clone());
         let Ok(path) = search.resolve(name) else {
             missing.push(name.clone());
+            progress.inc();
             continue;
         };
         let map = crate::envmap::load::load(&path)?;
         rows.extend(sweep_map(sweep, &map)?);
+        progress.inc();
     }
+    progress.finish();
     Ok((rows, missing))
 }
 

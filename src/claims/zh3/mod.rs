@@ -55,17 +55,26 @@ pub type MapsUsed = Vec<(String, String)>;
 /// Runs every ZH3 measurement on the maps the search path has; returns the tables and the
 /// maps used.
 pub fn measure(search: &SearchPath) -> Result<(Vec<Measure>, MapsUsed)> {
+    let progress = crate::pipeline::progress::Progress::new(8, "claims: ZH3 measurements");
     let grid = cases::grid();
     let (cases, maps) = cases::probes(search, &grid)?;
-    let out = vec![
-        axis::z1(&grid)?,
-        axis::z2(&grid, &cases)?,
-        axis::z3(&grid, &cases)?,
-        axis::z4(&grid, &cases)?,
-        geomerics::z5(&grid, &cases)?,
-        blending::zh3_blend(&grid)?,
-        quantisation::quantised_sizes(&grid, &cases)?,
+    progress.inc();
+    type Step<'a> = (&'static str, Box<dyn Fn() -> Result<Measure> + 'a>);
+    let steps: Vec<Step> = vec![
+        ("Z1", Box::new(|| axis::z1(&grid))),
+        ("Z2", Box::new(|| axis::z2(&grid, &cases))),
+        ("Z3", Box::new(|| axis::z3(&grid, &cases))),
+        ("Z4", Box::new(|| axis::z4(&grid, &cases))),
+        ("Z5", Box::new(|| geomerics::z5(&grid, &cases))),
+        ("blending", Box::new(|| blending::zh3_blend(&grid))),
+        ("quantisation", Box::new(|| quantisation::quantised_sizes(&grid, &cases))),
     ];
+    let mut out = Vec::new();
+    for (what, step) in steps {
+        progress.message(what);
+        out.push(step()?);
+        progress.inc();
+    }
     Ok((out, maps))
 }
 

@@ -9,6 +9,7 @@ use crate::pipeline::probeset::score::{score, SetStats, Source, SphereRule};
 use crate::pipeline::probeset::shard::Shard;
 use crate::pipeline::probeset::synth::{scene_palette, Synth};
 use anyhow::{bail, Context, Result};
+use crate::pipeline::progress::Progress;
 use rayon::prelude::*;
 use std::path::PathBuf;
 
@@ -173,18 +174,29 @@ pub fn command(a: ProbesArgs, search: &crate::envmap::search::SearchPath) -> Res
         }
         (None, None) => bail!("give --input FILE or --synth N"),
     };
+    // Probes read so far (the bar advances as each chunk arrives); a synthetic shard's length
+    // is known, a file's is not counted ahead.
+    let progress = match &source {
+        Source::Synth { start, end, .. } => Progress::new(end - start, "probes"),
+        _ => Progress::counter("probes"),
+    };
     let stats = match &a.save {
         Some(path) => {
             let format = Format::resolve(path, None)?;
             let mut first = true;
             crate::pipeline::atomic::write_with(path, |w| {
                 score(&mut source, &source_id, shard, &encoders, &rule, a.chunk, |c| {
+                    progress.inc_by(c.len() as u64);
                     write_probes(w, format, c, std::mem::take(&mut first))
                 })
             })?
         }
-        None => score(&mut source, &source_id, shard, &encoders, &rule, a.chunk, |_| Ok(()))?,
+        None => score(&mut source, &source_id, shard, &encoders, &rule, a.chunk, |c| {
+            progress.inc_by(c.len() as u64);
+            Ok(())
+        })?,
     };
+    progress.finish();
     if let Some(out) = &a.out {
         crate::pipeline::atomic::write(out, stats.to_toml()?.as_bytes())?;
         noteln!("wrote {}", out.display());
