@@ -478,11 +478,14 @@ pub fn sweep_map_with(
 pub fn run(sweep: &Sweep, search: &SearchPath) -> Result<(Vec<SweepRow>, Vec<String>)> {
     let (mut rows, mut missing) = (Vec::new(), Vec::new());
     for name in &sweep.exp.maps {
-        let Ok(path) = search.resolve(name) else {
-            missing.push(name.clone());
-            continue;
+        let map = match search.open(name) {
+            Ok(m) => m,
+            Err(crate::envmap::search::OpenError::NotFound(_)) => {
+                missing.push(name.clone());
+                continue;
+            }
+            Err(crate::envmap::search::OpenError::Load(e)) => return Err(e.into()),
         };
-        let map = crate::envmap::load::load(&path)?;
         rows.extend(sweep_map(sweep, &map)?);
     }
     Ok((rows, missing))
