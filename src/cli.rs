@@ -351,7 +351,9 @@ pub fn main_with(cli: Cli) -> Result<i32> {
             let exp = eval_experiment(maps, &list, &domain, &metric, &resolution, polar_nodes)?;
             let report = runner::run(&exp, &search)?;
             if !report.missing.is_empty() {
-                bail!("map(s) not found: {}\nSearched: {}", report.missing.join(", "), describe_search(&search));
+                let why: Vec<String> =
+                    report.missing.iter().zip(&report.missing_why).map(|(m, w)| format!("{m} ({w})")).collect();
+                bail!("map(s) not found: {}\nSearched: {}", why.join(", "), describe_search(&search));
             }
             output::write(&table::to_csv(&report.rows)?)?;
             Ok(0)
