@@ -472,8 +472,11 @@ fn import_maps(inputs: &[PathBuf], out: &Path) -> Result<i32> {
         }
     }
     if !errors.is_empty() {
-        bail!("{}
-nothing written", errors.join("\n"));
+        bail!(
+            "{}
+nothing written",
+            errors.join("\n")
+        );
     }
     let _lock = writing(out)?;
     // A file already there is kept when it has the pixels made, and refused otherwise, before

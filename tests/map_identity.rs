@@ -60,10 +60,7 @@ fn peer_hdr_files_have_the_pixels_of_our_exr_copies() {
 /// The acceptance of issue 18: with only the peer's folder on the search path, `check` of the
 /// two experiments that use exactly the five probes passes, reading every map from a `.hdr`.
 #[test]
-#[cfg_attr(
-    not(shared_maps),
-    ignore = "needs PROBELAB_ENVMAPS with the paper probes (Probulator's Data/Probes/*.hdr)"
-)]
+#[cfg_attr(not(shared_maps), ignore = "needs PROBELAB_ENVMAPS with the paper probes (Probulator's Data/Probes/*.hdr)")]
 fn check_passes_on_the_peer_hdr_files_alone() {
     let out = common::harness::probelab()
         .args(["--no-timing", "check", "sh_baseline", "probulator_parity"])

@@ -61,9 +61,8 @@ pub fn pixel_sha256(map: &EnvMap) -> String {
 /// which would round to infinity.
 pub fn halved(map: &EnvMap) -> Result<EnvMap, String> {
     let texels: Vec<Texel> = map.texels().iter().map(|t| t.map(to_half)).collect();
-    let mut out = EnvMap::new(map.name.clone(), map.width(), map.height(), texels).map_err(|e| {
-        format!("{e} after rounding to half: a texel is above 65504, the largest half-float value")
-    })?;
+    let mut out = EnvMap::new(map.name.clone(), map.width(), map.height(), texels)
+        .map_err(|e| format!("{e} after rounding to half: a texel is above 65504, the largest half-float value"))?;
     out.path = map.path.clone();
     out.sha256 = map.sha256.clone();
     Ok(out)
@@ -96,8 +95,7 @@ mod tests {
     #[test]
     fn pixel_sha256_hashes_the_documented_bytes() {
         let map = EnvMap::new("m", 2, 1, vec![[1.0, 0.5, 2.0], [0.0, 1.0, 0.0]]).unwrap();
-        let bytes: [u8; 20] =
-            [2, 0, 0, 0, 1, 0, 0, 0, 0x00, 0x3c, 0x00, 0x38, 0x00, 0x40, 0, 0, 0x00, 0x3c, 0, 0];
+        let bytes: [u8; 20] = [2, 0, 0, 0, 1, 0, 0, 0, 0x00, 0x3c, 0x00, 0x38, 0x00, 0x40, 0, 0, 0x00, 0x3c, 0, 0];
         let want: String = Sha256::digest(bytes).iter().map(|b| format!("{b:02x}")).collect();
         assert_eq!(pixel_sha256(&map), want);
         // A value that rounds to the same half is the same map; one half step away is not.

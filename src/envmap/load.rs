@@ -195,10 +195,16 @@ fn hex(digest: &[u8]) -> String {
 /// file is removed.
 pub fn write_exr(path: &Path, map: &EnvMap) -> Result<(), WriteError> {
     write_atomically(path, |tmp_path, file| {
-        write_exr_to(path, tmp_path, file, |pos: Vec2<usize>| {
-            let [r, g, b] = map.texel(pos.x(), pos.y());
-            (r, g, b)
-        }, map)
+        write_exr_to(
+            path,
+            tmp_path,
+            file,
+            |pos: Vec2<usize>| {
+                let [r, g, b] = map.texel(pos.x(), pos.y());
+                (r, g, b)
+            },
+            map,
+        )
     })
 }
 
@@ -210,10 +216,16 @@ pub fn write_exr_half(path: &Path, map: &EnvMap) -> Result<(), WriteError> {
     use exr::prelude::f16;
     let h = |v: f32| f16::from_bits(crate::envmap::identity::half_bits(v));
     write_atomically(path, |tmp_path, file| {
-        write_exr_to(path, tmp_path, file, |pos: Vec2<usize>| {
-            let [r, g, b] = map.texel(pos.x(), pos.y());
-            (h(r), h(g), h(b))
-        }, map)
+        write_exr_to(
+            path,
+            tmp_path,
+            file,
+            |pos: Vec2<usize>| {
+                let [r, g, b] = map.texel(pos.x(), pos.y());
+                (h(r), h(g), h(b))
+            },
+            map,
+        )
     })
 }
 

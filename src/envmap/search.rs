@@ -256,21 +256,11 @@ pub fn table_name(name: &str, path: &Path) -> String {
 fn passed_over(path: &Path, map: &EnvMap, pixels: &str, k: &KnownMap) -> String {
     let what = match known::by_pixels(pixels) {
         Some(other) => format!("its pixels are the known map {}, not {}", other.name, k.name),
-        None => format!(
-            "its pixels are not those of {} ({}x{}, pixel sha256 {})",
-            k.name,
-            k.width,
-            k.height,
-            k.short()
-        ),
+        None => {
+            format!("its pixels are not those of {} ({}x{}, pixel sha256 {})", k.name, k.width, k.height, k.short())
+        }
     };
-    format!(
-        "{} ({}x{}, pixel sha256 {}: {what})",
-        path.display(),
-        map.width(),
-        map.height(),
-        &pixels[..12]
-    )
+    format!("{} ({}x{}, pixel sha256 {}: {what})", path.display(), map.width(), map.height(), &pixels[..12])
 }
 
 #[cfg(test)]

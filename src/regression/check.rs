@@ -278,11 +278,7 @@ pub fn compare_with_baseline(
                 Some(r) if r.sha256 == m.sha256 && (r.width, r.height) == (m.width, m.height) => {}
                 Some(r) if same_map(r, m) => findings.push(Finding::MapSamePixels {
                     map: m.name.clone(),
-                    file: m
-                        .path
-                        .as_ref()
-                        .map(|p| p.display().to_string())
-                        .unwrap_or_else(|| "(no file)".into()),
+                    file: m.path.as_ref().map(|p| p.display().to_string()).unwrap_or_else(|| "(no file)".into()),
                     pixel_sha256: m.pixel_sha256.clone(),
                 }),
                 Some(r) => {
