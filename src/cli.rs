@@ -149,14 +149,33 @@ pub enum Command {
     },
     /// List the encoders.
     Encoders,
-    /// Show the map search path and which maps it finds.
-    Maps,
+    /// Show the map search path and which maps it finds; `maps import` makes 256x128 maps.
+    Maps {
+        #[command(subcommand)]
+        command: Option<MapsCommand>,
+    },
     /// Score encoders over a probe set (a file, or --synth N), in chunks and optionally sharded.
     Probes(crate::pipeline::probeset::ProbesArgs),
     /// Merge shard statistics written by `probes --out`.
     Merge(crate::pipeline::probeset::MergeArgs),
     /// Vary one accuracy knob and record error against time (experiments/sweeps/*.toml).
     Sweep(crate::pipeline::sweep::SweepArgs),
+}
+
+/// The subcommands of `probelab maps`.
+#[derive(Subcommand, Debug)]
+pub enum MapsCommand {
+    /// Make the 256x128 maps of map files as the shared ones were made (decode, half, solid-angle-
+    /// weighted area average when larger), name them through the known maps (envmaps/known.toml)
+    /// and write <name>.exr into --out; prints each with its pixel sha256 (docs/maps.md).
+    Import {
+        /// Map files (.exr, .hdr), or folders: every .exr and .hdr file directly in them.
+        #[arg(required = true)]
+        inputs: Vec<PathBuf>,
+        /// Folder to write the maps into (created if absent).
+        #[arg(long)]
+        out: PathBuf,
+    },
 }
 
 /// The most worker threads `--jobs` may ask for.
@@ -339,7 +358,9 @@ pub fn main_with(cli: Cli) -> Result<i32> {
             let exp = eval_experiment(maps, &list, &domain, &metric, &resolution, polar_nodes)?;
             let report = runner::run(&exp, &search)?;
             if !report.missing.is_empty() {
-                bail!("map(s) not found: {}\nSearched: {}", report.missing.join(", "), describe_search(&search));
+                let why: Vec<String> =
+                    report.missing.iter().zip(&report.missing_why).map(|(m, w)| format!("{m} ({w})")).collect();
+                bail!("map(s) not found: {}\nSearched: {}", why.join(", "), describe_search(&search));
             }
             output::write(&if format == "json" { table::to_json(&report.rows)? } else { table::to_csv(&report.rows)? })?;
             Ok(0)
@@ -387,7 +408,8 @@ pub fn main_with(cli: Cli) -> Result<i32> {
             output::write(text.as_bytes())?;
             Ok(0)
         }
-        Command::Maps => {
+        Command::Maps { command: Some(MapsCommand::Import { inputs, out }) } => import_maps(&inputs, &out),
+        Command::Maps { command: None } => {
             let mut text = format!("search path: {}\n", describe_search(&search));
             for d in search.dirs() {
                 let Ok(entries) = std::fs::read_dir(d) else {
@@ -414,6 +436,98 @@ pub fn main_with(cli: Cli) -> Result<i32> {
             crate::pipeline::sweep::command(args, &root, &search)
         }
     }
+}
+
+/// `probelab maps import` (`envmap::import`): every input is read and derived before anything
+/// is written (a bad file writes nothing); a map whose file already exists in `out` with the
+/// same pixels is left as it is, one with other pixels is refused; each is written atomically.
+fn import_maps(inputs: &[PathBuf], out: &Path) -> Result<i32> {
+    let mut files = Vec::new();
+    for p in inputs {
+        if p.is_dir() {
+            let entries = std::fs::read_dir(p).with_context(|| format!("{}: cannot list the folder", p.display()))?;
+            let mut found: Vec<PathBuf> = entries
+                .filter_map(|e| e.ok().map(|e| e.path()))
+                .filter(|f| f.is_file() && f.extension().is_some_and(|x| x == "exr" || x == "hdr"))
+                .collect();
+            if found.is_empty() {
+                bail!("{}: no .exr or .hdr file in this folder", p.display());
+            }
+            found.sort();
+            files.extend(found);
+        } else {
+            files.push(p.clone());
+        }
+    }
+    let mut made: Vec<(PathBuf, crate::envmap::EnvMap, crate::envmap::import::Imported)> = Vec::new();
+    let mut errors = Vec::new();
+    for f in &files {
+        let source = match crate::envmap::load::load(f) {
+            Ok(m) => m,
+            Err(e) => {
+                errors.push(e.to_string());
+                continue;
+            }
+        };
+        match crate::envmap::import::derive(&source) {
+            Ok(d) if made.iter().any(|m| m.2.name == d.name) => {
+                errors.push(format!("{}: gives the map {}, as an earlier input does", f.display(), d.name))
+            }
+            Ok(d) => made.push((f.clone(), source, d)),
+            Err(e) => errors.push(format!("{}: {e}", f.display())),
+        }
+    }
+    if !errors.is_empty() {
+        bail!(
+            "{}
+nothing written",
+            errors.join("\n")
+        );
+    }
+    let _lock = writing(out)?;
+    // A file already there is kept when it has the pixels made, and refused otherwise, before
+    // anything is written.
+    let mut kept = Vec::new();
+    for (f, _, d) in &made {
+        let target = out.join(format!("{}.exr", d.name));
+        let same = match target.exists() {
+            false => false,
+            true if crate::envmap::identity::pixel_sha256(&crate::envmap::load::load(&target)?) == d.pixel_sha256 => {
+                true
+            }
+            true => bail!(
+                "{}: exists with other pixels than the map made from {}; nothing written (remove it first)",
+                target.display(),
+                f.display()
+            ),
+        };
+        kept.push(same);
+    }
+    let mut lines = String::new();
+    for ((f, source, d), &kept) in made.iter().zip(&kept) {
+        let target = out.join(format!("{}.exr", d.name));
+        if !kept {
+            crate::envmap::load::write_exr_half(&target, &d.map)?;
+        }
+        let how = if d.averaged {
+            format!("{}x{} averaged to 256x128", source.width(), source.height())
+        } else {
+            "256x128, as is".to_string()
+        };
+        let known = match d.known {
+            Some(k) => format!("known map {} ({}; {})", k.name, k.source, k.licence),
+            None => "not a known map".to_string(),
+        };
+        lines += &format!(
+            "{}{} <- {} ({how}): pixel sha256 {}, {known}\n",
+            target.display(),
+            if kept { " (already there, unchanged)" } else { "" },
+            f.display(),
+            d.pixel_sha256
+        );
+    }
+    output::write(lines.as_bytes())?;
+    Ok(0)
 }
 
 /// Takes the exclusive lock on an output folder for a writing command (waiting, with a note,

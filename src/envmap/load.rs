@@ -10,7 +10,8 @@
 //! starts with the file path and says what is wrong; a decoder panic on malformed data is
 //! caught and reported as an error too.
 //!
-//! [`write_exr`] writes a single-part scanline f32 RGB EXR with ZIP compression,
+//! [`write_exr`] writes a single-part scanline f32 RGB EXR with ZIP compression, and
+//! [`write_exr_half`] the same with half channels (the format of the shared maps), each
 //! atomically (temporary file in the same directory, then rename).
 
 use super::{EnvMap, MapError, Texel};
@@ -193,8 +194,46 @@ fn hex(digest: &[u8]) -> String {
 /// renamed over `path`, so readers never see a partial file. On failure the temporary
 /// file is removed.
 pub fn write_exr(path: &Path, map: &EnvMap) -> Result<(), WriteError> {
+    write_atomically(path, |tmp_path, file| {
+        write_exr_to(
+            path,
+            tmp_path,
+            file,
+            |pos: Vec2<usize>| {
+                let [r, g, b] = map.texel(pos.x(), pos.y());
+                (r, g, b)
+            },
+            map,
+        )
+    })
+}
+
+/// Writes `map` to `path` like [`write_exr`], with half-float R, G, B channels: each texel
+/// rounded to the nearest half ([`crate::envmap::identity::to_half`]), as the shared maps are
+/// stored (`SOURCES.md`), so that [`load`] reads back exactly the halves the map's pixel sha256
+/// names. The caller checks the values fit in a half (`identity::halved`).
+pub fn write_exr_half(path: &Path, map: &EnvMap) -> Result<(), WriteError> {
+    use exr::prelude::f16;
+    let h = |v: f32| f16::from_bits(crate::envmap::identity::half_bits(v));
+    write_atomically(path, |tmp_path, file| {
+        write_exr_to(
+            path,
+            tmp_path,
+            file,
+            |pos: Vec2<usize>| {
+                let [r, g, b] = map.texel(pos.x(), pos.y());
+                (h(r), h(g), h(b))
+            },
+            map,
+        )
+    })
+}
+
+/// Runs `write` on a new temporary file beside `path`, then renames it over `path`; on
+/// failure the temporary file is removed.
+fn write_atomically(path: &Path, write: impl FnOnce(&Path, File) -> Result<(), WriteError>) -> Result<(), WriteError> {
     let (tmp_path, file) = create_temp_beside(path)?;
-    let result = write_exr_to(path, &tmp_path, file, map).and_then(|()| {
+    let result = write(&tmp_path, file).and_then(|()| {
         fs::rename(&tmp_path, path).map_err(|cause| WriteError::Io {
             path: path.to_path_buf(),
             action: "rename the temporary file onto the target",
@@ -208,13 +247,16 @@ pub fn write_exr(path: &Path, map: &EnvMap) -> Result<(), WriteError> {
     result
 }
 
-/// Encodes `map` into the already created temporary file `file` (at `tmp_path`) and syncs
-/// it. Errors name the final `path`.
-fn write_exr_to(path: &Path, tmp_path: &Path, file: File, map: &EnvMap) -> Result<(), WriteError> {
-    let channels = SpecificChannels::rgb(|pos: Vec2<usize>| {
-        let [r, g, b] = map.texel(pos.x(), pos.y());
-        (r, g, b)
-    });
+/// Encodes the pixels `pixel` gives for each position of `map`'s grid into the already
+/// created temporary file `file` (at `tmp_path`) and syncs it. Errors name the final `path`.
+fn write_exr_to<S: exr::prelude::IntoSample + Sync>(
+    path: &Path,
+    tmp_path: &Path,
+    file: File,
+    pixel: impl Fn(Vec2<usize>) -> (S, S, S) + Sync,
+    map: &EnvMap,
+) -> Result<(), WriteError> {
+    let channels = SpecificChannels::rgb(pixel);
     let encoding =
         Encoding { compression: Compression::ZIP16, blocks: Blocks::ScanLines, line_order: LineOrder::Increasing };
     let attributes = LayerAttributes { software_name: Some(Text::from("probelab")), ..LayerAttributes::default() };

@@ -8,8 +8,12 @@
 //! integrates a map (the SH projection, the exact reference) integrates those cells, not
 //! point samples at their centres.
 
+pub mod identity;
+pub mod import;
+pub mod known;
 pub mod load;
 pub mod moments;
+pub mod resample;
 pub mod search;
 
 use crate::math::convention::direction;
@@ -29,6 +33,8 @@ pub struct EnvMap {
     pub path: Option<PathBuf>,
     /// The sha256 (hex) of the file it was read from, if from a file.
     pub sha256: Option<String>,
+    /// Its pixel sha256 (`identity`), when opened through the search path.
+    pub pixel_sha256: Option<String>,
     width: usize,
     height: usize,
     texels: Vec<Texel>,
@@ -80,7 +86,7 @@ impl EnvMap {
                 });
             }
         }
-        Ok(Self { name: name.into(), path: None, sha256: None, width, height, texels })
+        Ok(Self { name: name.into(), path: None, sha256: None, pixel_sha256: None, width, height, texels })
     }
 
     /// Builds a map by evaluating `f(i, j)` for every texel (row j, column i).

@@ -1,11 +1,22 @@
-//! Finding environment maps by name in a list of folders.
+//! Finding environment maps by name in a list of folders (docs/maps.md).
 //!
 //! The repository's `envmaps/` folder comes first, then every folder listed in the
 //! environment variable `PROBELAB_ENVMAPS` (colon-separated on Unix; empty entries are
 //! ignored). A name such as `grace_256x128` resolves to the first of
-//! `<dir>/grace_256x128.exr`, `<dir>/grace_256x128.hdr` found, trying each folder in order.
+//! `<dir>/grace_256x128.exr`, `<dir>/grace_256x128.hdr` found, trying each folder in order;
+//! then, for a known map ([`crate::envmap::known`]), to the first file under one of its aliases
+//! (`<dir>/grace.exr`, `<dir>/grace.hdr`: the peer tool's `Data/Probes/grace.hdr`).
+//!
+//! [`SearchPath::open`] reads the map and applies the identity rule
+//! ([`crate::envmap::identity`]): a known name only ever opens a file with that map's pixels (a
+//! file that has other pixels is passed over, and the not-found error says which and why), and
+//! a map whose pixels are a known map's is read as that map's half values, so that the peer's
+//! `.hdr` gives the same texels, and the same numbers, as the `.exr` the baselines were
+//! computed from.
 
-use super::load;
+use super::identity;
+use super::known::{self, KnownMap};
+use super::load::{self, LoadError};
 use super::EnvMap;
 use std::ffi::OsStr;
 use std::path::{Path, PathBuf, MAIN_SEPARATOR};
@@ -16,10 +27,11 @@ pub const ENV_VAR: &str = "PROBELAB_ENVMAPS";
 /// Why a map name could not be resolved to a file.
 #[derive(Debug, thiserror::Error, PartialEq, Eq)]
 pub enum SearchError {
-    /// No candidate file exists in any folder.
+    /// No candidate file exists in any folder, or none has the pixels of the known map named.
     #[error(
-        "map '{name}' not found{as_path}; searched: {searched} (set PROBELAB_ENVMAPS to a \
-         colon-separated list of folders; see README for where the paper probes come from)"
+        "map '{name}' not found{as_path}; searched: {searched}{} (set PROBELAB_ENVMAPS to a \
+         colon-separated list of folders; see docs/maps.md for where the paper probes come from)",
+        why_suffix(.rejected, .get)
     )]
     NotFound {
         /// The name asked for.
@@ -28,16 +40,62 @@ pub enum SearchError {
         as_path: String,
         /// Every folder searched, in order, each marked `(missing)` if it does not exist.
         searched: String,
+        /// Files found under the name or an alias of it but not taken, each with the reason.
+        rejected: Vec<String>,
+        /// For a known map: how to get it.
+        get: Option<String>,
     },
     /// The name is empty.
     #[error("empty map name")]
     EmptyName,
 }
 
+/// The part of the not-found message after the folders searched.
+fn why_suffix(rejected: &[String], get: &Option<String>) -> String {
+    let mut s = String::new();
+    if !rejected.is_empty() {
+        s += &format!("; not taken: {}", rejected.join("; "));
+    }
+    if let Some(g) = get {
+        s += &format!("; it is a known map, {g}");
+    }
+    s
+}
+
+impl SearchError {
+    /// Why the map is missing, in a few words (for one line of a report): the files passed
+    /// over and how to get the map if it is known, else that no file has its name.
+    pub fn reason(&self) -> String {
+        match self {
+            SearchError::NotFound { rejected, get, .. } if !rejected.is_empty() || get.is_some() => {
+                why_suffix(rejected, get).trim_start_matches("; ").to_string()
+            }
+            SearchError::NotFound { .. } => "no file of that name on the search path".to_string(),
+            SearchError::EmptyName => "empty map name".to_string(),
+        }
+    }
+}
+
+/// Why [`SearchPath::open`] failed: the map is not here, or a file found cannot be read.
+#[derive(Debug, thiserror::Error)]
+pub enum OpenError {
+    #[error(transparent)]
+    NotFound(#[from] SearchError),
+    #[error(transparent)]
+    Load(#[from] LoadError),
+}
+
 /// An ordered list of folders in which map names are looked up.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct SearchPath {
     dirs: Vec<PathBuf>,
+}
+
+/// A file that may hold the map asked for.
+struct Candidate {
+    path: PathBuf,
+    /// Found under an alias of a known map, not under the name itself.
+    alias: bool,
 }
 
 impl SearchPath {
@@ -70,40 +128,45 @@ impl SearchPath {
         &self.dirs
     }
 
-    /// Resolves a map name to a file.
+    /// Every file that may hold map `name`, in the order they are tried.
     ///
-    /// If `name` looks like a file path (contains a path separator or has an extension)
-    /// and something exists there (or cannot be inspected), that path is returned, so the
-    /// loader reports what is wrong with it (a directory, a FIFO, permission denied). Otherwise each folder in turn is
-    /// tried for `<dir>/<name>.exr`, `<dir>/<name>.hdr` and, if `name` has an extension,
-    /// `<dir>/<name>`; the first existing file wins. If none exists the error lists every
-    /// folder searched, marking those that do not exist.
-    pub fn resolve(&self, name: &str) -> Result<PathBuf, SearchError> {
-        if name.is_empty() {
-            return Err(SearchError::EmptyName);
-        }
+    /// If `name` looks like a file path (contains a path separator or has an extension) and
+    /// something exists there (or cannot be inspected), that path alone, so the loader reports
+    /// what is wrong with it (a directory, a FIFO, permission denied). Otherwise each folder in
+    /// turn for `<dir>/<name>.exr`, `<dir>/<name>.hdr` and, if `name` has an extension,
+    /// `<dir>/<name>`; then, for a known map, each folder for each alias `<dir>/<alias>.exr`,
+    /// `<dir>/<alias>.hdr`. Only existing files are listed.
+    fn candidates(&self, name: &str) -> Vec<Candidate> {
         let as_file = Path::new(name);
         let has_ext = as_file.extension().is_some();
-        let looks_like_path = has_ext || name.contains('/') || name.contains(MAIN_SEPARATOR);
-        if looks_like_path {
+        if looks_like_path(name) {
             // Anything at that path (a directory, a FIFO, a file that cannot be inspected)
             // goes to the loader, whose error says what is wrong with it; only a path that
             // does not exist falls through to the folders.
             match std::fs::metadata(as_file) {
-                Ok(_) => return Ok(as_file.to_path_buf()),
-                Err(e) if e.kind() != std::io::ErrorKind::NotFound => return Ok(as_file.to_path_buf()),
-                Err(_) => {}
+                Err(e) if e.kind() == std::io::ErrorKind::NotFound => {}
+                _ => return vec![Candidate { path: as_file.to_path_buf(), alias: false }],
             }
         }
-        for dir in &self.dirs {
-            let mut candidates = vec![dir.join(format!("{name}.exr")), dir.join(format!("{name}.hdr"))];
-            if has_ext {
-                candidates.push(dir.join(name));
+        let mut out = Vec::new();
+        let mut push = |stem: &str, alias: bool, with_name: bool| {
+            for dir in &self.dirs {
+                let mut files = vec![dir.join(format!("{stem}.exr")), dir.join(format!("{stem}.hdr"))];
+                if with_name {
+                    files.push(dir.join(stem));
+                }
+                out.extend(files.into_iter().filter(|c| c.is_file()).map(|path| Candidate { path, alias }));
             }
-            if let Some(found) = candidates.into_iter().find(|c| c.is_file()) {
-                return Ok(found);
-            }
+        };
+        push(name, false, has_ext);
+        for alias in known::by_name(name).map(|k| k.aliases.as_slice()).unwrap_or_default() {
+            push(alias, true, false);
         }
+        out
+    }
+
+    /// The error for a map none of whose candidates was taken.
+    fn not_found(&self, name: &str, rejected: Vec<String>) -> SearchError {
         let searched = if self.dirs.is_empty() {
             "(no folders)".to_string()
         } else {
@@ -113,15 +176,91 @@ impl SearchPath {
                 .collect::<Vec<_>>()
                 .join(", ")
         };
-        let as_path = if looks_like_path { " (no such file)".to_string() } else { String::new() };
-        Err(SearchError::NotFound { name: name.to_string(), as_path, searched })
+        let as_path = if looks_like_path(name) { " (no such file)".to_string() } else { String::new() };
+        let get = known::by_name(name).map(|k| format!("{}x{}, {}; {}", k.width, k.height, k.source, k.get));
+        SearchError::NotFound { name: name.to_string(), as_path, searched, rejected, get }
     }
 
-    /// Resolves `name` (see [`SearchPath::resolve`]) and loads the map with [`load::load`].
-    pub fn load(&self, name: &str) -> anyhow::Result<EnvMap> {
-        let path = self.resolve(name)?;
-        Ok(load::load(&path)?)
+    /// The file [`SearchPath::open`] would try first for `name` (see [`Self::candidates`]),
+    /// without reading it: for a known map found under an alias, whether its pixels are that
+    /// map's is only known once it is opened. If no file exists the error lists every folder
+    /// searched, marking those that do not exist.
+    pub fn resolve(&self, name: &str) -> Result<PathBuf, SearchError> {
+        if name.is_empty() {
+            return Err(SearchError::EmptyName);
+        }
+        match self.candidates(name).into_iter().next() {
+            Some(c) => Ok(c.path),
+            None => Err(self.not_found(name, Vec::new())),
+        }
     }
+
+    /// Finds and reads map `name` under the identity rule (module documentation): each
+    /// candidate in turn is loaded with [`load::load`]; for a known map the first whose pixel
+    /// sha256 is the map's is taken, the others are passed over and named in the not-found
+    /// error. A map whose pixels are a known map's is read as its halves
+    /// ([`identity::halved`]). The map is named `name` when `name` is a known map (so a file
+    /// found under an alias gives the rows of the map asked for), else after its file stem;
+    /// it carries its pixel sha256. A candidate that cannot be read is an error.
+    pub fn open(&self, name: &str) -> Result<EnvMap, OpenError> {
+        if name.is_empty() {
+            return Err(SearchError::EmptyName.into());
+        }
+        let wanted = known::by_name(name);
+        let mut rejected = Vec::new();
+        for c in self.candidates(name) {
+            let mut map = load::load(&c.path)?;
+            let pixels = identity::pixel_sha256(&map);
+            if let Some(k) = wanted.filter(|k| k.pixel_sha256 != pixels) {
+                rejected.push(passed_over(&c.path, &map, &pixels, k));
+                continue;
+            }
+            if known::by_pixels(&pixels).is_some() {
+                // A known map's halves are finite, so this cannot fail; were it to, the
+                // texels as read are kept.
+                if let Ok(h) = identity::halved(&map) {
+                    map = h;
+                }
+            }
+            if wanted.is_some() || c.alias {
+                map.name = name.to_string();
+            }
+            map.pixel_sha256 = Some(pixels);
+            return Ok(map);
+        }
+        Err(self.not_found(name, rejected).into())
+    }
+
+    /// [`SearchPath::open`], with any error as an `anyhow` error.
+    pub fn load(&self, name: &str) -> anyhow::Result<EnvMap> {
+        Ok(self.open(name)?)
+    }
+}
+
+/// Whether a map name is meant as a file path: it has a path separator or an extension.
+fn looks_like_path(name: &str) -> bool {
+    Path::new(name).extension().is_some() || name.contains('/') || name.contains(MAIN_SEPARATOR)
+}
+
+/// The name a map found at `path` for `name` gets in tables (what [`SearchPath::open`] names
+/// it): `name` itself for a known map, else the file stem.
+pub fn table_name(name: &str, path: &Path) -> String {
+    if known::by_name(name).is_some() {
+        return name.to_string();
+    }
+    path.file_stem().unwrap_or(path.as_os_str()).to_string_lossy().into_owned()
+}
+
+/// Why the file at `path` is not known map `k`: its size and pixel sha256, and the known map
+/// its pixels are, if any.
+fn passed_over(path: &Path, map: &EnvMap, pixels: &str, k: &KnownMap) -> String {
+    let what = match known::by_pixels(pixels) {
+        Some(other) => format!("its pixels are the known map {}, not {}", other.name, k.name),
+        None => {
+            format!("its pixels are not those of {} ({}x{}, pixel sha256 {})", k.name, k.width, k.height, k.short())
+        }
+    };
+    format!("{} ({}x{}, pixel sha256 {}: {what})", path.display(), map.width(), map.height(), &pixels[..12])
 }
 
 #[cfg(test)]
@@ -206,7 +345,7 @@ mod tests {
             b.display()
         );
         assert!(msg.starts_with(&expected), "{msg}");
-        assert!(msg.contains("README"), "{msg}");
+        assert!(msg.contains("docs/maps.md"), "{msg}");
         // A path-like name that does not exist says so, and still lists the folders.
         let msg = sp.resolve("sub/nope.exr").unwrap_err().to_string();
         assert!(msg.contains("'sub/nope.exr' not found (no such file)"), "{msg}");

@@ -8,7 +8,7 @@
 
 use crate::encoders::encoder::{Encoder, FitInput, Fitted};
 use crate::envmap::moments::RowMoments;
-use crate::envmap::search::SearchPath;
+use crate::envmap::search::{OpenError, SearchPath};
 use crate::envmap::EnvMap;
 use crate::math::cap::Cap;
 use crate::math::colour::Rgb;
@@ -133,37 +133,44 @@ pub struct MapInfo {
     pub path: Option<PathBuf>,
     pub width: usize,
     pub height: usize,
+    /// The file's sha256.
     pub sha256: String,
+    /// The pixel sha256 (`envmap::identity`): the map's identity whatever file holds it.
+    pub pixel_sha256: String,
 }
 
 /// What a run produced.
 pub struct RunReport {
     pub rows: Vec<Row>,
     pub maps: Vec<MapInfo>,
-    /// Maps not found on the search path (their rows are absent).
+    /// Maps not found on the search path (their rows are absent), in the experiment's order.
     pub missing: Vec<String>,
+    /// Why each of `missing` is missing (same order): `envmap::search::SearchError::reason`.
+    pub missing_why: Vec<String>,
 }
 
-/// Runs an experiment over the maps the search path finds. Maps that are not found are listed
-/// in `missing`; a map that is found but cannot be read is an error.
+/// Runs an experiment over the maps the search path finds. Maps that are not found (or, for a
+/// known map, found only in files with other pixels: `SearchPath::open`) are listed in
+/// `missing`; a map that is found but cannot be read is an error.
 pub fn run(exp: &Experiment, search: &SearchPath) -> Result<RunReport> {
     let mut rows = Vec::new();
     let mut maps = Vec::new();
-    let mut missing = Vec::new();
-    // Every map is resolved before any is loaded. Rows are keyed by the map's file stem: two
-    // entries naming one stem would give rows with identical keys, so that is refused before
-    // any work, naming the experiment file's line of the second.
+    let mut missing: Vec<(usize, String, String)> = Vec::new();
+    // Every map is located before any is loaded. Rows are keyed by the map's table name (its
+    // file stem, or the known map's name): two entries with one table name would give rows
+    // with identical keys, so that is refused before any work, naming the experiment file's
+    // line of the second.
     let mut stems = std::collections::HashMap::new();
     let mut found = Vec::new();
-    for name in &exp.maps {
+    for (k, name) in exp.maps.iter().enumerate() {
         let path = match search.resolve(name) {
             Ok(p) => p,
-            Err(_) => {
-                missing.push(name.clone());
+            Err(e) => {
+                missing.push((k, name.clone(), e.reason()));
                 continue;
             }
         };
-        let stem = path.file_stem().unwrap_or(path.as_os_str()).to_string_lossy().into_owned();
+        let stem = crate::envmap::search::table_name(name, &path);
         if let Some(first) = stems.insert(stem.clone(), name) {
             let at = match (&exp.source, exp.source_lines(std::slice::from_ref(name))[0]) {
                 (Some(file), Some(line)) => format!("{}:{line}: maps ", file.display()),
@@ -174,28 +181,39 @@ pub fn run(exp: &Experiment, search: &SearchPath) -> Result<RunReport> {
                 "{at}'{first}' and '{name}' are both the map '{stem}' (rows are keyed by the file stem); list it once"
             );
         }
-        found.push(path);
+        found.push((k, name));
     }
     let progress = crate::pipeline::progress::Progress::new(found.len() as u64, &format!("{}: maps", exp.name));
-    for path in found {
-        progress.message(path.file_stem().unwrap_or_default().to_string_lossy().into_owned());
+    for (k, name) in found {
+        progress.message(name.clone());
         // Load first: the loader refuses what is not a regular file (reading a FIFO would block).
         let map = {
             let _s = crate::pipeline::profile::span("decode");
-            crate::envmap::load::load(&path)?
+            match search.open(name) {
+                Ok(m) => m,
+                Err(OpenError::NotFound(e)) => {
+                    missing.push((k, name.clone(), e.reason()));
+                    progress.inc();
+                    continue;
+                }
+                Err(OpenError::Load(e)) => return Err(e.into()),
+            }
         };
         maps.push(MapInfo {
             name: map.name.clone(),
-            path: Some(path),
+            path: map.path.clone(),
             width: map.width(),
             height: map.height(),
             sha256: map.sha256.clone().unwrap_or_default(),
+            pixel_sha256: map.pixel_sha256.clone().unwrap_or_default(),
         });
         rows.extend(run_map(exp, &map));
         progress.inc();
     }
     progress.finish();
-    Ok(RunReport { rows, maps, missing })
+    missing.sort_by_key(|m| m.0);
+    let (missing, missing_why) = missing.into_iter().map(|(_, n, w)| (n, w)).unzip();
+    Ok(RunReport { rows, maps, missing, missing_why })
 }
 
 /// Per-map data computed once and shared by every case: the row moments (for the reference

@@ -481,12 +481,15 @@ pub fn run(sweep: &Sweep, search: &SearchPath) -> Result<(Vec<SweepRow>, Vec<Str
         crate::pipeline::progress::Progress::new(sweep.exp.maps.len() as u64, &format!("sweep {}: maps", sweep.name));
     for name in &sweep.exp.maps {
         progress.message(name.clone());
-        let Ok(path) = search.resolve(name) else {
-            missing.push(name.clone());
-            progress.inc();
-            continue;
+        let map = match search.open(name) {
+            Ok(m) => m,
+            Err(crate::envmap::search::OpenError::NotFound(_)) => {
+                missing.push(name.clone());
+                progress.inc();
+                continue;
+            }
+            Err(crate::envmap::search::OpenError::Load(e)) => return Err(e.into()),
         };
-        let map = crate::envmap::load::load(&path)?;
         rows.extend(sweep_map(sweep, &map)?);
         progress.inc();
     }

@@ -18,7 +18,7 @@ use crate::pipeline::experiment::{list_experiments, Experiment};
 use crate::pipeline::output::{noteln, outln};
 use crate::pipeline::runner::{self, RunReport};
 use crate::regression::baseline::{self, Comparison, Table, TABLE};
-use crate::regression::provenance::{self, Provenance};
+use crate::regression::provenance::{self, MapRecord, Provenance};
 use crate::regression::tolerance::{EncoderClass, Tolerance, Tolerances};
 use anyhow::{bail, Result};
 use std::fmt;
@@ -34,8 +34,12 @@ pub enum Finding {
     /// The table's sha256 is not the one its provenance records (edited by hand, merged, or
     /// an interrupted bless).
     TableEdited { recorded: String, actual: String },
-    /// A map of the experiment is not on this machine's search path.
-    MapMissing { map: String, allowed: bool },
+    /// A map of the experiment is not on this machine's search path (`why`: what was looked
+    /// for and passed over, and how to get it when it is a known map).
+    MapMissing { map: String, why: String, allowed: bool },
+    /// A map read from another file than the baseline's, with the same pixels
+    /// ([`same_map`]): its rows are compared. A note, never a failure.
+    MapSamePixels { map: String, file: String, pixel_sha256: String },
     /// A map's file differs from the one the baseline was computed from; its rows are not
     /// compared.
     MapChanged { map: String, old: String, new: String },
@@ -48,7 +52,7 @@ pub enum Finding {
 impl Finding {
     /// Whether this finding fails the check.
     pub fn fails(&self) -> bool {
-        !matches!(self, Finding::MapMissing { allowed: true, .. })
+        !matches!(self, Finding::MapMissing { allowed: true, .. } | Finding::MapSamePixels { .. })
     }
 }
 
@@ -67,12 +71,21 @@ impl fmt::Display for Finding {
                 &recorded[..recorded.len().min(12)],
                 &actual[..actual.len().min(12)]
             ),
-            Finding::MapMissing { map, allowed: false } => {
-                write!(f, "map {map} not found on this machine: its rows were not checked (--allow-missing to accept)")
+            Finding::MapMissing { map, why, allowed: false } => {
+                write!(
+                    f,
+                    "map {map} not found on this machine ({why}): its rows were not checked (--allow-missing to accept)"
+                )
             }
-            Finding::MapMissing { map, allowed: true } => {
-                write!(f, "map {map} not found on this machine: its rows were not checked (allowed)")
+            Finding::MapMissing { map, why, allowed: true } => {
+                write!(f, "map {map} not found on this machine ({why}): its rows were not checked (allowed)")
             }
+            Finding::MapSamePixels { map, file, pixel_sha256 } => write!(
+                f,
+                "map {map} read from {file}, not the baseline's file but the same pixels (pixel sha256 {}): its rows \
+                 were compared",
+                &pixel_sha256[..pixel_sha256.len().min(12)]
+            ),
             Finding::MapChanged { map, old, new } => {
                 write!(
                     f,
@@ -98,6 +111,8 @@ pub struct ExperimentCheck {
     pub findings: Vec<Finding>,
     pub comparison: Comparison,
     pub baseline: Option<Provenance>,
+    /// How many maps the experiment names.
+    pub maps: usize,
 }
 
 impl ExperimentCheck {
@@ -143,10 +158,21 @@ impl ExperimentCheck {
         );
         let unchecked = self.unchecked_maps();
         if self.passed() && unchecked > 0 {
+            let names: Vec<&str> = self
+                .findings
+                .iter()
+                .filter_map(|f| match f {
+                    Finding::MapMissing { map, .. } => Some(map.as_str()),
+                    _ => None,
+                })
+                .collect();
             s += &format!(
-                "{}: ok in the rows checked, but {unchecked} map(s) were not on this machine and their rows \
-                 were not checked ({counts})\n",
-                self.experiment
+                "{}: ok in the rows checked ({} of {} maps), but {unchecked} map(s) were not on this machine and \
+                 their rows were not checked: {} ({counts})\n",
+                self.experiment,
+                self.maps.saturating_sub(unchecked),
+                self.maps,
+                names.join(", ")
             );
         } else if self.passed() {
             s += &format!("{}: ok, nothing moved ({counts})\n", self.experiment);
@@ -207,8 +233,9 @@ pub fn compare_with_baseline(
     let fresh_bytes = crate::pipeline::table::to_csv(&report.rows)?;
     let fresh = Table::parse(&fresh_bytes, Path::new("(fresh table)"))?;
     let mut skip: Vec<String> = Vec::new();
-    for m in &report.missing {
-        findings.push(Finding::MapMissing { map: m.clone(), allowed: allow_missing });
+    for (k, m) in report.missing.iter().enumerate() {
+        let why = report.missing_why.get(k).cloned().unwrap_or_else(|| "not on the search path".into());
+        findings.push(Finding::MapMissing { map: m.clone(), why, allowed: allow_missing });
         skip.push(m.clone());
         skip.push(map_table_name(m));
     }
@@ -221,6 +248,7 @@ pub fn compare_with_baseline(
             findings,
             comparison: Comparison::default(),
             baseline: None,
+            maps: exp.maps.len(),
         });
     }
     let old_bytes =
@@ -248,6 +276,11 @@ pub fn compare_with_baseline(
         for m in &report.maps {
             match p.map(&m.name) {
                 Some(r) if r.sha256 == m.sha256 && (r.width, r.height) == (m.width, m.height) => {}
+                Some(r) if same_map(r, m) => findings.push(Finding::MapSamePixels {
+                    map: m.name.clone(),
+                    file: m.path.as_ref().map(|p| p.display().to_string()).unwrap_or_else(|| "(no file)".into()),
+                    pixel_sha256: m.pixel_sha256.clone(),
+                }),
                 Some(r) => {
                     findings.push(Finding::MapChanged {
                         map: m.name.clone(),
@@ -276,7 +309,29 @@ pub fn compare_with_baseline(
     };
     let comparison = baseline::compare(&old, &fresh, &|m| skip.iter().any(|s| s == m), &tolerance);
     findings.extend(comparison.changes.iter().cloned().map(Finding::Change));
-    Ok(ExperimentCheck { experiment: exp.name.clone(), dir: dir.to_path_buf(), findings, comparison, baseline: prov })
+    Ok(ExperimentCheck {
+        experiment: exp.name.clone(),
+        dir: dir.to_path_buf(),
+        findings,
+        comparison,
+        baseline: prov,
+        maps: exp.maps.len(),
+    })
+}
+
+/// The identity rule of `check` (docs/maps.md): a map whose file is not the one the baseline
+/// recorded is the same map when it has the same size and the same pixels
+/// ([`crate::envmap::identity`]): the pixel sha256 the provenance records, or, for a provenance
+/// written before pixel sha256s were recorded, a known map's
+/// ([`crate::envmap::known`]) whose known files include the recorded one.
+pub fn same_map(recorded: &MapRecord, fresh: &crate::pipeline::runner::MapInfo) -> bool {
+    if (recorded.width, recorded.height) != (fresh.width, fresh.height) || fresh.pixel_sha256.is_empty() {
+        return false;
+    }
+    if let Some(p) = &recorded.pixel_sha256 {
+        return *p == fresh.pixel_sha256;
+    }
+    crate::envmap::known::by_pixels(&fresh.pixel_sha256).is_some_and(|k| k.has_file(&recorded.sha256))
 }
 
 /// What `reproduce` did with an experiment run on only some of its maps.
@@ -666,17 +721,22 @@ mod tests {
         let c = ExperimentCheck {
             experiment: "x".into(),
             dir: PathBuf::from("results/x"),
-            findings: vec![Finding::MapMissing { map: "m".into(), allowed: true }],
+            findings: vec![Finding::MapMissing { map: "m".into(), why: "gone".into(), allowed: true }],
             comparison: Comparison::default(),
             baseline: None,
+            maps: 3,
         };
         assert!(c.passed());
         assert!(
-            c.report().contains("x: ok in the rows checked, but 1 map(s) were not on this machine"),
+            c.report().contains("x: ok in the rows checked (2 of 3 maps), but 1 map(s) were not on this machine"),
             "{}",
             c.report()
         );
-        let strict = ExperimentCheck { findings: vec![Finding::MapMissing { map: "m".into(), allowed: false }], ..c };
+        assert!(c.report().contains("x: map m not found on this machine (gone)"), "{}", c.report());
+        let strict = ExperimentCheck {
+            findings: vec![Finding::MapMissing { map: "m".into(), why: "gone".into(), allowed: false }],
+            ..c
+        };
         assert!(!strict.passed());
         assert!(strict.report().contains("x: FAILED: 1 map(s) changed, unrecorded or missing"), "{}", strict.report());
     }

@@ -23,7 +23,11 @@ use std::path::Path;
 /// The fresh measurements and the blending strips (as data), or why they were not taken (a
 /// map is missing).
 pub fn measure(search: &SearchPath) -> std::result::Result<(Vec<Measure>, Vec<BlendStrip>), String> {
-    let missing: Vec<&str> = crate::claims::zh3::MAPS.iter().copied().filter(|m| search.resolve(m).is_err()).collect();
+    let missing: Vec<&str> = crate::claims::zh3::MAPS
+        .iter()
+        .copied()
+        .filter(|m| matches!(search.open(m), Err(crate::envmap::search::OpenError::NotFound(_))))
+        .collect();
     if !missing.is_empty() {
         return Err(format!("map(s) not on the search path: {}", missing.join(", ")));
     }

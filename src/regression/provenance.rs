@@ -3,7 +3,7 @@
 //!
 //! It records what the numbers came from: the probelab version and git commit, the date, the
 //! experiment's settings (its file verbatim and the parsed values), each map's file name,
-//! sha256 and resolution, the reference method ([`crate::reference::exact::Reference::describe`]) and
+//! sha256, pixel sha256 and resolution, the reference method ([`crate::reference::exact::Reference::describe`]) and
 //! the sha256 of the table itself. `probelab check` reads the map checksums (a map that changed
 //! is reported, never compared silently) and the table checksum (a table edited by hand, or an
 //! interrupted `bless`, is reported). Nothing else in it counts as a change: a new date or
@@ -70,6 +70,10 @@ pub struct MapRecord {
     /// The file's name (not its folder, which depends on the machine).
     pub file: String,
     pub sha256: String,
+    /// The pixel sha256 (`envmap::identity`): the map's identity whatever file holds it.
+    /// Absent from files written before it was recorded (docs/maps.md).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pixel_sha256: Option<String>,
     pub width: usize,
     pub height: usize,
     /// The reference method the map was scored against.
@@ -130,6 +134,7 @@ impl Provenance {
                         .map(|f| f.to_string_lossy().into_owned())
                         .unwrap_or_default(),
                     sha256: m.sha256.clone(),
+                    pixel_sha256: Some(m.pixel_sha256.clone()).filter(|p| !p.is_empty()),
                     width: m.width,
                     height: m.height,
                     reference: report
@@ -255,6 +260,7 @@ mod tests {
                 name: "a".into(),
                 file: "a.exr".into(),
                 sha256: sha256_hex(b"a"),
+                pixel_sha256: Some(sha256_hex(b"pixels")),
                 width: 4,
                 height: 2,
                 reference: "exact".into(),

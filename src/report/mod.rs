@@ -164,10 +164,9 @@ pub fn generate(opts: &Options) -> Result<Generated> {
             .sheet_maps()
             .par_iter()
             .map(|m| -> Result<String> {
-                let path = opts.search.resolve(m).map_err(|e| anyhow::anyhow!("{e}"))?;
                 let map = {
                     let _s = crate::pipeline::profile::span("report: decode");
-                    crate::envmap::load::load(&path)?
+                    opts.search.load(m)?
                 };
                 let (sheet, _) = sheet::experiment_sheet(exp, &map, table.as_ref())?;
                 let name = format!("sheet_{}.png", file_safe(m));
@@ -468,8 +467,8 @@ fn other_results(pages: &[Page], in_papers: &[&str]) -> String {
 }
 
 fn map_use(root: &Path, search: &SearchPath, name: &str) -> Result<MapUse> {
-    let path = search.resolve(name).map_err(|e| anyhow::anyhow!("{e}"))?;
-    let map = crate::envmap::load::load(&path)?;
+    let map = search.load(name)?;
+    let path = map.path.clone().unwrap_or_default();
     Ok(MapUse {
         file: path.file_name().map(|f| f.to_string_lossy().into_owned()).unwrap_or_default(),
         dir: path.parent().map(|p| shown_dir(root, p)).unwrap_or_default(),

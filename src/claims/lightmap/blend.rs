@@ -163,10 +163,9 @@ pub fn hemisphere_case(n: DVec3, label: &str) -> Case {
 
 /// Bakes a lighting on the surface of normal `n`, scored on `normals`.
 pub fn bake(search: &SearchPath, l: &Endpoint, n: DVec3, label: &str, normals: &[DVec3]) -> Result<Bake> {
-    let path = search.resolve(l.map).map_err(|e| anyhow::anyhow!("lightmap claims: {e}"))?;
-    let mut map = crate::envmap::load::load(&path)?;
+    let mut map = search.load(l.map).map_err(|e| anyhow::anyhow!("lightmap claims: {e:#}"))?;
     if l.turned {
-        map = turned(&map).with_context(|| format!("turning {}", path.display()))?;
+        map = turned(&map).with_context(|| format!("turning {}", l.map))?;
     }
     let data = MapData::new(&map);
     let case = hemisphere_case(n, label);

@@ -94,8 +94,7 @@ pub(super) fn probes(search: &SearchPath, grid: &OutputGrid) -> Result<Probes> {
 /// One map on the search path: its exact SH projection and the exact cell-integrated reference
 /// on the grid's lat-long normals.
 fn map_case(search: &SearchPath, name: &str, grid: &OutputGrid) -> Result<(Case, String)> {
-    let path = search.resolve(name).map_err(|e| anyhow::anyhow!("claims zh3: {e}"))?;
-    let map = crate::envmap::load::load(&path)?;
+    let map = search.load(name).map_err(|e| anyhow::anyhow!("claims zh3: {e:#}"))?;
     let rm = RowMoments::new(&map);
     let reference = Reference::new(&rm, vec![], DEFAULT_POLAR_NODES);
     let values = reference.irradiance_latlong(grid.latlong.expect("the sphere grid is a lat-long grid"));
