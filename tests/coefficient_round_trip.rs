@@ -39,7 +39,17 @@ fn sh9(n: DVec3) -> [f64; 9] {
     let c2 = 0.5 * (15.0 / PI).sqrt();
     let c20 = 0.25 * (5.0 / PI).sqrt();
     let c22 = 0.25 * (15.0 / PI).sqrt();
-    [c0, -c1 * y, c1 * z, -c1 * x, c2 * x * y, -c2 * y * z, c20 * (3.0 * z * z - 1.0), -c2 * x * z, c22 * (x * x - y * y)]
+    [
+        c0,
+        -c1 * y,
+        c1 * z,
+        -c1 * x,
+        c2 * x * y,
+        -c2 * y * z,
+        c20 * (3.0 * z * z - 1.0),
+        -c2 * x * z,
+        c22 * (x * x - y * y),
+    ]
 }
 
 /// The §2 names of the first `count` SH coefficients.

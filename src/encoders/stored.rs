@@ -248,9 +248,10 @@ mod tests {
         assert_eq!(Value::Vector(DVec3::Y).scalars(), 3);
         assert_eq!(Value::Vector(DVec3::new(1.0, 2.0, 3.0)).components(), [1.0, 2.0, 3.0]);
         assert_eq!(Value::Scalar(-0.5).components(), [-0.5]);
-        assert_eq!([Value::Scalar(0.0).kind(), Value::Rgb(Rgb::ZERO).kind(), Value::Vector(DVec3::X).kind()], [
-            "scalar", "rgb", "vector"
-        ]);
+        assert_eq!(
+            [Value::Scalar(0.0).kind(), Value::Rgb(Rgb::ZERO).kind(), Value::Vector(DVec3::X).kind()],
+            ["scalar", "rgb", "vector"]
+        );
     }
 
     #[test]

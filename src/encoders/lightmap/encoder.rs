@@ -23,8 +23,8 @@ use crate::encoders::encoder::{named_weights, Encoder, FitInput, Fitted, Params}
 use crate::encoders::lightmap::fit::{fit, Colours, Direction, FitSpec, Gram, MAX_GOLDEN_STEPS};
 use crate::encoders::lightmap::{Basis, Model, Storage, Texel};
 use crate::encoders::stored::{Role, Stored, Unit, Value};
-use crate::math::sh::Sh9;
 use crate::math::colour::Rgb;
+use crate::math::sh::Sh9;
 use anyhow::{bail, Result};
 use glam::DVec3;
 use std::ops::Bound::{Excluded, Included};
