@@ -94,6 +94,9 @@ impl Fitted for NoHook {
     fn irradiance(&self, n: DVec3) -> Rgb {
         self.0.irradiance(n)
     }
+    fn stored(&self) -> probelab::encoders::stored::Stored {
+        self.0.stored()
+    }
 }
 
 fn probes(c: &mut Criterion) {

@@ -14,6 +14,7 @@ use anyhow::{bail, Context, Result};
 use clap::{Parser, Subcommand};
 use std::path::{Path, PathBuf};
 
+/// The `probelab` command line (its global options and the command).
 #[derive(Parser, Debug)]
 #[command(name = "probelab", version, about = "Measure compact diffuse-lighting encodings against an exact reference")]
 pub struct Cli {
@@ -29,10 +30,12 @@ pub struct Cli {
     /// Skip the timing pass: the fit_ns and eval_ns columns stay empty.
     #[arg(long, global = true)]
     pub no_timing: bool,
+    /// The command to run.
     #[command(subcommand)]
     pub command: Command,
 }
 
+/// The commands (docs/commands.md).
 #[derive(Subcommand, Debug)]
 pub enum Command {
     /// Run experiment files and write results/<name>/table.csv (a table that exists is a
@@ -82,6 +85,22 @@ pub enum Command {
         /// Output format: `csv` (the table's columns) or `json` (an array of objects keyed by
         /// the same columns, scores as numbers).
         #[arg(long, default_value = "csv", value_parser = ["csv", "json"])]
+        format: String,
+    },
+    /// Fit encoders to one map and print each fit's stored coefficients (names, units, basis)
+    /// and what it was fitted on.
+    Fit {
+        /// Map name (on the search path) or file path.
+        map: String,
+        /// Comma-separated encoder ids (see `probelab encoders`).
+        #[arg(long)]
+        encoders: String,
+        /// The surface normal N as x,y,z (world space, +Y up; normalised): fit to the light above
+        /// its horizon, about N. Without it the fit is a probe's, on the whole sphere.
+        #[arg(long)]
+        normal: Option<String>,
+        /// `json` or `csv` (one row per stored or derived value).
+        #[arg(long, default_value = "json")]
         format: String,
     },
     /// Write the analytic scenes into envmaps/ as f32 EXR.
@@ -365,6 +384,10 @@ pub fn main_with(cli: Cli) -> Result<i32> {
             output::write(&if format == "json" { table::to_json(&report.rows)? } else { table::to_csv(&report.rows)? })?;
             Ok(0)
         }
+        Command::Fit { map, encoders: list, normal, format } => {
+            output::write(fit_command(&search, &map, &list, normal.as_deref(), &format)?.as_bytes())?;
+            Ok(0)
+        }
         Command::GenEnvmaps { out, width } => {
             if width < 4 || width % 2 != 0 || width > 8192 {
                 bail!("--width {width}: expected an even width from 4 to 8192");
@@ -624,6 +647,107 @@ fn write_results_told(root: &Path, out: &Path, exp: &Experiment, report: &runner
         }
     }
     Ok(ok.then_some(told))
+}
+
+/// `probelab fit`: every fit of `list` on `map` (about the surface normal `normal`, x,y,z, if
+/// given) as JSON or CSV, everything checked before anything is printed.
+fn fit_command(search: &SearchPath, map: &str, list: &str, normal: Option<&str>, format: &str) -> Result<String> {
+    if format != "json" && format != "csv" {
+        bail!("--format '{format}': expected json or csv");
+    }
+    let surface = match normal {
+        None => crate::api::Surface::Sphere,
+        Some(text) => crate::api::Surface::Normal(parse_normal(text)?),
+    };
+    let named = encoders::build_list(list)?;
+    if surface == crate::api::Surface::Sphere {
+        if let Some(e) = named.iter().find(|e| e.encoder.needs_surface_normal()) {
+            bail!(
+                "--encoders: {}; pass --normal x,y,z (the surface normal N)",
+                crate::encoders::encoder::surface_normal_refusal(&e.name)
+            );
+        }
+    }
+    let map = crate::api::Map::load_on(search, map)?;
+    let light = map.lighting(surface)?;
+    let mut fits = Vec::new();
+    for e in &named {
+        let fit = light.fit(&e.name, "")?;
+        let stored = fit.stored();
+        if !stored.is_finite() {
+            bail!("encoder '{}' on {}: a stored value is not finite", e.name, light.describe());
+        }
+        fits.push((fit, stored));
+    }
+    let (w, h) = map.size();
+    let n = light.normal();
+    let domain = if n.is_some() { "hemisphere" } else { "sphere" };
+    if format == "json" {
+        let fits: Vec<serde_json::Value> = fits
+            .iter()
+            .map(|(f, s)| {
+                serde_json::json!({
+                    "encoder": f.id(),
+                    "stored_scalars": f.stored_scalars(),
+                    "basis": s.basis,
+                    "entries": s.entries,
+                })
+            })
+            .collect();
+        let doc = serde_json::json!({
+            "map": map.name(),
+            "size": [w, h],
+            "domain": domain,
+            "normal": n.map(|n| n.to_array()),
+            "fitted_on": light.describe(),
+            "units": "E/pi is irradiance over pi; directions are world-space unit vectors, +Y up \
+                      (docs/conventions.md section 1); SH follow section 2",
+            "fits": fits,
+        });
+        return Ok(serde_json::to_string_pretty(&doc)? + "\n");
+    }
+    let mut w = csv::Writer::from_writer(Vec::new());
+    w.write_record(["map", "domain", "normal", "encoder", "entry", "role", "unit", "kind", "v0", "v1", "v2", "basis"])?;
+    let normal_cell = n.map(|n| format!("{} {} {}", n.x, n.y, n.z)).unwrap_or_default();
+    for (f, s) in &fits {
+        for e in &s.entries {
+            let mut c: Vec<String> = e.value.components().iter().map(|v| format!("{v}")).collect();
+            c.resize(3, String::new());
+            let role = match e.role {
+                crate::api::Role::Stored => "stored",
+                crate::api::Role::Derived => "derived",
+            };
+            w.write_record([
+                map.name(),
+                domain,
+                &normal_cell,
+                f.id(),
+                &e.name,
+                role,
+                e.unit.label(),
+                e.value.kind(),
+                &c[0],
+                &c[1],
+                &c[2],
+                &s.basis,
+            ])?;
+        }
+    }
+    Ok(String::from_utf8(w.into_inner().context("writing CSV")?)?)
+}
+
+/// A surface normal `x,y,z`: three finite numbers, not all zero.
+fn parse_normal(text: &str) -> Result<glam::DVec3> {
+    let bad = || anyhow::anyhow!("--normal '{text}': expected x,y,z, three finite numbers not all zero (e.g. 0,1,0)");
+    let v: Vec<f64> = text.split(',').map(|p| p.trim().parse::<f64>()).collect::<Result<_, _>>().map_err(|_| bad())?;
+    let [x, y, z] = v[..] else {
+        return Err(bad());
+    };
+    let n = glam::DVec3::new(x, y, z);
+    if !n.is_finite() || n.length_squared() == 0.0 {
+        return Err(bad());
+    }
+    Ok(n)
 }
 
 /// The experiment `probelab eval` runs.

@@ -1,28 +1,66 @@
 //! probelab: a research harness for compact diffuse-lighting encodings (SH, ZH3, Geomerics,
-//! AHD/HHD in IrradZ, HLSH), each measured against an exact reference over real HDR maps.
+//! AHD/HHD in IrradZ, HLSH, the ambient cube and dice, SGs, the H-basis), each measured against
+//! an exact reference over real HDR maps.
 //!
-//! The crate is layered; each folder's `mod.rs` says what its layer is and what it may use,
-//! and `ARCHITECTURE.md` holds the table that `tests/architecture.rs` checks every
-//! `use crate::` line against. From the bottom up:
+//! # The library
 //!
-//! | layer | what |
-//! |---|---|
-//! | [`math`] | SH basis and rotation, Gram matrices, quadrature, caps and arcs, the direction convention, exact statistics |
-//! | [`envmap`] | lat-long maps, loading, the search path, row moments |
-//! | [`reference`](mod@reference) | the exact reference, SH projection, analytic lighting and scenes, output domains and views, metrics |
-//! | [`encoders`] | the `Encoder` trait, the registry, one file (or folder) per family |
-//! | [`pipeline`] | experiments, the runner, timing, tables, summaries, sweeps, probe sets |
-//! | [`claims`] | where the papers' claims are measured |
-//! | [`regression`] | check, bless, baselines, provenance, tolerances |
-//! | [`report`] | pictures, charts and `results/REPORT.md` |
-//! | [`cli`] | the `probelab` command line |
+//! The public surface is small: load a map ([`Map::load`]), choose where its light is seen
+//! from ([`Surface`]), compute the exact reference E/π at any normals
+//! ([`Lighting::reference`]), fit any registered encoder by id with its settings
+//! ([`Lighting::fit`], ids from [`encoder_ids`]), evaluate the fit ([`Fit::irradiance`]), get
+//! its stored coefficients with names, units and basis ([`Fit::stored`], a [`Stored`]), and
+//! score it ([`Lighting::score`]).
+//!
+//! ```no_run
+//! use probelab::{DVec3, Map, Surface};
+//! # fn main() -> anyhow::Result<()> {
+//! let map = Map::load("blender_city_256x128", ".")?;
+//! let light = map.lighting(Surface::Sphere)?;
+//! let fit = light.fit("zh3_solved_shared", "")?;
+//! for e in &fit.stored().entries {
+//!     println!("{} {:?} {} {:?}", e.name, e.role, e.unit.label(), e.value.components());
+//! }
+//! println!("E/pi at +Y: {:?}, exact {:?}", fit.irradiance(DVec3::Y), light.reference(&[DVec3::Y])[0]);
+//! # Ok(())
+//! # }
+//! ```
+//!
+//! Units and directions are `docs/conventions.md` §1 (E/π; world directions, +Y up); SH
+//! coefficients follow its §2. `docs/library.md` is the guide; `examples/fit_map.rs` and
+//! `examples/compare.rs` use only this surface.
+//!
+//! # Internals
+//!
+//! The modules `math`, `envmap`, `reference`, `encoders`, `pipeline`, `claims`, `regression`,
+//! `report` and `cli` are public for the binary, the tests and the benches, and hidden from
+//! this documentation: internal, with no stability promise. Each folder's `mod.rs` says what
+//! its layer is and what it may use; `ARCHITECTURE.md` holds the table that
+//! `tests/architecture.rs` checks every `use crate::` line against.
 
+#![warn(missing_docs)]
+
+mod api;
+pub use api::{
+    encoder_ids, needs_surface_normal, Entry, Fit, Lighting, Map, Rgb, Role, Score, Stored, Surface, Unit, Value,
+};
+pub use glam::DVec3;
+
+// The internal modules below are reachable for the tests, benches and the binary, but hidden
+// from the documentation: internal, no stability promise.
+#[doc(hidden)]
 pub mod claims;
 pub mod cli;
+#[doc(hidden)]
 pub mod encoders;
+#[doc(hidden)]
 pub mod envmap;
+#[doc(hidden)]
 pub mod math;
+#[doc(hidden)]
 pub mod pipeline;
+#[doc(hidden)]
 pub mod reference;
+#[doc(hidden)]
 pub mod regression;
+#[doc(hidden)]
 pub mod report;

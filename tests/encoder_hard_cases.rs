@@ -647,6 +647,9 @@ mod broken {
         fn irradiance(&self, n: DVec3) -> Rgb {
             (self.0)(n)
         }
+        fn stored(&self) -> probelab::encoders::stored::Stored {
+            probelab::encoders::stored::Stored::new("a deliberately broken test encoder: nothing stored")
+        }
     }
     impl Encoder for Broken {
         fn id(&self) -> &str {

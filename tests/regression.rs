@@ -231,7 +231,7 @@ impl Encoder for BrokenSh1 {
         for i in 0..9 {
             sh[i] *= [1.0, 0.6667, 0.25][band_of(i)];
         }
-        Box::new(probelab::encoders::sh::ShIrradiance(sh))
+        Box::new(probelab::encoders::sh::ShIrradiance(sh, 1))
     }
 }
 

@@ -27,6 +27,7 @@
 //! TOML keys: `weights` (`ambient_cube` only: `solid_angle`, default, or `pixel`).
 
 use crate::encoders::encoder::{Encoder, FitInput, Fitted, Params};
+use crate::encoders::stored::{Stored, Unit};
 use crate::math::colour::Rgb;
 use crate::reference::radiance::latlong_normals;
 use anyhow::{bail, Result};
@@ -48,9 +49,24 @@ fn weights(n: DVec3) -> [f64; 6] {
 /// A fitted cube.
 pub struct AmbientCube(pub [Rgb; 6]);
 
+/// The names of the six colours, in the stored (the peer's) order.
+pub const FACES: [&str; 6] = ["C_-x", "C_+x", "C_-y", "C_+y", "C_-z", "C_+z"];
+
 impl Fitted for AmbientCube {
     fn irradiance(&self, n: DVec3) -> Rgb {
         weights(n).iter().zip(&self.0).fold(Rgb::ZERO, |acc, (w, c)| acc + *c * *w)
+    }
+    /// The six colours, E/π, in the order −x, +x, −y, +y, −z, +z: 18 scalars.
+    fn stored(&self) -> Stored {
+        let mut s = Stored::new(
+            "E/pi(n) = n_x^2*C_(sign n_x)x + n_y^2*C_(sign n_y)y + n_z^2*C_(sign n_z)z (McTaggart 2004, the ambient \
+             cube): each axis takes the colour of the face its component points to (a zero component contributes \
+             nothing); world axes, +Y up (docs/conventions.md section 1)",
+        );
+        for (name, c) in FACES.iter().zip(&self.0) {
+            s.rgb(*name, Unit::Irradiance, *c);
+        }
+        s
     }
 }
 

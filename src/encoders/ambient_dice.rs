@@ -64,6 +64,7 @@
 //! TOML keys: `weights` (`solid_angle`, default, or `pixel`).
 
 use crate::encoders::encoder::{Encoder, FitInput, Fitted, Params};
+use crate::encoders::stored::{Role, Stored, Unit, Value};
 use crate::math::colour::Rgb;
 use crate::math::sh::{basis as sh_basis, Sh9, N_SH};
 use crate::reference::radiance::latlong_normals;
@@ -425,6 +426,68 @@ pub struct DiceFit {
 }
 
 impl Fitted for DiceFit {
+    /// Per vertex i: the Bézier value f_i and derivatives g_i, h_i along its tangent t_i and
+    /// bitangent s_i (RGB, or Y alone with linear Co_i, Cg_i), or the SRBF amplitude w_i; the
+    /// vertices and frames are the dice's constants, listed derived (module docs).
+    fn stored(&self) -> Stored {
+        let g = geometry();
+        let frame = "vertices v_i (derived entries vertex_i, the peer's icosahedron orientation) and, for the Bezier \
+                     basis, the tangent t_i = normalize(Y x v_i) and bitangent s_i = v_i x t_i (entries t_i, s_i); \
+                     the face of n is the one whose centre is nearest and its barycentrics b solve n = sum b_i v_i \
+                     (ambient_dice.rs module docs, Iwanicki & Sloan 2017); world directions, +Y up (docs/conventions.md \
+                     section 1)";
+        let mut s = Stored::new(match self.variant {
+            Variant::Bezier => format!(
+                "E/pi(n) = the hybrid cubic Bezier triangle of n's face with corner values f_i and tangential \
+                 derivatives g_i (along t_i), h_i (along s_i) per channel; {frame}"
+            ),
+            Variant::BezierYCoCg => format!(
+                "Y(n) = the hybrid cubic Bezier triangle of n's face (corner values Y_f_i, derivatives Y_g_i, Y_h_i); \
+                 Co(n) = sum b_i Co_i and Cg(n) = sum b_i Cg_i over the face; R = Y + Co - Cg, G = Y + Cg, \
+                 B = Y - Co - Cg; {frame}"
+            ),
+            Variant::Srbf => format!(
+                "E/pi(n) = sum_i w_i*(0.35*c_i^2 + 0.25*c_i^4), c_i = max(0, n.v_i) (the cosine SRBF lobes); {frame}"
+            ),
+        });
+        match self.variant {
+            Variant::Bezier => {
+                for v in 0..12 {
+                    for (slot, letter) in ["f", "g", "h"].into_iter().enumerate() {
+                        s.rgb(format!("{letter}_{v}"), Unit::Irradiance, self.coeffs[3 * v + slot]);
+                    }
+                }
+            }
+            Variant::BezierYCoCg => {
+                for v in 0..12 {
+                    for (slot, letter) in ["f", "g", "h"].into_iter().enumerate() {
+                        s.scalar(format!("Y_{letter}_{v}"), Unit::Irradiance, self.coeffs[3 * v + slot].x);
+                    }
+                }
+                for v in 0..12 {
+                    s.scalar(format!("Co_{v}"), Unit::Irradiance, self.coeffs[36 + v].x);
+                }
+                for v in 0..12 {
+                    s.scalar(format!("Cg_{v}"), Unit::Irradiance, self.coeffs[36 + v].y);
+                }
+            }
+            Variant::Srbf => {
+                for v in 0..12 {
+                    s.rgb(format!("w_{v}"), Unit::Irradiance, self.coeffs[v]);
+                }
+            }
+        }
+        for (v, p) in g.vertices.iter().enumerate() {
+            s.push(Role::Derived, format!("vertex_{v}"), Unit::Direction, Value::Vector(*p));
+        }
+        if self.variant != Variant::Srbf {
+            for (v, (t, b)) in g.frames.iter().enumerate() {
+                s.push(Role::Derived, format!("t_{v}"), Unit::Direction, Value::Vector(*t));
+                s.push(Role::Derived, format!("s_{v}"), Unit::Direction, Value::Vector(*b));
+            }
+        }
+        s
+    }
     fn irradiance(&self, n: DVec3) -> Rgb {
         let g = geometry();
         match self.variant {

@@ -9,6 +9,7 @@
 //! (the band-0 answer); a loose sanity bound everywhere; and each promise below that the
 //! encoder makes.
 
+use crate::encoders::stored::Stored;
 use crate::math::colour::Rgb;
 use crate::math::sh::Sh9;
 use crate::reference::radiance::{RadianceSource, ShLight};
@@ -179,6 +180,12 @@ pub trait Encoder: Send + Sync {
 pub trait Fitted: Send + Sync {
     /// E/π at unit normal `n`.
     fn irradiance(&self, n: DVec3) -> Rgb;
+    /// The stored form of this fit ([`Stored`]): the values a bake would ship, named as the
+    /// papers name them, with units and the reconstruction they feed (FORMULAS §1–2 for units,
+    /// directions and the SH convention). Its stored scalars number exactly
+    /// [`Encoder::stored_scalars`] of the encoder that made the fit; derived entries (axes,
+    /// decoded colours, fixed lobes) are listed too, marked derived and not counted.
+    fn stored(&self) -> Stored;
     /// Solver statistics and similar per-fit figures, reported in the `diagnostics` column.
     fn diagnostics(&self) -> Vec<(&'static str, f64)> {
         Vec::new()

@@ -18,6 +18,7 @@
 //! TOML keys: none. Degenerate inputs: R0 ≤ 0 gives 0; R1 = 0 gives the constant R0.
 
 use crate::encoders::encoder::{Encoder, FitInput, Fitted, Params};
+use crate::encoders::stored::{Role, Stored, Unit, Value};
 use crate::math::colour::Rgb;
 use crate::math::sh::{basis, Sh9, N_SH};
 use anyhow::Result;
@@ -113,6 +114,23 @@ struct GeomericsFit([GeomericsChannel; 3]);
 impl Fitted for GeomericsFit {
     fn irradiance(&self, n: DVec3) -> Rgb {
         Rgb::new(self.0[0].eval(n), self.0[1].eval(n), self.0[2].eval(n))
+    }
+    /// R0 (RGB) and the three components of R1 (RGB each), radiance units: 12 scalars; the
+    /// overall factor (1, or the peer's 1/π) is the encoder's constant (FORMULAS §6).
+    fn stored(&self) -> Stored {
+        let ch = &self.0;
+        let rgb = |f: &dyn Fn(&GeomericsChannel) -> f64| Rgb::new(f(&ch[0]), f(&ch[1]), f(&ch[2]));
+        let mut s = Stored::new(
+            "per channel E/pi(n) = scale*R0*(a + (1 - a)*(p + 1)*q^p), q = (1 + n.R1/|R1|)/2, p = 1 + 2|R1|/R0, \
+             a = (1 - |R1|/R0)/(1 + |R1|/R0), R1 = (R1_x, R1_y, R1_z) of the channel; R0 <= 0 gives 0 and R1 = 0 \
+             gives scale*R0 (docs/conventions.md section 6); n a world direction, +Y up (section 1)",
+        );
+        s.rgb("R0", Unit::Radiance, rgb(&|c| c.r0));
+        s.rgb("R1_x", Unit::Radiance, rgb(&|c| c.r1.x));
+        s.rgb("R1_y", Unit::Radiance, rgb(&|c| c.r1.y));
+        s.rgb("R1_z", Unit::Radiance, rgb(&|c| c.r1.z));
+        s.push(Role::Derived, "scale", Unit::Unitless, Value::Scalar(ch[0].scale));
+        s
     }
     /// Exact (to rounding) by [`GeomericsChannel::sh3_projection`]: the in-band error is the
     /// coefficient difference (Parseval), the out-of-band energy is the reconstruction's own.

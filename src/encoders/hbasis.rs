@@ -46,6 +46,7 @@
 
 use crate::encoders::encoder::{Encoder, FitInput, Fitted, Params};
 use crate::encoders::sh::ShIrradiance;
+use crate::encoders::stored::{Role, Stored, Unit, Value};
 use crate::math::colour::Rgb;
 use crate::math::quadrature::gauss_legendre;
 use crate::reference::domain::frame_to;
@@ -122,6 +123,23 @@ impl HBasisFit {
 }
 
 impl Fitted for HBasisFit {
+    /// The coefficients H1…H4 (or H6) of E/π, RGB each; N's frame (t, s, N) is derived.
+    fn stored(&self) -> Stored {
+        let mut out = Stored::new(
+            "E/pi(n) = sum_k c_k*H_k(x, y, z), (x, y, z) = (n.t, n.s, n.N) in the frame of the surface normal N \
+             (entries t, s, N: t the image of +X under the rotation taking +Y to N, s = N x t); H1 = 1/sqrt(2pi), \
+             H2 = sqrt(3/2pi)*y, H3 = sqrt(3/2pi)*(2z - 1), H4 = sqrt(3/2pi)*x, H5 = sqrt(15/2pi)*xy, \
+             H6 = sqrt(15/2pi)*(x^2 - y^2)/2 (Habel & Wimmer 2010, hbasis.rs); world directions, +Y up \
+             (docs/conventions.md section 1)",
+        );
+        for k in 0..self.count {
+            out.rgb(format!("H{}", k + 1), Unit::Irradiance, self.coeffs[k]);
+        }
+        for (name, v) in ["t", "s", "N"].into_iter().zip(self.frame) {
+            out.push(Role::Derived, name, Unit::Direction, Value::Vector(v));
+        }
+        out
+    }
     fn irradiance(&self, n: DVec3) -> Rgb {
         let [t, s, nn] = self.frame;
         let h = basis(n.dot(t), n.dot(s), n.dot(nn));
@@ -170,7 +188,7 @@ impl Encoder for HBasisEncoder {
     fn fit(&self, input: &FitInput) -> Box<dyn Fitted> {
         match input.surface_normal.and_then(|n| n.try_normalize()).filter(|n| n.is_finite()) {
             Some(n) => Box::new(self.fit_about(input, n, RULE.0, RULE.1)),
-            None => Box::new(ShIrradiance(input.visible_sh.truncate(1).convolve_cosine())),
+            None => Box::new(ShIrradiance(input.visible_sh.truncate(1).convolve_cosine(), 1)),
         }
     }
     fn needs_surface_normal(&self) -> bool {

@@ -13,6 +13,7 @@ pub mod self_bounce;
 pub mod sg;
 pub mod sh;
 pub mod sh_high;
+pub mod stored;
 pub mod zh3;
 
 use crate::encoders::encoder::{Encoder, Params};

@@ -47,6 +47,7 @@
 use crate::encoders::encoder::{named_weights, Encoder, FitInput, Fitted, Params};
 use crate::encoders::lightmap::from_sh1::solve_channel;
 use crate::encoders::sh::ShIrradiance;
+use crate::encoders::stored::{Role, Stored, Unit, Value};
 use crate::math::colour::Rgb;
 use crate::math::gram::{axial_parts, multiply_full, multiply_to_linear, AxialGram, AxialParts};
 use crate::math::sh::{k, Sh9};
@@ -109,48 +110,114 @@ impl Encoder for ProbeOp {
     fn fit(&self, input: &FitInput) -> Box<dyn Fitted> {
         let f = input.probe_sh;
         let Some(n) = input.surface_normal.map(|n| n.normalize()) else {
-            return Box::new(Fallback(ShIrradiance(f.convolve_cosine())));
+            return self.fitted(f, Payload::Fallback(ShIrradiance(f.convolve_cosine(), 2)));
         };
-        match self.op {
-            Op::Unoccluded => Box::new(ShIrradiance(f.convolve_cosine())),
+        let payload = match self.op {
+            Op::Unoccluded => Payload::Sh(ShIrradiance(f.convolve_cosine(), 2)),
             Op::Full { cone, bands } => {
                 let (axis, c) = visibility(n, input, cone);
-                Box::new(ShIrradiance(multiply_full(f, c, axis).truncate(bands).convolve_cosine()))
+                Payload::Sh(ShIrradiance(multiply_full(f, c, axis).truncate(bands).convolve_cosine(), bands))
             }
-            Op::Q2l => Box::new(Linear::from_linear_sh(&multiply_to_linear(&axial_parts(f, n), &self.hemi_gram))),
+            Op::Q2l => {
+                Payload::Linear(Linear::from_linear_sh(&multiply_to_linear(&axial_parts(f, n), &self.hemi_gram)))
+            }
             Op::Hlsh { cone, pin_iz } => {
                 let (axis, c) = visibility(n, input, cone);
                 let parts = axial_parts(f, axis);
                 let fit = if c == 0.0 { self.hemi.fit(&parts) } else { HlshOperator::new(c, pin_iz).fit(&parts) };
-                Box::new(fit)
+                Payload::Linear(fit)
             }
             Op::HhdLum { weights } => {
                 let lin = multiply_to_linear(&axial_parts(f, n), &self.hemi_gram);
-                Box::new(HhdLum::fit(&lin, n, weights))
+                Payload::HhdLum(HhdLum::fit(&lin, n, weights))
             }
             Op::AoScale => {
                 let (c, cos_alpha) = visibility(n, input, true);
                 let ao = cone_visibility(n, c, cos_alpha);
-                Box::new(ShIrradiance(f.convolve_cosine() * ao))
+                Payload::Sh(ShIrradiance(f.convolve_cosine() * ao, 2))
             }
             Op::BentNormal => {
                 let (c, cos_alpha) = visibility(n, input, true);
                 let ao = cone_visibility(n, c, cos_alpha);
-                Box::new(Constant(f.convolve_cosine().eval(c) * ao))
+                Payload::Constant(Constant(f.convolve_cosine().eval(c) * ao))
             }
+        };
+        self.fitted(f, payload)
+    }
+}
+
+impl ProbeOp {
+    /// The fit: the stored probe and the operator's per-normal payload.
+    fn fitted(&self, probe: &Sh9, payload: Payload) -> Box<dyn Fitted> {
+        Box::new(OccludedProbe { id: self.id, probe: *probe, payload })
+    }
+}
+
+/// What an operator evaluates per normal after its per-N fit.
+enum Payload {
+    /// No surface normal: `probe_unoccluded` in place of the operator (reports `no_normal`).
+    Fallback(ShIrradiance),
+    Sh(ShIrradiance),
+    Linear(Linear),
+    HhdLum(HhdLum),
+    Constant(Constant),
+}
+
+/// A fitted operator: the probe it stores (27 scalars of radiance SH, the same for every
+/// operator) and the payload it evaluates.
+struct OccludedProbe {
+    id: &'static str,
+    probe: Sh9,
+    payload: Payload,
+}
+
+impl OccludedProbe {
+    fn payload(&self) -> &dyn Fitted {
+        match &self.payload {
+            Payload::Fallback(p) | Payload::Sh(p) => p,
+            Payload::Linear(p) => p,
+            Payload::HhdLum(p) => p,
+            Payload::Constant(p) => p,
         }
     }
 }
 
-/// `probe_unoccluded` used in place of an operator that has no surface normal.
-struct Fallback(ShIrradiance);
-
-impl Fitted for Fallback {
+impl Fitted for OccludedProbe {
+    #[inline]
     fn irradiance(&self, n: DVec3) -> Rgb {
-        self.0.irradiance(n)
+        match &self.payload {
+            Payload::Fallback(p) | Payload::Sh(p) => p.irradiance(n),
+            Payload::Linear(p) => p.irradiance(n),
+            Payload::HhdLum(p) => p.irradiance(n),
+            Payload::Constant(p) => p.irradiance(n),
+        }
     }
     fn diagnostics(&self) -> Vec<(&'static str, f64)> {
-        vec![("no_normal", 1.0)]
+        match &self.payload {
+            Payload::Fallback(_) => vec![("no_normal", 1.0)],
+            _ => self.payload().diagnostics(),
+        }
+    }
+    /// An SH payload is exactly its SH3 (the no-normal fallback is scored by quadrature).
+    fn sh3(&self) -> Option<Sh9> {
+        match &self.payload {
+            Payload::Sh(p) => p.sh3(),
+            _ => None,
+        }
+    }
+    /// The probe's L2 radiance SH, stored (27 scalars, FORMULAS §2); the payload the operator
+    /// computes from it at N, derived (`payload_*`).
+    fn stored(&self) -> Stored {
+        let inner = self.payload().stored();
+        let mut s = Stored::new(format!(
+            "the probe stores world-space L2 radiance SH (entries L{{l}}_{{m}}: the real orthonormal SH of \
+             docs/conventions.md section 2); at a surface normal N the operator {} computes from it a per-normal \
+             payload (the derived entries payload_*), which evaluates as: {}",
+            self.id, inner.basis
+        ));
+        s.sh(Role::Stored, Unit::Radiance, &self.probe.0);
+        s.entries.extend(inner.as_derived("payload_"));
+        s
     }
 }
 
@@ -174,6 +241,16 @@ impl Fitted for Linear {
     fn irradiance(&self, n: DVec3) -> Rgb {
         self.dc + Rgb::new(self.grad[0].dot(n), self.grad[1].dot(n), self.grad[2].dot(n))
     }
+    /// dc and the gradient's x, y, z components (RGB each): 12 scalars.
+    fn stored(&self) -> Stored {
+        let g = &self.grad;
+        let mut s = Stored::new("E/pi(n) = dc + grad_x*n_x + grad_y*n_y + grad_z*n_z per channel; world axes, +Y up");
+        s.rgb("dc", Unit::Irradiance, self.dc)
+            .rgb("grad_x", Unit::Irradiance, Rgb::new(g[0].x, g[1].x, g[2].x))
+            .rgb("grad_y", Unit::Irradiance, Rgb::new(g[0].y, g[1].y, g[2].y))
+            .rgb("grad_z", Unit::Irradiance, Rgb::new(g[0].z, g[1].z, g[2].z));
+        s
+    }
 }
 
 /// A constant E/π (the bent-normal lookup).
@@ -182,6 +259,11 @@ struct Constant(Rgb);
 impl Fitted for Constant {
     fn irradiance(&self, _n: DVec3) -> Rgb {
         self.0
+    }
+    fn stored(&self) -> Stored {
+        let mut s = Stored::new("E/pi(n) = E at every normal");
+        s.rgb("E", Unit::Irradiance, self.0);
+        s
     }
 }
 
@@ -320,6 +402,18 @@ impl HhdLum {
 impl Fitted for HhdLum {
     fn irradiance(&self, n: DVec3) -> Rgb {
         self.tint * self.hhd.irradiance(n, self.normal)
+    }
+    /// The luminance HHD (C_a, C_d, d) and the RGB tint; N is the surface's, derived.
+    fn stored(&self) -> Stored {
+        let mut s = Stored::new(
+            "E/pi(n) = tint*(C_a*(1 + n.N)/2 + C_d*max(0, n.d)), a luminance HHD (docs/conventions.md section 8) \
+             tinted by tint = I_z/luminance(I_z); d a world direction",
+        );
+        s.scalar("C_a", Unit::Irradiance, self.hhd.ca).scalar("C_d", Unit::Irradiance, self.hhd.cd);
+        s.push(Role::Stored, "d", Unit::Direction, Value::Vector(self.hhd.d));
+        s.rgb("tint", Unit::Unitless, self.tint);
+        s.push(Role::Derived, "N", Unit::Direction, Value::Vector(self.normal));
+        s
     }
     fn diagnostics(&self) -> Vec<(&'static str, f64)> {
         let mut d = Vec::new();

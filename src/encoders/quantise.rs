@@ -177,7 +177,7 @@ impl Encoder for ShQuantised {
         // The stored bytes, decoded: what a shader would read.
         let bytes = encode_sh(input.visible_sh, self.max_band);
         let q = decode_sh(&bytes).expect("encode_sh writes 13 or 28 bytes");
-        Box::new(Quantised(ShIrradiance(q.convolve_cosine()), bytes.len()))
+        Box::new(Quantised(ShIrradiance(q.convolve_cosine(), self.max_band), bytes.len()))
     }
 }
 
@@ -189,6 +189,16 @@ impl Fitted for Quantised {
     }
     fn diagnostics(&self) -> Vec<(&'static str, f64)> {
         vec![("bytes", self.1 as f64)]
+    }
+    /// The decoded coefficients a shader reads (E/π SH), from the 13 or 28 stored bytes.
+    fn stored(&self) -> crate::encoders::stored::Stored {
+        let mut s = self.0.stored();
+        s.basis = format!(
+            "{}; the values are those decoded from the {} stored bytes (DC in RGB9E5, every other radiance \
+             coefficient a signed byte ratio to the decoded DC: docs/conventions.md section 11, quantise.rs)",
+            s.basis, self.1
+        );
+        s
     }
     /// The decoded coefficients are an SH irradiance, evaluated as one.
     fn sh3(&self) -> Option<Sh9> {

@@ -16,6 +16,7 @@
 //! inner encoder. It stores nothing extra (ρ is the material's albedo, I_z is the inner's).
 
 use crate::encoders::encoder::{Encoder, FitInput, Fitted, Params};
+use crate::encoders::stored::{Role, Stored, Unit, Value};
 use crate::math::colour::Rgb;
 use anyhow::{bail, Result};
 use glam::DVec3;
@@ -60,6 +61,21 @@ impl Fitted for Fit {
     }
     fn diagnostics(&self) -> Vec<(&'static str, f64)> {
         self.inner.diagnostics()
+    }
+    /// The inner fit's stored form (the wrapper stores nothing more); with the term, the
+    /// product ρ·I_z and N are listed, derived (ρ is the material's, I_z the inner fit's).
+    fn stored(&self) -> Stored {
+        let mut s = self.inner.stored();
+        if let Some((n, k)) = self.bounce {
+            s.basis = format!(
+                "{}; plus the self-bounce (1 - (1 + n.N)/2)*rho_I_z, rho_I_z = albedo times the fit's own E/pi at the \
+                 surface normal N (docs/conventions.md section 8, self-bounce)",
+                s.basis
+            );
+            s.push(Role::Derived, "rho_I_z", Unit::Irradiance, Value::Rgb(k));
+            s.push(Role::Derived, "bounce_N", Unit::Direction, Value::Vector(n));
+        }
+        s
     }
 }
 

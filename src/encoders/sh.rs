@@ -14,6 +14,7 @@
 //! black out; a 1e-300 L1 band stays 1e-300), so every finite input gives a finite output.
 
 use crate::encoders::encoder::{Encoder, FitInput, Fitted, Params};
+use crate::encoders::stored::{Role, Stored, Unit, SH_IRRADIANCE};
 use crate::math::colour::Rgb;
 use crate::math::sh::Sh9;
 use anyhow::Result;
@@ -32,12 +33,24 @@ impl ShEncoder {
     }
 }
 
-/// The fitted E/π SH.
-pub struct ShIrradiance(pub Sh9);
+/// The fitted E/π SH and the last band it stores (0, 1 or 2; higher bands are zero).
+pub struct ShIrradiance(pub Sh9, pub usize);
+
+/// The stored form of an E/π SH through band `max_band`: its (max_band + 1)² RGB
+/// coefficients, named `L{l}_{m}` (FORMULAS §2–3).
+pub fn stored_sh(sh: &Sh9, max_band: usize) -> Stored {
+    let n = (max_band.min(2) + 1).pow(2);
+    let mut s = Stored::new(SH_IRRADIANCE);
+    s.sh(Role::Stored, Unit::Irradiance, &sh.0[..n]);
+    s
+}
 
 impl Fitted for ShIrradiance {
     fn irradiance(&self, n: DVec3) -> Rgb {
         self.0.eval(n)
+    }
+    fn stored(&self) -> Stored {
+        stored_sh(&self.0, self.1)
     }
     fn sh3(&self) -> Option<Sh9> {
         Some(self.0)
@@ -52,7 +65,7 @@ impl Encoder for ShEncoder {
         3 * (self.max_band + 1) * (self.max_band + 1)
     }
     fn fit(&self, input: &FitInput) -> Box<dyn Fitted> {
-        Box::new(ShIrradiance(input.visible_sh.truncate(self.max_band).convolve_cosine()))
+        Box::new(ShIrradiance(input.visible_sh.truncate(self.max_band).convolve_cosine(), self.max_band))
     }
     /// Band 0 alone is the mean radiance, E/π = (1/4π)∫L dω ≥ 0. With band 1 a single light
     /// gives (1/4π)·e·(1 + 2 n·d), negative facing away from it.

@@ -26,6 +26,8 @@
 //! TOML keys: `target_laplacian` (windowed only; default 10, > 0).
 
 use crate::encoders::encoder::{Encoder, FitInput, Fitted, Params};
+use crate::encoders::sh::stored_sh;
+use crate::encoders::stored::{Role, Stored, Unit, Value, SH_IRRADIANCE};
 use crate::math::colour::{luminance, Rgb};
 use crate::math::sh::{Sh9, N_SH};
 use crate::math::sh4::{basis4, BAND_SCALE4};
@@ -44,6 +46,18 @@ pub struct ShHighIrradiance {
 }
 
 impl Fitted for ShHighIrradiance {
+    /// The E/π SH through band 3 (16 RGB: band 3 is stored, and zero after the cosine
+    /// convolution) or band 4 (25 RGB), FORMULAS §2–3 (`math::sh4` extends §2's convention).
+    fn stored(&self) -> Stored {
+        let mut c: Vec<Rgb> = self.low.0.to_vec();
+        c.resize(16, Rgb::ZERO);
+        if let Some(b4) = &self.band4 {
+            c.extend_from_slice(b4);
+        }
+        let mut s = Stored::new(SH_IRRADIANCE);
+        s.sh(Role::Stored, Unit::Irradiance, &c);
+        s
+    }
     fn irradiance(&self, n: DVec3) -> Rgb {
         let mut e = self.low.eval(n);
         if let Some(b4) = &self.band4 {
@@ -194,6 +208,13 @@ impl Fitted for WindowedFit {
     }
     fn diagnostics(&self) -> Vec<(&'static str, f64)> {
         vec![("lambda", self.lambda)]
+    }
+    /// The windowed E/π SH (27 scalars) and the window's λ, derived.
+    fn stored(&self) -> Stored {
+        let mut s = stored_sh(&self.sh, 2);
+        s.basis = format!("{}; the radiance SH were windowed by 1/(1 + lambda*l^2(l+1)^2) first", s.basis);
+        s.push(Role::Derived, "lambda", Unit::Unitless, Value::Scalar(self.lambda));
+        s
     }
 }
 

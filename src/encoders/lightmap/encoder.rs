@@ -22,7 +22,9 @@
 use crate::encoders::encoder::{named_weights, Encoder, FitInput, Fitted, Params};
 use crate::encoders::lightmap::fit::{fit, Colours, Direction, FitSpec, Gram, MAX_GOLDEN_STEPS};
 use crate::encoders::lightmap::{Basis, Model, Storage, Texel};
+use crate::encoders::stored::{Role, Stored, Unit, Value};
 use crate::math::colour::Rgb;
+use crate::math::sh::Sh9;
 use anyhow::{bail, Result};
 use glam::DVec3;
 use std::ops::Bound::{Excluded, Included};
@@ -34,15 +36,102 @@ pub struct LightmapEncoder {
     pub storage: Storage,
 }
 
+/// What a lightmap texel stores: an AHD/HHD texel, or the linear radiance SH the HHD is solved
+/// from at run time (`hhd_from_sh1`).
+#[derive(Clone, Copy, Debug)]
+pub enum TexelSource {
+    /// A texel of the layouts of `irradz.rs`.
+    Texel(Texel),
+    /// Linear radiance SH (bands 0–1; band 2 is not read).
+    LinearSh(Sh9),
+}
+
 /// A fitted texel, decoded.
 pub struct LightmapFit {
     pub model: Model,
+    pub source: TexelSource,
     pub diagnostics: Vec<(&'static str, f64)>,
+}
+
+/// The model's formula, FORMULAS §7 (AHD) or §8 (HHD).
+fn model_formula(basis: Basis) -> &'static str {
+    match basis {
+        Basis::Ahd => "E/pi(n) = C_a + C_d*max(0, n.d) (AHD, docs/conventions.md section 7)",
+        Basis::Hhd => "E/pi(n) = C_a*(1 + n.N)/2 + C_d*max(0, n.d) (HHD, docs/conventions.md section 8)",
+    }
+}
+
+/// The stored form of a texel (module table of `irradz.rs`): its stored scalars, then N, the
+/// tangent frame and the decoded model, derived.
+fn texel_stored(t: &Texel, model: &Model) -> Stored {
+    let s = &t.scalars;
+    let rgb = |at: usize| Rgb::new(s[at], s[at + 1], s[at + 2]);
+    let layout = match t.storage {
+        Storage::Raw => "raw: C_a, C_d and d_x, d_y are stored",
+        Storage::IrradzRgb => "irradz_rgb: C_a, I_z = E/pi(N) and d_x, d_y are stored; C_d = max(0, (I_z - C_a)/max(d_z, cos 89.9 deg)) (docs/conventions.md section 7)",
+        Storage::IrradzLuma => "irradz_luma: ratio = L(C_a)/L(I_z) (Rec.709 luminance), I_z = E/pi(N) and d_x, d_y are \
+                                stored; C_a = ratio*I_z, C_d = max(0, (I_z - C_a)/max(d_z, cos 89.9 deg)) \
+                                (docs/conventions.md section 7)",
+    };
+    let mut out = Stored::new(format!(
+        "{}; {layout}; d = d_x*t1 + d_y*t2 + d_z*N with d_z = sqrt(1 - d_x^2 - d_y^2) ((d_x, d_y) scaled to length 1 \
+         if longer), (t1, t2) = glam's DVec3::any_orthonormal_pair(N) (Duff et al. 2017); N is the surface normal \
+         (not stored); world directions, +Y up (section 1)",
+        model_formula(t.basis)
+    ));
+    let (x, y) = match t.storage {
+        Storage::Raw => {
+            out.rgb("C_a", Unit::Irradiance, rgb(0)).rgb("C_d", Unit::Irradiance, rgb(3));
+            (s[6], s[7])
+        }
+        Storage::IrradzRgb => {
+            out.rgb("C_a", Unit::Irradiance, rgb(0)).rgb("I_z", Unit::Irradiance, rgb(3));
+            (s[6], s[7])
+        }
+        Storage::IrradzLuma => {
+            out.scalar("ratio", Unit::Unitless, s[0]).rgb("I_z", Unit::Irradiance, rgb(1));
+            (s[4], s[5])
+        }
+    };
+    out.scalar("d_x", Unit::Unitless, x).scalar("d_y", Unit::Unitless, y);
+    let (t1, t2) = crate::encoders::lightmap::irradz::tangent_frame(t.normal);
+    for (name, v) in [("N", t.normal), ("t1", t1), ("t2", t2)] {
+        out.push(Role::Derived, name, Unit::Direction, Value::Vector(v));
+    }
+    model_entries(&mut out, model, false);
+    out
+}
+
+/// The decoded model's colours and direction, as derived entries (N too when `with_normal`).
+fn model_entries(out: &mut Stored, m: &Model, with_normal: bool) {
+    if with_normal {
+        out.push(Role::Derived, "N", Unit::Direction, Value::Vector(m.normal));
+    }
+    out.push(Role::Derived, "decoded_C_a", Unit::Irradiance, Value::Rgb(m.c_a));
+    out.push(Role::Derived, "decoded_C_d", Unit::Irradiance, Value::Rgb(m.c_d));
+    out.push(Role::Derived, "d", Unit::Direction, Value::Vector(m.d));
 }
 
 impl Fitted for LightmapFit {
     fn irradiance(&self, n: DVec3) -> Rgb {
         self.model.irradiance(n)
+    }
+    fn stored(&self) -> Stored {
+        match &self.source {
+            TexelSource::Texel(t) => texel_stored(t, &self.model),
+            TexelSource::LinearSh(sh) => {
+                let mut out = Stored::new(format!(
+                    "the texel stores linear radiance SH (L0_0, L1_m; real orthonormal SH of docs/conventions.md \
+                     section 2); at run time the HHD about the surface normal N is solved from it in closed form \
+                     (section 8, 'HHD from linear SH', I_z = b.N): {}; the decoded C_a, C_d, d and N are listed, \
+                     derived",
+                    model_formula(self.model.basis)
+                ));
+                out.sh(Role::Stored, Unit::Radiance, &sh.0[..4]);
+                model_entries(&mut out, &self.model, true);
+                out
+            }
+        }
     }
     fn diagnostics(&self) -> Vec<(&'static str, f64)> {
         self.diagnostics.clone()
@@ -108,7 +197,8 @@ impl Encoder for LightmapEncoder {
     }
     fn fit(&self, input: &FitInput) -> Box<dyn Fitted> {
         let r = fit(&self.spec, input);
-        let model = Texel::encode(&r.model, self.storage).decode();
+        let texel = Texel::encode(&r.model, self.storage);
+        let model = texel.decode();
         let mut diagnostics = vec![("theta_deg", r.theta.to_degrees())];
         if self.is_iterative() {
             diagnostics.push(("iters", r.iterations as f64));
@@ -117,7 +207,7 @@ impl Encoder for LightmapEncoder {
         if r.fallback {
             diagnostics.push(("fallback", 1.0));
         }
-        Box::new(LightmapFit { model, diagnostics })
+        Box::new(LightmapFit { model, source: TexelSource::Texel(texel), diagnostics })
     }
     fn is_iterative(&self) -> bool {
         matches!(self.spec.direction, Direction::Search { .. } | Direction::Search2d { .. })

@@ -16,7 +16,7 @@
 //! (a sphere probe) N is the Rec.709 L1 direction; with no usable direction either, the answer
 //! is pure ambient (the band-0 irradiance), as for the fitted encoders (`lightmap::fit`).
 
-use super::encoder::{build, Defaults, LightmapFit};
+use super::encoder::{build, Defaults, LightmapFit, TexelSource};
 use crate::encoders::encoder::{Encoder, FitInput, Fitted, Params};
 use crate::encoders::lightmap::fit::{Colours, Gram};
 use crate::encoders::lightmap::{hhd_from_linear_sh, Basis, Model, Storage, Texel};
@@ -83,12 +83,16 @@ impl Encoder for HhdFromSh1 {
                 d: DVec3::Z,
             },
         };
-        let model = match self.storage {
-            Some(st) => Texel::encode(&model, st).decode(),
-            None => model,
+        let (model, source) = match self.storage {
+            Some(st) => {
+                let t = Texel::encode(&model, st);
+                (t.decode(), TexelSource::Texel(t))
+            }
+            None => (model, TexelSource::LinearSh(sh)),
         };
         Box::new(LightmapFit {
             model,
+            source,
             diagnostics: vec![("theta_deg", model.d.dot(model.normal).clamp(-1.0, 1.0).acos().to_degrees())],
         })
     }

@@ -42,6 +42,7 @@ pub mod fit;
 pub mod lobes;
 
 use crate::encoders::encoder::{Encoder, FitInput, Fitted, Params};
+use crate::encoders::stored::{Role, Stored, Unit, Value};
 use crate::math::colour::Rgb;
 use crate::math::halton::{peer_sphere_directions, PEER_SAMPLE_COUNT};
 use crate::reference::radiance::RadianceSample;
@@ -144,6 +145,30 @@ impl SgFit {
 impl Fitted for SgFit {
     fn irradiance(&self, n: DVec3) -> Rgb {
         lobes::irradiance(&self.lobes, &self.amplitudes, self.rule, n)
+    }
+    /// The RGB radiance amplitude μ_k of each lobe (3 per lobe); the lobes' axes and
+    /// sharpnesses are the encoder's constants (the peer's Vogel set), listed derived.
+    fn stored(&self) -> Stored {
+        let rule = match self.rule {
+            IrradianceRule::CosineLobe(l) => format!(
+                "the clamped cosine about n replaced by an SG of sharpness {l} about n whose integral is pi: \
+                 E/pi(n) = sum_k mu_k * integral(G_k B_n)/pi"
+            ),
+            IrradianceRule::HillFit => "E/pi(n) = sum_k mu_k * Hill's fitted SG irradiance of lobe k at n".to_string(),
+        };
+        let mut s = Stored::new(format!(
+            "radiance L(v) = sum_k mu_k*exp(lambda_k*(p_k.v - 1)) (lobe k: mu_k stored, axis p_k and sharpness \
+             lambda_k the encoder's constants, sg/lobes.rs); {rule}; world directions, +Y up (docs/conventions.md \
+             section 1)"
+        ));
+        for (k, mu) in self.amplitudes.iter().enumerate() {
+            s.rgb(format!("mu_{k}"), Unit::Radiance, *mu);
+        }
+        for (k, l) in self.lobes.iter().enumerate() {
+            s.push(Role::Derived, format!("axis_{k}"), Unit::Direction, Value::Vector(l.axis));
+            s.push(Role::Derived, format!("sharpness_{k}"), Unit::Unitless, Value::Scalar(l.sharpness));
+        }
+        s
     }
     fn diagnostics(&self) -> Vec<(&'static str, f64)> {
         match self.iterations {

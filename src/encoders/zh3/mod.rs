@@ -45,6 +45,7 @@ pub mod solve;
 
 use crate::encoders::encoder::{named_weights, Encoder, FitInput, Fitted, Params};
 use crate::encoders::quantise;
+use crate::encoders::stored::{sh_name, Role, Stored, Unit, Value};
 use crate::encoders::zh3::solve::{
     self as zh3_solve, band2, zonal_fit, Curve, Formulation, SolverSettings, Target, Zonal,
 };
@@ -243,11 +244,50 @@ pub struct Zh3Fit {
     pub zh3: Zh3,
     sh: Sh9,
     diagnostics: Vec<(&'static str, f64)>,
+    /// Whether k is stored (15 scalars) or hallucinated at decode time (12).
+    k_stored: bool,
+    /// Whether the channels share one zonal axis.
+    shared: bool,
 }
+
+/// How a stored ZH3 reconstructs (FORMULAS §2–5).
+const ZH3_BASIS: &str = "per channel E/pi(n) = L0_0*Y_0(n) + sum_m L1_m*Y_1m(n) + k*sum_m Y_2m(a)*Y_2m(n) \
+     (= k*(5/8pi)*(3(a.n)^2 - 1)); E/pi coefficients (the radiance SH times 1, 2/3, 1/4: docs/conventions.md section 3), Y the real orthonormal SH of \
+     section 2, a = zonal_axis (section 5: the channel's, or one shared, L1 direction (-L1_1, -L1_-1, L1_0) \
+     normalised); no axis (L1 = 0) means k = 0";
+
+/// How a hallucinated ZH3 finds its k (FORMULAS §5).
+const ZH3_HALLUCINATED: &str = "; k is not stored but hallucinated: k = (1/4)*sqrt(4pi/5)*L0_0*g(r) with the \
+     radiance ratio r = 1.5*|L1.a|/L0_0 (L1 = (-L1_1, -L1_-1, L1_0) of the channel) and g the encoder's curve \
+     (the paper's g(r) = 0.08r + 0.6r^2 by default), k = 0 where L0_0 <= 0";
 
 impl Fitted for Zh3Fit {
     fn irradiance(&self, n: DVec3) -> Rgb {
         self.sh.eval(n)
+    }
+    /// L0 and L1 as E/π SH (12 scalars), then k when it is stored (15); the zonal axis, the
+    /// ratio r and a hallucinated k are derived (FORMULAS §5).
+    fn stored(&self) -> Stored {
+        let basis = if self.k_stored { ZH3_BASIS.to_string() } else { format!("{ZH3_BASIS}{ZH3_HALLUCINATED}") };
+        let mut s = Stored::new(basis);
+        for i in 0..4 {
+            s.rgb(sh_name(i), Unit::Irradiance, self.sh[i]);
+        }
+        let k_role = if self.k_stored { Role::Stored } else { Role::Derived };
+        s.push(k_role, "k", Unit::Irradiance, Value::Rgb(self.zh3.k));
+        if self.shared {
+            if let Some(a) = self.zh3.axes[0] {
+                s.push(Role::Derived, "zonal_axis", Unit::Direction, Value::Vector(a));
+            }
+        } else {
+            for (c, name) in ["zonal_axis_r", "zonal_axis_g", "zonal_axis_b"].into_iter().enumerate() {
+                if let Some(a) = self.zh3.axes[c] {
+                    s.push(Role::Derived, name, Unit::Direction, Value::Vector(a));
+                }
+            }
+        }
+        s.push(Role::Derived, "ratio", Unit::Unitless, Value::Rgb(self.zh3.ratios()));
+        s
     }
     fn diagnostics(&self) -> Vec<(&'static str, f64)> {
         self.diagnostics.clone()
@@ -315,7 +355,13 @@ impl Zh3Encoder {
         } else {
             zh3
         };
-        Zh3Fit { zh3, sh: zh3.to_sh(), diagnostics: diag }
+        Zh3Fit {
+            zh3,
+            sh: zh3.to_sh(),
+            diagnostics: diag,
+            k_stored: self.curve().is_none(),
+            shared: matches!(self.rule, AxisRule::Shared(_)),
+        }
     }
 }
 

@@ -432,6 +432,9 @@ pub(super) mod tests {
             fn irradiance(&self, n: DVec3) -> Rgb {
                 self.0.eval(n)
             }
+            fn stored(&self) -> crate::encoders::stored::Stored {
+                crate::encoders::stored::Stored::new("test: hides its SH3 form")
+            }
         }
         let s = Synth::new(3, scene_palette());
         let (rule, small) = (SphereRule::standard(), SphereRule::parse("3x6").unwrap());
@@ -472,6 +475,9 @@ pub(super) mod tests {
         impl Fitted for Hidden<'_> {
             fn irradiance(&self, n: DVec3) -> Rgb {
                 self.0.irradiance(n)
+            }
+            fn stored(&self) -> crate::encoders::stored::Stored {
+                self.0.stored()
             }
         }
         let s = Synth::new(5, scene_palette());
@@ -523,11 +529,17 @@ pub(super) mod tests {
                 let q = 0.5 * (1.0 + self.d.dot(n));
                 Rgb::splat(0.3 + 1.7 * q.powf(self.p))
             }
+            fn stored(&self) -> crate::encoders::stored::Stored {
+                crate::encoders::stored::Stored::new("test lobe")
+            }
         }
         struct Clamped(Sh9);
         impl Fitted for Clamped {
             fn irradiance(&self, n: DVec3) -> Rgb {
                 self.0.eval(n).max(Rgb::ZERO)
+            }
+            fn stored(&self) -> crate::encoders::stored::Stored {
+                crate::encoders::stored::Stored::new("test clamped SH")
             }
         }
         let (coarse, fine) = (SphereRule::standard(), SphereRule::product_gauss(64, 128));

@@ -1,0 +1,239 @@
+//! The library facade: the few types an engine's bake or a script needs, with a stability
+//! promise the internal modules do not make. Load a lat-long map ([`Map`]); choose where the
+//! light is seen from ([`Surface`]: a probe on the whole sphere, or a surface with normal N
+//! seeing the hemisphere about it); compute the exact reference E/π at given normals
+//! ([`Lighting::reference`]); fit any registered encoder by id with its settings
+//! ([`Lighting::fit`]); evaluate the fit ([`Fit::irradiance`]); get its stored coefficients
+//! ([`Fit::stored`], a [`Stored`]); score it against the reference ([`Lighting::score`]).
+//!
+//! Units and directions are those of `docs/conventions.md` §1: irradiance is E/π (a constant
+//! environment of radiance 1 gives 1), directions are world-space unit vectors with +Y up.
+//! Everything goes through the same code as the `probelab` command line: the fit input of a
+//! surface is the one `probelab eval --domain hemisphere:…` builds (the map's light under the
+//! hemisphere about N, and the exact E/π at N), and [`Lighting::score`] is its scoring step.
+
+use crate::encoders::encoder::{surface_normal_refusal, Encoder, Fitted};
+use crate::envmap::search::SearchPath;
+use crate::envmap::EnvMap;
+use crate::math::cap::Cap;
+use crate::pipeline::runner::{score_fit, Case, CaseData, MapData};
+use crate::reference::domain::Domain;
+use crate::reference::exact::DEFAULT_POLAR_NODES;
+use crate::reference::metrics::Metric;
+use anyhow::{bail, Context, Result};
+use std::path::Path;
+
+pub use crate::encoders::stored::{Entry, Role, Stored, Unit, Value};
+pub use crate::math::colour::Rgb;
+pub use glam::DVec3;
+
+/// A lat-long HDR map (OpenEXR or Radiance `.hdr`), read as piecewise-constant radiance over
+/// its texel cells (`docs/conventions.md` §1).
+pub struct Map {
+    map: EnvMap,
+}
+
+impl Map {
+    /// Loads a map by name or path: a path that exists is read as it is; a name is looked up
+    /// as `<name>.exr` or `<name>.hdr` in `<root>/envmaps`, then in each folder of the
+    /// `PROBELAB_ENVMAPS` variable (the command line's search path). Errors name the file and
+    /// what is wrong, or every folder searched.
+    pub fn load(name: &str, root: impl AsRef<Path>) -> Result<Map> {
+        let search = SearchPath::from_env(root.as_ref().join("envmaps"));
+        let map = search.load(name).with_context(|| format!("loading map '{name}'"))?;
+        Ok(Map { map })
+    }
+
+    /// Loads a map on the search path `search` (the command line's).
+    pub(crate) fn load_on(search: &SearchPath, name: &str) -> Result<Map> {
+        Ok(Map { map: search.load(name)? })
+    }
+
+    /// The map's name (its file stem).
+    pub fn name(&self) -> &str {
+        &self.map.name
+    }
+
+    /// Width and height in texels (2:1).
+    pub fn size(&self) -> (usize, usize) {
+        (self.map.width(), self.map.height())
+    }
+
+    /// The light as seen from `surface`: the whole map for [`Surface::Sphere`], the
+    /// hemisphere about N for [`Surface::Normal`]. A normal that is zero or not finite is an
+    /// error; any other is normalised.
+    pub fn lighting(&self, surface: Surface) -> Result<Lighting<'_>> {
+        let case = match surface {
+            Surface::Sphere => Case {
+                domain: Domain::Sphere,
+                domain_label: "sphere".into(),
+                orientation_set: "-".into(),
+                effects_label: "none".into(),
+                masks: vec![],
+                normal: None,
+                cone: None,
+                albedo: None,
+            },
+            Surface::Normal(n) => {
+                let Some(n) = n.try_normalize().filter(|n| n.is_finite()) else {
+                    bail!("surface normal ({}, {}, {}): expected a finite, non-zero vector", n.x, n.y, n.z);
+                };
+                Case {
+                    domain: Domain::Hemisphere { normal: n },
+                    domain_label: format!("hemisphere:({}, {}, {})", n.x, n.y, n.z),
+                    orientation_set: "-".into(),
+                    effects_label: "hemisphere".into(),
+                    masks: vec![Cap::hemisphere(n)],
+                    normal: Some(n),
+                    cone: None,
+                    albedo: None,
+                }
+            }
+        };
+        Ok(Lighting { data: MapData::new(&self.map), case, name: self.map.name.clone() })
+    }
+}
+
+/// Where the light is seen from.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Surface {
+    /// A probe in free space: the whole map's light, normals over the whole sphere.
+    Sphere,
+    /// A surface with this normal N: only the light above its horizon (the hemisphere about
+    /// N) reaches it, and the encoders that need N (AHD/HHD, the H-basis, the occlusion
+    /// operators) are fitted about it.
+    Normal(DVec3),
+}
+
+/// A map's light as seen from one [`Surface`]: what every fit and the reference are computed
+/// from (the map's SH and row moments, computed once).
+pub struct Lighting<'m> {
+    data: MapData<'m>,
+    case: Case,
+    name: String,
+}
+
+impl<'m> Lighting<'m> {
+    /// What this light is, for a reader: the map and the domain, e.g. `map blender_city_256x128,
+    /// sphere (the whole map, no surface)` or `…, hemisphere about N = (0, 1, 0)`.
+    pub fn describe(&self) -> String {
+        match self.case.normal {
+            None => format!("map {}, sphere (the whole map, no surface)", self.name),
+            Some(n) => format!(
+                "map {}, hemisphere about N = ({}, {}, {}) (the light above the surface's horizon)",
+                self.name, n.x, n.y, n.z
+            ),
+        }
+    }
+
+    /// The surface normal N, if any.
+    pub fn normal(&self) -> Option<DVec3> {
+        self.case.normal
+    }
+
+    fn case_data(&self) -> CaseData<'_> {
+        CaseData::new(&self.data, &self.case, DEFAULT_POLAR_NODES)
+    }
+
+    /// The exact E/π at each unit normal: the map integrated cell by cell against the
+    /// clamped cosine, under the hemisphere about N for a surface (`docs/conventions.md`,
+    /// "The exact reference").
+    pub fn reference(&self, normals: &[DVec3]) -> Vec<Rgb> {
+        self.case_data().reference_many(normals)
+    }
+
+    /// Fits the encoder `id` (one of [`encoder_ids`]) with `settings`, TOML text of its keys
+    /// (`""` for the defaults; e.g. `axis_weights = "rec709"`). Errors: an unknown id (listing
+    /// the valid ones), a bad or unknown key, and an encoder that needs a surface normal fitted
+    /// on [`Surface::Sphere`].
+    pub fn fit(&self, id: &str, settings: &str) -> Result<Fit> {
+        let table: toml::Table =
+            toml::from_str(settings).with_context(|| format!("settings of encoder '{id}': not TOML"))?;
+        let named = crate::encoders::build(id, None, table)?;
+        if self.case.normal.is_none() && named.encoder.needs_surface_normal() {
+            bail!("{}; fit it on Surface::Normal(N)", surface_normal_refusal(id));
+        }
+        let fitted = named.encoder.fit(&self.case_data().fit_input());
+        Ok(Fit { id: named.name, encoder: named.encoder, fitted })
+    }
+
+    /// The solid-angle-weighted error of `fit` against the exact reference over the domain
+    /// (the sphere, or the hemisphere about N) on a lat-long grid of `resolution` (W, H):
+    /// the `exact` metric of the result tables (`docs/tables.md`). W and H must be even and
+    /// from 4 to 4096.
+    pub fn score(&self, fit: &Fit, resolution: (usize, usize)) -> Result<Score> {
+        let (w, h) = resolution;
+        if !(4..=4096).contains(&w) || !(4..=4096).contains(&h) || w % 2 != 0 || h % 2 != 0 {
+            bail!("resolution {w}x{h}: expected even W and H from 4 to 4096");
+        }
+        let cd = self.case_data();
+        let grid = self.case.domain.output_grid(resolution);
+        let reference = cd.reference_on(&grid);
+        let s = score_fit(fit.encoder.as_ref(), fit.fitted.as_ref(), &grid, &reference, Metric::Exact);
+        Ok(Score { rmse: s.rmse, rel_rmse: s.rel_rmse, rmse_rgb: Rgb::from_array(s.rmse_rgb), neg_frac: s.neg_frac })
+    }
+}
+
+/// The error of a fit against the exact reference ([`Lighting::score`]), in E/π.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Score {
+    /// √(mean of the three channels' weighted mean squared errors).
+    pub rmse: f64,
+    /// `rmse` over the RMS of the reference.
+    pub rel_rmse: f64,
+    /// The RMSE of each channel.
+    pub rmse_rgb: Rgb,
+    /// The weighted fraction of normals where any channel of the fit is negative.
+    pub neg_frac: f64,
+}
+
+/// A fitted encoding.
+pub struct Fit {
+    id: String,
+    encoder: Box<dyn Encoder>,
+    fitted: Box<dyn Fitted>,
+}
+
+impl Fit {
+    /// The encoder's id.
+    pub fn id(&self) -> &str {
+        &self.id
+    }
+
+    /// E/π at unit normal `n`.
+    pub fn irradiance(&self, n: DVec3) -> Rgb {
+        self.fitted.irradiance(n)
+    }
+
+    /// The stored coefficients: named values with units and the reconstruction they feed
+    /// ([`Stored`]). Its stored scalars number [`Fit::stored_scalars`].
+    pub fn stored(&self) -> Stored {
+        self.fitted.stored()
+    }
+
+    /// Scalars the encoding stores per probe or texel (RGB counts 3).
+    pub fn stored_scalars(&self) -> usize {
+        self.encoder.stored_scalars()
+    }
+
+    /// Whether the encoder is defined only about a surface normal N.
+    pub fn needs_surface_normal(&self) -> bool {
+        self.encoder.needs_surface_normal()
+    }
+
+    /// Solver statistics and similar per-fit figures (the tables' `diagnostics` column).
+    pub fn diagnostics(&self) -> Vec<(&'static str, f64)> {
+        self.fitted.diagnostics()
+    }
+}
+
+/// The id of every registered encoder, in the order tables list them (`probelab encoders`).
+pub fn encoder_ids() -> Vec<&'static str> {
+    crate::encoders::REGISTRY.iter().map(|k| k.id).collect()
+}
+
+/// Whether the encoder `id` needs a surface normal ([`Surface::Normal`]) to be fitted; an
+/// unknown id is an error listing the valid ones.
+pub fn needs_surface_normal(id: &str) -> Result<bool> {
+    Ok(crate::encoders::build(id, None, toml::Table::new())?.encoder.needs_surface_normal())
+}
