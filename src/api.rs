@@ -45,7 +45,8 @@ impl Map {
     }
 
     /// Loads a map on the search path `search` (the command line's).
-    pub(crate) fn load_on(search: &SearchPath, name: &str) -> Result<Map> {
+    #[doc(hidden)]
+    pub fn load_on(search: &SearchPath, name: &str) -> Result<Map> {
         Ok(Map { map: search.load(name)? })
     }
 

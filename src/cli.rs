@@ -3,15 +3,30 @@
 // clap prints the argument docs as --help, where <root>, <name> and <out> are placeholders.
 #![allow(rustdoc::invalid_html_tags)]
 
-use crate::encoders;
-use crate::envmap::search::SearchPath;
-use crate::pipeline::experiment::{list_experiments, DomainKind, Effect, Experiment};
-use crate::pipeline::output::{self, noteln, outln};
-use crate::pipeline::{atomic, runner, table};
-use crate::reference::domain::parse_axis;
-use crate::reference::metrics::Metric;
+use probelab::encoders;
+use probelab::envmap::search::SearchPath;
+use probelab::pipeline::experiment::{list_experiments, DomainKind, Effect, Experiment};
+use probelab::pipeline::output;
+
+/// `println!` that returns `Result<(), StdoutError>` instead of panicking (as the library's
+/// `pipeline::output::outln`, which is crate-private).
+macro_rules! outln {
+    ($($arg:tt)*) => {
+        probelab::pipeline::output::write_fmt(format_args!("{}\n", format_args!($($arg)*)))
+    };
+}
+
+/// `eprintln!` that ignores a failing stderr instead of panicking.
+macro_rules! noteln {
+    ($($arg:tt)*) => {
+        probelab::pipeline::output::note_fmt(format_args!("{}\n", format_args!($($arg)*)))
+    };
+}
 use anyhow::{bail, Context, Result};
 use clap::{Parser, Subcommand};
+use probelab::pipeline::{atomic, runner, table};
+use probelab::reference::domain::parse_axis;
+use probelab::reference::metrics::Metric;
 use std::path::{Path, PathBuf};
 
 /// The `probelab` command line (its global options and the command).
@@ -80,7 +95,7 @@ pub enum Command {
         #[arg(long, default_value = "256x128")]
         resolution: String,
         /// Gauss–Legendre nodes per row piece of the reference.
-        #[arg(long, default_value_t = crate::reference::exact::DEFAULT_POLAR_NODES)]
+        #[arg(long, default_value_t = probelab::reference::exact::DEFAULT_POLAR_NODES)]
         polar_nodes: usize,
         /// Output format: `csv` (the table's columns) or `json` (an array of objects keyed by
         /// the same columns, scores as numbers).
@@ -174,11 +189,11 @@ pub enum Command {
         command: Option<MapsCommand>,
     },
     /// Score encoders over a probe set (a file, or --synth N), in chunks and optionally sharded.
-    Probes(crate::pipeline::probeset::ProbesArgs),
+    Probes(probelab::pipeline::probeset::ProbesArgs),
     /// Merge shard statistics written by `probes --out`.
-    Merge(crate::pipeline::probeset::MergeArgs),
+    Merge(probelab::pipeline::probeset::MergeArgs),
     /// Vary one accuracy knob and record error against time (experiments/sweeps/*.toml).
-    Sweep(crate::pipeline::sweep::SweepArgs),
+    Sweep(probelab::pipeline::sweep::SweepArgs),
 }
 
 /// The subcommands of `probelab maps`.
@@ -210,10 +225,10 @@ pub fn main_with(cli: Cli) -> Result<i32> {
         rayon::ThreadPoolBuilder::new().num_threads(j).build_global().context("--jobs")?;
     }
     if cli.profile {
-        crate::pipeline::profile::enable();
+        probelab::pipeline::profile::enable();
     }
-    crate::pipeline::timing::set_enabled(!cli.no_timing);
-    let _profile_report = crate::pipeline::profile::ReportOnDrop(std::time::Instant::now());
+    probelab::pipeline::timing::set_enabled(!cli.no_timing);
+    let _profile_report = probelab::pipeline::profile::ReportOnDrop(std::time::Instant::now());
     let root = cli.root.clone();
     let search = SearchPath::from_env(root.join("envmaps"));
     let results = |out: Option<PathBuf>| out.unwrap_or_else(|| root.join("results"));
@@ -244,7 +259,7 @@ pub fn main_with(cli: Cli) -> Result<i32> {
                     refused.push(exp.name.clone());
                 }
             }
-            Ok(crate::regression::check::refused_exit(&refused))
+            Ok(probelab::regression::check::refused_exit(&refused))
         }
         Command::Reproduce { out } => {
             let out = results(out);
@@ -253,7 +268,7 @@ pub fn main_with(cli: Cli) -> Result<i32> {
             let exps = list_experiments(&dir)?.iter().map(|p| Experiment::load(p)).collect::<Result<Vec<_>>>()?;
             let (mut skipped, mut refused) = (Vec::new(), Vec::new());
             let (mut done, mut partial) = (Vec::new(), Vec::new());
-            let progress = crate::pipeline::progress::Progress::new(exps.len() as u64, "experiments");
+            let progress = probelab::pipeline::progress::Progress::new(exps.len() as u64, "experiments");
             for exp in &exps {
                 progress.message(exp.name.clone());
                 let report = runner::run(exp, &search)?;
@@ -281,7 +296,7 @@ pub fn main_with(cli: Cli) -> Result<i32> {
             // Some maps found: those maps' rows are compared with the committed baseline, which
             // is never rewritten from a partial run.
             for (exp, report) in &partial {
-                let line = crate::regression::check::check_partial(&out, &root, exp, report)?;
+                let line = probelab::regression::check::check_partial(&out, &root, exp, report)?;
                 if !line.passed {
                     refused.push(exp.name.clone());
                 }
@@ -308,8 +323,8 @@ pub fn main_with(cli: Cli) -> Result<i32> {
             noteln!("sweeps (experiments/sweeps/) are not re-run by reproduce: `probelab sweep` runs them");
             // The claims, judged on the tables just written (and the measurements, when their
             // maps are here), before the report that presents them.
-            let run = crate::regression::claims::run(&root, &search, &out, false, true)?;
-            let (claims_ok, text) = crate::regression::claims::report(&run, false);
+            let run = probelab::regression::claims::run(&root, &search, &out, false, true)?;
+            let (claims_ok, text) = probelab::regression::claims::report(&run, false);
             write_strips(&out, &run)?;
             output::write(text.as_bytes())?;
             if !claims_ok {
@@ -320,7 +335,7 @@ pub fn main_with(cli: Cli) -> Result<i32> {
             for line in &summary {
                 outln!("  {line}")?;
             }
-            Ok(crate::regression::check::refused_exit(&refused))
+            Ok(probelab::regression::check::refused_exit(&refused))
         }
         Command::Report { out } => {
             let out = results(out);
@@ -336,11 +351,11 @@ pub fn main_with(cli: Cli) -> Result<i32> {
             let names: Vec<String> = experiments.into_iter().filter(|e| e != "claims").collect();
             let mut code = 0;
             if all || !names.is_empty() || !claims {
-                code = crate::regression::check::check_command(&root, &search, &out, &names, all, allow_missing)?;
+                code = probelab::regression::check::check_command(&root, &search, &out, &names, all, allow_missing)?;
             }
             if claims {
-                let run = crate::regression::claims::run(&root, &search, &out, false, false)?;
-                let (ok, text) = crate::regression::claims::report(&run, true);
+                let run = probelab::regression::claims::run(&root, &search, &out, false, false)?;
+                let (ok, text) = probelab::regression::claims::report(&run, true);
                 output::write(text.as_bytes())?;
                 outln!("claims: {}", if ok { "ok: no measurement moved, no verdict changed" } else { "FAILED" })?;
                 if !ok {
@@ -359,13 +374,13 @@ pub fn main_with(cli: Cli) -> Result<i32> {
             // bless between two baselines.
             let mut lines = String::new();
             if experiments.is_empty() || !names.is_empty() {
-                let (c, text) = crate::regression::check::bless_command(&root, &search, &out, &names, force)?;
+                let (c, text) = probelab::regression::check::bless_command(&root, &search, &out, &names, force)?;
                 code = c;
                 lines += &text;
             }
             if claims {
-                let run = crate::regression::claims::run(&root, &search, &out, true, true)?;
-                let (_, text) = crate::regression::claims::report(&run, false);
+                let run = probelab::regression::claims::run(&root, &search, &out, true, true)?;
+                let (_, text) = probelab::regression::claims::report(&run, false);
                 write_strips(&out, &run)?;
                 lines += &text;
                 lines += &format!("claims: wrote {} file(s)\n", run.written.len());
@@ -381,7 +396,11 @@ pub fn main_with(cli: Cli) -> Result<i32> {
                     report.missing.iter().zip(&report.missing_why).map(|(m, w)| format!("{m} ({w})")).collect();
                 bail!("map(s) not found: {}\nSearched: {}", why.join(", "), describe_search(&search));
             }
-            output::write(&if format == "json" { table::to_json(&report.rows)? } else { table::to_csv(&report.rows)? })?;
+            output::write(&if format == "json" {
+                table::to_json(&report.rows)?
+            } else {
+                table::to_csv(&report.rows)?
+            })?;
             Ok(0)
         }
         Command::Fit { map, encoders: list, normal, format } => {
@@ -396,16 +415,16 @@ pub fn main_with(cli: Cli) -> Result<i32> {
             let _lock = writing(&out)?;
             // Every map, then every line (a failing stdout never stops the writes half way).
             let mut lines = String::new();
-            for s in crate::reference::scenes::generated() {
+            for s in probelab::reference::scenes::generated() {
                 let path = out.join(format!("{}.exr", s.id));
-                crate::envmap::load::write_exr(&path, &s.map(width))?;
+                probelab::envmap::load::write_exr(&path, &s.map(width))?;
                 lines += &format!("{}  {}\n", path.display(), s.description);
             }
             output::write(lines.as_bytes())?;
             Ok(0)
         }
         Command::FitHallucination { maps, probes, format, cubic, axis } => {
-            let report = crate::pipeline::hallucination_fit::run(
+            let report = probelab::pipeline::hallucination_fit::run(
                 &search,
                 &maps,
                 probes.as_deref(),
@@ -419,8 +438,8 @@ pub fn main_with(cli: Cli) -> Result<i32> {
         Command::Claims { out } => {
             let out = results(out);
             let _lock = writing(&out)?;
-            let run = crate::regression::claims::run(&root, &search, &out, false, true)?;
-            let (ok, text) = crate::regression::claims::report(&run, false);
+            let run = probelab::regression::claims::run(&root, &search, &out, false, true)?;
+            let (ok, text) = probelab::regression::claims::report(&run, false);
             let strips = write_strips(&out, &run)?;
             output::write(text.as_bytes())?;
             noteln!("wrote {} file(s) and {strips} blending strip(s) under {}", run.written.len(), out.display());
@@ -452,11 +471,11 @@ pub fn main_with(cli: Cli) -> Result<i32> {
             output::write(text.as_bytes())?;
             Ok(0)
         }
-        Command::Probes(args) => crate::pipeline::probeset::command(args, &search),
-        Command::Merge(args) => crate::pipeline::probeset::merge_command(args),
+        Command::Probes(args) => probelab::pipeline::probeset::command(args, &search),
+        Command::Merge(args) => probelab::pipeline::probeset::merge_command(args),
         Command::Sweep(args) => {
             let _lock = writing(&results(args.out.clone()))?;
-            crate::pipeline::sweep::command(args, &root, &search)
+            probelab::pipeline::sweep::command(args, &root, &search)
         }
     }
 }
@@ -482,17 +501,17 @@ fn import_maps(inputs: &[PathBuf], out: &Path) -> Result<i32> {
             files.push(p.clone());
         }
     }
-    let mut made: Vec<(PathBuf, crate::envmap::EnvMap, crate::envmap::import::Imported)> = Vec::new();
+    let mut made: Vec<(PathBuf, probelab::envmap::EnvMap, probelab::envmap::import::Imported)> = Vec::new();
     let mut errors = Vec::new();
     for f in &files {
-        let source = match crate::envmap::load::load(f) {
+        let source = match probelab::envmap::load::load(f) {
             Ok(m) => m,
             Err(e) => {
                 errors.push(e.to_string());
                 continue;
             }
         };
-        match crate::envmap::import::derive(&source) {
+        match probelab::envmap::import::derive(&source) {
             Ok(d) if made.iter().any(|m| m.2.name == d.name) => {
                 errors.push(format!("{}: gives the map {}, as an earlier input does", f.display(), d.name))
             }
@@ -515,7 +534,9 @@ nothing written",
         let target = out.join(format!("{}.exr", d.name));
         let same = match target.exists() {
             false => false,
-            true if crate::envmap::identity::pixel_sha256(&crate::envmap::load::load(&target)?) == d.pixel_sha256 => {
+            true if probelab::envmap::identity::pixel_sha256(&probelab::envmap::load::load(&target)?)
+                == d.pixel_sha256 =>
+            {
                 true
             }
             true => bail!(
@@ -530,7 +551,7 @@ nothing written",
     for ((f, source, d), &kept) in made.iter().zip(&kept) {
         let target = out.join(format!("{}.exr", d.name));
         if !kept {
-            crate::envmap::load::write_exr_half(&target, &d.map)?;
+            probelab::envmap::load::write_exr_half(&target, &d.map)?;
         }
         let how = if d.averaged {
             format!("{}x{} averaged to 256x128", source.width(), source.height())
@@ -593,17 +614,17 @@ fn describe_search(s: &SearchPath) -> String {
 
 /// Draws the lightmap study's blending strips (report layer) and writes them under
 /// `results/claims/`, each atomically; returns how many.
-fn write_strips(out: &Path, run: &crate::regression::claims::ClaimsRun) -> Result<usize> {
-    let strips = crate::report::strip::pngs(&run.strips)?;
+fn write_strips(out: &Path, run: &probelab::regression::claims::ClaimsRun) -> Result<usize> {
+    let strips = probelab::report::strip::pngs(&run.strips)?;
     for (name, bytes) in &strips {
-        crate::pipeline::atomic::write(&out.join("claims").join(name), bytes)?;
+        probelab::pipeline::atomic::write(&out.join("claims").join(name), bytes)?;
     }
     Ok(strips.len())
 }
 
 /// Writes results/REPORT.md with its pictures (`report::generate`).
 fn write_report(root: &Path, out: &Path, search: &SearchPath) -> Result<()> {
-    let g = crate::report::generate(&crate::report::Options { root, out, search })?;
+    let g = probelab::report::generate(&probelab::report::Options { root, out, search })?;
     noteln!("wrote {} ({} picture(s) drawn)", g.report.display(), g.pictures);
     if !g.kept.is_empty() {
         noteln!("sheets not redrawn (maps not on the search path): {}", g.kept.join(", "));
@@ -622,27 +643,27 @@ pub fn write_results(root: &Path, out: &Path, exp: &Experiment, report: &runner:
 /// [`write_results`], saying what became of the table: `None` when refused, otherwise
 /// "new baseline written" or how many numbers matched the baseline.
 fn write_results_told(root: &Path, out: &Path, exp: &Experiment, report: &runner::RunReport) -> Result<Option<String>> {
-    let _s = crate::pipeline::profile::span("write");
-    let stored = crate::regression::check::store(out, root, exp, report)?;
-    let ok = crate::regression::check::print_stored(exp, out, &stored, report.rows.len());
+    let _s = probelab::pipeline::profile::span("write");
+    let stored = probelab::regression::check::store(out, root, exp, report)?;
+    let ok = probelab::regression::check::print_stored(exp, out, &stored, report.rows.len());
     let told = match &stored {
-        crate::regression::check::Stored::New => "no baseline yet: new baseline written".to_string(),
-        crate::regression::check::Stored::Unchanged(c) => {
+        probelab::regression::check::Stored::New => "no baseline yet: new baseline written".to_string(),
+        probelab::regression::check::Stored::Unchanged(c) => {
             format!("{} numbers compared, nothing moved; baseline left unchanged", c.comparison.numbers)
         }
-        crate::regression::check::Stored::Refused(c) => format!("FAILED ({} moved)", c.moved()),
+        probelab::regression::check::Stored::Refused(c) => format!("FAILED ({} moved)", c.moved()),
     };
     if ok {
         let dir = out.join(&exp.name);
         // A table that stood within tolerance is the one kept: summarise its numbers.
         let rows = match stored {
-            crate::regression::check::Stored::Unchanged(_) => {
-                crate::regression::check::rows_as_stored(&dir, &report.rows)?
+            probelab::regression::check::Stored::Unchanged(_) => {
+                probelab::regression::check::rows_as_stored(&dir, &report.rows)?
             }
             _ => report.rows.clone(),
         };
         if let Some(baseline) = &exp.summary {
-            crate::pipeline::summary::write(&dir, baseline.as_deref(), &rows)?;
+            probelab::pipeline::summary::write(&dir, baseline.as_deref(), &rows)?;
             noteln!("wrote {}", dir.join("summary.csv").display());
         }
     }
@@ -656,19 +677,19 @@ fn fit_command(search: &SearchPath, map: &str, list: &str, normal: Option<&str>,
         bail!("--format '{format}': expected json or csv");
     }
     let surface = match normal {
-        None => crate::api::Surface::Sphere,
-        Some(text) => crate::api::Surface::Normal(parse_normal(text)?),
+        None => probelab::api::Surface::Sphere,
+        Some(text) => probelab::api::Surface::Normal(parse_normal(text)?),
     };
     let named = encoders::build_list(list)?;
-    if surface == crate::api::Surface::Sphere {
+    if surface == probelab::api::Surface::Sphere {
         if let Some(e) = named.iter().find(|e| e.encoder.needs_surface_normal()) {
             bail!(
                 "--encoders: {}; pass --normal x,y,z (the surface normal N)",
-                crate::encoders::encoder::surface_normal_refusal(&e.name)
+                probelab::encoders::encoder::surface_normal_refusal(&e.name)
             );
         }
     }
-    let map = crate::api::Map::load_on(search, map)?;
+    let map = probelab::api::Map::load_on(search, map)?;
     let light = map.lighting(surface)?;
     let mut fits = Vec::new();
     for e in &named {
@@ -714,8 +735,8 @@ fn fit_command(search: &SearchPath, map: &str, list: &str, normal: Option<&str>,
             let mut c: Vec<String> = e.value.components().iter().map(|v| format!("{v}")).collect();
             c.resize(3, String::new());
             let role = match e.role {
-                crate::api::Role::Stored => "stored",
-                crate::api::Role::Derived => "derived",
+                probelab::api::Role::Stored => "stored",
+                probelab::api::Role::Derived => "derived",
             };
             w.write_record([
                 map.name(),
@@ -759,13 +780,13 @@ fn eval_experiment(
     resolution: &str,
     polar_nodes: usize,
 ) -> Result<Experiment> {
-    let res = crate::pipeline::experiment::parse_resolution(resolution).context("--resolution")?;
+    let res = probelab::pipeline::experiment::parse_resolution(resolution).context("--resolution")?;
     let metric = Metric::parse(metric)?;
     let (kind, orientations, effects) = if domain == "sphere" {
         (DomainKind::Sphere, vec![], vec![])
     } else if let Some(axis) = domain.strip_prefix("hemisphere:") {
         parse_axis(axis).with_context(|| format!("--domain {domain}"))?;
-        (DomainKind::Hemisphere, crate::reference::domain::expand_orientations(axis)?, vec![Effect::Hemisphere])
+        (DomainKind::Hemisphere, probelab::reference::domain::expand_orientations(axis)?, vec![Effect::Hemisphere])
     } else {
         bail!("--domain '{domain}': expected sphere or hemisphere:AXIS (AXIS one of +x, -x, +y, -y, +z, -z)");
     };
@@ -781,7 +802,7 @@ fn eval_experiment(
             bail!(
                 "--encoders: {}; pass --domain hemisphere:AXIS (AXIS one of +x, -x, +y, -y, +z, -z), or run an \
                  experiment with domain = \"hemisphere\"",
-                crate::encoders::encoder::surface_normal_refusal(&e.name)
+                probelab::encoders::encoder::surface_normal_refusal(&e.name)
             );
         }
     }

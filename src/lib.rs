@@ -31,15 +31,16 @@
 //!
 //! # Internals
 //!
-//! The modules `math`, `envmap`, `reference`, `encoders`, `pipeline`, `claims`, `regression`,
-//! `report` and `cli` are public for the binary, the tests and the benches, and hidden from
+//! The command line (`src/cli.rs`) is the binary's, not the library's. The modules `math`, `envmap`, `reference`, `encoders`, `pipeline`, `claims`, `regression`,
+//! `report` and `api` are public for the binary, the tests and the benches, and hidden from
 //! this documentation: internal, with no stability promise. Each folder's `mod.rs` says what
 //! its layer is and what it may use; `ARCHITECTURE.md` holds the table that
 //! `tests/architecture.rs` checks every `use crate::` line against.
 
 #![warn(missing_docs)]
 
-mod api;
+#[doc(hidden)]
+pub mod api;
 pub use api::{
     encoder_ids, needs_surface_normal, Entry, Fit, Lighting, Map, Rgb, Role, Score, Stored, Surface, Unit, Value,
 };
@@ -49,7 +50,6 @@ pub use glam::DVec3;
 // from the documentation: internal, no stability promise.
 #[doc(hidden)]
 pub mod claims;
-pub mod cli;
 #[doc(hidden)]
 pub mod encoders;
 #[doc(hidden)]

@@ -1,17 +1,19 @@
+mod cli;
+
 use clap::Parser;
 use probelab::pipeline::output;
 
 fn main() {
     // clap's own output (--help, --version, usage errors) goes through the same rules as the
     // commands': a closed pipe ends quietly (141), any other write error exits 2.
-    let cli = match probelab::cli::Cli::try_parse() {
+    let cli = match cli::Cli::try_parse() {
         Ok(cli) => cli,
         Err(e) => std::process::exit(match e.print() {
             Ok(()) => e.exit_code(),
             Err(io) => output::failure(&output::StdoutError(io).into()).0,
         }),
     };
-    match probelab::cli::main_with(cli) {
+    match cli::main_with(cli) {
         Ok(code) => std::process::exit(code),
         Err(e) => {
             // Exit 2 with the message; 141, quietly, when stdout's reader went away.

@@ -149,7 +149,11 @@ fn read_crate() -> Crate {
     for f in files {
         let rel = f.strip_prefix(&root).unwrap().to_path_buf();
         if let Some(m) = module_of(&rel) {
-            let code = code_of(&std::fs::read_to_string(&f).unwrap());
+            let mut code = code_of(&std::fs::read_to_string(&f).unwrap());
+            // The command line is a module of the binary: it reaches the layers as `probelab::`.
+            if rel == Path::new("cli.rs") {
+                code = code.replace("probelab::", "crate::");
+            }
             modules.insert(m, (rel, code));
         }
     }

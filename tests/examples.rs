@@ -8,16 +8,21 @@
 use std::path::PathBuf;
 use std::process::Command;
 
-/// The example binary `name`, beside this test binary's profile folder.
+/// The example binary `name`, built by cargo (with this test's profile) into
+/// `target/<profile>/examples/<name>`. A plain `cargo test` builds the examples under hashed
+/// names, and `cargo test --test examples` not at all, so the test asks cargo for them.
 fn example(name: &str) -> PathBuf {
     let exe = std::env::current_exe().expect("the test binary's path");
     let profile = exe.parent().and_then(|deps| deps.parent()).expect("target/<profile>/deps/<test>");
-    let p = profile.join("examples").join(name);
-    assert!(
-        p.is_file(),
-        "{} not built: `cargo test` builds the examples (or run `cargo build --examples` with the same profile)",
-        p.display()
-    );
+    let mut build = Command::new(env!("CARGO"));
+    build.args(["build", "--quiet", "--example", name]).current_dir(env!("CARGO_MANIFEST_DIR"));
+    if !cfg!(debug_assertions) {
+        build.arg("--release");
+    }
+    let status = build.status().expect("run cargo");
+    assert!(status.success(), "cargo build --example {name} failed");
+    let p = profile.join("examples").join(format!("{name}{}", std::env::consts::EXE_SUFFIX));
+    assert!(p.is_file(), "{} not built", p.display());
     p
 }
 

@@ -8,8 +8,8 @@ use crate::pipeline::probeset::format::{file_identity, write_probes, Format, Pro
 use crate::pipeline::probeset::score::{score, SetStats, Source, SphereRule};
 use crate::pipeline::probeset::shard::Shard;
 use crate::pipeline::probeset::synth::{scene_palette, Synth};
-use anyhow::{bail, Context, Result};
 use crate::pipeline::progress::Progress;
+use anyhow::{bail, Context, Result};
 use rayon::prelude::*;
 use std::path::PathBuf;
 
