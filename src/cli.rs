@@ -141,6 +141,10 @@ pub enum Command {
         /// Baselines folder (default: <root>/results).
         #[arg(long)]
         out: Option<PathBuf>,
+        /// Output format: `text` (one line per finding and a verdict per experiment) or `json`
+        /// (one object: the overall verdict, and per experiment its counts and findings).
+        #[arg(long, default_value = "text", value_parser = ["text", "json"])]
+        format: String,
     },
     /// Re-run experiments and rewrite the baselines that differ, printing the differences.
     Bless {
@@ -343,24 +347,53 @@ pub fn main_with(cli: Cli) -> Result<i32> {
             write_report(&root, &out, &search)?;
             Ok(0)
         }
-        Command::Check { experiments, all, allow_missing, out } => {
+        Command::Check { experiments, all, allow_missing, out, format } => {
             let out = results(out);
+            let json = format == "json";
             // A shared lock: no bless rewrites a baseline while it is read.
             let _lock = if out.is_dir() { Some(atomic::lock(&out, false, || waiting(&out))?) } else { None };
             let claims = all || experiments.iter().any(|e| e == "claims");
             let names: Vec<String> = experiments.into_iter().filter(|e| e != "claims").collect();
             let mut code = 0;
+            let mut doc = serde_json::json!({ "passed": true });
             if all || !names.is_empty() || !claims {
-                code = probelab::regression::check::check_command(&root, &search, &out, &names, all, allow_missing)?;
+                let (c, summary) = probelab::regression::check::check_experiments(
+                    &root,
+                    &search,
+                    &out,
+                    &names,
+                    all,
+                    allow_missing,
+                    json,
+                )?;
+                code = c;
+                if json {
+                    doc = summary.json;
+                } else {
+                    output::write(summary.text.as_bytes())?;
+                }
             }
             if claims {
                 let run = probelab::regression::claims::run(&root, &search, &out, false, false)?;
                 let (ok, text) = probelab::regression::claims::report(&run, true);
-                output::write(text.as_bytes())?;
-                outln!("claims: {}", if ok { "ok: no measurement moved, no verdict changed" } else { "FAILED" })?;
+                if json {
+                    doc["claims"] = serde_json::json!({
+                        "passed": ok,
+                        "lines": text.lines().collect::<Vec<_>>(),
+                    });
+                    doc["passed"] = serde_json::Value::Bool(doc["passed"].as_bool().unwrap_or(true) && ok);
+                } else {
+                    output::write(text.as_bytes())?;
+                    outln!("claims: {}", if ok { "ok: no measurement moved, no verdict changed" } else { "FAILED" })?;
+                }
                 if !ok {
                     code = code.max(1);
                 }
+            }
+            if json {
+                let mut text = serde_json::to_string_pretty(&doc)?;
+                text.push('\n');
+                output::write(text.as_bytes())?;
             }
             Ok(code)
         }

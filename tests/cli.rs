@@ -287,3 +287,47 @@ fn eval_prints_json_with_the_csv_columns() {
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("xml"));
 }
+
+/// `check --format json` says what the text format says: on a committed experiment whose
+/// maps are all generated (in envmaps/ on every clone), the same verdict, the same counts, and one
+/// finding object per finding line. The counts are read from the text independently.
+#[test]
+fn check_prints_json_with_the_text_counts() {
+    let exp = "generated_scenes";
+    // A copy of the baseline: a check holds a shared lock on its folder, which would make a
+    // concurrent test's `run` on results/ wait.
+    let dir = tempfile::tempdir().unwrap();
+    let base = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("results").join(exp);
+    std::fs::create_dir(dir.path().join(exp)).unwrap();
+    for f in std::fs::read_dir(&base).unwrap() {
+        let f = f.unwrap().path();
+        if f.is_file() {
+            std::fs::copy(&f, dir.path().join(exp).join(f.file_name().unwrap())).unwrap();
+        }
+    }
+    let out_dir = dir.path().to_str().unwrap();
+    let text_out = run(&["check", exp, "--out", out_dir]);
+    let text = stdout_ok(&text_out);
+    let json_out = run(&["check", exp, "--out", out_dir, "--format", "json"]);
+    assert_eq!(json_out.status.code(), text_out.status.code(), "the same exit code");
+    let doc: serde_json::Value = serde_json::from_str(&stdout_ok(&json_out)).expect("one JSON document");
+    let e = &doc["experiments"][0];
+    assert_eq!(e["experiment"], exp);
+    assert_eq!(doc["passed"].as_bool(), Some(text.contains("check: ok")));
+    assert_eq!(e["passed"], doc["passed"]);
+    // "N rows, M numbers compared with the baseline …"
+    let verdict = text.lines().find(|l| l.starts_with(&format!("{exp}: ok"))).expect("a verdict line");
+    let n = |word: &str| -> u64 {
+        let before = verdict.split(word).next().unwrap();
+        before.split(|c: char| !c.is_ascii_digit()).filter(|t| !t.is_empty()).last().unwrap().parse().unwrap()
+    };
+    assert_eq!(e["rows"].as_u64(), Some(n(" rows")));
+    assert_eq!(e["numbers"].as_u64(), Some(n(" numbers compared")));
+    assert_eq!(doc["numbers"], e["numbers"]);
+    assert!(e["numbers"].as_u64().unwrap() > 0);
+    let finding_lines = text.lines().filter(|l| l.starts_with(&format!("{exp}: ")) && *l != verdict).count();
+    assert_eq!(e["findings"].as_array().unwrap().len(), finding_lines);
+    assert!(e["baseline_commit"].is_string());
+    let out = run(&["check", exp, "--format", "yaml"]);
+    assert_eq!(out.status.code(), Some(2));
+}

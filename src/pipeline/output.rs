@@ -1,5 +1,5 @@
 //! The commands' standard output and standard error. Command code never uses `println!` or
-//! `eprintln!`, which panic (exit 101) when the stream fails: it writes through `outln!` /
+//! `eprintln!`, which panic (exit 101) when the stream fails: it writes through `outln!` (the binary's, in `cli.rs`) or
 //! [`write()`], whose errors are returned, and `noteln!`, which ignores them.
 //!
 //! - stdout fails because its reader went away (a closed pipe, `| head`): the error is a
@@ -67,17 +67,6 @@ pub fn failure(e: &anyhow::Error) -> (i32, Option<String>) {
         (2, Some(format!("error: {e:#}\n")))
     }
 }
-
-/// `println!` that returns `Result<(), StdoutError>` instead of panicking.
-macro_rules! outln {
-    () => {
-        $crate::pipeline::output::write(b"\n")
-    };
-    ($($arg:tt)*) => {
-        $crate::pipeline::output::write_fmt(format_args!("{}\n", format_args!($($arg)*)))
-    };
-}
-pub(crate) use outln;
 
 /// `eprintln!` that ignores a failing stderr instead of panicking.
 macro_rules! noteln {

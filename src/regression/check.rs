@@ -15,7 +15,7 @@
 use crate::envmap::load::sha256_hex;
 use crate::envmap::search::SearchPath;
 use crate::pipeline::experiment::{list_experiments, Experiment};
-use crate::pipeline::output::{noteln, outln};
+use crate::pipeline::output::noteln;
 use crate::pipeline::runner::{self, RunReport};
 use crate::regression::baseline::{self, Comparison, Table, TABLE};
 use crate::regression::provenance::{self, MapRecord, Provenance};
@@ -53,6 +53,27 @@ impl Finding {
     /// Whether this finding fails the check.
     pub fn fails(&self) -> bool {
         !matches!(self, Finding::MapMissing { allowed: true, .. } | Finding::MapSamePixels { .. })
+    }
+}
+
+impl Finding {
+    /// A short machine-readable name of the finding's kind (`check --format json`).
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Finding::NoBaseline => "no_baseline",
+            Finding::NoProvenance(_) => "no_provenance",
+            Finding::TableEdited { .. } => "table_edited",
+            Finding::MapMissing { .. } => "map_missing",
+            Finding::MapSamePixels { .. } => "map_same_pixels",
+            Finding::MapChanged { .. } => "map_changed",
+            Finding::MapUnrecorded { .. } => "map_unrecorded",
+            Finding::Change(baseline::Change::Moved { .. }) => "moved",
+            Finding::Change(baseline::Change::Text { .. }) => "text_changed",
+            Finding::Change(baseline::Change::RowAdded(_)) => "row_added",
+            Finding::Change(baseline::Change::RowRemoved(_)) => "row_removed",
+            Finding::Change(baseline::Change::ColumnAdded(_)) => "column_added",
+            Finding::Change(baseline::Change::ColumnRemoved(_)) => "column_removed",
+        }
     }
 }
 
@@ -129,6 +150,41 @@ impl ExperimentCheck {
     /// Maps not on this machine (their rows were not compared).
     pub fn unchecked_maps(&self) -> usize {
         self.findings.iter().filter(|f| matches!(f, Finding::MapMissing { .. })).count()
+    }
+
+    /// The outcome as JSON (`check --format json`): the counts of [`report`](Self::report)
+    /// as numbers, the baseline's date and commit, and each finding as its kind, whether it
+    /// fails, and the sentence `report` prints.
+    pub fn to_json(&self) -> serde_json::Value {
+        let c = &self.comparison;
+        let findings: Vec<serde_json::Value> = self
+            .findings
+            .iter()
+            .map(|f| serde_json::json!({ "kind": f.kind(), "fails": f.fails(), "text": f.to_string() }))
+            .collect();
+        let unchecked: Vec<&str> = self
+            .findings
+            .iter()
+            .filter_map(|f| match f {
+                Finding::MapMissing { map, .. } => Some(map.as_str()),
+                _ => None,
+            })
+            .collect();
+        serde_json::json!({
+            "experiment": self.experiment,
+            "passed": self.passed(),
+            "baseline_dir": self.dir.display().to_string(),
+            "baseline_date": self.baseline.as_ref().map(|p| p.date.clone()),
+            "baseline_commit": self.baseline.as_ref().map(|p| p.git_commit.clone()),
+            "maps": self.maps,
+            "unchecked_maps": unchecked,
+            "rows": c.rows,
+            "numbers": c.numbers,
+            "within_tolerance": c.within,
+            "ignored": c.ignored,
+            "moved": self.moved(),
+            "findings": findings,
+        })
     }
 
     /// The report: one line per finding, each starting with the experiment's name, then a
@@ -538,6 +594,33 @@ pub fn check_command(
     all: bool,
     allow_missing: bool,
 ) -> Result<i32> {
+    let (code, summary) = check_experiments(root, search, out, names, all, allow_missing, false)?;
+    crate::pipeline::output::write(summary.text.as_bytes())?;
+    Ok(code)
+}
+
+/// What [`check_experiments`] found: the lines `check` prints, and the same as JSON.
+pub struct CheckSummary {
+    /// Every experiment's report and the closing verdict line (empty with `json` until the
+    /// end: the per-experiment reports were not printed).
+    pub text: String,
+    /// `{ "passed", "experiments": [ExperimentCheck::to_json…], "not_checked": […],
+    /// "numbers", "moved", "unchecked_maps", "seconds" }`.
+    pub json: serde_json::Value,
+}
+
+/// Checks the selected experiments against their baselines. Without `json` each
+/// experiment's report is printed as soon as it is known (a long check shows its progress);
+/// with `json` nothing is printed and the caller prints [`CheckSummary::json`].
+pub fn check_experiments(
+    root: &Path,
+    search: &SearchPath,
+    out: &Path,
+    names: &[String],
+    all: bool,
+    allow_missing: bool,
+    json: bool,
+) -> Result<(i32, CheckSummary)> {
     let tolerances = Tolerances::load(root)?;
     let (exps, left) = select(root, names, !all)?;
     if exps.is_empty() {
@@ -545,43 +628,58 @@ pub fn check_command(
     }
     let start = std::time::Instant::now();
     let mut failed = Vec::new();
+    let mut checks = Vec::new();
     let (mut numbers, mut moved, mut unchecked) = (0, 0, 0);
     for exp in &exps {
         let t = std::time::Instant::now();
         let report = runner::run(exp, search)?;
         let c = compare_with_baseline(&out.join(&exp.name), exp, &report, &tolerances, allow_missing)?;
-        crate::pipeline::output::write(c.report().as_bytes())?;
-        noteln!("  ({}: {:.1} s)", exp.name, t.elapsed().as_secs_f64());
+        if !json {
+            crate::pipeline::output::write(c.report().as_bytes())?;
+            noteln!("  ({}: {:.1} s)", exp.name, t.elapsed().as_secs_f64());
+        }
         numbers += c.comparison.numbers;
         moved += c.moved();
         unchecked += c.unchecked_maps();
         if !c.passed() {
             failed.push(exp.name.clone());
         }
+        checks.push(c.to_json());
     }
+    let mut text = String::new();
     if !left.is_empty() {
-        outln!("not checked (ci = false): {}; `probelab check --all` includes them", left.join(", "))?;
+        text += &format!("not checked (ci = false): {}; `probelab check --all` includes them\n", left.join(", "));
     }
     let elapsed = start.elapsed().as_secs_f64();
-    if failed.is_empty() {
+    let code = if failed.is_empty() {
         let note =
             if unchecked > 0 { format!("; {unchecked} map(s) missing here were NOT checked") } else { String::new() };
-        outln!(
-            "check: ok: {} experiment(s), {numbers} numbers compared, nothing moved{note} ({elapsed:.1} s)",
+        text += &format!(
+            "check: ok: {} experiment(s), {numbers} numbers compared, nothing moved{note} ({elapsed:.1} s)\n",
             exps.len()
-        )?;
-        Ok(0)
+        );
+        0
     } else {
-        outln!(
+        text += &format!(
             "check: FAILED: {} of {} experiment(s) differ from their baselines ({}); {moved} number(s) moved. \
-             If intended, run `probelab bless {}` and quote its output in the commit message. ({elapsed:.1} s)",
+             If intended, run `probelab bless {}` and quote its output in the commit message. ({elapsed:.1} s)\n",
             failed.len(),
             exps.len(),
             failed.join(", "),
             failed.join(" ")
-        )?;
-        Ok(1)
-    }
+        );
+        1
+    };
+    let json = serde_json::json!({
+        "passed": failed.is_empty(),
+        "experiments": checks,
+        "not_checked": left,
+        "numbers": numbers,
+        "moved": moved,
+        "unchecked_maps": unchecked,
+        "seconds": (elapsed * 10.0).round() / 10.0,
+    });
+    Ok((code, CheckSummary { text, json }))
 }
 
 /// `probelab bless`: re-runs the experiments (by default all of them), prints the same report
