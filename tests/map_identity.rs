@@ -139,3 +139,46 @@ fn import_remakes_the_shared_256x128_maps() {
         assert!(so.contains(&format!("known map {name}")), "{so}");
     }
 }
+
+/// Every map an experiment or a claims map set names is committed in `envmaps/` or is one of
+/// the peer's five probes, so that `check --all` can pass on a clone plus Probulator's
+/// `Data/Probes` alone (issue 18). Runs everywhere: it reads only the committed files.
+#[test]
+fn every_experiment_map_is_committed_or_in_the_peer_folder() {
+    let root = repo();
+    let committed =
+        |name: &str| ["exr", "hdr"].iter().any(|x| root.join("envmaps").join(format!("{name}.{x}")).is_file());
+    let peer = |name: &str| PEER.iter().any(|(_, n)| *n == name);
+    let mut seen = 0;
+    for file in probelab::pipeline::experiment::list_experiments(&root.join("experiments")).unwrap() {
+        let exp = probelab::pipeline::experiment::Experiment::load(&file).unwrap();
+        for m in &exp.maps {
+            assert!(
+                committed(m) || peer(m),
+                "{}: map {m} is neither in envmaps/ nor in Probulator's Data/Probes",
+                file.display()
+            );
+            seen += 1;
+        }
+    }
+    for e in std::fs::read_dir(root.join("experiments/claims")).unwrap() {
+        let file = e.unwrap().path();
+        if file.extension().is_none_or(|x| x != "toml") {
+            continue;
+        }
+        let doc: toml::Table = std::fs::read_to_string(&file).unwrap().parse().unwrap();
+        let Some(sets) = doc.get("map_sets").and_then(|s| s.as_table()) else { continue };
+        for (set, maps) in sets {
+            for m in maps.as_array().unwrap() {
+                let m = m.as_str().unwrap();
+                assert!(
+                    committed(m) || peer(m),
+                    "{}: map set {set}: {m} is neither in envmaps/ nor in Data/Probes",
+                    file.display()
+                );
+                seen += 1;
+            }
+        }
+    }
+    assert!(seen > 50, "only {seen} map names read: the experiment files were not found");
+}
