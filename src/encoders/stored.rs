@@ -10,7 +10,6 @@
 //! counted.
 
 use crate::math::colour::Rgb;
-use crate::math::sh::band_of;
 use glam::DVec3;
 use serde::ser::{Serialize, SerializeSeq, Serializer};
 
@@ -136,7 +135,8 @@ pub struct Stored {
 /// The SH coefficient name of index `i` in FORMULAS §2's order: `L0_0`, `L1_-1`, `L1_0`,
 /// `L1_1`, `L2_-2`, … (band l holds indices l² … l² + 2l, m = i − l² − l).
 pub fn sh_name(i: usize) -> String {
-    let l = band_of(i);
+    // Band l holds the indices l², …, l² + 2l, for any l (SH L3/L4 too).
+    let l = (0..).find(|l: &usize| (l + 1) * (l + 1) > i).expect("some band holds i");
     let m = i as i64 - (l * l + l) as i64;
     format!("L{l}_{m}")
 }
