@@ -364,7 +364,7 @@ pub fn experiment_sheet(exp: &Experiment, map: &EnvMap, table: Option<&CsvTable>
         .zip(&figures)
         .map(|((e, values), f)| SheetRow {
             name: e.name.clone(),
-            note: format!("{} scalars", e.encoder.stored_scalars()),
+            note: e.encoder.storage(&input),
             values,
             under_lit: if f.neg_frac > 0.0 { format!("negative on {}", percent(f.neg_frac)) } else { String::new() },
             under_err: [format!("rmse {}", sig(f.rmse, 4)), format!("rel_rmse {}", percent(f.rel_rmse))],
