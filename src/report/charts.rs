@@ -13,7 +13,7 @@
 
 use super::csvfile::CsvTable;
 use super::number::sig;
-use super::text::{ensure_font, FONT};
+use super::text::{ensure_font, text_width, FONT};
 use crate::math::colour::luminance;
 use crate::math::colour::Rgb;
 use anyhow::{anyhow, Result};
@@ -434,28 +434,27 @@ pub fn error_vs_cost(t: &CsvTable, cost: Cost, title: &str) -> Result<Outcome> {
             .map_err(pe)?
             .label("Pareto front (none is both cheaper and more accurate)")
             .legend(move |(x, y)| PathElement::new([(x, y), (x + 18, y)], red.stroke_width(2)));
-        // Labels of points at the same cost are stacked downwards in pixel space, each at least
-        // a line below the previous one, with a leader line when moved off its point.
-        let mut order: Vec<usize> = (0..pts.len()).collect();
-        order.sort_by(|&a, &b| pts[a].0.total_cmp(&pts[b].0).then(pts[b].1.total_cmp(&pts[a].1)));
-        let mut last: Option<(f64, i32)> = None;
+        // Labels from measured widths ([`place_labels`]): right of the point, or left of it
+        // where the right would leave the plot, moved up or down past labels already placed,
+        // with a leader line when moved off the point; never shortened.
         let grey = RGBColor(90, 90, 90);
-        for i in order {
-            let (p, name) = (pts[i], &names[i]);
+        let (xr, yr) = chart.plotting_area().get_pixel_range();
+        let plot = (xr.start, yr.start, xr.end, yr.end);
+        let at: Vec<(f64, f64)> = pts.iter().map(|p| (p.0, p.1.max(ylo))).collect();
+        let px: Vec<(i32, i32)> = at.iter().map(|a| chart.backend_coord(a)).collect();
+        let widths: Vec<u32> = names.iter().map(|n| text_width(n, 12.0, false)).collect();
+        let boxes = place_labels(&px, &widths, 14, plot);
+        for (i, name) in names.iter().enumerate() {
             let c = if front.contains(&i) { red } else { grey };
-            let at = (p.0, p.1.max(ylo));
-            let (px, py) = chart.backend_coord(&at);
-            let ly = match last {
-                Some((x, prev)) if x == p.0 => (py - 6).max(prev + 13),
-                _ => py - 6,
-            };
-            last = Some((p.0, ly));
-            chart.draw_series(std::iter::once(Circle::new(at, 5, c.filled()))).map_err(pe)?;
-            if ly > py + 2 {
-                root.draw(&PathElement::new([(px + 4, py), (px + 10, ly + 6)], grey.mix(0.6).stroke_width(1)))
-                    .map_err(pe)?;
+            chart.draw_series(std::iter::once(Circle::new(at[i], 5, c.filled()))).map_err(pe)?;
+            let (bx0, by0, bx1, by1) = boxes[i];
+            let (x, y) = px[i];
+            let cy = (by0 + by1) / 2;
+            if (cy - y).abs() > 7 {
+                let ex = if bx0 >= x { bx0 - 2 } else { bx1 + 2 };
+                root.draw(&PathElement::new([(x, y), (ex, cy)], grey.mix(0.6).stroke_width(1))).map_err(pe)?;
             }
-            root.draw_text(name, &TextStyle::from((FONT, 12).into_font()).color(&c), (px + 12, ly)).map_err(pe)?;
+            root.draw_text(name, &TextStyle::from((FONT, 12).into_font()).color(&c), (bx0, by0 + 1)).map_err(pe)?;
         }
         chart
             .configure_series_labels()
@@ -485,6 +484,50 @@ pub fn error_vs_cost(t: &CsvTable, cost: Cost, title: &str) -> Result<Outcome> {
             if left_out > 0 { format!("; {left_out} encoder(s) without this cost not drawn") } else { String::new() }
         ),
     })
+}
+
+/// Places one label per point: boxes (x0, y0, x1, y1) of width `widths[i]` and height
+/// `line`, inside `plot`, none overlapping another. Each label goes right of its point (12 px
+/// gap) or, when that leaves the plot, left of it; then at the point's height or the nearest
+/// free height, trying steps of a line up and down. Points are placed in order of x, then y.
+pub fn place_labels(
+    points: &[(i32, i32)],
+    widths: &[u32],
+    line: i32,
+    plot: (i32, i32, i32, i32),
+) -> Vec<(i32, i32, i32, i32)> {
+    let (px0, py0, px1, py1) = plot;
+    let mut order: Vec<usize> = (0..points.len()).collect();
+    order.sort_by_key(|&i| (points[i].0, points[i].1));
+    let mut placed: Vec<(i32, i32, i32, i32)> = vec![(0, 0, 0, 0); points.len()];
+    let mut done: Vec<usize> = Vec::new();
+    let overlaps = |a: (i32, i32, i32, i32), b: (i32, i32, i32, i32)| a.0 < b.2 && b.0 < a.2 && a.1 < b.3 && b.1 < a.3;
+    for i in order {
+        let (x, y) = points[i];
+        let w = widths[i] as i32;
+        let x0 = if x + 12 + w <= px1 { x + 12 } else { (x - 12 - w).max(px0) };
+        let mut best = None;
+        for k in 0..200 {
+            let step = if k % 2 == 0 { k / 2 } else { -(k / 2 + 1) };
+            let y0 = y - line / 2 + step * line;
+            let b = (x0, y0, x0 + w, y0 + line);
+            if y0 < py0 || y0 + line > py1 {
+                continue;
+            }
+            if done.iter().all(|&j| !overlaps(b, placed[j])) {
+                best = Some(b);
+                break;
+            }
+        }
+        placed[i] = best.unwrap_or((
+            x0,
+            (y - line / 2).clamp(py0, py1 - line),
+            x0 + w,
+            (y - line / 2).clamp(py0, py1 - line) + line,
+        ));
+        done.push(i);
+    }
+    placed
 }
 
 /// One series of a line chart.
@@ -541,7 +584,7 @@ fn line_panel(
                 .y_desc(ydesc)
                 .x_label_formatter(&|v| tick(*v))
                 .y_label_formatter(&|v| tick(*v))
-                .label_style((FONT, 11))
+                .label_style((FONT, 12))
                 .axis_desc_style((FONT, 12))
                 .light_line_style(RGBColor(238, 238, 238))
                 .draw()
@@ -559,7 +602,7 @@ fn line_panel(
                 .configure_series_labels()
                 .background_style(WHITE.mix(0.85))
                 .border_style(BLACK)
-                .label_font((FONT, 11))
+                .label_font((FONT, 12))
                 .position(SeriesLabelPosition::UpperRight)
                 .draw()
                 .map_err(pe)?;
@@ -893,6 +936,44 @@ mod tests {
             }
             Outcome::Skipped(s) => panic!("{s}"),
         }
+    }
+
+    /// A cluster of points as the ZH3 table's time chart has (eight encoders within 40 px, one
+    /// at the right edge): every box is inside the plot and no two overlap (checked pairwise from
+    /// the returned layout), and the right-edge label went left of its point.
+    #[test]
+    fn labels_never_overlap_or_leave_the_plot() {
+        let plot = (70, 40, 800, 500);
+        let pts = [
+            (290, 215),
+            (295, 232),
+            (300, 245),
+            (305, 240),
+            (310, 250),
+            (288, 262),
+            (292, 268),
+            (297, 230),
+            (760, 250),
+            (680, 283),
+            (720, 290),
+            (150, 245),
+            (190, 365),
+            (200, 195),
+        ];
+        let widths: Vec<u32> = (0..pts.len()).map(|i| 100 + 10 * i as u32).collect();
+        let boxes = place_labels(&pts, &widths, 14, plot);
+        for (i, b) in boxes.iter().enumerate() {
+            assert!(
+                b.0 >= plot.0 && b.1 >= plot.1 && b.2 <= plot.2 && b.3 <= plot.3,
+                "label {i} {b:?} leaves the plot"
+            );
+            assert_eq!((b.2 - b.0) as u32, widths[i], "label {i} shortened");
+            for (j, c) in boxes.iter().enumerate().skip(i + 1) {
+                let overlap = b.0 < c.2 && c.0 < b.2 && b.1 < c.3 && c.1 < b.3;
+                assert!(!overlap, "labels {i} {b:?} and {j} {c:?} overlap");
+            }
+        }
+        assert!(boxes[8].2 <= pts[8].0, "the label of the right-edge point is left of it: {:?}", boxes[8]);
     }
 
     #[test]
