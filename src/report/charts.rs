@@ -530,6 +530,47 @@ pub fn place_labels(
     placed
 }
 
+/// Height of one legend entry, px.
+const LEGEND_LINE: i32 = 16;
+
+/// Width of the legend column for these series: the widest measured label, the 24 px line
+/// sample before it and 12 px of margin on each side.
+fn legend_width(series: &[Series]) -> u32 {
+    series.iter().map(|s| text_width(&s.label, 12.0, false)).max().unwrap_or(0) + 24 + 24
+}
+
+/// Boxes (x0, y0, x1, y1) of the legend entries in a column starting at `x0`, one line each
+/// from the top margin down, each as wide as its measured label plus the line sample.
+fn legend_boxes(series: &[Series], x0: i32) -> Vec<(i32, i32, i32, i32)> {
+    series
+        .iter()
+        .enumerate()
+        .map(|(i, s)| {
+            let y0 = 40 + i as i32 * LEGEND_LINE;
+            (x0 + 12, y0, x0 + 12 + 24 + text_width(&s.label, 12.0, false) as i32, y0 + LEGEND_LINE)
+        })
+        .collect()
+}
+
+/// Image height: 460 px, or taller when the legend needs it.
+fn legend_height(series: &[Series]) -> u32 {
+    460u32.max(40 + series.len() as u32 * LEGEND_LINE as u32 + 12)
+}
+
+/// Draws the legend in its own column right of the panels (`x0` = the panels' right edge),
+/// so it never covers data: a line sample with a point and the label per series.
+fn draw_legend(root: &DrawingArea<BitMapBackend, Shift>, series: &[Series], x0: i32) -> Result<()> {
+    for (s, b) in series.iter().zip(legend_boxes(series, x0)) {
+        let c = colour(s.colour);
+        let y = (b.1 + b.3) / 2;
+        root.draw(&PathElement::new([(b.0, y), (b.0 + 18, y)], c.stroke_width(2))).map_err(pe)?;
+        root.draw(&Circle::new((b.0 + 9, y), 3, c.filled())).map_err(pe)?;
+        root.draw_text(&s.label, &TextStyle::from((FONT, 12).into_font()).color(&BLACK), (b.0 + 24, b.1 + 1))
+            .map_err(pe)?;
+    }
+    Ok(())
+}
+
 /// One series of a line chart.
 struct Series {
     label: String,
@@ -591,21 +632,9 @@ fn line_panel(
                 .map_err(pe)?;
             for s in series {
                 let c = colour(s.colour);
-                chart
-                    .draw_series(LineSeries::new(s.points.clone(), c.stroke_width(2)))
-                    .map_err(pe)?
-                    .label(s.label.clone())
-                    .legend(move |(x, y)| PathElement::new([(x, y), (x + 18, y)], c.stroke_width(2)));
+                chart.draw_series(LineSeries::new(s.points.clone(), c.stroke_width(2))).map_err(pe)?;
                 chart.draw_series(s.points.iter().map(|p| Circle::new(*p, 3, c.filled()))).map_err(pe)?;
             }
-            chart
-                .configure_series_labels()
-                .background_style(WHITE.mix(0.85))
-                .border_style(BLACK)
-                .label_font((FONT, 12))
-                .position(SeriesLabelPosition::UpperRight)
-                .draw()
-                .map_err(pe)?;
         }};
     }
     let (xp, yp) = (pad(xl, xh), pad(yl, yh));
@@ -675,8 +704,10 @@ pub fn sweep_charts(t: &CsvTable) -> Result<Vec<(String, Outcome)>> {
         }
         let two = !by_time.is_empty();
         let w = if two { 1200 } else { 640 };
-        let image = canvas(w, 460, |root| {
+        let image = canvas(w + legend_width(&by_value), legend_height(&by_value), |root| {
             root.fill(&WHITE).map_err(pe)?;
+            draw_legend(root, &by_value, w as i32)?;
+            let root = &root.split_horizontally(w).0;
             let (a, b) = if two { root.split_horizontally(600) } else { (root.clone(), root.clone()) };
             line_panel(&a, &format!("{knob}: rmse against value"), &knob, "rmse of E/pi", &by_value, zero > 0)?;
             if two {
@@ -797,8 +828,11 @@ pub fn blend_charts(t: &CsvTable) -> Result<Vec<(String, Outcome)>> {
         }
         let two = !err.is_empty();
         let title = if set.is_empty() { String::new() } else { format!(" ({set})") };
-        let image = canvas(if two { 1200 } else { 640 }, 460, |root| {
+        let w = if two { 1200 } else { 640 };
+        let image = canvas(w + legend_width(&irr), legend_height(&irr), |root| {
             root.fill(&WHITE).map_err(pe)?;
+            draw_legend(root, &irr, w as i32)?;
+            let root = &root.split_horizontally(w).0;
             let (a, b) = if two { root.split_horizontally(600) } else { (root.clone(), root.clone()) };
             line_panel(
                 &a,
@@ -1033,14 +1067,59 @@ mod tests {
         }
     }
 
+    /// The legend is in its own column right of the panels, so it cannot cover data: every
+    /// entry's box starts right of the panels and stays inside the image, no two overlap, and
+    /// the pixels right of the panels in a series' colour all lie inside the legend boxes (the
+    /// data, which fills the panels' upper right corner here, is drawn left of them).
+    #[test]
+    fn legends_are_beside_the_data() {
+        let s = csv("knob,value,rmse,time_ns,label\nk,1,0.001,10,a_long_series_name_one\nk,100,0.5,1000,a_long_series_name_one\n\
+             k,1,0.002,10,two\nk,100,0.4,1000,two\n");
+        let charts = sweep_charts(&s).unwrap();
+        let Outcome::Drawn { image, .. } = &charts[0].1 else { panic!("not drawn") };
+        let series: Vec<Series> = ["a_long_series_name_one", "two"]
+            .iter()
+            .enumerate()
+            .map(|(k, l)| Series { label: l.to_string(), colour: k, points: vec![] })
+            .collect();
+        let boxes = legend_boxes(&series, 1200);
+        for (i, b) in boxes.iter().enumerate() {
+            assert!(b.0 >= 1200 && b.2 <= image.width() as i32 && b.3 <= image.height() as i32, "entry {i} {b:?}");
+            for c in &boxes[i + 1..] {
+                assert!(!(b.0 < c.2 && c.0 < b.2 && b.1 < c.3 && c.1 < b.3), "entries overlap: {b:?} {c:?}");
+            }
+        }
+        let c0 = colour(0);
+        let (mut inside, mut outside, mut left) = (0, 0, 0);
+        for (x, y, p) in image.enumerate_pixels() {
+            if p.0 != [c0.0, c0.1, c0.2] {
+                continue;
+            }
+            let (x, y) = (x as i32, y as i32);
+            if x < 1200 {
+                left += 1;
+            } else if boxes.iter().any(|b| x >= b.0 && x < b.2 && y >= b.1 && y < b.3) {
+                inside += 1;
+            } else {
+                outside += 1;
+            }
+        }
+        assert!(
+            left > 0 && inside > 0 && outside == 0,
+            "series colour: {left} in panels, {inside} in legend, {outside} elsewhere"
+        );
+    }
+
     #[test]
     fn sweep_and_blend_formats() {
         let s = csv("knob,value,rmse,time_ns,label\nref_res,32,0.1,100,grace\nref_res,64,0.02,400,grace\n\
              ref_res,128,0.004,1600,grace\niters,1,0.5,,hhd\niters,2,0.2,,hhd\n");
         let charts = sweep_charts(&s).unwrap();
         assert_eq!(charts.len(), 2);
-        assert!(matches!(&charts[0].1, Outcome::Drawn { image, .. } if image.width() == 1200));
-        assert!(matches!(&charts[1].1, Outcome::Drawn { image, .. } if image.width() == 640));
+        // The panels (1200 px for two, 640 for one) plus the legend column for "grace" / "hhd".
+        let lw = |l: &str| text_width(l, 12.0, false) + 48;
+        assert!(matches!(&charts[0].1, Outcome::Drawn { image, .. } if image.width() == 1200 + lw("grace")));
+        assert!(matches!(&charts[1].1, Outcome::Drawn { image, .. } if image.width() == 640 + lw("hhd")));
         assert!(sweep_charts(&csv("knob,value\na,1\n")).unwrap_err().to_string().contains("missing column"));
         let b = csv(
             "t,method,irradiance_at_n_r,irradiance_at_n_g,irradiance_at_n_b,rmse\n0,ahd,1,1,1,0\n0.5,ahd,1.5,1.5,1.5,0.1\n\
