@@ -1110,6 +1110,18 @@ mod tests {
         );
     }
 
+    /// Same CSV, same bytes: drawing a sweep twice gives identical images (series in file
+    /// order, legend and labels from measured widths; nothing depends on hashing or threads).
+    #[test]
+    fn sweep_charts_are_deterministic() {
+        let text = "knob,value,rmse,time_ns,label\nk,32,0.1,100,b\nk,64,0.02,400,b\nk,32,0.2,90,a\nk,64,0.05,300,a\n";
+        let draw = || match sweep_charts(&csv(text)).unwrap().remove(0).1 {
+            Outcome::Drawn { image, .. } => image.into_raw(),
+            Outcome::Skipped(w) => panic!("{w}"),
+        };
+        assert!(draw() == draw());
+    }
+
     #[test]
     fn sweep_and_blend_formats() {
         let s = csv("knob,value,rmse,time_ns,label\nref_res,32,0.1,100,grace\nref_res,64,0.02,400,grace\n\
