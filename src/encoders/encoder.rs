@@ -108,6 +108,14 @@ pub trait Encoder: Send + Sync {
     fn id(&self) -> &str;
     /// Scalars stored per probe or texel (RGB counts 3).
     fn stored_scalars(&self) -> usize;
+    /// What the encoding stores for the fit of `input`, in words for a figure's label: by
+    /// default "`stored_scalars` scalars". An encoding that also needs data kept per shaded
+    /// point beside the probe (a visibility cone, an AO term) says so, e.g. "27 per probe + cone
+    /// (4) per point"; the table's `stored_scalars` column keeps counting the probe's alone.
+    fn storage(&self, input: &FitInput) -> String {
+        let _ = input;
+        format!("{} scalars", self.stored_scalars())
+    }
     /// Fits the encoding.
     fn fit(&self, input: &FitInput) -> Box<dyn Fitted>;
     /// Whether the peer tool clamps this encoder's output at zero before scoring

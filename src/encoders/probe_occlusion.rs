@@ -20,7 +20,10 @@
 //! | `bent_normal`      | L2 SH irradiance at the cone centre (the bent normal) × the same visibility; constant in n′ | 3 |
 //!
 //! The payload is what the per-normal evaluation reads after the per-N fit. Every operator
-//! stores the same probe, so `stored_scalars` is 27 for all of them.
+//! stores the same probe, so `stored_scalars` is 27 for all of them; what each reads per
+//! shaded point beside the probe (N; the cone C and cos α, 4 scalars, for `probe_cone_full`
+//! and `cone_multiply`; the visibility, 1, for `ao_scale`; bent normal and visibility, 4, for
+//! `bent_normal`) is in its `Encoder::storage`, which the sheets print.
 //!
 //! TOML keys: `probe_hemi_full` and `probe_cone_full` take `output_bands` (1 or 2, default 2;
 //! 1 truncates the output to the linear band, which is what `probe_hemi_q2l` equals);
@@ -99,6 +102,26 @@ impl Encoder for ProbeOp {
     }
     fn stored_scalars(&self) -> usize {
         27
+    }
+    /// The probe's 27 SH coefficients, plus what the operator reads per shaded point beside N
+    /// (the module doc's table): the cone operators the declared cone, centre C and cos α (4
+    /// scalars); `ao_scale` its cosine-weighted visibility (1); `bent_normal` the bent normal C
+    /// and that visibility (4). Without a declared cone they fall back to the hemisphere about N
+    /// and read no per-point term; without N every operator is `probe_unoccluded`.
+    fn storage(&self, input: &FitInput) -> String {
+        let probe = "27 per probe";
+        if input.surface_normal.is_none() || self.op == Op::Unoccluded {
+            return probe.into();
+        }
+        let cone = input.cone.is_some();
+        match self.op {
+            Op::Full { cone: true, .. } | Op::Hlsh { cone: true, .. } if cone => {
+                format!("{probe} + cone (4) per point")
+            }
+            Op::AoScale if cone => format!("{probe} + AO (1) per point"),
+            Op::BentNormal if cone => format!("{probe} + bent normal, AO (4) per point"),
+            _ => format!("{probe}, N per point"),
+        }
     }
     /// Every operator but `probe_unoccluded` multiplies the probe by the visibility about the
     /// surface normal N (or the cone about it); without N it is `probe_unoccluded` in disguise.
@@ -546,6 +569,33 @@ mod tests {
             lights.push(Light::Delta { dir: rng.unit(), facing: e / PI });
         }
         Lighting(lights).sh()
+    }
+
+    /// The storage labels follow what each operator reads (the module doc's table), with and
+    /// without a declared cone; the table's count stays the probe's 27.
+    #[test]
+    fn storage_labels_say_what_is_read_per_point() {
+        let sh = Light::Ambient(Rgb::ONE).sh();
+        let cone = Some((DVec3::Y, 0.5));
+        let label = |id: &str, c: Option<(DVec3, f64)>| enc(id).storage(&input(&sh, DVec3::Y, c));
+        assert_eq!(label("probe_unoccluded", cone), "27 per probe");
+        assert_eq!(label("probe_hemi_full", cone), "27 per probe, N per point");
+        assert_eq!(label("hlsh", cone), "27 per probe, N per point");
+        assert_eq!(label("cone_multiply", cone), "27 per probe + cone (4) per point");
+        assert_eq!(label("probe_cone_full", cone), "27 per probe + cone (4) per point");
+        assert_eq!(label("ao_scale", cone), "27 per probe + AO (1) per point");
+        assert_eq!(label("bent_normal", cone), "27 per probe + bent normal, AO (4) per point");
+        // No declared cone: the cone operators fall back to the hemisphere about N.
+        assert_eq!(label("cone_multiply", None), "27 per probe, N per point");
+        assert_eq!(label("ao_scale", None), "27 per probe, N per point");
+        // No N: every operator is the unoccluded probe.
+        let no_n = FitInput { surface_normal: None, ..input(&sh, DVec3::Y, cone) };
+        assert_eq!(enc("cone_multiply").storage(&no_n), "27 per probe");
+        for id in ["probe_unoccluded", "cone_multiply", "ao_scale", "bent_normal"] {
+            assert_eq!(enc(id).stored_scalars(), 27, "{id}");
+        }
+        // Any other encoder: its scalar count.
+        assert_eq!(enc("sh1").storage(&input(&sh, DVec3::Y, cone)), "12 scalars");
     }
 
     /// A constant environment occluded by the hemisphere is the hemisphere light (1 + n·N)/2,

@@ -86,6 +86,10 @@ impl Encoder for WithSelfBounce {
     fn stored_scalars(&self) -> usize {
         self.inner.stored_scalars()
     }
+    /// The inner encoder's storage: the term stores nothing extra (see the module doc).
+    fn storage(&self, input: &FitInput) -> String {
+        self.inner.storage(input)
+    }
     fn fit(&self, input: &FitInput) -> Box<dyn Fitted> {
         let inner = self.inner.fit(input);
         let bounce = match (input.surface_normal, input.surface_albedo) {

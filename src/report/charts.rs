@@ -13,7 +13,7 @@
 
 use super::csvfile::CsvTable;
 use super::number::sig;
-use super::text::{ensure_font, FONT};
+use super::text::{ensure_font, text_width, FONT};
 use crate::math::colour::luminance;
 use crate::math::colour::Rgb;
 use anyhow::{anyhow, Result};
@@ -434,28 +434,27 @@ pub fn error_vs_cost(t: &CsvTable, cost: Cost, title: &str) -> Result<Outcome> {
             .map_err(pe)?
             .label("Pareto front (none is both cheaper and more accurate)")
             .legend(move |(x, y)| PathElement::new([(x, y), (x + 18, y)], red.stroke_width(2)));
-        // Labels of points at the same cost are stacked downwards in pixel space, each at least
-        // a line below the previous one, with a leader line when moved off its point.
-        let mut order: Vec<usize> = (0..pts.len()).collect();
-        order.sort_by(|&a, &b| pts[a].0.total_cmp(&pts[b].0).then(pts[b].1.total_cmp(&pts[a].1)));
-        let mut last: Option<(f64, i32)> = None;
+        // Labels from measured widths ([`place_labels`]): right of the point, or left of it
+        // where the right would leave the plot, moved up or down past labels already placed,
+        // with a leader line when moved off the point; never shortened.
         let grey = RGBColor(90, 90, 90);
-        for i in order {
-            let (p, name) = (pts[i], &names[i]);
+        let (xr, yr) = chart.plotting_area().get_pixel_range();
+        let plot = (xr.start, yr.start, xr.end, yr.end);
+        let at: Vec<(f64, f64)> = pts.iter().map(|p| (p.0, p.1.max(ylo))).collect();
+        let px: Vec<(i32, i32)> = at.iter().map(|a| chart.backend_coord(a)).collect();
+        let widths: Vec<u32> = names.iter().map(|n| text_width(n, 12.0, false)).collect();
+        let boxes = place_labels(&px, &widths, 14, plot);
+        for (i, name) in names.iter().enumerate() {
             let c = if front.contains(&i) { red } else { grey };
-            let at = (p.0, p.1.max(ylo));
-            let (px, py) = chart.backend_coord(&at);
-            let ly = match last {
-                Some((x, prev)) if x == p.0 => (py - 6).max(prev + 13),
-                _ => py - 6,
-            };
-            last = Some((p.0, ly));
-            chart.draw_series(std::iter::once(Circle::new(at, 5, c.filled()))).map_err(pe)?;
-            if ly > py + 2 {
-                root.draw(&PathElement::new([(px + 4, py), (px + 10, ly + 6)], grey.mix(0.6).stroke_width(1)))
-                    .map_err(pe)?;
+            chart.draw_series(std::iter::once(Circle::new(at[i], 5, c.filled()))).map_err(pe)?;
+            let (bx0, by0, bx1, by1) = boxes[i];
+            let (x, y) = px[i];
+            let cy = (by0 + by1) / 2;
+            if (cy - y).abs() > 7 {
+                let ex = if bx0 >= x { bx0 - 2 } else { bx1 + 2 };
+                root.draw(&PathElement::new([(x, y), (ex, cy)], grey.mix(0.6).stroke_width(1))).map_err(pe)?;
             }
-            root.draw_text(name, &TextStyle::from((FONT, 12).into_font()).color(&c), (px + 12, ly)).map_err(pe)?;
+            root.draw_text(name, &TextStyle::from((FONT, 12).into_font()).color(&c), (bx0, by0 + 1)).map_err(pe)?;
         }
         chart
             .configure_series_labels()
@@ -485,6 +484,91 @@ pub fn error_vs_cost(t: &CsvTable, cost: Cost, title: &str) -> Result<Outcome> {
             if left_out > 0 { format!("; {left_out} encoder(s) without this cost not drawn") } else { String::new() }
         ),
     })
+}
+
+/// Places one label per point: boxes (x0, y0, x1, y1) of width `widths[i]` and height
+/// `line`, inside `plot`, none overlapping another. Each label goes right of its point (12 px
+/// gap) or, when that leaves the plot, left of it; then at the point's height or the nearest
+/// free height, trying steps of a line up and down. Points are placed in order of x, then y.
+pub fn place_labels(
+    points: &[(i32, i32)],
+    widths: &[u32],
+    line: i32,
+    plot: (i32, i32, i32, i32),
+) -> Vec<(i32, i32, i32, i32)> {
+    let (px0, py0, px1, py1) = plot;
+    let mut order: Vec<usize> = (0..points.len()).collect();
+    order.sort_by_key(|&i| (points[i].0, points[i].1));
+    let mut placed: Vec<(i32, i32, i32, i32)> = vec![(0, 0, 0, 0); points.len()];
+    let mut done: Vec<usize> = Vec::new();
+    let overlaps = |a: (i32, i32, i32, i32), b: (i32, i32, i32, i32)| a.0 < b.2 && b.0 < a.2 && a.1 < b.3 && b.1 < a.3;
+    for i in order {
+        let (x, y) = points[i];
+        let w = widths[i] as i32;
+        let x0 = if x + 12 + w <= px1 { x + 12 } else { (x - 12 - w).max(px0) };
+        let mut best = None;
+        for k in 0..200 {
+            let step = if k % 2 == 0 { k / 2 } else { -(k / 2 + 1) };
+            let y0 = y - line / 2 + step * line;
+            let b = (x0, y0, x0 + w, y0 + line);
+            if y0 < py0 || y0 + line > py1 {
+                continue;
+            }
+            if done.iter().all(|&j| !overlaps(b, placed[j])) {
+                best = Some(b);
+                break;
+            }
+        }
+        placed[i] = best.unwrap_or((
+            x0,
+            (y - line / 2).clamp(py0, py1 - line),
+            x0 + w,
+            (y - line / 2).clamp(py0, py1 - line) + line,
+        ));
+        done.push(i);
+    }
+    placed
+}
+
+/// Height of one legend entry, px.
+const LEGEND_LINE: i32 = 16;
+
+/// Width of the legend column for these series: the widest measured label, the 24 px line
+/// sample before it and 12 px of margin on each side.
+fn legend_width(series: &[Series]) -> u32 {
+    series.iter().map(|s| text_width(&s.label, 12.0, false)).max().unwrap_or(0) + 24 + 24
+}
+
+/// Boxes (x0, y0, x1, y1) of the legend entries in a column starting at `x0`, one line each
+/// from the top margin down, each as wide as its measured label plus the line sample.
+fn legend_boxes(series: &[Series], x0: i32) -> Vec<(i32, i32, i32, i32)> {
+    series
+        .iter()
+        .enumerate()
+        .map(|(i, s)| {
+            let y0 = 40 + i as i32 * LEGEND_LINE;
+            (x0 + 12, y0, x0 + 12 + 24 + text_width(&s.label, 12.0, false) as i32, y0 + LEGEND_LINE)
+        })
+        .collect()
+}
+
+/// Image height: 460 px, or taller when the legend needs it.
+fn legend_height(series: &[Series]) -> u32 {
+    460u32.max(40 + series.len() as u32 * LEGEND_LINE as u32 + 12)
+}
+
+/// Draws the legend in its own column right of the panels (`x0` = the panels' right edge),
+/// so it never covers data: a line sample with a point and the label per series.
+fn draw_legend(root: &DrawingArea<BitMapBackend, Shift>, series: &[Series], x0: i32) -> Result<()> {
+    for (s, b) in series.iter().zip(legend_boxes(series, x0)) {
+        let c = colour(s.colour);
+        let y = (b.1 + b.3) / 2;
+        root.draw(&PathElement::new([(b.0, y), (b.0 + 18, y)], c.stroke_width(2))).map_err(pe)?;
+        root.draw(&Circle::new((b.0 + 9, y), 3, c.filled())).map_err(pe)?;
+        root.draw_text(&s.label, &TextStyle::from((FONT, 12).into_font()).color(&BLACK), (b.0 + 24, b.1 + 1))
+            .map_err(pe)?;
+    }
+    Ok(())
 }
 
 /// One series of a line chart.
@@ -541,28 +625,16 @@ fn line_panel(
                 .y_desc(ydesc)
                 .x_label_formatter(&|v| tick(*v))
                 .y_label_formatter(&|v| tick(*v))
-                .label_style((FONT, 11))
+                .label_style((FONT, 12))
                 .axis_desc_style((FONT, 12))
                 .light_line_style(RGBColor(238, 238, 238))
                 .draw()
                 .map_err(pe)?;
             for s in series {
                 let c = colour(s.colour);
-                chart
-                    .draw_series(LineSeries::new(s.points.clone(), c.stroke_width(2)))
-                    .map_err(pe)?
-                    .label(s.label.clone())
-                    .legend(move |(x, y)| PathElement::new([(x, y), (x + 18, y)], c.stroke_width(2)));
+                chart.draw_series(LineSeries::new(s.points.clone(), c.stroke_width(2))).map_err(pe)?;
                 chart.draw_series(s.points.iter().map(|p| Circle::new(*p, 3, c.filled()))).map_err(pe)?;
             }
-            chart
-                .configure_series_labels()
-                .background_style(WHITE.mix(0.85))
-                .border_style(BLACK)
-                .label_font((FONT, 11))
-                .position(SeriesLabelPosition::UpperRight)
-                .draw()
-                .map_err(pe)?;
         }};
     }
     let (xp, yp) = (pad(xl, xh), pad(yl, yh));
@@ -632,8 +704,10 @@ pub fn sweep_charts(t: &CsvTable) -> Result<Vec<(String, Outcome)>> {
         }
         let two = !by_time.is_empty();
         let w = if two { 1200 } else { 640 };
-        let image = canvas(w, 460, |root| {
+        let image = canvas(w + legend_width(&by_value), legend_height(&by_value), |root| {
             root.fill(&WHITE).map_err(pe)?;
+            draw_legend(root, &by_value, w as i32)?;
+            let root = &root.split_horizontally(w).0;
             let (a, b) = if two { root.split_horizontally(600) } else { (root.clone(), root.clone()) };
             line_panel(&a, &format!("{knob}: rmse against value"), &knob, "rmse of E/pi", &by_value, zero > 0)?;
             if two {
@@ -754,8 +828,11 @@ pub fn blend_charts(t: &CsvTable) -> Result<Vec<(String, Outcome)>> {
         }
         let two = !err.is_empty();
         let title = if set.is_empty() { String::new() } else { format!(" ({set})") };
-        let image = canvas(if two { 1200 } else { 640 }, 460, |root| {
+        let w = if two { 1200 } else { 640 };
+        let image = canvas(w + legend_width(&irr), legend_height(&irr), |root| {
             root.fill(&WHITE).map_err(pe)?;
+            draw_legend(root, &irr, w as i32)?;
+            let root = &root.split_horizontally(w).0;
             let (a, b) = if two { root.split_horizontally(600) } else { (root.clone(), root.clone()) };
             line_panel(
                 &a,
@@ -895,6 +972,44 @@ mod tests {
         }
     }
 
+    /// A cluster of points as the ZH3 table's time chart has (eight encoders within 40 px, one
+    /// at the right edge): every box is inside the plot and no two overlap (checked pairwise from
+    /// the returned layout), and the right-edge label went left of its point.
+    #[test]
+    fn labels_never_overlap_or_leave_the_plot() {
+        let plot = (70, 40, 800, 500);
+        let pts = [
+            (290, 215),
+            (295, 232),
+            (300, 245),
+            (305, 240),
+            (310, 250),
+            (288, 262),
+            (292, 268),
+            (297, 230),
+            (760, 250),
+            (680, 283),
+            (720, 290),
+            (150, 245),
+            (190, 365),
+            (200, 195),
+        ];
+        let widths: Vec<u32> = (0..pts.len()).map(|i| 100 + 10 * i as u32).collect();
+        let boxes = place_labels(&pts, &widths, 14, plot);
+        for (i, b) in boxes.iter().enumerate() {
+            assert!(
+                b.0 >= plot.0 && b.1 >= plot.1 && b.2 <= plot.2 && b.3 <= plot.3,
+                "label {i} {b:?} leaves the plot"
+            );
+            assert_eq!((b.2 - b.0) as u32, widths[i], "label {i} shortened");
+            for (j, c) in boxes.iter().enumerate().skip(i + 1) {
+                let overlap = b.0 < c.2 && c.0 < b.2 && b.1 < c.3 && c.1 < b.3;
+                assert!(!overlap, "labels {i} {b:?} and {j} {c:?} overlap");
+            }
+        }
+        assert!(boxes[8].2 <= pts[8].0, "the label of the right-edge point is left of it: {:?}", boxes[8]);
+    }
+
     #[test]
     fn bars_average_cases_and_read_columns_by_name() {
         let t =
@@ -952,14 +1067,71 @@ mod tests {
         }
     }
 
+    /// The legend is in its own column right of the panels, so it cannot cover data: every
+    /// entry's box starts right of the panels and stays inside the image, no two overlap, and
+    /// the pixels right of the panels in a series' colour all lie inside the legend boxes (the
+    /// data, which fills the panels' upper right corner here, is drawn left of them).
+    #[test]
+    fn legends_are_beside_the_data() {
+        let s = csv("knob,value,rmse,time_ns,label\nk,1,0.001,10,a_long_series_name_one\nk,100,0.5,1000,a_long_series_name_one\n\
+             k,1,0.002,10,two\nk,100,0.4,1000,two\n");
+        let charts = sweep_charts(&s).unwrap();
+        let Outcome::Drawn { image, .. } = &charts[0].1 else { panic!("not drawn") };
+        let series: Vec<Series> = ["a_long_series_name_one", "two"]
+            .iter()
+            .enumerate()
+            .map(|(k, l)| Series { label: l.to_string(), colour: k, points: vec![] })
+            .collect();
+        let boxes = legend_boxes(&series, 1200);
+        for (i, b) in boxes.iter().enumerate() {
+            assert!(b.0 >= 1200 && b.2 <= image.width() as i32 && b.3 <= image.height() as i32, "entry {i} {b:?}");
+            for c in &boxes[i + 1..] {
+                assert!(!(b.0 < c.2 && c.0 < b.2 && b.1 < c.3 && c.1 < b.3), "entries overlap: {b:?} {c:?}");
+            }
+        }
+        let c0 = colour(0);
+        let (mut inside, mut outside, mut left) = (0, 0, 0);
+        for (x, y, p) in image.enumerate_pixels() {
+            if p.0 != [c0.0, c0.1, c0.2] {
+                continue;
+            }
+            let (x, y) = (x as i32, y as i32);
+            if x < 1200 {
+                left += 1;
+            } else if boxes.iter().any(|b| x >= b.0 && x < b.2 && y >= b.1 && y < b.3) {
+                inside += 1;
+            } else {
+                outside += 1;
+            }
+        }
+        assert!(
+            left > 0 && inside > 0 && outside == 0,
+            "series colour: {left} in panels, {inside} in legend, {outside} elsewhere"
+        );
+    }
+
+    /// Same CSV, same bytes: drawing a sweep twice gives identical images (series in file
+    /// order, legend and labels from measured widths; nothing depends on hashing or threads).
+    #[test]
+    fn sweep_charts_are_deterministic() {
+        let text = "knob,value,rmse,time_ns,label\nk,32,0.1,100,b\nk,64,0.02,400,b\nk,32,0.2,90,a\nk,64,0.05,300,a\n";
+        let draw = || match sweep_charts(&csv(text)).unwrap().remove(0).1 {
+            Outcome::Drawn { image, .. } => image.into_raw(),
+            Outcome::Skipped(w) => panic!("{w}"),
+        };
+        assert!(draw() == draw());
+    }
+
     #[test]
     fn sweep_and_blend_formats() {
         let s = csv("knob,value,rmse,time_ns,label\nref_res,32,0.1,100,grace\nref_res,64,0.02,400,grace\n\
              ref_res,128,0.004,1600,grace\niters,1,0.5,,hhd\niters,2,0.2,,hhd\n");
         let charts = sweep_charts(&s).unwrap();
         assert_eq!(charts.len(), 2);
-        assert!(matches!(&charts[0].1, Outcome::Drawn { image, .. } if image.width() == 1200));
-        assert!(matches!(&charts[1].1, Outcome::Drawn { image, .. } if image.width() == 640));
+        // The panels (1200 px for two, 640 for one) plus the legend column for "grace" / "hhd".
+        let lw = |l: &str| text_width(l, 12.0, false) + 48;
+        assert!(matches!(&charts[0].1, Outcome::Drawn { image, .. } if image.width() == 1200 + lw("grace")));
+        assert!(matches!(&charts[1].1, Outcome::Drawn { image, .. } if image.width() == 640 + lw("hhd")));
         assert!(sweep_charts(&csv("knob,value\na,1\n")).unwrap_err().to_string().contains("missing column"));
         let b = csv(
             "t,method,irradiance_at_n_r,irradiance_at_n_g,irradiance_at_n_b,rmse\n0,ahd,1,1,1,0\n0.5,ahd,1.5,1.5,1.5,0.1\n\

@@ -12,7 +12,7 @@
 use super::canvas::{fill, paint_disc, CELL, PAPER};
 use super::csvfile::CsvTable;
 use super::number::{percent, sig};
-use super::text::{draw_labels, fit_text, Label};
+use super::text::{draw_labels, fit_text, text_width, Label};
 use super::tone::{diverging, nice_ceil, ErrorScale, Tone};
 use crate::encoders::encoder::Fitted;
 use crate::envmap::EnvMap;
@@ -34,7 +34,11 @@ pub const CELL_W: u32 = DISC + 12;
 pub const CELL_H: u32 = DISC + 8;
 /// Two text lines under each row of spheres.
 pub const ROW_H: u32 = CELL_H + 34;
+/// The narrowest label column; wider when a name or storage note needs it ([`label_width`]).
 pub const LABEL_W: u32 = 128;
+/// Sizes of a row's name (bold) and storage note.
+const NAME_PX: f64 = 14.0;
+const NOTE_PX: f64 = 12.0;
 pub const MARGIN: u32 = 12;
 pub const VIEW_GAP: u32 = 16;
 pub const HEADER_LINES: u32 = 7;
@@ -55,17 +59,27 @@ pub const BAR_H: u32 = 16;
 pub struct SheetLayout {
     pub rows: u32,
     pub views: u32,
+    /// Width of the label column (names and storage notes in full).
+    pub label_w: u32,
+}
+
+/// The label column's width: [`LABEL_W`], or the widest measured name (bold) or storage note
+/// plus 14 px of gap when that is wider, so no name is shortened.
+pub fn label_width<'a>(rows: impl IntoIterator<Item = (&'a str, &'a str)>) -> u32 {
+    rows.into_iter()
+        .map(|(name, note)| text_width(name, NAME_PX, true).max(text_width(note, NOTE_PX, false)) + 14)
+        .fold(LABEL_W, u32::max)
 }
 
 impl SheetLayout {
     /// Width × height in pixels.
     pub fn size(&self) -> (u32, u32) {
-        let grid_w = 2 * MARGIN + LABEL_W + self.views * 3 * CELL_W + self.views.saturating_sub(1) * VIEW_GAP;
+        let grid_w = 2 * MARGIN + self.label_w + self.views * 3 * CELL_W + self.views.saturating_sub(1) * VIEW_GAP;
         (grid_w.max(MIN_W), HEADER_H + COLHEAD_H + self.rows * ROW_H + MARGIN)
     }
     /// Top-left pixel of the cell (row, view, column 0..3).
     pub fn cell(&self, row: u32, view: u32, col: u32) -> (u32, u32) {
-        (MARGIN + LABEL_W + view * (3 * CELL_W + VIEW_GAP) + col * CELL_W, HEADER_H + COLHEAD_H + row * ROW_H)
+        (MARGIN + self.label_w + view * (3 * CELL_W + VIEW_GAP) + col * CELL_W, HEADER_H + COLHEAD_H + row * ROW_H)
     }
     /// Top-left pixel of the colour bar.
     pub fn colour_bar(&self) -> (u32, u32) {
@@ -128,7 +142,8 @@ fn colour_bar(img: &mut RgbImage, labels: &mut Vec<Label>, x0: u32, y0: u32, sca
 
 impl Sheet {
     pub fn layout(&self) -> SheetLayout {
-        SheetLayout { rows: self.rows.len() as u32, views: self.views.len() as u32 }
+        let label_w = label_width(self.rows.iter().map(|r| (r.name.as_str(), r.note.as_str())));
+        SheetLayout { rows: self.rows.len() as u32, views: self.views.len() as u32, label_w }
     }
 
     /// Draws the sheet.
@@ -164,8 +179,8 @@ impl Sheet {
         }
         for (r, row) in self.rows.iter().enumerate() {
             let (_, y) = lay.cell(r as u32, 0, 0);
-            labels.push(Label::new(fit_text(&row.name, LABEL_W - 14, 13.0), MARGIN, y + CELL_H / 2 - 16, 13.0).bold());
-            labels.push(Label::new(&row.note, MARGIN, y + CELL_H / 2 + 2, 11.0).grey());
+            labels.push(Label::new(&row.name, MARGIN, y + CELL_H / 2 - 18, NAME_PX).bold());
+            labels.push(Label::new(&row.note, MARGIN, y + CELL_H / 2 + 2, NOTE_PX).grey());
             for (v, disc) in self.discs.iter().enumerate() {
                 let refs = &self.reference[v];
                 let vals = &row.values[v];
@@ -364,7 +379,7 @@ pub fn experiment_sheet(exp: &Experiment, map: &EnvMap, table: Option<&CsvTable>
         .zip(&figures)
         .map(|((e, values), f)| SheetRow {
             name: e.name.clone(),
-            note: format!("{} scalars", e.encoder.stored_scalars()),
+            note: e.encoder.storage(&input),
             values,
             under_lit: if f.neg_frac > 0.0 { format!("negative on {}", percent(f.neg_frac)) } else { String::new() },
             under_err: [format!("rmse {}", sig(f.rmse, 4)), format!("rel_rmse {}", percent(f.rel_rmse))],
@@ -496,6 +511,27 @@ mod tests {
         let w1 = (2 * MARGIN + LABEL_W + 3 * CELL_W).max(MIN_W);
         assert_eq!(mk("'sh0','sh2'", true), (w1, h(2)));
         assert_eq!(h(3) - h(1), 2 * ROW_H);
+    }
+
+    /// Long encoder names are printed in full: the label column grows to the widest name
+    /// (measured), and every label of the row column ends before the first sphere.
+    #[test]
+    fn long_names_widen_the_label_column() {
+        let exp = experiment(
+            "maps = ['m']\nencoders = ['sh1', { kind = 'sh2', name = 'sh2_with_a_very_long_descriptive_name' }]\n\
+             resolution = [16, 8]",
+        );
+        let (sheet, _) = experiment_sheet(&exp, &scene_map("gen_sun_sky", 32), None).unwrap();
+        let lay = sheet.layout();
+        let name = "sh2_with_a_very_long_descriptive_name";
+        let want = text_width(name, NAME_PX, true) + 14;
+        assert!(want > LABEL_W, "the test name must be wider than the default column");
+        assert_eq!(lay.label_w, want);
+        let (w, _) = lay.size();
+        assert_eq!(w, 2 * MARGIN + want + 6 * CELL_W + VIEW_GAP);
+        // The name ends at least 14 px before the first cell.
+        assert!(MARGIN + text_width(name, NAME_PX, true) + 14 <= lay.cell(0, 0, 0).0);
+        assert_eq!(label_width([("sh1", "12 scalars")]), LABEL_W);
     }
 
     #[test]
