@@ -164,6 +164,7 @@ fn report_on_a_scratch_repository() {
     let png = probelab::report::png::png_bytes(&image::RgbImage::new(2, 2)).unwrap();
     std::fs::write(res.join("a_sphere/sheet_old_map.png"), &png).unwrap();
     std::fs::write(res.join("a_sphere/blend_strip.png"), &png).unwrap();
+    std::fs::write(res.join("a_sphere/chart_old_knob.svg"), "<svg/>").unwrap();
 
     let log = stderr_ok(&probelab(&scratch, &["report"]));
     assert!(log.contains("REPORT.md"), "{log}");
@@ -215,6 +216,28 @@ fn report_on_a_scratch_repository() {
         assert!(links.iter().any(|l| l == f), "a page links {f}; links: {links:?}");
     }
     assert!(!res.join("a_sphere/chart_time.png").exists());
+    // Every chart is also written as SVG beside its PNG (same stem, same size) and linked;
+    // a stale chart SVG is removed, and no SVG is listed among the folder's other files.
+    for png in [
+        "a_sphere/chart_rmse.png",
+        "a_sphere/chart_cost_scalars.png",
+        "b_floor/chart_cost_scalars.png",
+        "b_floor/chart_time.png",
+        "a_sphere/chart_sweep_reference_polar_nodes.png",
+        "a_sphere/chart_blend.png",
+        "timing_only/chart_sweep_res.png",
+    ] {
+        let svg = png.replace(".png", ".svg");
+        let text = std::fs::read_to_string(res.join(&svg)).unwrap_or_else(|e| panic!("{svg}: {e}"));
+        let (w, h) = png_size(&res.join(png));
+        assert!(text.contains(&format!("<svg width=\"{w}\" height=\"{h}\"")), "{svg}: not {w}x{h}");
+        assert!(text.trim_end().ends_with("</svg>"), "{svg}: not closed");
+        assert!(links.contains(&svg), "a page links {svg}");
+    }
+    assert!(!res.join("a_sphere/chart_old_knob.svg").exists(), "stale chart SVG removed");
+    let a_page = page("a_sphere");
+    let files_line = a_page.lines().find(|l| l.starts_with("Files:")).unwrap_or("");
+    assert!(!files_line.contains(".svg"), "SVGs are not listed as other files: {files_line}");
     let a = page("a_sphere");
     assert!(a.contains("no fit times") || a.contains("--no-timing"), "the missing timings are stated");
     assert!(a.contains("Pareto front (lower cost and lower error both better): "), "cost charts name their front");

@@ -1,4 +1,6 @@
-//! Charts (plotters, bitmap, bundled font): rmse bars per encoder per map, error against fit
+//! Charts (plotters, bundled font), each drawn twice from the same code: into a bitmap (the
+//! PNG) and into an SVG string (for papers; text as `<text>` elements with the full labels,
+//! laid out from the bitmap font's measured widths): rmse bars per encoder per map, error against fit
 //! time with the Pareto front, convergence curves of sweeps, and the lightmap blending line
 //! chart. Every chart reads its CSV by column name; a chart whose columns are absent is not
 //! drawn and says why (the report prints the reason).
@@ -22,10 +24,11 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
-/// A drawn chart, or the reason it was not drawn.
+/// A drawn chart (the same drawing as pixels and as an SVG document of the same size), or the
+/// reason it was not drawn.
 #[derive(Debug)]
 pub enum Outcome {
-    Drawn { image: RgbImage, caption: String },
+    Drawn { image: RgbImage, svg: String, caption: String },
     Skipped(String),
 }
 
@@ -62,16 +65,35 @@ fn colour(i: usize) -> RGBColor {
     RGBColor(r, g, b)
 }
 
-/// Draws into a fresh white w×h image.
-fn canvas(w: u32, h: u32, f: impl FnOnce(&DrawingArea<BitMapBackend, Shift>) -> Result<()>) -> Result<RgbImage> {
-    ensure_font();
-    let mut buf = vec![255u8; (w * h * 3) as usize];
-    {
-        let root = BitMapBackend::with_buffer(&mut buf, (w, h)).into_drawing_area();
-        f(&root)?;
-        root.present().map_err(pe)?;
-    }
-    RgbImage::from_raw(w, h, buf).ok_or_else(|| anyhow!("chart buffer size"))
+/// Draws a w×h chart twice with the same body, once on each backend: into a fresh bitmap
+/// buffer (the PNG's pixels) and into an SVG string (`SVGBackend::with_string`). The body
+/// sees `$root: &DrawingArea<DB, Shift>` for either backend, so every helper it calls is
+/// generic over `DB: DrawingBackend`; it returns `Result<()>`. Evaluates to
+/// `Result<(RgbImage, String)>`. (A macro, because a closure cannot be generic over the
+/// backend.)
+macro_rules! canvas {
+    ($w:expr, $h:expr, |$root:ident| $body:block) => {{
+        let (w, h): (u32, u32) = ($w, $h);
+        ensure_font();
+        (|| -> Result<(RgbImage, String)> {
+            let mut buf = vec![255u8; (w * h * 3) as usize];
+            {
+                let area = BitMapBackend::with_buffer(&mut buf, (w, h)).into_drawing_area();
+                let $root = &area;
+                (|| -> Result<()> { $body })()?;
+                area.present().map_err(pe)?;
+            }
+            let image = RgbImage::from_raw(w, h, buf).ok_or_else(|| anyhow!("chart buffer size"))?;
+            let mut svg = String::new();
+            {
+                let area = SVGBackend::with_string(&mut svg, (w, h)).into_drawing_area();
+                let $root = &area;
+                (|| -> Result<()> { $body })()?;
+                area.present().map_err(pe)?;
+            }
+            Ok((image, svg))
+        })()
+    }};
 }
 
 /// Decade bounds around positive values (at least one decade).
@@ -171,7 +193,7 @@ pub fn rmse_bars(t: &CsvTable, title: &str) -> Result<Outcome> {
     let (label_w, legend_w) = (190u32, 170u32);
     let plot_h = (slots * bar).ceil() as u32;
     let (w, h) = (980u32, plot_h + 110);
-    let image = canvas(w, h, |root| {
+    let (image, svg) = canvas!(w, h, |root| {
         root.fill(&WHITE).map_err(pe)?;
         let (area, legend) = root.split_horizontally(w - legend_w);
         let mut chart = ChartBuilder::on(&area)
@@ -223,7 +245,7 @@ pub fn rmse_bars(t: &CsvTable, title: &str) -> Result<Outcome> {
     if zeros > 0 {
         caption.push_str(&format!("; {zeros} zero rmse value(s) drawn at the axis floor"));
     }
-    Ok(Outcome::Drawn { image, caption })
+    Ok(Outcome::Drawn { image, svg, caption })
 }
 
 /// Indices of the Pareto-optimal points of (cost, error), sorted by cost: lower cost and lower
@@ -399,7 +421,7 @@ pub fn error_vs_cost(t: &CsvTable, cost: Cost, title: &str) -> Result<Outcome> {
     let (xlo, xhi) = decades(pts.iter().map(|p| p.0)).expect("positive costs");
     let (ylo, yhi) = decades(pts.iter().map(|p| p.1)).unwrap_or((1e-3, 1.0));
     let h = 560u32;
-    let image = canvas(820, h, |root| {
+    let (image, svg) = canvas!(820, h, |root| {
         root.fill(&WHITE).map_err(pe)?;
         let mut chart = ChartBuilder::on(root)
             .caption(title, (FONT, 16).into_font().style(FontStyle::Bold))
@@ -474,6 +496,7 @@ pub fn error_vs_cost(t: &CsvTable, cost: Cost, title: &str) -> Result<Outcome> {
     };
     Ok(Outcome::Drawn {
         image,
+        svg,
         caption: format!(
             "error against {} per encoder: x = {} over the table's rows, y = mean rmse{}; Pareto front (lower cost \
              and lower error both better): {}{}",
@@ -559,7 +582,7 @@ fn legend_height(series: &[Series]) -> u32 {
 
 /// Draws the legend in its own column right of the panels (`x0` = the panels' right edge),
 /// so it never covers data: a line sample with a point and the label per series.
-fn draw_legend(root: &DrawingArea<BitMapBackend, Shift>, series: &[Series], x0: i32) -> Result<()> {
+fn draw_legend<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, series: &[Series], x0: i32) -> Result<()> {
     for (s, b) in series.iter().zip(legend_boxes(series, x0)) {
         let c = colour(s.colour);
         let y = (b.1 + b.3) / 2;
@@ -581,8 +604,8 @@ struct Series {
 
 /// Draws one panel of line series on `area`: log axes where every value is positive and the
 /// range spans at least a factor 20.
-fn line_panel(
-    area: &DrawingArea<BitMapBackend, Shift>,
+fn line_panel<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
     title: &str,
     xdesc: &str,
     ydesc: &str,
@@ -704,7 +727,7 @@ pub fn sweep_charts(t: &CsvTable) -> Result<Vec<(String, Outcome)>> {
         }
         let two = !by_time.is_empty();
         let w = if two { 1200 } else { 640 };
-        let image = canvas(w + legend_width(&by_value), legend_height(&by_value), |root| {
+        let (image, svg) = canvas!(w + legend_width(&by_value), legend_height(&by_value), |root| {
             root.fill(&WHITE).map_err(pe)?;
             draw_legend(root, &by_value, w as i32)?;
             let root = &root.split_horizontally(w).0;
@@ -729,7 +752,7 @@ pub fn sweep_charts(t: &CsvTable) -> Result<Vec<(String, Outcome)>> {
                 String::new()
             }
         );
-        out.push((knob, Outcome::Drawn { image, caption }));
+        out.push((knob, Outcome::Drawn { image, svg, caption }));
     }
     Ok(out)
 }
@@ -829,7 +852,7 @@ pub fn blend_charts(t: &CsvTable) -> Result<Vec<(String, Outcome)>> {
         let two = !err.is_empty();
         let title = if set.is_empty() { String::new() } else { format!(" ({set})") };
         let w = if two { 1200 } else { 640 };
-        let image = canvas(w + legend_width(&irr), legend_height(&irr), |root| {
+        let (image, svg) = canvas!(w + legend_width(&irr), legend_height(&irr), |root| {
             root.fill(&WHITE).map_err(pe)?;
             draw_legend(root, &irr, w as i32)?;
             let root = &root.split_horizontally(w).0;
@@ -853,7 +876,7 @@ pub fn blend_charts(t: &CsvTable) -> Result<Vec<(String, Outcome)>> {
             if two { ", and rmse along t" } else { "" },
             notes.join("; ")
         );
-        out.push((set, Outcome::Drawn { image, caption }));
+        out.push((set, Outcome::Drawn { image, svg, caption }));
     }
     Ok(out)
 }
@@ -964,7 +987,7 @@ mod tests {
         assert!(matches!(error_vs_time(&t, "x").unwrap(), Outcome::Skipped(s) if s.contains("fit_ns")));
         let t = csv("map,encoder,metric,rmse,fit_ns\na,sh1,exact,0.5,10\na,sh2,exact,0.1,40\na,zz,exact,0.3,50\n");
         match error_vs_time(&t, "x").unwrap() {
-            Outcome::Drawn { caption, image } => {
+            Outcome::Drawn { caption, image, .. } => {
                 assert!(caption.contains("both better): sh1, sh2"), "{caption}");
                 assert_eq!(image.dimensions(), (820, 560));
             }
@@ -1120,6 +1143,130 @@ mod tests {
             Outcome::Skipped(w) => panic!("{w}"),
         };
         assert!(draw() == draw());
+    }
+
+    /// Checks that `svg` is well-formed XML (every tag closed in order, attribute values
+    /// quoted, only the five predefined entities) and returns its root's `width`/`height`
+    /// and the text of every `<text>` element, unescaped.
+    fn parse_svg(svg: &str) -> ((u32, u32), Vec<String>) {
+        let unescape = |t: &str| -> String {
+            let mut out = String::new();
+            let mut rest = t;
+            while let Some(i) = rest.find('&') {
+                out.push_str(&rest[..i]);
+                let j = rest[i..].find(';').unwrap_or_else(|| panic!("unterminated entity in {t:?}"));
+                out.push(match &rest[i..i + j + 1] {
+                    "&amp;" => '&',
+                    "&lt;" => '<',
+                    "&gt;" => '>',
+                    "&quot;" => '"',
+                    "&apos;" => '\'',
+                    e => panic!("unknown entity {e}"),
+                });
+                rest = &rest[i + j + 1..];
+            }
+            out + rest
+        };
+        let mut stack: Vec<String> = Vec::new();
+        let (mut size, mut texts) = (None, Vec::new());
+        let mut rest = svg.trim_start();
+        if rest.starts_with("<?xml") {
+            rest = &rest[rest.find("?>").expect("xml declaration closed") + 2..];
+        }
+        while let Some(lt) = rest.find('<') {
+            let content = &rest[..lt];
+            assert!(!content.contains('>'), "stray '>' in {content:?}");
+            if stack.last().is_some_and(|t| t == "text") {
+                // plotters writes the text on its own line; SVG's default whitespace handling
+                // drops the newlines around it.
+                texts.push(unescape(content.trim()));
+            } else {
+                let _ = unescape(content);
+            }
+            let gt = rest[lt..].find('>').expect("tag closed") + lt;
+            let tag = &rest[lt + 1..gt];
+            rest = &rest[gt + 1..];
+            if let Some(name) = tag.strip_prefix('/') {
+                assert_eq!(stack.pop().as_deref(), Some(name.trim()), "closing tag out of order");
+                continue;
+            }
+            let self_closing = tag.ends_with('/');
+            let tag = tag.trim_end_matches('/');
+            let name = tag.split_whitespace().next().expect("tag name").to_string();
+            // Attributes: name="value" pairs, values without '<' or a bare '&'.
+            let mut attrs = tag[name.len()..].trim();
+            let mut found = Vec::new();
+            while !attrs.is_empty() {
+                let eq = attrs.find("=\"").unwrap_or_else(|| panic!("attribute without =\"…\" in <{tag}>"));
+                let key = attrs[..eq].trim().to_string();
+                let end = attrs[eq + 2..].find('"').expect("attribute value closed") + eq + 2;
+                let value = &attrs[eq + 2..end];
+                assert!(!value.contains('<'), "'<' in attribute {key}");
+                found.push((key, unescape(value)));
+                attrs = attrs[end + 1..].trim_start();
+            }
+            if name == "svg" && stack.is_empty() {
+                let get = |k: &str| found.iter().find(|a| a.0 == k).map(|a| a.1.parse::<u32>().unwrap());
+                size = Some((get("width").expect("width"), get("height").expect("height")));
+            }
+            if !self_closing {
+                stack.push(name);
+            }
+        }
+        assert!(stack.is_empty(), "unclosed tags {stack:?}");
+        assert!(rest.trim().is_empty(), "text after the root element");
+        (size.expect("an <svg> root"), texts)
+    }
+
+    #[test]
+    fn svg_checker_refuses_broken_documents() {
+        let ok = r#"<svg width="3" height="2" viewBox="0 0 3 2"><text x="1">a &amp; b</text><rect x="0"/></svg>"#;
+        assert_eq!(parse_svg(ok), ((3, 2), vec!["a & b".to_string()]));
+        assert_eq!(parse_svg("<svg width=\"1\" height=\"1\"><text>\nx\n</text></svg>").1, ["x"]);
+        for bad in [
+            r#"<svg width="3" height="2"><text>a</svg>"#,
+            r#"<svg width="3" height="2"><text>a & b</text></svg>"#,
+            r#"<svg width="3" height="2"><g></text></g></svg>"#,
+            r#"<svg width="3" height=2></svg>"#,
+        ] {
+            assert!(std::panic::catch_unwind(|| parse_svg(bad)).is_err(), "accepted {bad}");
+        }
+    }
+
+    /// Every chart is also an SVG: well-formed, the same width and height as its PNG, with a
+    /// `<text>` element holding each encoder's (or series') full name — long ones and names
+    /// with XML's special characters included.
+    #[test]
+    fn every_chart_is_also_an_svg_with_the_full_names() {
+        let names = ["zh3_hallucinate_sun_sky_windowed_long_name", "sh<2>&co", "hlsh"];
+        let mut table = String::from("map,encoder,metric,rmse,stored_scalars,fit_ns,eval_ns\n");
+        for (k, n) in names.iter().enumerate() {
+            let n = format!("\"{n}\"");
+            table += &format!("m1,{n},exact,{},{},{},{}\n", 0.1 / (k + 1) as f64, 9 * (k + 1), 10 * (k + 1), 3 + k);
+            table += &format!("m2,{n},exact,{},{},{},{}\n", 0.2 / (k + 1) as f64, 9 * (k + 1), 10 * (k + 1), 3 + k);
+        }
+        let t = csv(&table);
+        let mut drawn = vec![("bars".to_string(), rmse_bars(&t, "bars").unwrap())];
+        for c in [Cost::StoredScalars, Cost::EvalNs, Cost::FitNs] {
+            drawn.push((format!("{c:?}"), error_vs_cost(&t, c, "cost").unwrap()));
+        }
+        let mut sweep = String::from("knob,value,rmse,time_ns,label\n");
+        let mut blend = String::from("t,method,irradiance_at_n_r,irradiance_at_n_g,irradiance_at_n_b,rmse\n");
+        for n in names {
+            sweep += &format!("k,1,0.5,10,\"{n}\"\nk,10,0.05,100,\"{n}\"\n");
+            blend += &format!("0,\"{n}\",1,1,1,0\n0.5,\"{n}\",1.3,1.3,1.3,0.1\n1,\"{n}\",1.2,1.2,1.2,0\n");
+        }
+        drawn.extend(sweep_charts(&csv(&sweep)).unwrap());
+        drawn.extend(blend_charts(&csv(&blend)).unwrap());
+        assert_eq!(drawn.len(), 6);
+        for (what, o) in drawn {
+            let Outcome::Drawn { image, svg, .. } = o else { panic!("{what}: not drawn") };
+            let (size, texts) = parse_svg(&svg);
+            assert_eq!(size, image.dimensions(), "{what}: SVG size");
+            for n in names {
+                assert!(texts.iter().any(|t| t == n), "{what}: no <text> with the full name {n:?}: {texts:?}");
+            }
+        }
     }
 
     #[test]

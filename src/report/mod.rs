@@ -13,7 +13,8 @@
 //!   added later appears without changes here.
 //!
 //! Then the claims (`*/claims.csv`) and how the run was made (commit, date, settings, map
-//! checksums). Everything is written atomically; stale `sheet_*`/`chart_*` PNGs are removed.
+//! checksums). Every chart is written as PNG and, beside it, as SVG (same stem). Everything is written
+//! atomically; stale `sheet_*`/`chart_*` PNGs and SVGs are removed.
 //!
 //! Files: `sheet` (comparison sheets of an experiment), `strip` (the lightmap study's blending
 //! strips, drawn from the claims layer's data), `charts` (plotters charts), `markdown` (tables
@@ -478,15 +479,20 @@ fn map_use(root: &Path, search: &SearchPath, name: &str) -> Result<MapUse> {
     })
 }
 
-/// Removes `prefix*.png` files of `dir` that are not in `keep`.
+/// Removes `prefix*.png` and `prefix*.svg` files of `dir` that are not in `keep`.
 fn remove_stale(dir: &Path, prefix: &str, keep: &[String]) -> Result<()> {
     for f in files(dir) {
-        if f.starts_with(prefix) && f.ends_with(".png") && !keep.contains(&f) {
+        if f.starts_with(prefix) && (f.ends_with(".png") || f.ends_with(".svg")) && !keep.contains(&f) {
             let p = dir.join(&f);
             std::fs::remove_file(&p).with_context(|| format!("{}: cannot remove stale picture", p.display()))?;
         }
     }
     Ok(())
+}
+
+/// The SVG beside a chart's PNG: the same stem, `.svg`.
+fn svg_name(png: &str) -> String {
+    format!("{}.svg", png.strip_suffix(".png").unwrap_or(png))
 }
 
 /// Link text from REPORT.md (in `out`) to `name/file`.
@@ -502,15 +508,20 @@ struct ChartsOut<'a> {
 }
 
 impl ChartsOut<'_> {
-    /// Writes a drawn chart as `file` and links it (captioned, with its source CSV `from`); a
+    /// Writes a drawn chart as `file` (PNG) and beside it as the same stem `.svg` (both
+    /// atomically), and links it (captioned, with its source CSV `from`, and its SVG); a
     /// skipped one is stated as `skip_label: why`, or left out when `skip_label` is None.
     fn put(&mut self, file: String, o: Outcome, alt: &str, from: Option<&str>, skip_label: Option<&str>) -> Result<()> {
         match o {
-            Outcome::Drawn { image, caption } => {
+            Outcome::Drawn { image, svg, caption } => {
                 png::write_png(&self.dir.join(&file), &image)?;
+                let svg_file = svg_name(&file);
+                crate::pipeline::atomic::write(&self.dir.join(&svg_file), svg.as_bytes())?;
                 let from = from.map(|f| format!(" (from [{f}]({}))", href(f))).unwrap_or_default();
-                let _ = writeln!(self.md, "![{alt}]({})\n\n*{caption}{from}*\n", href(&file));
+                let _ =
+                    writeln!(self.md, "![{alt}]({})\n\n*{caption}{from}* ([SVG]({}))\n", href(&file), href(&svg_file));
                 self.made.push(file);
+                self.made.push(svg_file);
             }
             Outcome::Skipped(why) => {
                 if let Some(label) = skip_label {
@@ -691,12 +702,13 @@ fn section(
             let _ = writeln!(md, "![{f}]({})\n", href(f));
         }
     }
-    let other: Vec<&String> = now.iter().filter(|f| !f.ends_with(".png") && *f != PAGE).collect();
+    let other: Vec<&String> =
+        now.iter().filter(|f| !f.ends_with(".png") && *f != PAGE && !drawn.made.contains(f)).collect();
     if !other.is_empty() {
         let links: Vec<String> = other.iter().map(|f| format!("[{f}]({})", href(f))).collect();
         let _ = writeln!(md, "Files: {}\n", links.join(" · "));
     }
-    Ok((md, drawn.made.len()))
+    Ok((md, drawn.made.iter().filter(|f| f.ends_with(".png")).count()))
 }
 
 /// A folder as shown in the report: relative to the repository root when inside it, else
