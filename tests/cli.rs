@@ -333,7 +333,7 @@ fn check_prints_json_with_the_text_counts() {
     let verdict = text.lines().find(|l| l.starts_with(&format!("{exp}: ok"))).expect("a verdict line");
     let n = |word: &str| -> u64 {
         let before = verdict.split(word).next().unwrap();
-        before.split(|c: char| !c.is_ascii_digit()).filter(|t| !t.is_empty()).next_back().unwrap().parse().unwrap()
+        before.split(|c: char| !c.is_ascii_digit()).rfind(|t| !t.is_empty()).unwrap().parse().unwrap()
     };
     assert_eq!(e["rows"].as_u64(), Some(n(" rows")));
     assert_eq!(e["numbers"].as_u64(), Some(n(" numbers compared")));
