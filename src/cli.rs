@@ -75,6 +75,11 @@ pub enum Command {
         /// Results folder (default: <root>/results).
         #[arg(long)]
         out: Option<PathBuf>,
+        /// Draw the comparison sheets N times larger (1 to 8): discs evaluated at N times
+        /// the pixels, text and thumbnail at N times their size. Charts are unchanged.
+        #[arg(long, default_value_t = 1, value_name = "N",
+              value_parser = clap::value_parser!(u32).range(1..=probelab::report::sheet::MAX_SCALE as i64))]
+        scale: u32,
     },
     /// Score encoders on maps and print CSV to stdout.
     Eval {
@@ -334,17 +339,17 @@ pub fn main_with(cli: Cli) -> Result<i32> {
             if !claims_ok {
                 refused.push("claims".into());
             }
-            write_report(&root, &out, &search)?;
+            write_report(&root, &out, &search, 1)?;
             outln!("reproduce: {} experiment(s)", exps.len())?;
             for line in &summary {
                 outln!("  {line}")?;
             }
             Ok(probelab::regression::check::refused_exit(&refused))
         }
-        Command::Report { out } => {
+        Command::Report { out, scale } => {
             let out = results(out);
             let _lock = writing(&out)?;
-            write_report(&root, &out, &search)?;
+            write_report(&root, &out, &search, scale)?;
             Ok(0)
         }
         Command::Check { experiments, all, allow_missing, out, format } => {
@@ -655,9 +660,10 @@ fn write_strips(out: &Path, run: &probelab::regression::claims::ClaimsRun) -> Re
     Ok(strips.len())
 }
 
-/// Writes results/REPORT.md with its pictures (`report::generate`).
-fn write_report(root: &Path, out: &Path, search: &SearchPath) -> Result<()> {
-    let g = probelab::report::generate(&probelab::report::Options { root, out, search })?;
+/// Writes results/REPORT.md with its pictures (`report::generate`), the comparison sheets at
+/// `sheet_scale` (1 for the standard sheets).
+fn write_report(root: &Path, out: &Path, search: &SearchPath, sheet_scale: u32) -> Result<()> {
+    let g = probelab::report::generate(&probelab::report::Options { root, out, search, sheet_scale })?;
     noteln!("wrote {} ({} picture(s) drawn)", g.report.display(), g.pictures);
     if !g.kept.is_empty() {
         noteln!("sheets not redrawn (maps not on the search path): {}", g.kept.join(", "));

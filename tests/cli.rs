@@ -64,6 +64,20 @@ fn bad_arguments_exit_2_with_a_message() {
     }
 }
 
+/// `report --scale` takes a whole number from 1 to 8: anything else is refused by the argument
+/// parser (exit 2, the option named) before anything is read or written.
+#[test]
+fn report_scale_outside_one_to_eight_exits_2() {
+    let out_dir = std::env::temp_dir().join(format!("probelab_scale_refused_{}", std::process::id()));
+    for bad in ["0", "9", "1.5", "two"] {
+        let out = run(&["report", "--scale", bad, "--out", out_dir.to_str().unwrap()]);
+        assert_eq!(out.status.code(), Some(2), "--scale {bad}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.starts_with("error: ") && err.contains("--scale"), "--scale {bad}: {err}");
+        assert!(!out_dir.exists(), "--scale {bad} wrote {}", out_dir.display());
+    }
+}
+
 /// The committed generated maps are exactly what `gen-envmaps` writes today.
 #[test]
 fn committed_generated_maps_are_current() {

@@ -323,6 +323,24 @@ fn report_on_a_scratch_repository() {
     assert_eq!(before, std::fs::read(res.join("a_sphere/sheet_gen_sun_sky.png")).unwrap());
     assert_eq!(chart, std::fs::read(res.join("a_sphere/chart_rmse.png")).unwrap());
 
+    // `--scale 1` is the default sheet, byte for byte; `--scale 2` draws every sheet exactly
+    // twice as wide and tall and leaves the charts as they were; then back to the default.
+    let sheets =
+        ["a_sphere/sheet_gen_sun_sky.png", "a_sphere/sheet_gen_constant.png", "b_floor/sheet_gen_hemisphere.png"];
+    let default: Vec<Vec<u8>> = sheets.iter().map(|s| std::fs::read(res.join(s)).unwrap()).collect();
+    let sizes: Vec<(u32, u32)> = sheets.iter().map(|s| png_size(&res.join(s))).collect();
+    stderr_ok(&probelab(&scratch, &["report", "--scale", "1"]));
+    for (s, bytes) in sheets.iter().zip(&default) {
+        assert!(std::fs::read(res.join(s)).unwrap() == *bytes, "{s} at --scale 1 differs from the default");
+    }
+    stderr_ok(&probelab(&scratch, &["report", "--scale", "2"]));
+    for (s, (w, h)) in sheets.iter().zip(&sizes) {
+        assert_eq!(png_size(&res.join(s)), (2 * w, 2 * h), "{s} at --scale 2");
+    }
+    assert_eq!(chart, std::fs::read(res.join("a_sphere/chart_rmse.png")).unwrap(), "charts do not scale");
+    stderr_ok(&probelab(&scratch, &["report"]));
+    assert!(std::fs::read(res.join(sheets[0])).unwrap() == default[0]);
+
     // A claims file without its columns is refused with the file named, exit 2.
     write(&res.join("a_sphere/claims.csv"), "id,claim\nX1,x\n");
     let out = probelab(&scratch, &["report"]);

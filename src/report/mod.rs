@@ -56,6 +56,9 @@ pub struct Options<'a> {
     /// The results folder (`REPORT.md` is written here).
     pub out: &'a Path,
     pub search: &'a SearchPath,
+    /// The comparison sheets' scale (`report --scale`, 1..=[`sheet::MAX_SCALE`]): every measure
+    /// of a sheet times this; 1 is the standard sheet. Charts do not depend on it.
+    pub sheet_scale: u32,
 }
 
 /// What a report run produced.
@@ -169,7 +172,7 @@ pub fn generate(opts: &Options) -> Result<Generated> {
                     let _s = crate::pipeline::profile::span("report: decode");
                     opts.search.load(m)?
                 };
-                let (sheet, _) = sheet::experiment_sheet(exp, &map, table.as_ref())?;
+                let (sheet, _) = sheet::experiment_sheet(exp, &map, table.as_ref(), opts.sheet_scale)?;
                 let name = format!("sheet_{}.png", file_safe(m));
                 let image = {
                     let _s = crate::pipeline::profile::span("report: draw");

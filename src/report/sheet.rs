@@ -4,6 +4,11 @@
 //! sphere's colour scale is the sheet's [`ErrorScale`] (both in `tone.rs`). A sphere domain is
 //! drawn front and top; a hemisphere domain as a disc looking down N.
 //!
+//! At scale N (`probelab report --scale N`, [`MAX_SCALE`] at most) every measure below is N
+//! times larger: the sheet is laid out at scale 1 and each position and length multiplied by N,
+//! the discs are evaluated at N·[`DISC`] pixels (every pixel at its own normal, not enlarged),
+//! text is drawn at N times its even pixel size and the thumbnail is filtered at N·[`THUMB_W`].
+//!
 //! The rmse under each error sphere is the `exact` metric — solid-angle weighted over the
 //! case's output domain at the experiment's resolution — read from the experiment's table, or
 //! else scored here by the runner's one scoring step ([`score_fit`]) from the same
@@ -12,7 +17,7 @@
 use super::canvas::{fill, paint_disc, CELL, PAPER};
 use super::csvfile::CsvTable;
 use super::number::{percent, sig};
-use super::text::{draw_labels, fit_text, text_width, Label};
+use super::text::{draw_labels, even_px, fit_text, text_width, Label};
 use super::tone::{diverging, nice_ceil, ErrorScale, Tone};
 use crate::encoders::encoder::Fitted;
 use crate::envmap::EnvMap;
@@ -23,7 +28,7 @@ use crate::pipeline::runner::{cases, evaluate, score_fit, Case, CaseData, MapDat
 use crate::reference::domain::Domain;
 use crate::reference::metrics::{Metric, Scores};
 use crate::reference::view::{Disc, View};
-use anyhow::Result;
+use anyhow::{ensure, Result};
 use glam::DVec3;
 use image::RgbImage;
 use plotters::style::text_anchor::HPos;
@@ -52,6 +57,8 @@ pub const COLHEAD_H: u32 = 36;
 pub const MIN_W: u32 = 640;
 pub const BAR_W: u32 = 256;
 pub const BAR_H: u32 = 16;
+/// The largest sheet scale (`--scale`): 8 draws a 96 px disc at 768 px.
+pub const MAX_SCALE: u32 = 8;
 
 /// The geometry of a comparison sheet: one row per encoder, three columns (reference, encoder,
 /// relative error) per view.
@@ -59,8 +66,10 @@ pub const BAR_H: u32 = 16;
 pub struct SheetLayout {
     pub rows: u32,
     pub views: u32,
-    /// Width of the label column (names and storage notes in full).
+    /// Width of the label column at scale 1 (names and storage notes in full).
     pub label_w: u32,
+    /// Every measure is this many times its scale-1 value (1..=[`MAX_SCALE`]).
+    pub scale: u32,
 }
 
 /// The label column's width: [`LABEL_W`], or the widest measured name (bold) or storage note
@@ -72,18 +81,25 @@ pub fn label_width<'a>(rows: impl IntoIterator<Item = (&'a str, &'a str)>) -> u3
 }
 
 impl SheetLayout {
-    /// Width × height in pixels.
+    /// Width × height in pixels: the scale-1 size times the scale.
     pub fn size(&self) -> (u32, u32) {
         let grid_w = 2 * MARGIN + self.label_w + self.views * 3 * CELL_W + self.views.saturating_sub(1) * VIEW_GAP;
-        (grid_w.max(MIN_W), HEADER_H + COLHEAD_H + self.rows * ROW_H + MARGIN)
+        let s = self.scale;
+        (s * grid_w.max(MIN_W), s * (HEADER_H + COLHEAD_H + self.rows * ROW_H + MARGIN))
     }
     /// Top-left pixel of the cell (row, view, column 0..3).
     pub fn cell(&self, row: u32, view: u32, col: u32) -> (u32, u32) {
-        (MARGIN + self.label_w + view * (3 * CELL_W + VIEW_GAP) + col * CELL_W, HEADER_H + COLHEAD_H + row * ROW_H)
+        let x = MARGIN + self.label_w + view * (3 * CELL_W + VIEW_GAP) + col * CELL_W;
+        (self.scale * x, self.scale * (HEADER_H + COLHEAD_H + row * ROW_H))
+    }
+    /// Top-left pixel of the disc in the cell (row, view, column 0..3), [`DISC`]·scale across.
+    pub fn disc(&self, row: u32, view: u32, col: u32) -> (u32, u32) {
+        let (x, y) = self.cell(row, view, col);
+        (x + self.scale * ((CELL_W - DISC) / 2), y + self.scale * ((CELL_H - DISC) / 2))
     }
     /// Top-left pixel of the colour bar.
     pub fn colour_bar(&self) -> (u32, u32) {
-        (MARGIN + THUMB_W + 28, MARGIN + 24 + HEADER_LINES * LINE_H + 8 + 30)
+        (self.scale * (MARGIN + THUMB_W + 28), self.scale * (MARGIN + 24 + HEADER_LINES * LINE_H + 8 + 30))
     }
 }
 
@@ -112,24 +128,39 @@ pub struct Sheet {
     pub discs: Vec<Disc>,
     /// Per view, the reference E/π at the disc normals.
     pub reference: Vec<Vec<Rgb>>,
+    /// The sheet's scale (1..=[`MAX_SCALE`]): the discs are [`DISC`]·scale across, the
+    /// thumbnail [`THUMB_W`]·scale wide.
+    pub scale: u32,
     pub tone: Tone,
     pub error: ErrorScale,
     pub rows: Vec<SheetRow>,
 }
 
-/// Draws the horizontal colour bar of an error scale at (x0, y0), with its labels.
-fn colour_bar(img: &mut RgbImage, labels: &mut Vec<Label>, x0: u32, y0: u32, scale: &ErrorScale) {
-    for x in 0..BAR_W {
-        let v = ((x as f64 + 0.5) / BAR_W as f64) * 2.0 - 1.0;
-        fill(img, x0 + x, y0, 1, BAR_H, diverging(v));
+/// A text size at sheet scale `s`: the scale-1 size rounded to even pixels ([`even_px`]),
+/// times `s`, so it stays even (plotters keeps glyphs on the baseline only at even sizes).
+fn text_px(size: f64, s: u32) -> f64 {
+    even_px(size) * s as f64
+}
+
+/// Draws the horizontal colour bar of an error scale at (x0, y0), with its labels, at sheet
+/// scale `s` ([`BAR_W`]·s columns, each coloured at its own centre).
+fn colour_bar(img: &mut RgbImage, labels: &mut Vec<Label>, x0: u32, y0: u32, scale: &ErrorScale, s: u32) {
+    let (bar_w, bar_h) = (s * BAR_W, s * BAR_H);
+    for x in 0..bar_w {
+        let v = ((x as f64 + 0.5) / bar_w as f64) * 2.0 - 1.0;
+        fill(img, x0 + x, y0, 1, bar_h, diverging(v));
     }
-    labels.push(Label::new("relative error of luminance (Y - Y_ref) / Y_ref", x0, y0 - 30, 12.0).bold());
-    labels.push(Label::new("darker than reference  <-   0   ->  brighter", x0 + BAR_W / 2, y0 - 15, 11.0).centre());
+    labels
+        .push(Label::new("relative error of luminance (Y - Y_ref) / Y_ref", x0, y0 - s * 30, text_px(12.0, s)).bold());
+    labels.push(
+        Label::new("darker than reference  <-   0   ->  brighter", x0 + bar_w / 2, y0 - s * 15, text_px(11.0, s))
+            .centre(),
+    );
     let r = percent(scale.range);
     for (frac, text) in [(0.0, format!("-{r} or less")), (0.5, "0".to_string()), (1.0, format!("+{r} or more"))] {
-        let x = x0 + (frac * BAR_W as f64) as u32;
-        fill(img, x.min(x0 + BAR_W - 1), y0 + BAR_H, 1, 4, [0, 0, 0]);
-        let l = Label::new(text, x, y0 + BAR_H + 5, 11.0);
+        let x = x0 + (frac * bar_w as f64) as u32;
+        fill(img, x.min(x0 + bar_w - s), y0 + bar_h, s, s * 4, [0, 0, 0]);
+        let l = Label::new(text, x, y0 + bar_h + s * 5, text_px(11.0, s));
         labels.push(if frac == 0.0 {
             l
         } else if frac == 1.0 {
@@ -141,53 +172,65 @@ fn colour_bar(img: &mut RgbImage, labels: &mut Vec<Label>, x0: u32, y0: u32, sca
 }
 
 impl Sheet {
+    /// The sheet's geometry; the label column measured at scale 1 (so every measure of a sheet
+    /// at scale N is exactly N times its scale-1 value).
     pub fn layout(&self) -> SheetLayout {
         let label_w = label_width(self.rows.iter().map(|r| (r.name.as_str(), r.note.as_str())));
-        SheetLayout { rows: self.rows.len() as u32, views: self.views.len() as u32, label_w }
+        SheetLayout { rows: self.rows.len() as u32, views: self.views.len() as u32, label_w, scale: self.scale }
     }
 
-    /// Draws the sheet.
+    /// Draws the sheet at its scale: positions, lengths and text sizes are the scale-1 ones
+    /// times [`Sheet::scale`]; the discs' pixels are the ones evaluated at [`Sheet::discs`].
     pub fn draw(&self) -> Result<RgbImage> {
+        let s = self.scale;
+        ensure!((1..=MAX_SCALE).contains(&s), "sheet scale {s}: must be 1 to {MAX_SCALE}");
+        for d in &self.discs {
+            ensure!(d.d == (s * DISC) as usize, "sheet at scale {s}: a disc is {} px across, not {}", d.d, s * DISC);
+        }
         let lay = self.layout();
         let (w, h) = lay.size();
+        let (margin, cell_w, cell_h) = (s * MARGIN, s * CELL_W, s * CELL_H);
         let mut img = RgbImage::from_pixel(w, h, image::Rgb(PAPER));
         let mut labels = Vec::new();
-        labels.push(Label::new(&self.title, MARGIN, MARGIN, 17.0).bold());
+        labels.push(Label::new(&self.title, margin, margin, text_px(17.0, s)).bold());
         for (i, line) in self.lines.iter().take(HEADER_LINES as usize).enumerate() {
             labels.push(Label::new(
-                fit_text(line, w - 2 * MARGIN, 11.5),
-                MARGIN,
-                MARGIN + 24 + i as u32 * LINE_H,
-                11.5,
+                fit_text(line, w - 2 * margin, text_px(11.5, s)),
+                margin,
+                s * (MARGIN + 24 + i as u32 * LINE_H),
+                text_px(11.5, s),
             ));
         }
-        let thumb_y = MARGIN + 24 + HEADER_LINES * LINE_H + 8;
+        let thumb_y = s * (MARGIN + 24 + HEADER_LINES * LINE_H + 8);
         if let Some(t) = &self.thumbnail {
-            image::imageops::replace(&mut img, t, MARGIN as i64, thumb_y as i64);
-            labels.push(Label::new(&self.thumbnail_caption, MARGIN, thumb_y + THUMB_H + 1, 10.0).grey());
+            image::imageops::replace(&mut img, t, margin as i64, thumb_y as i64);
+            labels.push(
+                Label::new(&self.thumbnail_caption, margin, thumb_y + s * (THUMB_H + 1), text_px(10.0, s)).grey(),
+            );
         }
         let (bx, by) = lay.colour_bar();
-        colour_bar(&mut img, &mut labels, bx, by, &self.error);
+        colour_bar(&mut img, &mut labels, bx, by, &self.error, s);
 
-        let head_y = HEADER_H;
+        let head_y = s * HEADER_H;
         for (v, view) in self.views.iter().enumerate() {
             let (x, _) = lay.cell(0, v as u32, 0);
-            labels.push(Label::new(&view.caption, x, head_y, 11.0).bold());
+            labels.push(Label::new(&view.caption, x, head_y, text_px(11.0, s)).bold());
             for (c, name) in ["reference", "encoder", "rel. error"].iter().enumerate() {
-                labels.push(Label::new(*name, x + c as u32 * CELL_W + CELL_W / 2, head_y + 17, 11.0).centre().grey());
+                let cx = x + c as u32 * cell_w + cell_w / 2;
+                labels.push(Label::new(*name, cx, head_y + s * 17, text_px(11.0, s)).centre().grey());
             }
         }
         for (r, row) in self.rows.iter().enumerate() {
             let (_, y) = lay.cell(r as u32, 0, 0);
-            labels.push(Label::new(&row.name, MARGIN, y + CELL_H / 2 - 18, NAME_PX).bold());
-            labels.push(Label::new(&row.note, MARGIN, y + CELL_H / 2 + 2, NOTE_PX).grey());
+            labels.push(Label::new(&row.name, margin, y + s * (CELL_H / 2 - 18), text_px(NAME_PX, s)).bold());
+            labels.push(Label::new(&row.note, margin, y + s * (CELL_H / 2 + 2), text_px(NOTE_PX, s)).grey());
             for (v, disc) in self.discs.iter().enumerate() {
                 let refs = &self.reference[v];
                 let vals = &row.values[v];
                 for col in 0..3u32 {
                     let (x, y) = lay.cell(r as u32, v as u32, col);
-                    fill(&mut img, x + 2, y, CELL_W - 4, CELL_H, CELL);
-                    let (dx, dy) = (x + (CELL_W - DISC) / 2, y + (CELL_H - DISC) / 2);
+                    fill(&mut img, x + s * 2, y, cell_w - s * 4, cell_h, CELL);
+                    let (dx, dy) = lay.disc(r as u32, v as u32, col);
                     match col {
                         0 => paint_disc(&mut img, dx, dy, disc, CELL, |i| self.tone.map(refs[i])),
                         1 => paint_disc(&mut img, dx, dy, disc, CELL, |i| self.tone.map(vals[i])),
@@ -201,12 +244,13 @@ impl Sheet {
                     continue;
                 }
                 let (x1, y1) = lay.cell(r as u32, v as u32, 1);
-                if !row.under_lit.is_empty() {
-                    labels.push(Label::new(&row.under_lit, x1 + CELL_W / 2, y1 + CELL_H + 3, 11.0).centre());
-                }
                 let (x2, _) = lay.cell(r as u32, v as u32, 2);
-                labels.push(Label::new(&row.under_err[0], x2 + CELL_W / 2, y1 + CELL_H + 3, 11.0).centre());
-                labels.push(Label::new(&row.under_err[1], x2 + CELL_W / 2, y1 + CELL_H + 17, 11.0).centre());
+                let (line1, line2) = (y1 + cell_h + s * 3, y1 + cell_h + s * 17);
+                if !row.under_lit.is_empty() {
+                    labels.push(Label::new(&row.under_lit, x1 + cell_w / 2, line1, text_px(11.0, s)).centre());
+                }
+                labels.push(Label::new(&row.under_err[0], x2 + cell_w / 2, line1, text_px(11.0, s)).centre());
+                labels.push(Label::new(&row.under_err[1], x2 + cell_w / 2, line2, text_px(11.0, s)).centre());
             }
         }
         draw_labels(&mut img, &labels)?;
@@ -316,7 +360,15 @@ pub fn figures_from_table(t: &CsvTable, map: &str, case: &Case, names: &[String]
 /// it from the reference's fast lat-long path was tried: near the terminator of a small bright
 /// source the bilinear error reached 2.7% of the local value at 256x128 and 0.66% at 512x256,
 /// visible on the error spheres; so it is not done.)
-pub fn experiment_sheet(exp: &Experiment, map: &EnvMap, table: Option<&CsvTable>) -> Result<(Sheet, SheetScores)> {
+/// At `scale` N the discs are [`DISC`]·N pixels across, each pixel's normal evaluated, and
+/// the thumbnail is filtered at [`THUMB_W`]·N; the figures do not depend on the scale.
+pub fn experiment_sheet(
+    exp: &Experiment,
+    map: &EnvMap,
+    table: Option<&CsvTable>,
+    scale: u32,
+) -> Result<(Sheet, SheetScores)> {
+    ensure!((1..=MAX_SCALE).contains(&scale), "sheet scale {scale}: must be 1 to {MAX_SCALE}");
     let data = MapData::new(map);
     let all = cases(exp);
     let ci = representative_case(&all);
@@ -352,7 +404,7 @@ pub fn experiment_sheet(exp: &Experiment, map: &EnvMap, table: Option<&CsvTable>
         }
         Domain::Sphere => vec![View::front(), View::top()],
     };
-    let discs: Vec<Disc> = views.iter().map(|v| Disc::new(v, DISC as usize)).collect();
+    let discs: Vec<Disc> = views.iter().map(|v| Disc::new(v, (scale * DISC) as usize)).collect();
     let reference: Vec<Vec<Rgb>> = {
         let _s = crate::pipeline::profile::span("report: reference (sheets)");
         discs.iter().map(|d| cd.reference_many(&d.normals)).collect()
@@ -422,7 +474,7 @@ pub fn experiment_sheet(exp: &Experiment, map: &EnvMap, table: Option<&CsvTable>
     let sheet = Sheet {
         title: format!("{} - {}", exp.name, map.name),
         lines,
-        thumbnail: Some(latlong_thumbnail(map, THUMB_W)),
+        thumbnail: Some(latlong_thumbnail(map, scale * THUMB_W)),
         thumbnail_caption: format!(
             "input map {}x{} (lat-long, +Y up, centre -Z; own exposure)",
             map.width(),
@@ -431,6 +483,7 @@ pub fn experiment_sheet(exp: &Experiment, map: &EnvMap, table: Option<&CsvTable>
         views,
         discs,
         reference,
+        scale,
         tone,
         error,
         rows,
@@ -464,7 +517,7 @@ mod tests {
     fn constant_map_reference_sphere_is_uniform() {
         let exp = experiment("maps = ['gen_constant']\nencoders = ['sh1']\nresolution = [32, 16]");
         let map = scene_map("gen_constant", 64);
-        let (sheet, _) = experiment_sheet(&exp, &map, None).unwrap();
+        let (sheet, _) = experiment_sheet(&exp, &map, None, 1).unwrap();
         // The reference of a constant map of radiance 1 is E/π = 1 everywhere.
         let dev = sheet.reference.iter().flatten().map(|c| (*c - Rgb::ONE).abs().max_element()).fold(0.0, f64::max);
         assert!(dev < 1e-4, "reference deviates from 1 by {dev}");
@@ -501,7 +554,7 @@ mod tests {
                 if hemi { "domain = 'hemisphere'\norientations = ['up']\neffects = ['hemisphere']\n" } else { "" };
             let exp = experiment(&format!("maps = ['m']\nencoders = [{encoders}]\nresolution = [16, 8]\n{extra}"));
             let map = scene_map("gen_sun_sky", 32);
-            experiment_sheet(&exp, &map, None).unwrap().0.draw().unwrap().dimensions()
+            experiment_sheet(&exp, &map, None, 1).unwrap().0.draw().unwrap().dimensions()
         };
         // Expected sizes from the published measures, derived here by hand.
         let h = |rows: u32| HEADER_H + COLHEAD_H + rows * ROW_H + MARGIN;
@@ -521,7 +574,7 @@ mod tests {
             "maps = ['m']\nencoders = ['sh1', { kind = 'sh2', name = 'sh2_with_a_very_long_descriptive_name' }]\n\
              resolution = [16, 8]",
         );
-        let (sheet, _) = experiment_sheet(&exp, &scene_map("gen_sun_sky", 32), None).unwrap();
+        let (sheet, _) = experiment_sheet(&exp, &scene_map("gen_sun_sky", 32), None, 1).unwrap();
         let lay = sheet.layout();
         let name = "sh2_with_a_very_long_descriptive_name";
         let want = text_width(name, NAME_PX, true) + 14;
@@ -537,7 +590,7 @@ mod tests {
     #[test]
     fn drawn_colour_bar_matches_the_map_left_to_right() {
         let exp = experiment("maps = ['m']\nencoders = ['sh1']\nresolution = [16, 8]");
-        let (sheet, _) = experiment_sheet(&exp, &scene_map("gen_two_lights", 32), None).unwrap();
+        let (sheet, _) = experiment_sheet(&exp, &scene_map("gen_two_lights", 32), None, 1).unwrap();
         let img = sheet.draw().unwrap();
         let (bx, by) = sheet.layout().colour_bar();
         for x in 0..BAR_W {
@@ -555,7 +608,7 @@ mod tests {
     #[test]
     fn over_brightening_is_brighter_and_red() {
         let exp = experiment("maps = ['m']\nencoders = ['sh0']\nresolution = [32, 16]");
-        let (sheet, _) = experiment_sheet(&exp, &scene_map("gen_hemisphere", 64), None).unwrap();
+        let (sheet, _) = experiment_sheet(&exp, &scene_map("gen_hemisphere", 64), None, 1).unwrap();
         let img = sheet.draw().unwrap();
         let lay = sheet.layout();
         let at = |col: u32, fy: f64| {
@@ -579,7 +632,7 @@ mod tests {
         );
         let map = scene_map("gen_sky_sun", 64);
         let rows = crate::pipeline::runner::run_map(&exp, &map);
-        let (sheet, s) = experiment_sheet(&exp, &map, None).unwrap();
+        let (sheet, s) = experiment_sheet(&exp, &map, None, 1).unwrap();
         assert_eq!((s.case_label.as_str(), s.source), ("hemisphere:+y", "computed"));
         assert_eq!(sheet.views.len(), 1);
         for (name, f) in &s.figures {
@@ -588,9 +641,133 @@ mod tests {
         }
         // Read back from the table's CSV: the same figures to the CSV's round-trip precision.
         let t = CsvTable::parse(Path::new("table.csv"), &crate::pipeline::table::to_csv(&rows).unwrap()).unwrap();
-        let (sheet2, s2) = experiment_sheet(&exp, &map, Some(&t)).unwrap();
+        let (sheet2, s2) = experiment_sheet(&exp, &map, Some(&t), 1).unwrap();
         assert_eq!(s2.source, "table.csv");
         assert_eq!(s2.figures, s.figures);
         assert_eq!(sheet2.rows[2].under_err, sheet.rows[2].under_err);
+    }
+
+    /// The same sheet at scales 1 and `s`.
+    fn at_scales(toml: &str, map: &str, s: u32) -> (Sheet, Sheet) {
+        let exp = experiment(toml);
+        let map = scene_map(map, 32);
+        (experiment_sheet(&exp, &map, None, 1).unwrap().0, experiment_sheet(&exp, &map, None, s).unwrap().0)
+    }
+
+    /// At scale 2 the sheet is exactly twice as wide and tall, from the layout and in the drawn
+    /// image, with the hand-derived scale-1 measures doubled; the names still end before the
+    /// first sphere at their doubled text size.
+    #[test]
+    fn scale_two_doubles_every_measure() {
+        let long = "sh2_with_a_very_long_descriptive_name";
+        let sphere =
+            format!("maps = ['m']\nencoders = ['sh1', {{ kind = 'sh2', name = '{long}' }}]\nresolution = [16, 8]");
+        let hemi = "maps = ['m']\nencoders = ['sh0','sh2']\nresolution = [16, 8]\ndomain = 'hemisphere'\n\
+                    orientations = ['up']\neffects = ['hemisphere']";
+        let h = |rows: u32| HEADER_H + COLHEAD_H + rows * ROW_H + MARGIN;
+        let label = text_width(long, NAME_PX, true) + 14;
+        for (toml, want1) in [
+            (sphere.as_str(), (2 * MARGIN + label + 6 * CELL_W + VIEW_GAP, h(2))),
+            (hemi, ((2 * MARGIN + LABEL_W + 3 * CELL_W).max(MIN_W), h(2))),
+        ] {
+            let (one, two) = at_scales(toml, "gen_sun_sky", 2);
+            let (l1, l2) = (one.layout(), two.layout());
+            assert_eq!(l1.size(), want1);
+            assert_eq!(l2.size(), (2 * want1.0, 2 * want1.1));
+            assert_eq!(one.draw().unwrap().dimensions(), want1);
+            assert_eq!(two.draw().unwrap().dimensions(), (2 * want1.0, 2 * want1.1));
+            for (r, v, c) in [(0, 0, 0), (1, 0, 2), (1, l1.views - 1, 1)] {
+                let ((x1, y1), (x2, y2)) = (l1.cell(r, v, c), l2.cell(r, v, c));
+                assert_eq!((x2, y2), (2 * x1, 2 * y1));
+                let ((dx1, dy1), (dx2, dy2)) = (l1.disc(r, v, c), l2.disc(r, v, c));
+                assert_eq!((dx2, dy2), (2 * dx1, 2 * dy1));
+            }
+            assert_eq!(l2.colour_bar(), (2 * l1.colour_bar().0, 2 * l1.colour_bar().1));
+            assert!(two.discs.iter().all(|d| d.d == 2 * DISC as usize));
+            assert_eq!(two.thumbnail.as_ref().unwrap().dimensions(), (2 * THUMB_W, 2 * THUMB_H));
+            for row in &two.rows {
+                let end = 2 * MARGIN + text_width(&row.name, 2.0 * NAME_PX, true);
+                assert!(end < l2.cell(0, 0, 0).0, "{} ends at {end}", row.name);
+            }
+        }
+        // The text sizes stay even at every scale.
+        for s in 1..=MAX_SCALE {
+            for size in [NAME_PX, NOTE_PX, 17.0, 11.5, 11.0, 10.0] {
+                assert_eq!(text_px(size, s) % 2.0, 0.0, "size {size} at scale {s}");
+            }
+        }
+    }
+
+    /// The scale-2 discs are evaluated at 192 px, not enlarged from 96: averaging each 2×2
+    /// block of a scale-2 lit disc (reference, encoder: smooth in the normal) gives the
+    /// scale-1 disc to within a few sRGB levels — measured means 0.07 to 0.27, worst 1.5 to
+    /// 11.5 levels (at sh2's clamp to black), where the front reference disc placed half a
+    /// scale-1 pixel off gives a mean of 0.69, worst 44 — yet many blocks are not uniform, as a
+    /// nearest-neighbour enlargement's all would be. The error disc (saturating scale, sharp
+    /// at the sun) is checked only for that. The colour bar is coloured at each of its 2·BAR_W
+    /// columns.
+    #[test]
+    fn scale_two_discs_are_rendered_at_twice_the_pixels() {
+        let (one, two) = at_scales("maps = ['m']\nencoders = ['sh2']\nresolution = [16, 8]", "gen_sun_sky", 2);
+        let (i1, i2) = (one.draw().unwrap(), two.draw().unwrap());
+        let (l1, l2) = (one.layout(), two.layout());
+        for v in 0..2u32 {
+            for col in 0..3u32 {
+                let ((x1, y1), (x2, y2)) = (l1.disc(0, v, col), l2.disc(0, v, col));
+                let (d1, d2) = (&one.discs[v as usize], &two.discs[v as usize]);
+                let (mut n, mut sum, mut worst, mut varied) = (0u32, 0.0, 0.0f64, 0u32);
+                for py in 0..DISC as usize {
+                    for px in 0..DISC as usize {
+                        let sub = [(0, 0), (1, 0), (0, 1), (1, 1)].map(|(a, b)| (2 * px + a, 2 * py + b));
+                        let inside = d1.coverage[py * d1.d + px] == 1.0
+                            && sub.iter().all(|&(qx, qy)| d2.coverage[qy * d2.d + qx] == 1.0);
+                        if !inside {
+                            continue;
+                        }
+                        let p1 = i1.get_pixel(x1 + px as u32, y1 + py as u32).0;
+                        let q = sub.map(|(qx, qy)| i2.get_pixel(x2 + qx as u32, y2 + qy as u32).0);
+                        if q.iter().any(|c| *c != q[0]) {
+                            varied += 1;
+                        }
+                        for ch in 0..3 {
+                            let mean = q.iter().map(|c| c[ch] as f64).sum::<f64>() / 4.0;
+                            let e = (mean - p1[ch] as f64).abs();
+                            sum += e;
+                            worst = worst.max(e);
+                        }
+                        n += 1;
+                    }
+                }
+                let mean = sum / (3 * n) as f64;
+                let what = format!("view {v} col {col}: {n} blocks, mean {mean:.3}, worst {worst:.2}, varied {varied}");
+                assert!(n as f64 > 0.7 * (DISC * DISC) as f64, "{what}");
+                if col < 2 {
+                    assert!(mean < 0.4 && worst <= 16.0, "{what}");
+                    assert!(varied as f64 > 0.2 * n as f64, "{what}");
+                } else {
+                    assert!(varied as f64 > 0.05 * n as f64, "{what}");
+                }
+                eprintln!("{what}");
+            }
+        }
+        let (bx, by) = l2.colour_bar();
+        for x in 0..2 * BAR_W {
+            let v = ((x as f64 + 0.5) / (2 * BAR_W) as f64) * 2.0 - 1.0;
+            assert_eq!(i2.get_pixel(bx + x, by + BAR_H).0, diverging(v), "bar pixel {x}");
+        }
+    }
+
+    #[test]
+    fn scales_outside_one_to_eight_are_refused() {
+        let exp = experiment("maps = ['m']\nencoders = ['sh1']\nresolution = [16, 8]");
+        let map = scene_map("gen_constant", 16);
+        for s in [0, MAX_SCALE + 1] {
+            let e = experiment_sheet(&exp, &map, None, s).err().expect("refused").to_string();
+            assert!(e.contains(&format!("sheet scale {s}")) && e.contains("1 to 8"), "{e}");
+        }
+        // A sheet whose discs do not match its scale is refused, not drawn misplaced.
+        let (mut sheet, _) = experiment_sheet(&exp, &map, None, 1).unwrap();
+        sheet.scale = 2;
+        assert!(sheet.draw().unwrap_err().to_string().contains("96 px across, not 192"));
     }
 }
