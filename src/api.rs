@@ -65,16 +65,7 @@ impl Map {
     /// error; any other is normalised.
     pub fn lighting(&self, surface: Surface) -> Result<Lighting<'_>> {
         let case = match surface {
-            Surface::Sphere => Case {
-                domain: Domain::Sphere,
-                domain_label: "sphere".into(),
-                orientation_set: "-".into(),
-                effects_label: "none".into(),
-                masks: vec![],
-                normal: None,
-                cone: None,
-                albedo: None,
-            },
+            Surface::Sphere => Case::sphere(),
             Surface::Normal(n) => {
                 let Some(n) = n.try_normalize().filter(|n| n.is_finite()) else {
                     bail!("surface normal ({}, {}, {}): expected a finite, non-zero vector", n.x, n.y, n.z);

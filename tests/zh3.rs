@@ -70,28 +70,23 @@ fn fit_hallucination_reads_the_probe_format_probes_writes() {
     assert_eq!(body(&from_maps), body(&from_file), "the file's probes are the maps' probes");
 
     // `probes --save` writes the set it reads; fit-hallucination reads what it wrote.
+    let save = |to: &std::path::Path| {
+        stdout_ok(&run(&[
+            "probes",
+            "--input",
+            csv.to_str().unwrap(),
+            "--encoders",
+            "sh1",
+            "--save",
+            to.to_str().unwrap(),
+        ]))
+    };
     let f32 = dir.path().join("maps.f32");
-    stdout_ok(&run(&[
-        "probes",
-        "--input",
-        csv.to_str().unwrap(),
-        "--encoders",
-        "sh1",
-        "--save",
-        f32.to_str().unwrap(),
-    ]));
+    save(&f32);
     let from_f32 = stdout_ok(&run(&["fit-hallucination", "--probes", f32.to_str().unwrap()]));
     assert!(from_f32.contains("2 probe(s), 6 channel sample(s)"), "{from_f32}");
     let resaved = dir.path().join("again.csv");
-    stdout_ok(&run(&[
-        "probes",
-        "--input",
-        csv.to_str().unwrap(),
-        "--encoders",
-        "sh1",
-        "--save",
-        resaved.to_str().unwrap(),
-    ]));
+    save(&resaved);
     let from_resaved = stdout_ok(&run(&["fit-hallucination", "--probes", resaved.to_str().unwrap()]));
     assert_eq!(body(&from_resaved), body(&from_file), "probes --save (CSV) keeps every digit");
     let out = run(&["fit-hallucination", "--probes", csv.to_str().unwrap(), "--format", "f64"]);

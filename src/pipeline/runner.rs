@@ -42,10 +42,10 @@ pub struct Case {
     pub albedo: Option<f64>,
 }
 
-/// The cases an experiment declares.
-pub fn cases(exp: &Experiment) -> Vec<Case> {
-    if exp.orientations.is_empty() {
-        return vec![Case {
+impl Case {
+    /// The whole sphere: no normal, no effect (a probe; an experiment without orientations).
+    pub fn sphere() -> Case {
+        Case {
             domain: Domain::Sphere,
             domain_label: "sphere".into(),
             orientation_set: "-".into(),
@@ -54,7 +54,14 @@ pub fn cases(exp: &Experiment) -> Vec<Case> {
             normal: None,
             cone: None,
             albedo: None,
-        }];
+        }
+    }
+}
+
+/// The cases an experiment declares.
+pub fn cases(exp: &Experiment) -> Vec<Case> {
+    if exp.orientations.is_empty() {
+        return vec![Case::sphere()];
     }
     let mut out = Vec::new();
     for o in &exp.orientations {

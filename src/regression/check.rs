@@ -149,7 +149,18 @@ impl ExperimentCheck {
 
     /// Maps not on this machine (their rows were not compared).
     pub fn unchecked_maps(&self) -> usize {
-        self.findings.iter().filter(|f| matches!(f, Finding::MapMissing { .. })).count()
+        self.unchecked_map_names().len()
+    }
+
+    /// The names of those maps, in the findings' order.
+    pub fn unchecked_map_names(&self) -> Vec<&str> {
+        self.findings
+            .iter()
+            .filter_map(|f| match f {
+                Finding::MapMissing { map, .. } => Some(map.as_str()),
+                _ => None,
+            })
+            .collect()
     }
 
     /// The outcome as JSON (`check --format json`): the counts of [`report`](Self::report)
@@ -162,14 +173,7 @@ impl ExperimentCheck {
             .iter()
             .map(|f| serde_json::json!({ "kind": f.kind(), "fails": f.fails(), "text": f.to_string() }))
             .collect();
-        let unchecked: Vec<&str> = self
-            .findings
-            .iter()
-            .filter_map(|f| match f {
-                Finding::MapMissing { map, .. } => Some(map.as_str()),
-                _ => None,
-            })
-            .collect();
+        let unchecked = self.unchecked_map_names();
         serde_json::json!({
             "experiment": self.experiment,
             "passed": self.passed(),
@@ -214,14 +218,7 @@ impl ExperimentCheck {
         );
         let unchecked = self.unchecked_maps();
         if self.passed() && unchecked > 0 {
-            let names: Vec<&str> = self
-                .findings
-                .iter()
-                .filter_map(|f| match f {
-                    Finding::MapMissing { map, .. } => Some(map.as_str()),
-                    _ => None,
-                })
-                .collect();
+            let names = self.unchecked_map_names();
             s += &format!(
                 "{}: ok in the rows checked ({} of {} maps), but {unchecked} map(s) were not on this machine and \
                  their rows were not checked: {} ({counts})\n",
@@ -585,20 +582,6 @@ pub fn select(root: &Path, names: &[String], ci_only: bool) -> Result<(Vec<Exper
     Ok((chosen, left))
 }
 
-/// `probelab check`: exit 0 when nothing moved in any selected experiment, 1 otherwise.
-pub fn check_command(
-    root: &Path,
-    search: &SearchPath,
-    out: &Path,
-    names: &[String],
-    all: bool,
-    allow_missing: bool,
-) -> Result<i32> {
-    let (code, summary) = check_experiments(root, search, out, names, all, allow_missing, false)?;
-    crate::pipeline::output::write(summary.text.as_bytes())?;
-    Ok(code)
-}
-
 /// What [`check_experiments`] found: the lines `check` prints, and the same as JSON.
 pub struct CheckSummary {
     /// Every experiment's report and the closing verdict line (empty with `json` until the
@@ -609,7 +592,8 @@ pub struct CheckSummary {
     pub json: serde_json::Value,
 }
 
-/// Checks the selected experiments against their baselines. Without `json` each
+/// `probelab check`: checks the selected experiments against their baselines; the exit code
+/// is 0 when nothing moved in any of them, 1 otherwise. Without `json` each
 /// experiment's report is printed as soon as it is known (a long check shows its progress);
 /// with `json` nothing is printed and the caller prints [`CheckSummary::json`].
 pub fn check_experiments(
