@@ -55,6 +55,8 @@ pub mod encoders;
 #[doc(hidden)]
 pub mod envmap;
 #[doc(hidden)]
+pub mod io;
+#[doc(hidden)]
 pub mod math;
 #[doc(hidden)]
 pub mod pipeline;

@@ -1,19 +1,22 @@
-mod cli;
+//! The `probelab` binary: parses the command line and hands it to `commands`, one file per
+//! subcommand. The binary owns the terminal; the library it calls never prints.
+
+mod commands;
 
 use clap::Parser;
-use probelab::pipeline::output;
+use probelab::io::output;
 
 fn main() {
     // clap's own output (--help, --version, usage errors) goes through the same rules as the
     // commands': a closed pipe ends quietly (141), any other write error exits 2.
-    let cli = match cli::Cli::try_parse() {
+    let cli = match commands::Cli::try_parse() {
         Ok(cli) => cli,
         Err(e) => std::process::exit(match e.print() {
             Ok(()) => e.exit_code(),
             Err(io) => output::failure(&output::StdoutError(io).into()).0,
         }),
     };
-    match cli::main_with(cli) {
+    match commands::main_with(cli) {
         Ok(code) => std::process::exit(code),
         Err(e) => {
             // Exit 2 with the message; 141, quietly, when stdout's reader went away.

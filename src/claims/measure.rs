@@ -103,11 +103,11 @@ pub fn write_all(results: &Path, measures: &[Measure]) -> Result<Vec<String>> {
          column says otherwise.\n\n",
     );
     for m in measures {
-        crate::pipeline::atomic::write(&results.join(m.rel_path()), &m.to_csv()?)?;
+        crate::io::atomic::write(&results.join(m.rel_path()), &m.to_csv()?)?;
         readme += &format!("- `{}.csv`: {}\n", m.name, m.about);
         out.push(m.rel_path());
     }
-    crate::pipeline::atomic::write(&results.join("claims/measures/README.md"), readme.as_bytes())?;
+    crate::io::atomic::write(&results.join("claims/measures/README.md"), readme.as_bytes())?;
     out.push("claims/measures/README.md".into());
     Ok(out)
 }

@@ -101,11 +101,11 @@ pub fn paper_md(p: &Paper, outcomes: &[(String, ClaimOutcome)]) -> String {
 /// files written, relative to `results`.
 pub fn write(results: &Path, papers: &[Paper], outcomes: &[(String, ClaimOutcome)]) -> Result<Vec<String>> {
     let mut written = Vec::new();
-    crate::pipeline::atomic::write(&results.join(CSV), &claims_csv(papers, outcomes)?)?;
+    crate::io::atomic::write(&results.join(CSV), &claims_csv(papers, outcomes)?)?;
     written.push(CSV.to_string());
     for p in papers {
         let rel = format!("claims/{}.md", p.key);
-        crate::pipeline::atomic::write(&results.join(&rel), paper_md(p, outcomes).as_bytes())?;
+        crate::io::atomic::write(&results.join(&rel), paper_md(p, outcomes).as_bytes())?;
         written.push(rel);
     }
     Ok(written)

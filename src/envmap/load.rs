@@ -24,11 +24,11 @@ use image::{ImageDecoder, ImageError};
 use sha2::{Digest, Sha256};
 use std::any::Any;
 use std::cell::Cell;
-use std::fs::{self, File, OpenOptions};
+use std::fs::{self, File};
 use std::io::{self, BufReader, BufWriter, Cursor, Read, Seek, SeekFrom};
 use std::panic::{self, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Once};
 
 /// Largest accepted map width in pixels. A header claiming more is refused before any
@@ -229,22 +229,22 @@ pub fn write_exr_half(path: &Path, map: &EnvMap) -> Result<(), WriteError> {
     })
 }
 
-/// Runs `write` on a new temporary file beside `path`, then renames it over `path`; on
-/// failure the temporary file is removed.
+/// Runs `write` on a new temporary file beside `path` (the one atomic writer,
+/// [`crate::io::atomic::Staged`]), then moves it over `path`; on failure the temporary file is
+/// removed.
 fn write_atomically(path: &Path, write: impl FnOnce(&Path, File) -> Result<(), WriteError>) -> Result<(), WriteError> {
-    let (tmp_path, file) = create_temp_beside(path)?;
-    let result = write(&tmp_path, file).and_then(|()| {
-        fs::rename(&tmp_path, path).map_err(|cause| WriteError::Io {
-            path: path.to_path_buf(),
-            action: "rename the temporary file onto the target",
-            cause,
-        })
-    });
-    if result.is_err() {
-        // Best effort: the original error is the one worth reporting.
-        let _ = fs::remove_file(&tmp_path);
-    }
-    result
+    let mut staged = crate::io::atomic::Staged::beside(path).map_err(|cause| WriteError::Io {
+        path: path.to_path_buf(),
+        action: "create a temporary file next to it",
+        cause,
+    })?;
+    let tmp_path = staged.tmp_path().to_path_buf();
+    write(&tmp_path, staged.take_file())?;
+    staged.commit().map_err(|cause| WriteError::Io {
+        path: path.to_path_buf(),
+        action: "rename the temporary file onto the target",
+        cause,
+    })
 }
 
 /// Encodes the pixels `pixel` gives for each position of `map`'s grid into the already
@@ -270,37 +270,6 @@ fn write_exr_to<S: exr::prelude::IntoSample + Sync>(
     let io_err = |action, cause| WriteError::Io { path: tmp_path.to_path_buf(), action, cause };
     let file = writer.into_inner().map_err(|e| io_err("flush the temporary file", e.into_error()))?;
     file.sync_all().map_err(|e| io_err("sync the temporary file", e))
-}
-
-/// Creates a new, uniquely named temporary file in the directory of `path`.
-fn create_temp_beside(path: &Path) -> Result<(PathBuf, File), WriteError> {
-    static COUNTER: AtomicU64 = AtomicU64::new(0);
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d,
-        _ => Path::new("."),
-    };
-    let stem = path.file_name().unwrap_or(path.as_os_str()).to_string_lossy();
-    let mut last_error = None;
-    for _ in 0..16 {
-        let n = COUNTER.fetch_add(1, Ordering::Relaxed);
-        let tmp = dir.join(format!(".{stem}.tmp-{}-{n}", std::process::id()));
-        match OpenOptions::new().write(true).create_new(true).open(&tmp) {
-            Ok(file) => return Ok((tmp, file)),
-            Err(e) if e.kind() == io::ErrorKind::AlreadyExists => last_error = Some(e),
-            Err(cause) => {
-                return Err(WriteError::Io {
-                    path: path.to_path_buf(),
-                    action: "create a temporary file next to it",
-                    cause,
-                })
-            }
-        }
-    }
-    Err(WriteError::Io {
-        path: path.to_path_buf(),
-        action: "create a temporary file next to it",
-        cause: last_error.unwrap_or_else(|| io::Error::other("no free temporary name")),
-    })
 }
 
 /// Identifies the format from the first (up to four) bytes of a file.

@@ -190,12 +190,12 @@ pub fn run(exp: &Experiment, search: &SearchPath) -> Result<RunReport> {
         }
         found.push((k, name));
     }
-    let progress = crate::pipeline::progress::Progress::new(found.len() as u64, &format!("{}: maps", exp.name));
+    let progress = crate::io::progress::Progress::new(found.len() as u64, &format!("{}: maps", exp.name));
     for (k, name) in found {
         progress.message(name.clone());
         // Load first: the loader refuses what is not a regular file (reading a FIFO would block).
         let map = {
-            let _s = crate::pipeline::profile::span("decode");
+            let _s = crate::io::profile::span("decode");
             match search.open(name) {
                 Ok(m) => m,
                 Err(OpenError::NotFound(e)) => {
@@ -331,7 +331,7 @@ impl<'a> CaseData<'a> {
 /// Scores every encoder of the experiment on one in-memory map.
 pub fn run_map(exp: &Experiment, map: &EnvMap) -> Vec<Row> {
     let data = {
-        let _s = crate::pipeline::profile::span("row moments + SH projection");
+        let _s = crate::io::profile::span("row moments + SH projection");
         MapData::new(map)
     };
     let all = cases(exp);
@@ -349,7 +349,7 @@ fn fill_timing(exp: &Experiment, cases: &[Case], inputs: &[(CaseInputs, MapLight
     if !timing::enabled() {
         return;
     }
-    let _span = crate::pipeline::profile::span("timing pass");
+    let _span = crate::io::profile::span("timing pass");
     for ((case, (inputs, light)), rows) in cases.iter().zip(inputs).zip(rows.iter_mut()) {
         let input = inputs.fit_input(case, Some(light));
         let normals = timing::subsample(&case.domain.output_grid(exp.resolution).normals, timing::EVAL_NORMALS);
@@ -371,13 +371,13 @@ type ScoredGrid = ((usize, usize), bool, OutputGrid, Vec<Rgb>);
 fn run_case<'d>(exp: &Experiment, data: &'d MapData, case: &'d Case) -> (Vec<Row>, (CaseInputs, MapLight<'d>)) {
     let map = data.map;
     let cd = {
-        let _s = crate::pipeline::profile::span("case setup (visible SH)");
+        let _s = crate::io::profile::span("case setup (visible SH)");
         CaseData::new(data, case, exp.polar_nodes)
     };
     let reference = &cd.reference;
     let input = cd.fit_input();
     let fitted: Vec<_> = {
-        let _s = crate::pipeline::profile::span("fit");
+        let _s = crate::io::profile::span("fit");
         exp.encoders.iter().map(|e| e.encoder.fit(&input)).collect()
     };
     let mut rows = Vec::new();
@@ -391,7 +391,7 @@ fn run_case<'d>(exp: &Experiment, data: &'d MapData, case: &'d Case) -> (Vec<Row
         let sphere = matches!(domain, Domain::Sphere);
         if !grids.iter().any(|g| g.0 == res && g.1 == sphere) {
             let grid = domain.output_grid(res);
-            let _s = crate::pipeline::profile::span("reference");
+            let _s = crate::io::profile::span("reference");
             let values = cd.reference_on(&grid);
             grids.push((res, sphere, grid, values));
         }
@@ -433,7 +433,7 @@ fn run_case<'d>(exp: &Experiment, data: &'d MapData, case: &'d Case) -> (Vec<Row
 
 /// Evaluates a fit at every normal: E/π, in parallel, in the normals' order.
 pub fn evaluate(fit: &dyn Fitted, normals: &[DVec3]) -> Vec<Rgb> {
-    let _s = crate::pipeline::profile::span("render (encoder eval)");
+    let _s = crate::io::profile::span("render (encoder eval)");
     normals.par_iter().with_min_len(256).map(|&n| fit.irradiance(n)).collect()
 }
 
@@ -460,7 +460,7 @@ pub fn score_values(
     reference: &[Rgb],
     metric: Metric,
 ) -> Scores {
-    let _s = crate::pipeline::profile::span("score");
+    let _s = crate::io::profile::span("score");
     let clamp = metric == Metric::Probulator && encoder.peer_clamps();
     match metric {
         Metric::Exact => score(reference, test, &grid.weights, clamp),

@@ -254,7 +254,7 @@ pub fn summary_csv(rows: &[Row], baseline: Option<&str>) -> Result<Vec<u8>> {
 
 /// Writes `summary.csv` into `dir`, ratios against `baseline` when one is declared.
 pub fn write(dir: &Path, baseline: Option<&str>, rows: &[Row]) -> Result<()> {
-    crate::pipeline::atomic::write(&dir.join("summary.csv"), &summary_csv(rows, baseline)?)
+    crate::io::atomic::write(&dir.join("summary.csv"), &summary_csv(rows, baseline)?)
 }
 
 /// The rows the summary and claims tests share: encoders `op` and `base` on maps `m1` and `m2`,

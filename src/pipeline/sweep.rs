@@ -33,7 +33,6 @@ use crate::envmap::search::SearchPath;
 use crate::envmap::{EnvMap, LatLong};
 use crate::math::colour::Rgb;
 use crate::pipeline::experiment::{Experiment, ExperimentFile};
-use crate::pipeline::output::noteln;
 use crate::pipeline::runner::{cases, score_fit, Case, CaseData, MapData};
 use crate::pipeline::timing::median_ns_with;
 use crate::reference::domain::OutputGrid;
@@ -42,7 +41,7 @@ use crate::reference::metrics::{score, Metric};
 use anyhow::{bail, Context, Result};
 use rayon::prelude::*;
 use std::hint::black_box;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::time::Duration;
 
 /// The knob a sweep varies.
@@ -335,7 +334,7 @@ pub fn sweep_map_with(
         let grid = case.domain.output_grid(exp.resolution);
         let res_label = format!("{}x{}", grid.resolution.0, grid.resolution.1);
         let converged = || {
-            let _s = crate::pipeline::profile::span("sweep: converged reference");
+            let _s = crate::io::profile::span("sweep: converged reference");
             CaseData::new(&full, case, qc).reference_on(&grid)
         };
         let mut push = |value: &toml::Value,
@@ -375,7 +374,7 @@ pub fn sweep_map_with(
                     let data = MapData::new(input);
                     let cd = CaseData::new(&data, case, q);
                     let values = {
-                        let _s = crate::pipeline::profile::span("sweep: swept reference");
+                        let _s = crate::io::profile::span("sweep: swept reference");
                         cd.reference_on(&grid)
                     };
                     let s = score(&conv, &values, &grid.weights, false);
@@ -388,7 +387,7 @@ pub fn sweep_map_with(
                     } else {
                         format!("reference on {res_label} normals ({q} GL nodes)")
                     };
-                    let _timing = crate::pipeline::profile::span("sweep: timing repeats");
+                    let _timing = crate::io::profile::span("sweep: timing repeats");
                     let t = if sweep.knob == Knob::RefResolution {
                         time_slow(|| {
                             let m = crate::envmap::moments::RowMoments::new(input);
@@ -478,7 +477,7 @@ pub fn sweep_map_with(
 pub fn run(sweep: &Sweep, search: &SearchPath) -> Result<(Vec<SweepRow>, Vec<String>)> {
     let (mut rows, mut missing) = (Vec::new(), Vec::new());
     let progress =
-        crate::pipeline::progress::Progress::new(sweep.exp.maps.len() as u64, &format!("sweep {}: maps", sweep.name));
+        crate::io::progress::Progress::new(sweep.exp.maps.len() as u64, &format!("sweep {}: maps", sweep.name));
     for name in &sweep.exp.maps {
         progress.message(name.clone());
         let map = match search.open(name) {
@@ -495,43 +494,6 @@ pub fn run(sweep: &Sweep, search: &SearchPath) -> Result<(Vec<SweepRow>, Vec<Str
     }
     progress.finish();
     Ok((rows, missing))
-}
-
-/// `probelab sweep`.
-#[derive(clap::Args, Debug)]
-#[allow(rustdoc::invalid_html_tags)] // clap prints these docs as --help; <root> is a placeholder
-pub struct SweepArgs {
-    /// Sweep files (default: every experiments/sweeps/*.toml, skipping those with missing maps).
-    pub files: Vec<PathBuf>,
-    /// Output folder (default: <root>/results); CSVs go to <out>/sweeps/<name>.csv.
-    #[arg(long)]
-    pub out: Option<PathBuf>,
-}
-
-/// Runs `probelab sweep`.
-pub fn command(a: SweepArgs, root: &Path, search: &SearchPath) -> Result<i32> {
-    let out = a.out.unwrap_or_else(|| root.join("results")).join("sweeps");
-    let all = a.files.is_empty();
-    let files = if all {
-        crate::pipeline::experiment::list_experiments(&root.join("experiments").join("sweeps"))?
-    } else {
-        a.files
-    };
-    for path in files {
-        let sweep = Sweep::load(&path)?;
-        let (rows, missing) = run(&sweep, search)?;
-        if !missing.is_empty() {
-            if all {
-                noteln!("skipped sweep {}: map(s) not found: {}", sweep.name, missing.join(", "));
-                continue;
-            }
-            bail!("{}: map(s) not found: {}; nothing written", path.display(), missing.join(", "));
-        }
-        let file = out.join(format!("{}.csv", sweep.name));
-        crate::pipeline::atomic::write(&file, &to_csv(&sweep, &rows)?)?;
-        noteln!("wrote {} ({} rows)", file.display(), rows.len());
-    }
-    Ok(0)
 }
 
 #[cfg(test)]

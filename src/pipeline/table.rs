@@ -193,7 +193,7 @@ pub fn to_json(rows: &[Row]) -> Result<Vec<u8>> {
 
 /// Writes the rows to `path` atomically.
 pub fn write_csv(path: &Path, rows: &[Row]) -> Result<()> {
-    crate::pipeline::atomic::write(path, &to_csv(rows)?)
+    crate::io::atomic::write(path, &to_csv(rows)?)
 }
 
 /// A CSV table as text: the header and the records. Baselines compare tables in this form

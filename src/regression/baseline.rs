@@ -1,5 +1,5 @@
 //! Baselines: the committed tables under `results/<experiment>/`, the comparison of a fresh
-//! table with one, and the atomic rewrite of an experiment's baseline files.
+//! table with one (the files are written together by `io::atomic::write_set`).
 //!
 //! Tables are compared as CSV text, column by column by name, so columns added later (timings,
 //! new scores) are handled without code here knowing them. Rows are matched by their key
@@ -8,10 +8,9 @@
 //! time, as columns named `diagnostics.<key>`.
 
 use crate::regression::tolerance::Tolerance;
-use anyhow::{bail, Context, Result};
+use anyhow::{Context, Result};
 use std::collections::HashMap;
 use std::fmt;
-use std::io::Write;
 use std::path::Path;
 
 /// The table's file name inside `results/<experiment>/`.
@@ -240,85 +239,6 @@ pub fn compare(
     out
 }
 
-/// Writes several files into `dir` as one baseline: every file is first written to a
-/// temporary file and synced; only then are they renamed into place, in the order given (put
-/// the file that vouches for the others — the provenance — last). If a rename fails, the
-/// files already renamed are restored from hard-linked copies of their old versions, so the
-/// old baseline stays whole. (A kill between two renames cannot be rolled back; the
-/// provenance's table checksum then exposes the mismatch to `probelab check`.)
-pub fn write_all(dir: &Path, files: &[(String, Vec<u8>)]) -> Result<()> {
-    write_all_inner(dir, files, None)
-}
-
-fn write_all_inner(dir: &Path, files: &[(String, Vec<u8>)], fail_after_renames: Option<usize>) -> Result<()> {
-    std::fs::create_dir_all(dir).with_context(|| format!("{}: cannot create folder", dir.display()))?;
-    let pid = std::process::id();
-    let target = |n: &str| dir.join(n);
-    let tmp = |n: &str| dir.join(format!(".{n}.tmp-{pid}"));
-    let bak = |n: &str| dir.join(format!(".{n}.old-{pid}"));
-    let cleanup = |names: &[&String], f: &dyn Fn(&str) -> std::path::PathBuf| {
-        for n in names {
-            let _ = std::fs::remove_file(f(n));
-        }
-    };
-    let names: Vec<&String> = files.iter().map(|(n, _)| n).collect();
-    // 1. Every temporary file, synced, and a link to every old version.
-    let staged = (|| -> Result<()> {
-        for (n, bytes) in files {
-            let p = tmp(n);
-            let mut f = std::fs::File::create(&p).with_context(|| format!("{}: cannot create", p.display()))?;
-            f.write_all(bytes).with_context(|| format!("{}: cannot write", p.display()))?;
-            f.sync_all().with_context(|| format!("{}: cannot sync", p.display()))?;
-        }
-        for n in &names {
-            let t = target(n);
-            match std::fs::symlink_metadata(&t) {
-                Err(_) => {}
-                Ok(m) if m.is_file() => {
-                    let _ = std::fs::remove_file(bak(n));
-                    std::fs::hard_link(&t, bak(n))
-                        .or_else(|_| std::fs::copy(&t, bak(n)).map(|_| ()))
-                        .with_context(|| format!("{}: cannot keep the old version", t.display()))?;
-                }
-                Ok(_) => bail!("{}: exists and is not a regular file", t.display()),
-            }
-        }
-        Ok(())
-    })();
-    if let Err(e) = staged {
-        cleanup(&names, &tmp);
-        cleanup(&names, &bak);
-        return Err(e);
-    }
-    // 2. Renames, in order; on failure, put back what was replaced.
-    for (i, n) in names.iter().enumerate() {
-        let r = if fail_after_renames == Some(i) {
-            Err(std::io::Error::other("injected failure (test)"))
-        } else {
-            std::fs::rename(tmp(n), target(n))
-        };
-        if let Err(e) = r {
-            for done in &names[..i] {
-                if bak(done).exists() {
-                    let _ = std::fs::rename(bak(done), target(done));
-                } else {
-                    let _ = std::fs::remove_file(target(done));
-                }
-            }
-            cleanup(&names, &tmp);
-            cleanup(&names, &bak);
-            return Err(e).with_context(|| {
-                format!("{}: cannot move into place; the previous baseline was kept", target(n).display())
-            });
-        }
-    }
-    cleanup(&names, &bak);
-    if let Ok(d) = std::fs::File::open(dir) {
-        let _ = d.sync_all();
-    }
-    Ok(())
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -433,31 +353,5 @@ mod tests {
         assert!(e("a,b\n1,2,3\n").contains("bad.csv"));
         assert!(e("a,a\n1,2\n").contains("twice"));
         assert!(e("").contains("bad.csv"));
-    }
-
-    #[test]
-    fn write_all_replaces_every_file_or_none() {
-        let d = tempfile::tempdir().unwrap();
-        let files = |t: &str| vec![("table.csv".to_string(), t.as_bytes().to_vec()), ("p.toml".into(), t.into())];
-        write_all(d.path(), &files("old")).unwrap();
-        // A failure after the first rename: the first file is restored, the second untouched.
-        assert!(write_all_inner(d.path(), &files("new"), Some(1)).is_err());
-        for n in ["table.csv", "p.toml"] {
-            assert_eq!(std::fs::read_to_string(d.path().join(n)).unwrap(), "old", "{n}");
-        }
-        // A target that cannot be replaced is found before anything is renamed.
-        std::fs::remove_file(d.path().join("p.toml")).unwrap();
-        std::fs::create_dir(d.path().join("p.toml")).unwrap();
-        assert!(write_all(d.path(), &files("new")).is_err());
-        assert_eq!(std::fs::read_to_string(d.path().join("table.csv")).unwrap(), "old");
-        std::fs::remove_dir(d.path().join("p.toml")).unwrap();
-        // No temporary or backup file is left behind by the failures.
-        let left: Vec<_> = std::fs::read_dir(d.path()).unwrap().map(|e| e.unwrap().file_name()).collect();
-        assert_eq!(left, ["table.csv"], "{left:?}");
-        write_all(d.path(), &files("new")).unwrap();
-        for n in ["table.csv", "p.toml"] {
-            assert_eq!(std::fs::read_to_string(d.path().join(n)).unwrap(), "new", "{n}");
-        }
-        assert_eq!(std::fs::read_dir(d.path()).unwrap().count(), 2);
     }
 }

@@ -8,14 +8,13 @@
 //!   number, added or removed row or column, changed map checksum, and missing map; exit 1 if
 //!   anything is reported, 0 if nothing moved.
 //! - `bless` re-runs, prints the same report, and rewrites the baselines that differ (all of
-//!   an experiment's files, atomically: [`crate::regression::baseline::write_all`]).
+//!   an experiment's files, atomically: [`crate::io::atomic::write_set`]).
 //! - `run`/`reproduce` write a table freely when none exists yet; when one exists they leave
 //!   it untouched if nothing moved, and refuse (exit 1, printing the report) if something did.
 
 use crate::envmap::load::sha256_hex;
 use crate::envmap::search::SearchPath;
 use crate::pipeline::experiment::{list_experiments, Experiment};
-use crate::pipeline::output::noteln;
 use crate::pipeline::runner::{self, RunReport};
 use crate::regression::baseline::{self, Comparison, Table, TABLE};
 use crate::regression::provenance::{self, MapRecord, Provenance};
@@ -394,6 +393,9 @@ pub struct PartialCheck {
     /// One line for the closing summary: maps found of maps named, the missing ones, and how
     /// many numbers were compared.
     pub text: String,
+    /// What the command shows as it goes: the comparison's report and what became of the
+    /// baseline (empty or newline-terminated lines).
+    pub notes: String,
 }
 
 /// `reproduce` on an experiment some of whose maps are not on the search path: the rows of
@@ -407,30 +409,30 @@ pub fn check_partial(out: &Path, root: &Path, exp: &Experiment, report: &RunRepo
     let found = exp.maps.len() - report.missing.len();
     let head = format!("{}: {found} of {} maps (missing: {})", exp.name, exp.maps.len(), report.missing.join(", "));
     if !dir.join(TABLE).exists() {
-        noteln!("{}: no baseline, and a run missing maps writes none", dir.join(TABLE).display());
         return Ok(PartialCheck {
             passed: true,
             text: format!("{head}; no baseline to compare with, nothing written"),
+            notes: format!("{}: no baseline, and a run missing maps writes none\n", dir.join(TABLE).display()),
         });
     }
     let c = compare_with_baseline(&dir, exp, report, &Tolerances::load(root)?, true)?;
-    crate::pipeline::output::note_fmt(format_args!("{}", c.report()));
     let numbers = c.comparison.numbers;
     Ok(if c.passed() {
         PartialCheck {
             passed: true,
             text: format!("{head}; {numbers} numbers compared, nothing moved; baseline left unchanged"),
+            notes: c.report(),
         }
     } else {
-        noteln!("{}: NOT overwritten: the baseline changes only through `probelab bless`", dir.join(TABLE).display());
         PartialCheck {
             passed: false,
             text: format!("{head}; {numbers} numbers compared, FAILED ({} moved); baseline left unchanged", c.moved()),
+            notes: format!("{}{}", c.report(), not_overwritten(&dir)),
         }
     })
 }
 
-/// The files of an experiment's baseline, in the order [`baseline::write_all`] renames them:
+/// The files of an experiment's baseline, in the order [`crate::io::atomic::write_set`] renames them:
 /// the table, then the provenance that vouches for it.
 pub fn baseline_files(exp: &Experiment, report: &RunReport, root: &Path) -> Result<Vec<(String, Vec<u8>)>> {
     let table = crate::pipeline::table::to_csv(&report.rows)?;
@@ -453,7 +455,7 @@ pub enum Stored {
 pub fn store(out: &Path, root: &Path, exp: &Experiment, report: &RunReport) -> Result<Stored> {
     let dir = out.join(&exp.name);
     if !dir.join(TABLE).exists() {
-        baseline::write_all(&dir, &baseline_files(exp, report, root)?)?;
+        crate::io::atomic::write_set(&dir, &baseline_files(exp, report, root)?)?;
         return Ok(Stored::New);
     }
     let c = compare_with_baseline(&dir, exp, report, &Tolerances::load(root)?, false)?;
@@ -494,47 +496,60 @@ pub fn rows_as_stored(dir: &Path, rows: &[crate::pipeline::table::Row]) -> Resul
     Ok(out)
 }
 
-/// Prints what [`store`] did; returns false when it refused.
-pub fn print_stored(exp: &Experiment, out: &Path, stored: &Stored, rows: usize) -> bool {
-    let dir = out.join(&exp.name);
-    match stored {
-        Stored::New => {
-            noteln!("wrote {} ({rows} rows) and {} (new baseline)", dir.join(TABLE).display(), provenance::FILE_NAME);
-            true
-        }
-        Stored::Unchanged(c) => {
-            noteln!(
-                "{}: matches the baseline ({} numbers compared); left unchanged",
+/// The line that says a moved baseline was left as it was.
+fn not_overwritten(dir: &Path) -> String {
+    format!("{}: NOT overwritten: the baseline changes only through `probelab bless`\n", dir.join(TABLE).display())
+}
+
+impl Stored {
+    /// Whether the table stands (written new, or unchanged); false when refused.
+    pub fn stands(&self) -> bool {
+        !matches!(self, Stored::Refused(_))
+    }
+
+    /// What became of the table of `exp` under `out` (`rows` rows), as lines for the command
+    /// to show: written, matched, or the differences and the refusal.
+    pub fn notes(&self, exp: &Experiment, out: &Path, rows: usize) -> String {
+        let dir = out.join(&exp.name);
+        match self {
+            Stored::New => {
+                format!("wrote {} ({rows} rows) and {} (new baseline)\n", dir.join(TABLE).display(), provenance::FILE_NAME)
+            }
+            Stored::Unchanged(c) => format!(
+                "{}: matches the baseline ({} numbers compared); left unchanged\n",
                 dir.join(TABLE).display(),
                 c.comparison.numbers
-            );
-            true
+            ),
+            Stored::Refused(c) => format!("{}{}", c.report(), not_overwritten(&dir)),
         }
-        Stored::Refused(c) => {
-            crate::pipeline::output::note_fmt(format_args!("{}", c.report()));
-            noteln!(
-                "{}: NOT overwritten: the baseline changes only through `probelab bless`",
-                dir.join(TABLE).display()
-            );
-            false
+    }
+
+    /// One phrase for a closing summary: a new baseline, the numbers that matched, or how many
+    /// moved.
+    pub fn summary(&self) -> String {
+        match self {
+            Stored::New => "no baseline yet: new baseline written".to_string(),
+            Stored::Unchanged(c) => {
+                format!("{} numbers compared, nothing moved; baseline left unchanged", c.comparison.numbers)
+            }
+            Stored::Refused(c) => format!("FAILED ({} moved)", c.moved()),
         }
     }
 }
 
-/// The exit code of `run`/`reproduce` after [`store`]: 1 (with advice) if any was refused.
-pub fn refused_exit(refused: &[String]) -> i32 {
-    if refused.is_empty() {
-        return 0;
-    }
-    noteln!(
-        "{} experiment(s) differ from their baselines and were not written: {}.\n\
-         Review the differences above; if they are intended, run `probelab bless {}` and quote its \
-         output in the commit message.",
-        refused.len(),
-        refused.join(", "),
-        refused.join(" ")
-    );
-    1
+/// The advice after `run`/`reproduce` refused to overwrite the baselines of `refused`; `None`
+/// when nothing was refused.
+pub fn refusal_advice(refused: &[String]) -> Option<String> {
+    (!refused.is_empty()).then(|| {
+        format!(
+            "{} experiment(s) differ from their baselines and were not written: {}.\n\
+             Review the differences above; if they are intended, run `probelab bless {}` and quote its \
+             output in the commit message.\n",
+            refused.len(),
+            refused.join(", "),
+            refused.join(" ")
+        )
+    })
 }
 
 /// Finds an experiment file by path, by file stem in `<root>/experiments/`, or by its `name`.
@@ -582,10 +597,10 @@ pub fn select(root: &Path, names: &[String], ci_only: bool) -> Result<(Vec<Exper
     Ok((chosen, left))
 }
 
-/// What [`check_experiments`] found: the lines `check` prints, and the same as JSON.
+/// What [`check_experiments`] found: the closing lines `check` prints, and the whole as JSON.
 pub struct CheckSummary {
-    /// Every experiment's report and the closing verdict line (empty with `json` until the
-    /// end: the per-experiment reports were not printed).
+    /// The closing lines: the experiments left out for `ci = false`, and the verdict line
+    /// (each experiment's own report went to the `checked` callback as it came).
     pub text: String,
     /// `{ "passed", "experiments": [ExperimentCheck::to_json…], "not_checked": […],
     /// "numbers", "moved", "unchecked_maps", "seconds" }`.
@@ -593,17 +608,16 @@ pub struct CheckSummary {
 }
 
 /// `probelab check`: checks the selected experiments against their baselines; the exit code
-/// is 0 when nothing moved in any of them, 1 otherwise. Without `json` each
-/// experiment's report is printed as soon as it is known (a long check shows its progress);
-/// with `json` nothing is printed and the caller prints [`CheckSummary::json`].
+/// is 0 when nothing moved in any of them, 1 otherwise. Each experiment's check is handed to
+/// `checked`, with the seconds it took, as soon as it is known (so a long check can show its
+/// progress); an error from `checked` stops the check.
 pub fn check_experiments(
     root: &Path,
     search: &SearchPath,
     out: &Path,
     names: &[String],
-    all: bool,
-    allow_missing: bool,
-    json: bool,
+    (all, allow_missing): (bool, bool),
+    checked: &mut dyn FnMut(&ExperimentCheck, f64) -> Result<()>,
 ) -> Result<(i32, CheckSummary)> {
     let tolerances = Tolerances::load(root)?;
     let (exps, left) = select(root, names, !all)?;
@@ -618,10 +632,7 @@ pub fn check_experiments(
         let t = std::time::Instant::now();
         let report = runner::run(exp, search)?;
         let c = compare_with_baseline(&out.join(&exp.name), exp, &report, &tolerances, allow_missing)?;
-        if !json {
-            crate::pipeline::output::write(c.report().as_bytes())?;
-            noteln!("  ({}: {:.1} s)", exp.name, t.elapsed().as_secs_f64());
-        }
+        checked(&c, t.elapsed().as_secs_f64())?;
         numbers += c.comparison.numbers;
         moved += c.moved();
         unchecked += c.unchecked_maps();
@@ -666,19 +677,20 @@ pub fn check_experiments(
     Ok((code, CheckSummary { text, json }))
 }
 
-/// `probelab bless`: re-runs the experiments (by default all of them), prints the same report
-/// as `check`, and rewrites the baselines that differ (all of them with `force`, which
-/// refreshes the provenance and ignored columns such as timings). Every experiment is run and compared
-/// before anything is written. A named experiment whose maps are missing is an error (nothing
-/// is written); by default such experiments are skipped and listed.
-/// Returns the exit code and the lines to print, which the caller prints after its own last
-/// write.
-pub fn bless_command(
+/// `probelab bless`: re-runs the experiments (by default all of them), hands each comparison
+/// to `compared` (the same report as `check`'s), and rewrites the baselines that differ (all
+/// of them with `force`, which refreshes the provenance and ignored columns such as timings).
+/// Every experiment is run and compared before anything is written, so `compared` (which
+/// prints) can stop the command only before its first write. A named experiment whose maps
+/// are missing is an error (nothing is written); by default such experiments are skipped and
+/// listed. Returns the exit code and the lines saying what was written, for the caller to
+/// print after its own last write.
+pub fn bless(
     root: &Path,
     search: &SearchPath,
     out: &Path,
-    names: &[String],
-    force: bool,
+    (names, force): (&[String], bool),
+    compared: &mut dyn FnMut(&ExperimentCheck) -> Result<()>,
 ) -> Result<(i32, String)> {
     let tolerances = Tolerances::load(root)?;
     let (exps, _) = select(root, names, false)?;
@@ -698,7 +710,7 @@ pub fn bless_command(
             continue;
         }
         let c = compare_with_baseline(&out.join(&exp.name), exp, &report, &tolerances, false)?;
-        crate::pipeline::output::write(c.report().as_bytes())?;
+        compared(&c)?;
         let files = if c.passed() && !force { None } else { Some(baseline_files(exp, &report, root)?) };
         staged.push((exp.name.clone(), c.passed(), files));
     }
@@ -710,7 +722,7 @@ pub fn bless_command(
         match files {
             None => lines.push(format!("bless {name}: nothing moved; {} left unchanged", dir.display())),
             Some(files) => {
-                baseline::write_all(&dir, &files)?;
+                crate::io::atomic::write_set(&dir, &files)?;
                 let list: Vec<&str> = files.iter().map(|(n, _)| n.as_str()).collect();
                 let why = if passed { " (nothing moved; rewritten because of --force)" } else { "" };
                 lines.push(format!("bless {name}: wrote {} in {}{why}", list.join(", "), dir.display()));

@@ -39,7 +39,7 @@ pub mod tone;
 
 use crate::envmap::search::SearchPath;
 use crate::pipeline::experiment::{list_experiments, Experiment};
-use crate::pipeline::progress::Progress;
+use crate::io::progress::Progress;
 use anyhow::{Context, Result};
 use charts::Outcome;
 use csvfile::CsvTable;
@@ -169,13 +169,13 @@ pub fn generate(opts: &Options) -> Result<Generated> {
             .par_iter()
             .map(|m| -> Result<String> {
                 let map = {
-                    let _s = crate::pipeline::profile::span("report: decode");
+                    let _s = crate::io::profile::span("report: decode");
                     opts.search.load(m)?
                 };
                 let (sheet, _) = sheet::experiment_sheet(exp, &map, table.as_ref(), opts.sheet_scale)?;
                 let name = format!("sheet_{}.png", file_safe(m));
                 let image = {
-                    let _s = crate::pipeline::profile::span("report: draw");
+                    let _s = crate::io::profile::span("report: draw");
                     sheet.draw()?
                 };
                 png::write_png(&dir.join(&name), &image)?;
@@ -199,7 +199,7 @@ pub fn generate(opts: &Options) -> Result<Generated> {
         pictures += n;
         let has_page = dir.is_dir();
         if has_page {
-            crate::pipeline::atomic::write(&dir.join(PAGE), md.as_bytes())?;
+            crate::io::atomic::write(&dir.join(PAGE), md.as_bytes())?;
         }
         pages.push(Page { name: s.name.clone(), description: s.exp.as_ref().map(|e| e.description.clone()), has_page });
     }
@@ -222,8 +222,8 @@ pub fn generate(opts: &Options) -> Result<Generated> {
         &papers::PLANS.iter().flat_map(|p| p.pages.iter().copied()).collect::<Vec<_>>(),
     ));
     let report = out.join("REPORT.md");
-    crate::pipeline::atomic::write(&report, doc.as_bytes())?;
-    crate::pipeline::atomic::write(&out.join(PROVENANCE_PAGE), provenance(opts, &sections, &maps, out)?.as_bytes())?;
+    crate::io::atomic::write(&report, doc.as_bytes())?;
+    crate::io::atomic::write(&out.join(PROVENANCE_PAGE), provenance(opts, &sections, &maps, out)?.as_bytes())?;
     Ok(Generated { report, pictures, kept })
 }
 
@@ -519,7 +519,7 @@ impl ChartsOut<'_> {
             Outcome::Drawn { image, svg, caption } => {
                 png::write_png(&self.dir.join(&file), &image)?;
                 let svg_file = svg_name(&file);
-                crate::pipeline::atomic::write(&self.dir.join(&svg_file), svg.as_bytes())?;
+                crate::io::atomic::write(&self.dir.join(&svg_file), svg.as_bytes())?;
                 let from = from.map(|f| format!(" (from [{f}]({}))", href(f))).unwrap_or_default();
                 let _ =
                     writeln!(self.md, "![{alt}]({})\n\n*{caption}{from}* ([SVG]({}))\n", href(&file), href(&svg_file));

@@ -1,5 +1,5 @@
 //! PNG encoding of the pictures, and writing them atomically
-//! ([`crate::pipeline::atomic::write`]).
+//! ([`crate::io::atomic::write`]).
 
 use anyhow::Result;
 use image::RgbImage;
@@ -10,7 +10,7 @@ use std::path::Path;
 pub fn png_bytes(img: &RgbImage) -> Result<Vec<u8>> {
     use image::codecs::png::{CompressionType, FilterType, PngEncoder};
     use image::ImageEncoder;
-    let _s = crate::pipeline::profile::span("report: PNG encode");
+    let _s = crate::io::profile::span("report: PNG encode");
     let mut out = Vec::new();
     PngEncoder::new_with_quality(&mut out, CompressionType::Default, FilterType::Adaptive).write_image(
         img.as_raw(),
@@ -23,5 +23,5 @@ pub fn png_bytes(img: &RgbImage) -> Result<Vec<u8>> {
 
 /// Writes an image as PNG, atomically.
 pub fn write_png(path: &Path, img: &RgbImage) -> Result<()> {
-    crate::pipeline::atomic::write(path, &png_bytes(img)?)
+    crate::io::atomic::write(path, &png_bytes(img)?)
 }

@@ -406,11 +406,11 @@ pub fn experiment_sheet(
     };
     let discs: Vec<Disc> = views.iter().map(|v| Disc::new(v, (scale * DISC) as usize)).collect();
     let reference: Vec<Vec<Rgb>> = {
-        let _s = crate::pipeline::profile::span("report: reference (sheets)");
+        let _s = crate::io::profile::span("report: reference (sheets)");
         discs.iter().map(|d| cd.reference_many(&d.normals)).collect()
     };
     let values: Vec<Vec<Vec<Rgb>>> = {
-        let _s = crate::pipeline::profile::span("report: encoder eval (sheets)");
+        let _s = crate::io::profile::span("report: encoder eval (sheets)");
         fitted.iter().map(|f| discs.iter().map(|d| evaluate(f.as_ref(), &d.normals)).collect()).collect()
     };
 

@@ -73,9 +73,9 @@ pub(super) type Probes = (Vec<Case>, Vec<(String, String)>);
 
 /// Every usable map ([`MAPS`]: the five paper probes, then every map of the search path's
 /// collection that is not degraded) that the search path has, as cases on the grid, with a
-/// description of each map (named, with its sha256; never a machine path). A missing map is
-/// left out and named on stderr: its rows are then absent, and a claim judged on a set that
-/// names it is untestable there.
+/// description of each map (named, with its sha256; never a machine path). The caller runs the
+/// measurements only when every map is on the search path; one that is there but cannot be
+/// read is an error naming it, never a silently absent row.
 pub(super) fn probes(search: &SearchPath, grid: &OutputGrid) -> Result<Probes> {
     let mut maps = Vec::new();
     let mut cases = Vec::new();
@@ -85,7 +85,7 @@ pub(super) fn probes(search: &SearchPath, grid: &OutputGrid) -> Result<Probes> {
                 maps.push((name.to_string(), desc));
                 cases.push(c);
             }
-            Err(e) => crate::pipeline::output::noteln!("claims: map {name} left out: {e:#}"),
+            Err(e) => return Err(e.context(format!("claims: map {name} is on the search path but cannot be used"))),
         }
     }
     Ok((cases, maps))

@@ -55,7 +55,7 @@ pub type MapsUsed = Vec<(String, String)>;
 /// Runs every ZH3 measurement on the maps the search path has; returns the tables and the
 /// maps used.
 pub fn measure(search: &SearchPath) -> Result<(Vec<Measure>, MapsUsed)> {
-    let progress = crate::pipeline::progress::Progress::new(8, "claims: ZH3 measurements");
+    let progress = crate::io::progress::Progress::new(8, "claims: ZH3 measurements");
     let grid = cases::grid();
     let (cases, maps) = cases::probes(search, &grid)?;
     progress.inc();

@@ -3,19 +3,17 @@
 //! mergeable statistics so a set can be split into shards on a batch engine.
 //!
 //! Shards (`shard`), probe files (`format`), the probe synthesiser (`synth`), the error of one
-//! probe and the scoring of a set (`score`), the mergeable state file (`state`), and the
-//! `probelab probes` / `probelab merge` commands (`command`).
+//! probe and the scoring of a set (`score`), the mergeable state file (`state`), and a whole
+//! job as `probelab probes` declares it, and the merge of shards (`job`).
 //!
-//! May use: `math`, `envmap`, `reference`, `encoders`, and `pipeline::table` and
-//! `pipeline::atomic`.
+//! May use: `io`, `math`, `envmap`, `reference`, `encoders`, and `pipeline::table`.
 
-pub mod command;
 pub mod format;
+pub mod job;
 pub mod score;
 pub mod shard;
 pub mod state;
 pub mod synth;
 
-pub use command::{command, merge_command, MergeArgs, ProbesArgs};
 pub use score::{probe_rmse, SphereRule, SUMMARY_TIMING_COLUMNS};
 pub use synth::Synth;

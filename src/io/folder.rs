@@ -1,58 +1,13 @@
-//! Atomic file output: write a temporary file beside the target, then rename it over the
-//! target, so a failure or a kill leaves either the old file or the new one, never half of one.
-//!
-//! The output folder's discipline lives here too. Writing commands hold an exclusive advisory
-//! lock on it ([`lock`], `flock` on the folder; `check` holds a shared one), so two `bless` runs cannot interleave
-//! their tables and provenance. A killed run leaves hidden files behind: `.NAME.tmp-PID`
-//! (this module, and `baseline::write_all`'s staged files, `table.csv` and `provenance.toml`
-//! alike), `.NAME.tmp-PID-N` (EXR writing) and `.NAME.old-PID` (the previous version kept by
-//! `baseline::write_all` until every rename is done). Under the lock [`remove_stale`] deletes
-//! those whose process is gone.
+//! The output folder's discipline. Writing commands hold an exclusive advisory lock on the
+//! folder they write ([`lock`], `flock` on the folder itself; `check` holds a shared one), so
+//! two `bless` runs cannot interleave their tables and provenance. A killed writer leaves hidden
+//! files behind: `.NAME.tmp-PID-N` (a [`crate::io::atomic::Staged`] file), `.NAME.tmp-PID` (the
+//! same, as older versions named them) and `.NAME.old-PID` (the previous version a
+//! [`crate::io::atomic::write_set`] keeps until every rename is done). Under the lock
+//! [`remove_stale`] deletes those whose process is gone.
 
 use anyhow::{Context, Result};
-use std::io::Write;
 use std::path::Path;
-
-/// Writes `bytes` to `path` atomically, creating parent folders.
-pub fn write(path: &Path, bytes: &[u8]) -> Result<()> {
-    let dir = path.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
-    std::fs::create_dir_all(dir).with_context(|| format!("{}: cannot create folder", dir.display()))?;
-    let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("out");
-    let tmp = dir.join(format!(".{name}.tmp-{}", std::process::id()));
-    let result = (|| -> Result<()> {
-        let mut f = std::fs::File::create(&tmp).with_context(|| format!("{}: cannot create", tmp.display()))?;
-        f.write_all(bytes).with_context(|| format!("{}: cannot write", tmp.display()))?;
-        f.sync_all().with_context(|| format!("{}: cannot sync", tmp.display()))?;
-        std::fs::rename(&tmp, path).with_context(|| format!("{}: cannot move into place", path.display()))?;
-        Ok(())
-    })();
-    if result.is_err() {
-        let _ = std::fs::remove_file(&tmp);
-    }
-    result
-}
-
-/// Streams a file atomically: `f` writes into a buffered temporary file beside `path`, which
-/// replaces `path` only if `f` succeeds (for outputs too large to hold in memory).
-pub fn write_with<T>(path: &Path, f: impl FnOnce(&mut std::io::BufWriter<std::fs::File>) -> Result<T>) -> Result<T> {
-    let dir = path.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
-    std::fs::create_dir_all(dir).with_context(|| format!("{}: cannot create folder", dir.display()))?;
-    let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("out");
-    let tmp = dir.join(format!(".{name}.tmp-{}", std::process::id()));
-    let result = (|| -> Result<T> {
-        let file = std::fs::File::create(&tmp).with_context(|| format!("{}: cannot create", tmp.display()))?;
-        let mut w = std::io::BufWriter::with_capacity(1 << 20, file);
-        let out = f(&mut w)?;
-        let file = w.into_inner().map_err(|e| anyhow::anyhow!("{}: cannot write: {}", tmp.display(), e.error()))?;
-        file.sync_all().with_context(|| format!("{}: cannot sync", tmp.display()))?;
-        std::fs::rename(&tmp, path).with_context(|| format!("{}: cannot move into place", path.display()))?;
-        Ok(out)
-    })();
-    if result.is_err() {
-        let _ = std::fs::remove_file(&tmp);
-    }
-    result
-}
 
 /// An advisory lock on an output folder, released when dropped (or when the process ends,
 /// however it ends).
@@ -147,31 +102,6 @@ mod tests {
     use super::*;
 
     #[test]
-    fn writes_and_replaces() {
-        let d = tempfile::tempdir().unwrap();
-        let p = d.path().join("a/b/t.csv");
-        write(&p, b"one").unwrap();
-        write(&p, b"two").unwrap();
-        assert_eq!(std::fs::read(&p).unwrap(), b"two");
-        assert_eq!(std::fs::read_dir(p.parent().unwrap()).unwrap().count(), 1, "no temp file left");
-    }
-
-    #[test]
-    fn streaming_write_replaces_only_on_success() {
-        let d = tempfile::tempdir().unwrap();
-        let p = d.path().join("s.bin");
-        write_with(&p, |w| Ok(w.write_all(b"abc")?)).unwrap();
-        assert_eq!(std::fs::read(&p).unwrap(), b"abc");
-        let e: Result<()> = write_with(&p, |w| {
-            w.write_all(b"partial")?;
-            anyhow::bail!("stopped")
-        });
-        assert!(e.is_err());
-        assert_eq!(std::fs::read(&p).unwrap(), b"abc");
-        assert_eq!(std::fs::read_dir(d.path()).unwrap().count(), 1, "no temp file left");
-    }
-
-    #[test]
     fn temp_file_names_give_their_pid() {
         assert_eq!(temp_file_pid(".table.csv.tmp-123"), Some(123));
         assert_eq!(temp_file_pid(".provenance.toml.old-77"), Some(77));
@@ -183,8 +113,8 @@ mod tests {
         }
     }
 
-    /// Issue 17 item 10: leftovers of a process that is gone are removed, in subfolders too;
-    /// this process's own and ordinary files stay.
+    /// Leftovers of a process that is gone are removed, in subfolders too; this process's own
+    /// and ordinary files stay.
     #[test]
     fn stale_temporary_files_are_removed() {
         let d = tempfile::tempdir().unwrap();
@@ -225,19 +155,5 @@ mod tests {
         let a = lock(d.path(), false, || panic!("shared locks share")).unwrap();
         let _b = lock(d.path(), false, || panic!("shared locks share")).unwrap();
         drop(a);
-    }
-
-    #[test]
-    fn failure_leaves_old_file() {
-        let d = tempfile::tempdir().unwrap();
-        let p = d.path().join("t.csv");
-        write(&p, b"old").unwrap();
-        // Renaming a file over a non-empty directory fails: the old content stays.
-        let q = d.path().join("dir");
-        std::fs::create_dir(&q).unwrap();
-        std::fs::write(q.join("x"), b"x").unwrap();
-        assert!(write(&q, b"new").is_err());
-        assert_eq!(std::fs::read(&p).unwrap(), b"old");
-        assert_eq!(std::fs::read_dir(d.path()).unwrap().count(), 2, "no temp file left");
     }
 }

@@ -1,6 +1,7 @@
-//! The commands' standard output and standard error. Command code never uses `println!` or
-//! `eprintln!`, which panic (exit 101) when the stream fails: it writes through `outln!` (the binary's, in `cli.rs`) or
-//! [`write()`], whose errors are returned, and `noteln!`, which ignores them.
+//! The standard output and standard error, for the binary (the library never prints). Command
+//! code never uses `println!` or `eprintln!`, which panic (exit 101) when the stream fails: it
+//! writes through the binary's `outln!` or [`write()`], whose errors are returned, and its
+//! `noteln!` ([`note_fmt`]), which ignores them.
 //!
 //! - stdout fails because its reader went away (a closed pipe, `| head`): the error is a
 //!   [`StdoutError`] and the command ends quietly with exit [`BROKEN_PIPE_EXIT`] (141, what a
@@ -49,9 +50,9 @@ pub fn write_fmt(args: fmt::Arguments) -> Result<(), StdoutError> {
 }
 
 /// Writes formatted text to stderr, ignoring any error (what `noteln!` calls); above the
-/// progress bars, when they are drawn ([`crate::pipeline::progress::suspend`]).
+/// progress bars, when they are drawn ([`crate::io::progress::suspend`]).
 pub fn note_fmt(args: fmt::Arguments) {
-    crate::pipeline::progress::suspend(|| {
+    crate::io::progress::suspend(|| {
         let _ = std::io::stderr().lock().write_fmt(args);
     });
 }
@@ -67,14 +68,6 @@ pub fn failure(e: &anyhow::Error) -> (i32, Option<String>) {
         (2, Some(format!("error: {e:#}\n")))
     }
 }
-
-/// `eprintln!` that ignores a failing stderr instead of panicking.
-macro_rules! noteln {
-    ($($arg:tt)*) => {
-        $crate::pipeline::output::note_fmt(format_args!("{}\n", format_args!($($arg)*)))
-    };
-}
-pub(crate) use noteln;
 
 #[cfg(test)]
 mod tests {

@@ -1,6 +1,6 @@
 //! Where the time of a run goes (`--profile`): named phases (decode, reference, fit, render,
-//! score, …) accumulate their elapsed time through RAII spans, and a table is printed to stderr
-//! when the command ends.
+//! score, …) accumulate their elapsed time through RAII spans; [`report`] gives the table the
+//! binary prints to stderr when the command ends.
 //!
 //! Phases inside parallel work (cases run in parallel) add up thread time, so on N threads
 //! their sum can exceed the wall time; the report says so and gives the wall time too. With
@@ -19,6 +19,7 @@ pub fn enable() {
     ON.store(true, Ordering::Relaxed);
 }
 
+/// Whether profiling is on.
 pub fn enabled() -> bool {
     ON.load(Ordering::Relaxed)
 }
@@ -67,17 +68,6 @@ pub fn report(wall_s: f64) -> String {
         out += &format!("  {name:<34} {s:>10.3} {share:>7.1}% {n:>8}\n");
     }
     out
-}
-
-/// Prints the report to stderr when dropped, if profiling is on (held by `cli::main_with`).
-pub struct ReportOnDrop(pub Instant);
-
-impl Drop for ReportOnDrop {
-    fn drop(&mut self) {
-        if enabled() {
-            crate::pipeline::output::note_fmt(format_args!("{}", report(self.0.elapsed().as_secs_f64())));
-        }
-    }
 }
 
 #[cfg(test)]

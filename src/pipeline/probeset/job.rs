@@ -1,68 +1,54 @@
-//! The probe-set commands: `probelab probes` (score encoders over a probe file or a synthetic
-//! set, or one shard of it) and `probelab merge` (combine the shards' state files).
+//! A probe-set job, as `probelab probes` declares it (score encoders over a probe file or a
+//! synthetic set, or one shard of it), and the merge of shards' statistics (`probelab merge`).
+//! The binary parses the command line, prints and writes the statistics file; this module
+//! reads the probes, scores them and returns what happened.
 
 use crate::encoders::NamedEncoder;
+use crate::io::progress::Progress;
 use crate::math::sh::Sh9;
-use crate::pipeline::output::noteln;
-use crate::pipeline::probeset::format::{file_identity, write_probes, Format, ProbeReader, DEFAULT_CHUNK};
+use crate::pipeline::probeset::format::{file_identity, write_probes, Format, ProbeReader};
 use crate::pipeline::probeset::score::{score, SetStats, Source, SphereRule};
 use crate::pipeline::probeset::shard::Shard;
 use crate::pipeline::probeset::synth::{scene_palette, Synth};
-use crate::pipeline::progress::Progress;
 use anyhow::{bail, Context, Result};
 use rayon::prelude::*;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
-/// `probelab probes`: score encoders over a probe set (a file or synthetic).
-#[derive(clap::Args, Debug)]
-pub struct ProbesArgs {
-    /// A probe file: CSV (27 numbers a row, coefficient-major RGB) or raw little-endian f32
-    /// (.f32/.bin/.raw, 27 per probe). See docs/scale.md.
-    #[arg(long, conflicts_with = "synth", required_unless_present = "synth")]
-    pub input: Option<PathBuf>,
-    /// File format: csv or f32 (default: from the extension).
-    #[arg(long)]
-    pub format: Option<String>,
-    /// Synthesise N probes instead (deterministic from --seed and the palette).
-    #[arg(long)]
-    pub synth: Option<u64>,
-    /// Seed of the synthetic set.
-    #[arg(long, default_value_t = 1)]
-    pub seed: u64,
-    /// Comma-separated maps whose SH3 seed synthetic probes (default: every *_256x128 map on
-    /// the search path; the generated scenes when there is none).
-    #[arg(long)]
-    pub palette: Option<String>,
-    /// Comma-separated encoder ids, or `all` (sh1 is always added: it is the baseline).
-    #[arg(long, default_value = "sh1,sh2")]
-    pub encoders: String,
-    /// Process shard I of N (contiguous probe ranges); merge the --out files with `probelab merge`.
-    #[arg(long, default_value = "0/1")]
-    pub shard: String,
-    /// Write the mergeable statistics (TOML) to this file.
-    #[arg(long)]
-    pub out: Option<PathBuf>,
-    /// Quadrature rule NZxNPHI for encoders whose fit is not SH3 (6x12 is exact for outputs in SH
-    /// bands <= 5; fewer nodes are faster and approximate; see docs/scale.md).
-    #[arg(long, default_value = "6x12")]
-    pub quadrature: String,
-    /// Probes per chunk (memory in flight; results do not depend on it).
-    #[arg(long, default_value_t = DEFAULT_CHUNK)]
-    pub chunk: usize,
-    /// Also write this shard's probes to FILE (.csv or .f32), e.g. to export a synthetic set.
-    #[arg(long)]
-    pub save: Option<PathBuf>,
+/// Where a job's probes come from.
+#[derive(Clone, Debug)]
+pub enum Input<'a> {
+    /// A probe file, its format (`csv`, `f32`; `None`: from its extension).
+    File(&'a Path, Option<&'a str>),
+    /// `count` synthetic probes from `seed`, seeded by the maps of `palette` (comma-separated;
+    /// `None`: every `*_256x128` map on the search path).
+    Synth { count: u64, seed: u64, palette: Option<&'a str> },
 }
 
-/// `probelab merge`: combine shard statistics.
-#[derive(clap::Args, Debug)]
-pub struct MergeArgs {
-    /// Statistics files written by `probelab probes --out`.
-    #[arg(required = true)]
-    pub files: Vec<PathBuf>,
-    /// Write the merged statistics (TOML) here.
-    #[arg(long)]
-    pub out: Option<PathBuf>,
+/// One `probelab probes` job: what to score, how, and what to save.
+#[derive(Clone, Debug)]
+pub struct Job<'a> {
+    /// The probes.
+    pub input: Input<'a>,
+    /// Comma-separated encoder ids, or `all` ([`encoder_list`]).
+    pub encoders: &'a str,
+    /// `I/N`: this shard of the set.
+    pub shard: &'a str,
+    /// The quadrature rule `NZxNPHI` ([`SphereRule::parse`]).
+    pub quadrature: &'a str,
+    /// Probes per chunk (at least 1).
+    pub chunk: usize,
+    /// Where to save this shard's probes as well (`.csv` or `.f32`), if anywhere.
+    pub save: Option<&'a Path>,
+}
+
+/// What a job did.
+pub struct Done {
+    /// The mergeable statistics.
+    pub stats: SetStats,
+    /// The shard that was scored.
+    pub shard: Shard,
+    /// Notes for the user (encoders left out of `all`, and why).
+    pub notes: Vec<String>,
 }
 
 /// The encoders of `--encoders` (`all` = every registered encoder a probe can be scored with),
@@ -70,7 +56,8 @@ pub struct MergeArgs {
 /// defined only about a surface normal ([`crate::encoders::encoder::Encoder::needs_surface_normal`]),
 /// which a probe does not have, and encoders that fit the light beyond L2 SH
 /// ([`crate::encoders::encoder::Encoder::reads_radiance`]), which a probe does not store.
-pub fn encoder_list(list: &str) -> Result<Vec<NamedEncoder>> {
+/// Returns them, and the note saying what `all` left out (`None` without `all`).
+pub fn encoder_list(list: &str) -> Result<(Vec<NamedEncoder>, Option<String>)> {
     let all = list.trim() == "all";
     let list = if all {
         crate::encoders::REGISTRY.iter().map(|k| k.id).collect::<Vec<_>>().join(",")
@@ -80,14 +67,15 @@ pub fn encoder_list(list: &str) -> Result<Vec<NamedEncoder>> {
     let mut v = crate::encoders::build_list(&list)?;
     let beyond: Vec<String> = v.iter().filter(|e| e.encoder.reads_radiance()).map(|e| e.name.clone()).collect();
     let surface: Vec<String> = v.iter().filter(|e| e.encoder.needs_surface_normal()).map(|e| e.name.clone()).collect();
+    let mut note = None;
     if all {
         v.retain(|e| !e.encoder.needs_surface_normal() && !e.encoder.reads_radiance());
-        noteln!(
+        note = Some(format!(
             "--encoders all: left out {} (fitted from the light beyond L2 SH, which a probe does not store) and {} \
              (they need a surface normal N, which a probe does not have)",
             beyond.join(", "),
             surface.join(", ")
-        );
+        ));
     } else if let Some(e) = surface.first() {
         bail!(
             "--encoders: {}; a probe is a sphere of light with no surface: score it on a map with `eval --domain \
@@ -104,7 +92,7 @@ pub fn encoder_list(list: &str) -> Result<Vec<NamedEncoder>> {
     if !v.iter().any(|e| e.name == crate::encoders::BASELINE) {
         v.insert(0, crate::encoders::build(crate::encoders::BASELINE, None, toml::Table::new())?);
     }
-    Ok(v)
+    Ok((v, note))
 }
 
 /// The synthesis palette: the named maps, or every `*_256x128` map on the search path, or (with
@@ -145,96 +133,80 @@ pub fn palette(search: &crate::envmap::search::SearchPath, names: Option<&str>) 
         .collect()
 }
 
-/// Runs `probelab probes`; prints the summary CSV on stdout and run figures on stderr.
-pub fn command(a: ProbesArgs, search: &crate::envmap::search::SearchPath) -> Result<i32> {
-    let shard = Shard::parse(&a.shard)?;
-    let encoders = encoder_list(&a.encoders)?;
-    let rule = SphereRule::parse(&a.quadrature)?;
-    if a.chunk == 0 {
-        bail!("--chunk must be at least 1");
-    }
-    let (mut source, source_id) = match (&a.input, a.synth) {
-        (Some(path), _) => {
-            let format = Format::resolve(path, a.format.as_deref())?;
+/// The source of a job's probes and its identity (the file's, or the synthesis's parameters).
+fn open_source(input: &Input, shard: Shard, search: &crate::envmap::search::SearchPath) -> Result<(Source, String)> {
+    Ok(match *input {
+        Input::File(path, format) => {
+            let format = Format::resolve(path, format)?;
             let reader = ProbeReader::open(path, format, shard)?;
             (Source::File(reader), file_identity(path)?)
         }
-        (None, Some(0)) => bail!("--synth 0: a probe set needs at least one probe"),
-        (None, Some(n)) => {
-            let synth = Synth::new(a.seed, palette(search, a.palette.as_deref())?);
+        Input::Synth { count: 0, .. } => bail!("--synth 0: a probe set needs at least one probe"),
+        Input::Synth { count, seed, palette: names } => {
+            let synth = Synth::new(seed, palette(search, names)?);
             let id = format!(
-                "synth n={n} seed={} palette={} [{}] fingerprint={}",
-                a.seed,
+                "synth n={count} seed={seed} palette={} [{}] fingerprint={}",
                 synth.palette_names.len(),
                 synth.palette_names.join(" "),
                 synth.fingerprint()
             );
-            let (start, end) = shard.range(n);
+            let (start, end) = shard.range(count);
             (Source::Synth { synth, start, end, next: start }, id)
         }
-        (None, None) => bail!("give --input FILE or --synth N"),
-    };
+    })
+}
+
+/// Runs a probe-set job: reads or synthesises the shard's probes chunk by chunk, scores every
+/// encoder on them (saving the probes too with [`Job::save`]), and returns the statistics.
+pub fn run(job: &Job, search: &crate::envmap::search::SearchPath) -> Result<Done> {
+    let shard = Shard::parse(job.shard)?;
+    let (encoders, note) = encoder_list(job.encoders)?;
+    let rule = SphereRule::parse(job.quadrature)?;
+    if job.chunk == 0 {
+        bail!("--chunk must be at least 1");
+    }
+    let (mut source, source_id) = open_source(&job.input, shard, search)?;
     // Probes read so far (the bar advances as each chunk arrives); a synthetic shard's length
     // is known, a file's is not counted ahead.
     let progress = match &source {
         Source::Synth { start, end, .. } => Progress::new(end - start, "probes"),
         _ => Progress::counter("probes"),
     };
-    let stats = match &a.save {
+    let stats = match job.save {
         Some(path) => {
             let format = Format::resolve(path, None)?;
             let mut first = true;
-            crate::pipeline::atomic::write_with(path, |w| {
-                score(&mut source, &source_id, shard, &encoders, &rule, a.chunk, |c| {
+            crate::io::atomic::write_with(path, |w| {
+                score(&mut source, &source_id, shard, &encoders, &rule, job.chunk, |c| {
                     progress.inc_by(c.len() as u64);
                     write_probes(w, format, c, std::mem::take(&mut first))
                 })
             })?
         }
-        None => score(&mut source, &source_id, shard, &encoders, &rule, a.chunk, |c| {
+        None => score(&mut source, &source_id, shard, &encoders, &rule, job.chunk, |c| {
             progress.inc_by(c.len() as u64);
             Ok(())
         })?,
     };
     progress.finish();
-    if let Some(out) = &a.out {
-        crate::pipeline::atomic::write(out, stats.to_toml()?.as_bytes())?;
-        noteln!("wrote {}", out.display());
-    }
-    noteln!(
-        "probes: {} (shard {}/{}), wall {:.3} s, input {:.3} s, peak memory {:.1} MiB (VmHWM), {} thread(s)",
-        stats.probes,
-        shard.index,
-        shard.count,
-        stats.wall_s,
-        stats.input_s,
-        stats.peak_mem_bytes as f64 / (1024.0 * 1024.0),
-        stats.threads
-    );
-    crate::pipeline::output::write(&stats.summary_csv()?)?;
-    Ok(0)
+    Ok(Done { stats, shard, notes: note.into_iter().collect() })
 }
 
-/// Runs `probelab merge`.
-pub fn merge_command(a: MergeArgs) -> Result<i32> {
+/// Merges the statistics files of shards (`probelab merge`); returns the merged statistics and
+/// a warning naming the shards missing, if any. `files` must not be empty.
+pub fn merge(files: &[PathBuf]) -> Result<(SetStats, Option<String>)> {
     let mut merged: Option<SetStats> = None;
-    for f in &a.files {
+    for f in files {
         let s = SetStats::load(f)?;
         match &mut merged {
             None => merged = Some(s),
             Some(m) => m.merge(&s).with_context(|| format!("merging {}", f.display()))?,
         }
     }
-    // Cannot fail: `files` is `required = true`, so the loop ran at least once.
-    let merged = merged.expect("clap requires at least one file");
-    if !merged.complete() {
+    let Some(merged) = merged else { bail!("no statistics files to merge") };
+    let warning = (!merged.complete()).then(|| {
         let missing: Vec<usize> = (0..merged.shard_count).filter(|s| !merged.shards.contains(s)).collect();
-        noteln!("warning: partial merge: shard(s) {missing:?} of {} missing", merged.shard_count);
-    }
-    if let Some(out) = &a.out {
-        crate::pipeline::atomic::write(out, merged.to_toml()?.as_bytes())?;
-        noteln!("wrote {}", out.display());
-    }
-    crate::pipeline::output::write(&merged.summary_csv()?)?;
-    Ok(0)
+        format!("warning: partial merge: shard(s) {missing:?} of {} missing", merged.shard_count)
+    });
+    Ok((merged, warning))
 }

@@ -1,0 +1,89 @@
+//! `probelab probes`: scores encoders over a probe set (a file, or `--synth N`), in chunks and
+//! optionally one shard of it (`pipeline::probeset::job`); prints the summary CSV on stdout and
+//! the run's figures on stderr, and with `--out` writes the mergeable statistics atomically.
+
+use super::terminal::noteln;
+use super::Env;
+use anyhow::{bail, Result};
+use probelab::io::output;
+use probelab::pipeline::probeset::format::DEFAULT_CHUNK;
+use probelab::pipeline::probeset::job::{self, Input, Job};
+use std::path::PathBuf;
+
+/// `probelab probes`: score encoders over a probe set (a file or synthetic).
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// A probe file: CSV (27 numbers a row, coefficient-major RGB) or raw little-endian f32
+    /// (.f32/.bin/.raw, 27 per probe). See docs/scale.md.
+    #[arg(long, conflicts_with = "synth", required_unless_present = "synth")]
+    input: Option<PathBuf>,
+    /// File format: csv or f32 (default: from the extension).
+    #[arg(long)]
+    format: Option<String>,
+    /// Synthesise N probes instead (deterministic from --seed and the palette).
+    #[arg(long)]
+    synth: Option<u64>,
+    /// Seed of the synthetic set.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Comma-separated maps whose SH3 seed synthetic probes (default: every *_256x128 map on
+    /// the search path; the generated scenes when there is none).
+    #[arg(long)]
+    palette: Option<String>,
+    /// Comma-separated encoder ids, or `all` (sh1 is always added: it is the baseline).
+    #[arg(long, default_value = "sh1,sh2")]
+    encoders: String,
+    /// Process shard I of N (contiguous probe ranges); merge the --out files with `probelab merge`.
+    #[arg(long, default_value = "0/1")]
+    shard: String,
+    /// Write the mergeable statistics (TOML) to this file.
+    #[arg(long)]
+    out: Option<PathBuf>,
+    /// Quadrature rule NZxNPHI for encoders whose fit is not SH3 (6x12 is exact for outputs in SH
+    /// bands <= 5; fewer nodes are faster and approximate; see docs/scale.md).
+    #[arg(long, default_value = "6x12")]
+    quadrature: String,
+    /// Probes per chunk (memory in flight; results do not depend on it).
+    #[arg(long, default_value_t = DEFAULT_CHUNK)]
+    chunk: usize,
+    /// Also write this shard's probes to FILE (.csv or .f32), e.g. to export a synthetic set.
+    #[arg(long)]
+    save: Option<PathBuf>,
+}
+
+pub fn run(a: Args, env: &Env) -> Result<i32> {
+    let input = match (&a.input, a.synth) {
+        (Some(path), _) => Input::File(path, a.format.as_deref()),
+        (None, Some(count)) => Input::Synth { count, seed: a.seed, palette: a.palette.as_deref() },
+        (None, None) => bail!("give --input FILE or --synth N"),
+    };
+    let job = Job {
+        input,
+        encoders: &a.encoders,
+        shard: &a.shard,
+        quadrature: &a.quadrature,
+        chunk: a.chunk,
+        save: a.save.as_deref(),
+    };
+    let done = job::run(&job, &env.search)?;
+    for n in &done.notes {
+        noteln!("{n}");
+    }
+    let stats = &done.stats;
+    if let Some(out) = &a.out {
+        probelab::io::atomic::write(out, stats.to_toml()?.as_bytes())?;
+        noteln!("wrote {}", out.display());
+    }
+    noteln!(
+        "probes: {} (shard {}/{}), wall {:.3} s, input {:.3} s, peak memory {:.1} MiB (VmHWM), {} thread(s)",
+        stats.probes,
+        done.shard.index,
+        done.shard.count,
+        stats.wall_s,
+        stats.input_s,
+        stats.peak_mem_bytes as f64 / (1024.0 * 1024.0),
+        stats.threads
+    );
+    output::write(&stats.summary_csv()?)?;
+    Ok(0)
+}

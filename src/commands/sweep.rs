@@ -1,0 +1,46 @@
+//! `probelab sweep`: varies one accuracy knob and records error against time
+//! (`experiments/sweeps/*.toml`, `pipeline::sweep`), writing `results/sweeps/<name>.csv`
+//! atomically under the results folder's exclusive lock.
+
+use super::terminal::noteln;
+use super::{writing, Env};
+use anyhow::{bail, Result};
+use probelab::pipeline::sweep::{self, Sweep};
+use std::path::PathBuf;
+
+/// `probelab sweep`.
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// Sweep files (default: every experiments/sweeps/*.toml, skipping those with missing maps).
+    files: Vec<PathBuf>,
+    /// Output folder (default: <root>/results); CSVs go to <out>/sweeps/<name>.csv.
+    #[arg(long)]
+    out: Option<PathBuf>,
+}
+
+pub fn run(a: Args, env: &Env) -> Result<i32> {
+    let results = env.results(a.out);
+    let _lock = writing(&results)?;
+    let out = results.join("sweeps");
+    let all = a.files.is_empty();
+    let files = if all {
+        probelab::pipeline::experiment::list_experiments(&env.root.join("experiments").join("sweeps"))?
+    } else {
+        a.files
+    };
+    for path in files {
+        let sweep = Sweep::load(&path)?;
+        let (rows, missing) = sweep::run(&sweep, &env.search)?;
+        if !missing.is_empty() {
+            if all {
+                noteln!("skipped sweep {}: map(s) not found: {}", sweep.name, missing.join(", "));
+                continue;
+            }
+            bail!("{}: map(s) not found: {}; nothing written", path.display(), missing.join(", "));
+        }
+        let file = out.join(format!("{}.csv", sweep.name));
+        probelab::io::atomic::write(&file, &sweep::to_csv(&sweep, &rows)?)?;
+        noteln!("wrote {} ({} rows)", file.display(), rows.len());
+    }
+    Ok(0)
+}

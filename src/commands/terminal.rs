@@ -1,0 +1,108 @@
+//! The terminal, which only the binary touches: `outln!` (stdout, errors returned), `noteln!`
+//! (stderr, errors ignored), the progress bars the library's progress is drawn as, and the
+//! `--profile` report at the end.
+//!
+//! On a terminal (stderr is one, and `CI` is not set) progress is drawn as nested indicatif
+//! bars, cleared when done, with notes printed above them; elsewhere (a pipe, CI) no bar is
+//! installed and the log stays quiet.
+
+use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
+use probelab::io::progress::{Sink, Task};
+use std::io::IsTerminal;
+use std::time::Duration;
+
+/// `println!` that returns `Result<(), StdoutError>` instead of panicking.
+macro_rules! outln {
+    ($($arg:tt)*) => {
+        probelab::io::output::write_fmt(format_args!("{}\n", format_args!($($arg)*)))
+    };
+}
+pub(crate) use outln;
+
+/// `eprintln!` that ignores a failing stderr instead of panicking, printed above the bars.
+macro_rules! noteln {
+    ($($arg:tt)*) => {
+        probelab::io::output::note_fmt(format_args!("{}\n", format_args!($($arg)*)))
+    };
+}
+pub(crate) use noteln;
+
+/// Prints `text` (lines already ending in newlines) to stderr, above the bars.
+pub fn note(text: &str) {
+    if !text.is_empty() {
+        probelab::io::output::note_fmt(format_args!("{text}"));
+    }
+}
+
+/// Whether stderr is an interactive terminal (and not CI).
+fn interactive() -> bool {
+    std::io::stderr().is_terminal() && std::env::var_os("CI").is_none()
+}
+
+/// Installs the terminal bars as the library's progress sink, when stderr is a terminal.
+pub fn install_progress() {
+    if interactive() {
+        probelab::io::progress::install(Box::new(Bars(MultiProgress::with_draw_target(ProgressDrawTarget::stderr()))));
+    }
+}
+
+/// Every task's bar, in one [`MultiProgress`] so nested bars (a run's maps inside `reproduce`'s
+/// experiments) stack instead of overwriting each other.
+struct Bars(MultiProgress);
+
+/// One task's bar.
+struct Bar {
+    bar: ProgressBar,
+    bars: MultiProgress,
+}
+
+impl Sink for Bars {
+    fn start(&self, len: Option<u64>, what: &str) -> Box<dyn Task> {
+        let template = match len {
+            Some(_) => "{spinner} {prefix} [{bar:30}] {pos}/{len} {msg} ({elapsed})",
+            // Work of unknown length: steps done, rate and time so far.
+            None => "{spinner} {prefix} {human_pos} {msg} ({per_sec}, {elapsed})",
+        };
+        let bar = self.0.add(ProgressBar::with_draw_target(len, ProgressDrawTarget::hidden()));
+        bar.set_style(
+            ProgressStyle::with_template(template).unwrap_or_else(|_| ProgressStyle::default_bar()).progress_chars("=> "),
+        );
+        bar.set_prefix(what.to_string());
+        bar.enable_steady_tick(Duration::from_millis(120));
+        Box::new(Bar { bar, bars: self.0.clone() })
+    }
+
+    fn suspend(&self, f: &mut dyn FnMut()) {
+        self.0.suspend(f)
+    }
+}
+
+impl Task for Bar {
+    fn message(&self, msg: &str) {
+        self.bar.set_message(msg.to_string());
+    }
+
+    fn advance(&self, n: u64) {
+        self.bar.inc(n);
+    }
+
+    fn log(&self, line: &str) {
+        self.bar.println(line);
+    }
+
+    fn finish(&self) {
+        self.bar.finish_and_clear();
+        self.bars.remove(&self.bar);
+    }
+}
+
+/// Prints the `--profile` report to stderr when dropped, if profiling is on.
+pub struct ProfileReport(pub std::time::Instant);
+
+impl Drop for ProfileReport {
+    fn drop(&mut self) {
+        if probelab::io::profile::enabled() {
+            note(&probelab::io::profile::report(self.0.elapsed().as_secs_f64()));
+        }
+    }
+}

@@ -1,0 +1,298 @@
+//! The one atomic writer: every file probelab writes is written to a temporary file beside its
+//! target, synced, renamed over the target, and the folder synced, so a failure or a kill
+//! leaves either the old file or the new one, never half of one. This is the only module that
+//! renames temporary files into place.
+//!
+//! - [`Staged`]: a temporary file beside its target (`.NAME.tmp-PID-N`), removed when dropped
+//!   unless [`Staged::commit`] moved it into place;
+//! - [`write`] (bytes), [`write_with`] (streamed through a buffer) and [`write_set`] (several
+//!   files of one folder, all or none: a baseline's table and provenance) build on it.
+//!
+//! The temporary names are the ones [`crate::io::folder::remove_stale`] recognises, so what a
+//! killed writer leaves is removed by the next writer of the same folder.
+
+use anyhow::{bail, Context, Result};
+use std::fs::{File, OpenOptions};
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicU64, Ordering};
+
+/// A new temporary file beside a target path, not yet in place. Dropping it without
+/// [`Staged::commit`] removes the temporary file.
+#[derive(Debug)]
+pub struct Staged {
+    target: PathBuf,
+    tmp: PathBuf,
+    file: Option<File>,
+}
+
+impl Staged {
+    /// Creates a uniquely named temporary file in the folder of `target` (`.NAME.tmp-PID-N`).
+    /// The folder must exist.
+    pub fn beside(target: &Path) -> std::io::Result<Staged> {
+        static COUNTER: AtomicU64 = AtomicU64::new(0);
+        let dir = folder_of(target);
+        let name = target.file_name().unwrap_or(target.as_os_str()).to_string_lossy();
+        let mut last = None;
+        for _ in 0..16 {
+            let n = COUNTER.fetch_add(1, Ordering::Relaxed);
+            let tmp = dir.join(format!(".{name}.tmp-{}-{n}", std::process::id()));
+            match OpenOptions::new().write(true).create_new(true).open(&tmp) {
+                Ok(file) => return Ok(Staged { target: target.to_path_buf(), tmp, file: Some(file) }),
+                Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => last = Some(e),
+                Err(e) => return Err(e),
+            }
+        }
+        Err(last.unwrap_or_else(|| std::io::Error::other("no free temporary name")))
+    }
+
+    /// The temporary file's path.
+    pub fn tmp_path(&self) -> &Path {
+        &self.tmp
+    }
+
+    /// The open temporary file, to write into.
+    pub fn file(&mut self) -> &mut File {
+        self.file.as_mut().expect("a staged file is open until it is committed")
+    }
+
+    /// Takes the open file out, to hand to a writer that consumes it; give it back with
+    /// [`Staged::put_back`] before [`Staged::commit`].
+    pub fn take_file(&mut self) -> File {
+        self.file.take().expect("a staged file is open until it is committed")
+    }
+
+    /// Gives back the file [`Staged::take_file`] took (after the writer is done with it).
+    pub fn put_back(&mut self, file: File) {
+        self.file = Some(file);
+    }
+
+    /// Syncs the temporary file and moves it over the target, then syncs the folder.
+    pub fn commit(mut self) -> std::io::Result<()> {
+        if let Some(f) = self.file.take() {
+            f.sync_all()?;
+        }
+        std::fs::rename(&self.tmp, &self.target)?;
+        // Renamed: nothing left to remove on drop.
+        self.tmp = PathBuf::new();
+        sync_folder(folder_of(&self.target));
+        Ok(())
+    }
+}
+
+impl Drop for Staged {
+    fn drop(&mut self) {
+        if !self.tmp.as_os_str().is_empty() {
+            // Best effort: the error that stopped the write is the one worth reporting.
+            let _ = std::fs::remove_file(&self.tmp);
+        }
+    }
+}
+
+/// The folder a path lives in (`.` for a bare file name).
+fn folder_of(path: &Path) -> &Path {
+    path.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."))
+}
+
+/// Syncs a folder, so a rename in it survives a crash (best effort: not every file system
+/// lets a folder be opened for that).
+fn sync_folder(dir: &Path) {
+    if let Ok(d) = File::open(dir) {
+        let _ = d.sync_all();
+    }
+}
+
+/// Creates the folder of `path` and stages a temporary file beside it, errors naming the path.
+fn stage(path: &Path) -> Result<Staged> {
+    let dir = folder_of(path);
+    std::fs::create_dir_all(dir).with_context(|| format!("{}: cannot create folder", dir.display()))?;
+    Staged::beside(path).with_context(|| format!("{}: cannot create a temporary file beside it", path.display()))
+}
+
+/// Writes `bytes` to `path` atomically, creating parent folders.
+pub fn write(path: &Path, bytes: &[u8]) -> Result<()> {
+    let mut staged = stage(path)?;
+    staged.file().write_all(bytes).with_context(|| format!("{}: cannot write", staged.tmp_path().display()))?;
+    staged.commit().with_context(|| format!("{}: cannot move into place", path.display()))
+}
+
+/// Streams a file atomically: `f` writes into a buffered temporary file beside `path`, which
+/// replaces `path` only if `f` succeeds (for outputs too large to hold in memory).
+pub fn write_with<T>(path: &Path, f: impl FnOnce(&mut std::io::BufWriter<File>) -> Result<T>) -> Result<T> {
+    let mut staged = stage(path)?;
+    let mut w = std::io::BufWriter::with_capacity(1 << 20, staged.take_file());
+    let out = f(&mut w)?;
+    let file = w.into_inner().map_err(|e| anyhow::anyhow!("{}: cannot write: {}", path.display(), e.error()))?;
+    staged.put_back(file);
+    staged.commit().with_context(|| format!("{}: cannot move into place", path.display()))?;
+    Ok(out)
+}
+
+/// Writes several files into `dir` as one set (a baseline): every file is first staged and
+/// synced; only then are they renamed into place, in the order given (put the file that
+/// vouches for the others, the provenance, last). If a rename fails, the files already renamed
+/// are restored from hard-linked copies of their old versions (`.NAME.old-PID`), so the old set
+/// stays whole. A kill between two renames cannot be rolled back; the provenance's table
+/// checksum then exposes the mismatch to `probelab check`.
+pub fn write_set(dir: &Path, files: &[(String, Vec<u8>)]) -> Result<()> {
+    write_set_failing_after(dir, files, None)
+}
+
+/// [`write_set`], with a failure injected before rename number `fail_at` (for tests).
+fn write_set_failing_after(dir: &Path, files: &[(String, Vec<u8>)], fail_at: Option<usize>) -> Result<()> {
+    std::fs::create_dir_all(dir).with_context(|| format!("{}: cannot create folder", dir.display()))?;
+    let mut staged = Vec::new();
+    for (name, bytes) in files {
+        let target = dir.join(name);
+        let mut s = Staged::beside(&target).with_context(|| format!("{}: cannot create", target.display()))?;
+        s.file().write_all(bytes).with_context(|| format!("{}: cannot write", s.tmp_path().display()))?;
+        s.file().sync_all().with_context(|| format!("{}: cannot sync", s.tmp_path().display()))?;
+        staged.push(s);
+    }
+    let backups = Backups::keep(dir, files)?;
+    for (i, s) in staged.into_iter().enumerate() {
+        let target = dir.join(&files[i].0);
+        let result = if fail_at == Some(i) { Err(std::io::Error::other("injected failure (test)")) } else { s.commit() };
+        if let Err(e) = result {
+            backups.restore(&files[..i]);
+            return Err(e).with_context(|| {
+                format!("{}: cannot move into place; the previous version was kept", target.display())
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Hard-linked copies (`.NAME.old-PID`) of the files a [`write_set`] replaces, removed when
+/// dropped.
+struct Backups {
+    dir: PathBuf,
+    names: Vec<String>,
+}
+
+impl Backups {
+    fn path(dir: &Path, name: &str) -> PathBuf {
+        dir.join(format!(".{name}.old-{}", std::process::id()))
+    }
+
+    /// Links (or copies) every existing target; refuses a target that is not a regular file.
+    fn keep(dir: &Path, files: &[(String, Vec<u8>)]) -> Result<Backups> {
+        let mut kept = Backups { dir: dir.to_path_buf(), names: Vec::new() };
+        for (name, _) in files {
+            let target = dir.join(name);
+            match std::fs::symlink_metadata(&target) {
+                Err(_) => {}
+                Ok(m) if m.is_file() => {
+                    let bak = Self::path(dir, name);
+                    let _ = std::fs::remove_file(&bak);
+                    std::fs::hard_link(&target, &bak)
+                        .or_else(|_| std::fs::copy(&target, &bak).map(|_| ()))
+                        .with_context(|| format!("{}: cannot keep the old version", target.display()))?;
+                    kept.names.push(name.clone());
+                }
+                Ok(_) => bail!("{}: exists and is not a regular file", target.display()),
+            }
+        }
+        Ok(kept)
+    }
+
+    /// Puts back the old versions of `done` (removing those that had none).
+    fn restore(&self, done: &[(String, Vec<u8>)]) {
+        for (name, _) in done {
+            let target = self.dir.join(name);
+            if self.names.contains(name) {
+                let _ = std::fs::rename(Self::path(&self.dir, name), &target);
+            } else {
+                let _ = std::fs::remove_file(&target);
+            }
+        }
+    }
+}
+
+impl Drop for Backups {
+    fn drop(&mut self) {
+        for name in &self.names {
+            let _ = std::fs::remove_file(Self::path(&self.dir, name));
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn writes_and_replaces() {
+        let d = tempfile::tempdir().unwrap();
+        let p = d.path().join("a/b/t.csv");
+        write(&p, b"one").unwrap();
+        write(&p, b"two").unwrap();
+        assert_eq!(std::fs::read(&p).unwrap(), b"two");
+        assert_eq!(std::fs::read_dir(p.parent().unwrap()).unwrap().count(), 1, "no temp file left");
+    }
+
+    #[test]
+    fn streaming_write_replaces_only_on_success() {
+        let d = tempfile::tempdir().unwrap();
+        let p = d.path().join("s.bin");
+        write_with(&p, |w| Ok(w.write_all(b"abc")?)).unwrap();
+        assert_eq!(std::fs::read(&p).unwrap(), b"abc");
+        let e: Result<()> = write_with(&p, |w| {
+            w.write_all(b"partial")?;
+            anyhow::bail!("stopped")
+        });
+        assert!(e.is_err());
+        assert_eq!(std::fs::read(&p).unwrap(), b"abc");
+        assert_eq!(std::fs::read_dir(d.path()).unwrap().count(), 1, "no temp file left");
+    }
+
+    #[test]
+    fn staged_names_are_the_ones_stale_cleanup_knows() {
+        let d = tempfile::tempdir().unwrap();
+        let s = Staged::beside(&d.path().join("t.csv")).unwrap();
+        let name = s.tmp_path().file_name().unwrap().to_str().unwrap().to_string();
+        assert_eq!(crate::io::folder::temp_file_pid(&name), Some(std::process::id()), "{name}");
+        drop(s);
+        assert_eq!(std::fs::read_dir(d.path()).unwrap().count(), 0, "a dropped stage leaves nothing");
+    }
+
+    #[test]
+    fn failure_leaves_old_file() {
+        let d = tempfile::tempdir().unwrap();
+        let p = d.path().join("t.csv");
+        write(&p, b"old").unwrap();
+        // Renaming a file over a non-empty directory fails: the old content stays.
+        let q = d.path().join("dir");
+        std::fs::create_dir(&q).unwrap();
+        std::fs::write(q.join("x"), b"x").unwrap();
+        assert!(write(&q, b"new").is_err());
+        assert_eq!(std::fs::read(&p).unwrap(), b"old");
+        assert_eq!(std::fs::read_dir(d.path()).unwrap().count(), 2, "no temp file left");
+    }
+
+    #[test]
+    fn a_set_replaces_every_file_or_none() {
+        let d = tempfile::tempdir().unwrap();
+        let files = |t: &str| vec![("table.csv".to_string(), t.as_bytes().to_vec()), ("p.toml".into(), t.into())];
+        write_set(d.path(), &files("old")).unwrap();
+        // A failure after the first rename: the first file is restored, the second untouched.
+        assert!(write_set_failing_after(d.path(), &files("new"), Some(1)).is_err());
+        for n in ["table.csv", "p.toml"] {
+            assert_eq!(std::fs::read_to_string(d.path().join(n)).unwrap(), "old", "{n}");
+        }
+        // A target that cannot be replaced is found before anything is renamed.
+        std::fs::remove_file(d.path().join("p.toml")).unwrap();
+        std::fs::create_dir(d.path().join("p.toml")).unwrap();
+        assert!(write_set(d.path(), &files("new")).is_err());
+        assert_eq!(std::fs::read_to_string(d.path().join("table.csv")).unwrap(), "old");
+        std::fs::remove_dir(d.path().join("p.toml")).unwrap();
+        // No temporary or backup file is left behind by the failures.
+        let left: Vec<_> = std::fs::read_dir(d.path()).unwrap().map(|e| e.unwrap().file_name()).collect();
+        assert_eq!(left, ["table.csv"], "{left:?}");
+        write_set(d.path(), &files("new")).unwrap();
+        for n in ["table.csv", "p.toml"] {
+            assert_eq!(std::fs::read_to_string(d.path().join(n)).unwrap(), "new", "{n}");
+        }
+        assert_eq!(std::fs::read_dir(d.path()).unwrap().count(), 2);
+    }
+}

@@ -1,0 +1,17 @@
+//! The IO floor, below every other layer: the one atomic writer (`atomic`: temporary file,
+//! fsync, rename, folder fsync), the output folder's lock and the cleanup of what killed
+//! writers left (`folder`), the standard streams that never panic (`output`), progress
+//! reporting (`progress`: a small trait the library reports through and the binary draws) and
+//! `--profile` spans (`profile`).
+//!
+//! The library above never prints: it reports progress through [`progress::Progress`] and
+//! returns everything else as values. Only the binary (`src/main.rs`, `src/commands/`) writes
+//! to the terminal, through [`output`].
+//!
+//! May use: nothing of the crate.
+
+pub mod atomic;
+pub mod folder;
+pub mod output;
+pub mod profile;
+pub mod progress;
