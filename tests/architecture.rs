@@ -88,15 +88,71 @@ fn crate_paths(code: &str) -> Vec<Vec<String>> {
     out
 }
 
+/// The byte offset of the first inline module (`mod x {`, any visibility) in `code`, where
+/// `super` stops meaning the file's parent.
+fn inline_mod_start(code: &str) -> Option<usize> {
+    let mut at = 0;
+    for line in code.split_inclusive('\n') {
+        let t = line.trim_start();
+        let t = ["pub(crate) ", "pub(super) ", "pub "].iter().find_map(|v| t.strip_prefix(v)).unwrap_or(t);
+        if let Some(rest) = t.strip_prefix("mod ") {
+            let end = rest.find(|c: char| !(c.is_alphanumeric() || c == '_')).unwrap_or(rest.len());
+            if end > 0 && rest[end..].trim_start().starts_with('{') {
+                return Some(at);
+            }
+        }
+        at += line.len();
+    }
+    None
+}
+
+/// `code` without its `#[cfg(test)] mod x { … }` blocks. A unit-test module is a leaf of the
+/// module graph (nothing imports it), so what it uses cannot close a circle.
+fn without_test_modules(code: &str) -> String {
+    let mut out = String::new();
+    let mut rest = code;
+    while let Some(i) = rest.find("#[cfg(test)]") {
+        let after = &rest[i + "#[cfg(test)]".len()..];
+        // Other attributes may sit between `#[cfg(test)]` and the `mod` line.
+        let between = |k: usize| after[..k].lines().all(|l| l.trim().is_empty() || l.trim().starts_with("#["));
+        let Some(open) =
+            inline_mod_start(after).filter(|&k| between(k)).and_then(|k| after[k..].find('{').map(|b| k + b))
+        else {
+            out.push_str(&rest[..i + "#[cfg(test)]".len()]);
+            rest = after;
+            continue;
+        };
+        out.push_str(&rest[..i]);
+        // The matching brace; `'{'` and `'}'` char literals aside, braces in this crate balance.
+        let body = &after[open..];
+        let (mut depth, mut close) = (0usize, body.len());
+        let bytes = body.as_bytes();
+        for (k, &b) in bytes.iter().enumerate() {
+            let quoted = k > 0 && bytes[k - 1] == b'\'' && bytes.get(k + 1) == Some(&b'\'');
+            match b {
+                b'{' if !quoted => depth += 1,
+                b'}' if !quoted => {
+                    depth -= 1;
+                    if depth == 0 {
+                        close = k + 1;
+                        break;
+                    }
+                }
+                _ => {}
+            }
+        }
+        rest = &body[close..];
+    }
+    out.push_str(rest);
+    out
+}
+
 /// `super::x` paths of a file's top level (before any inline `mod … {`, where `super` would
 /// mean the file itself), resolved against the file's module.
-fn super_paths(code: &str, module: &[String], is_mod_rs: bool) -> Vec<Vec<String>> {
-    let top = match code.find("\nmod ").or_else(|| code.find("\npub(crate) mod tests")) {
-        Some(i) => &code[..i],
-        None => code,
-    };
-    let parent: Vec<String> =
-        if is_mod_rs { module[..module.len().saturating_sub(1)].to_vec() } else { module[..module.len() - 1].to_vec() };
+fn super_paths(code: &str, module: &[String]) -> Vec<Vec<String>> {
+    let top = &code[..inline_mod_start(code).unwrap_or(code.len())];
+    // `super` of `a/b.rs` (module `a::b`) is `a`; so is that of `a/b/mod.rs`.
+    let parent: Vec<String> = module[..module.len().saturating_sub(1)].to_vec();
     let mut out = Vec::new();
     let mut rest = top;
     while let Some(i) = rest.find("super::") {
@@ -106,6 +162,34 @@ fn super_paths(code: &str, module: &[String], is_mod_rs: bool) -> Vec<Vec<String
             let mut p = parent.clone();
             p.push(rest[..end].to_string());
             out.push(p);
+        }
+    }
+    out
+}
+
+/// A parent's uses of its own child modules by relative path: `child::x`, `self::child::x` or
+/// `use child as y`, for each name in `children` (`mod child;` alone declares, it does not
+/// use). Paths after `::` are someone else's (`crate::…` paths are read by [`crate_paths`]);
+/// a method's turbofish (`.collect::<…>`) and a generic call (`fit::<T>`) are not modules.
+fn child_paths(code: &str, module: &[String], children: &BTreeSet<String>) -> Vec<Vec<String>> {
+    let ident = |c: char| c.is_alphanumeric() || c == '_';
+    let mut out = Vec::new();
+    for child in children {
+        let mut from = 0;
+        while let Some(k) = code[from..].find(child.as_str()) {
+            let i = from + k;
+            from = i + child.len();
+            let (before, after) = (&code[..i], &code[i + child.len()..]);
+            let outer = before.strip_suffix("self::").unwrap_or(before);
+            let prev = outer.chars().last();
+            if prev.is_some_and(|c| ident(c) || c == ':' || c == '.') || after.starts_with(ident) {
+                continue;
+            }
+            if (after.starts_with("::") && !after.starts_with("::<")) || after.starts_with(" as ") {
+                let mut p = module.to_vec();
+                p.push(child.clone());
+                out.push(p);
+            }
         }
     }
     out
@@ -208,17 +292,24 @@ fn layers_use_exactly_what_architecture_md_allows() {
     assert!(errors.is_empty(), "{}", errors.join("\n"));
 }
 
-#[test]
-fn no_import_cycles_between_module_files() {
-    let krate = read_crate();
+/// Module graph: module → the module files it imports. An import is a `crate::` path, a
+/// `super::` path, or a parent's relative path to its own child (`child::x`), each resolved to
+/// the longest module file it names (`crate::encoders::build` → `encoders`, the `mod.rs`), in
+/// product code (unit-test modules aside).
+type Edges = BTreeMap<Vec<String>, BTreeSet<Vec<String>>>;
+
+fn import_edges(modules: &BTreeMap<Vec<String>, (PathBuf, String)>) -> Edges {
     let resolve = |p: &[String]| -> Option<Vec<String>> {
-        (1..=p.len()).rev().map(|k| p[..k].to_vec()).find(|c| krate.modules.contains_key(c))
+        (1..=p.len()).rev().map(|k| p[..k].to_vec()).find(|c| modules.contains_key(c))
     };
-    let mut edges: BTreeMap<Vec<String>, BTreeSet<Vec<String>>> = BTreeMap::new();
-    for (m, (file, code)) in &krate.modules {
-        let is_mod_rs = file.file_name().is_some_and(|f| f == "mod.rs");
-        let mut targets: Vec<Vec<String>> = crate_paths(code);
-        targets.extend(super_paths(code, m, is_mod_rs));
+    let mut edges = Edges::new();
+    for (m, (_, code)) in modules {
+        let code = without_test_modules(code);
+        let children: BTreeSet<String> =
+            modules.keys().filter(|c| c.len() == m.len() + 1 && c.starts_with(m)).map(|c| c[m.len()].clone()).collect();
+        let mut targets: Vec<Vec<String>> = crate_paths(&code);
+        targets.extend(super_paths(&code, m));
+        targets.extend(child_paths(&code, m, &children));
         for t in targets {
             if let Some(r) = resolve(&t) {
                 if &r != m {
@@ -227,9 +318,14 @@ fn no_import_cycles_between_module_files() {
             }
         }
     }
-    // Tarjan's strongly connected components.
+    edges
+}
+
+/// The circles of the graph: its strongly connected components of more than one module
+/// (Tarjan), each as sorted `a::b` names.
+fn cycles(nodes: impl IntoIterator<Item = Vec<String>>, edges: &Edges) -> Vec<Vec<String>> {
     struct Tarjan<'a> {
-        edges: &'a BTreeMap<Vec<String>, BTreeSet<Vec<String>>>,
+        edges: &'a Edges,
         index: BTreeMap<Vec<String>, usize>,
         low: BTreeMap<Vec<String>, usize>,
         stack: Vec<Vec<String>>,
@@ -271,19 +367,57 @@ fn no_import_cycles_between_module_files() {
         }
     }
     let mut t = Tarjan {
-        edges: &edges,
+        edges,
         index: BTreeMap::new(),
         low: BTreeMap::new(),
         stack: Vec::new(),
         on: BTreeSet::new(),
         cycles: Vec::new(),
     };
-    for m in krate.modules.keys() {
-        if !t.index.contains_key(m) {
-            t.visit(m);
+    for m in nodes {
+        if !t.index.contains_key(&m) {
+            t.visit(&m);
         }
     }
-    assert!(t.cycles.is_empty(), "import cycles between module files: {:?}", t.cycles);
+    t.cycles
+}
+
+#[test]
+fn no_import_cycles_between_module_files() {
+    let krate = read_crate();
+    let found = cycles(krate.modules.keys().cloned(), &import_edges(&krate.modules));
+    assert!(found.is_empty(), "import cycles between module files: {found:?}");
+}
+
+/// The cycle check on a small synthetic crate: a `mod.rs` and its child that import each
+/// other — through `super::`, `crate::`, `child::` or `self::child::` — form a circle; a
+/// `mod child;` declaration alone, a unit test reaching up, or a sibling does not.
+#[test]
+fn the_cycle_check_sees_a_mod_rs_and_its_child() {
+    let crate_of = |files: &[(&str, &str)]| -> BTreeMap<Vec<String>, (PathBuf, String)> {
+        files
+            .iter()
+            .map(|(rel, code)| (module_of(Path::new(rel)).unwrap(), (PathBuf::from(rel), code_of(code))))
+            .collect()
+    };
+    let circle = vec![vec!["enc".to_string(), "enc::wrap".to_string()]];
+    let parents =
+        ["pub mod wrap;\nuse wrap::W;\npub fn build() {}", "pub mod wrap;\npub use self::wrap::W;\npub fn build() {}"];
+    let parents =
+        parents.iter().copied().chain(["pub mod wrap;\nconst R: &[fn()] = &[crate::enc::wrap::w];\npub fn build() {}"]);
+    for parent in parents {
+        for child in ["pub fn w() { super::build() }", "pub fn w() { crate::enc::build() }"] {
+            let k = crate_of(&[("enc/mod.rs", parent), ("enc/wrap.rs", child)]);
+            assert_eq!(cycles(k.keys().cloned(), &import_edges(&k)), circle, "{parent} / {child}");
+        }
+    }
+    let acyclic = [
+        ("enc/mod.rs", "pub mod wrap;\npub mod sh;\npub fn build() { wrap::w() }\nfn f() -> Vec<u8> { x.sh::<u8>() }"),
+        ("enc/wrap.rs", "pub fn w() { super::sh::s() }\n#[cfg(test)]\n#[allow(unused)]\nmod tests {\n fn t() { crate::enc::build(); let c = '{'; }\n}"),
+        ("enc/sh.rs", "pub fn s() {}"),
+    ];
+    let k = crate_of(&acyclic);
+    assert_eq!(cycles(k.keys().cloned(), &import_edges(&k)), Vec::<Vec<String>>::new());
 }
 
 #[test]
@@ -350,7 +484,7 @@ fn the_checker_reads_paths_modules_and_the_table() {
     assert_eq!(module_of(Path::new("lib.rs")), None);
     assert_eq!(code_of("let a = 1; // crate::x\n/// [`crate::y`]\nb"), "let a = 1; \n\nb");
     let m = vec!["envmap".to_string(), "search".to_string()];
-    assert_eq!(super_paths("use super::load;\nmod tests {\n use super::*;", &m, false), vec![vec!["envmap", "load"]]);
+    assert_eq!(super_paths("use super::load;\nmod tests {\n use super::*;", &m), vec![vec!["envmap", "load"]]);
     let t = layer_table(
         "x\n## Layers\n\n| layer | what | may use |\n|---|---|---|\n| `a` | a | — |\n| `b` | b | `a` |\n\nafter",
     );
