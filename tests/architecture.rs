@@ -2,13 +2,17 @@
 //! `ARCHITECTURE.md` ("## Layers": layer, what, may use), and the module files for import
 //! cycles.
 //!
-//! - A layer is a folder of `src/` (or `cli.rs`). What a layer uses is every `crate::<layer>`
-//!   path in its files' code (comments are not code; unit tests are), other than its own.
+//! - A layer is a row of the table: the folder `src/<layer>/` or the file `src/<layer>.rs`, plus
+//!   the crate-root files its "what" cell names (`main.rs`). What a layer uses is every
+//!   `crate::<layer>` path in its files' code (comments are not code; unit tests are), other
+//!   than its own; the binary's files (`main.rs` and the modules it declares) say `probelab::`.
 //! - The table must say exactly what the code does: a use the table does not allow fails, and
 //!   so does an allowance the code does not use (the table may not overstate either).
 //! - The table is ordered bottom-up: a layer may use only layers listed above it, so there is
 //!   no upward import and no circle between layers.
-//! - Between module files (e.g. `pipeline::runner` and `pipeline::timing`) there is no circle.
+//! - Between module files (e.g. `pipeline::runner` and `pipeline::timing`, or a `mod.rs` and
+//!   its own children) there is no circle.
+//! - Every file the "## Code map" tables name exists under `src/`.
 //! - Outside `encoders/` and `claims/`, product code names no encoder: no string literal in
 //!   code before a file's `#[cfg(test)]` is a registered encoder id.
 //! - The modules whose product code touches the disk (`fs::`, `File::`, `OpenOptions`) are
@@ -88,15 +92,71 @@ fn crate_paths(code: &str) -> Vec<Vec<String>> {
     out
 }
 
+/// The byte offset of the first inline module (`mod x {`, any visibility) in `code`, where
+/// `super` stops meaning the file's parent.
+fn inline_mod_start(code: &str) -> Option<usize> {
+    let mut at = 0;
+    for line in code.split_inclusive('\n') {
+        let t = line.trim_start();
+        let t = ["pub(crate) ", "pub(super) ", "pub "].iter().find_map(|v| t.strip_prefix(v)).unwrap_or(t);
+        if let Some(rest) = t.strip_prefix("mod ") {
+            let end = rest.find(|c: char| !(c.is_alphanumeric() || c == '_')).unwrap_or(rest.len());
+            if end > 0 && rest[end..].trim_start().starts_with('{') {
+                return Some(at);
+            }
+        }
+        at += line.len();
+    }
+    None
+}
+
+/// `code` without its `#[cfg(test)] mod x { … }` blocks. A unit-test module is a leaf of the
+/// module graph (nothing imports it), so what it uses cannot close a circle.
+fn without_test_modules(code: &str) -> String {
+    let mut out = String::new();
+    let mut rest = code;
+    while let Some(i) = rest.find("#[cfg(test)]") {
+        let after = &rest[i + "#[cfg(test)]".len()..];
+        // Other attributes may sit between `#[cfg(test)]` and the `mod` line.
+        let between = |k: usize| after[..k].lines().all(|l| l.trim().is_empty() || l.trim().starts_with("#["));
+        let Some(open) =
+            inline_mod_start(after).filter(|&k| between(k)).and_then(|k| after[k..].find('{').map(|b| k + b))
+        else {
+            out.push_str(&rest[..i + "#[cfg(test)]".len()]);
+            rest = after;
+            continue;
+        };
+        out.push_str(&rest[..i]);
+        // The matching brace; `'{'` and `'}'` char literals aside, braces in this crate balance.
+        let body = &after[open..];
+        let (mut depth, mut close) = (0usize, body.len());
+        let bytes = body.as_bytes();
+        for (k, &b) in bytes.iter().enumerate() {
+            let quoted = k > 0 && bytes[k - 1] == b'\'' && bytes.get(k + 1) == Some(&b'\'');
+            match b {
+                b'{' if !quoted => depth += 1,
+                b'}' if !quoted => {
+                    depth -= 1;
+                    if depth == 0 {
+                        close = k + 1;
+                        break;
+                    }
+                }
+                _ => {}
+            }
+        }
+        rest = &body[close..];
+    }
+    out.push_str(rest);
+    out
+}
+
 /// `super::x` paths of a file's top level (before any inline `mod … {`, where `super` would
 /// mean the file itself), resolved against the file's module.
-fn super_paths(code: &str, module: &[String], is_mod_rs: bool) -> Vec<Vec<String>> {
-    let top = match code.find("\nmod ").or_else(|| code.find("\npub(crate) mod tests")) {
-        Some(i) => &code[..i],
-        None => code,
-    };
-    let parent: Vec<String> =
-        if is_mod_rs { module[..module.len().saturating_sub(1)].to_vec() } else { module[..module.len() - 1].to_vec() };
+fn super_paths(code: &str, module: &[String]) -> Vec<Vec<String>> {
+    let top = &code[..inline_mod_start(code).unwrap_or(code.len())];
+    // `super` of `a/b.rs` (module `a::b`) is `a`; so is that of `a/b/mod.rs`.
+    let parent: Vec<String> = module[..module.len().saturating_sub(1)].to_vec();
     let mut out = Vec::new();
     let mut rest = top;
     while let Some(i) = rest.find("super::") {
@@ -111,9 +171,52 @@ fn super_paths(code: &str, module: &[String], is_mod_rs: bool) -> Vec<Vec<String
     out
 }
 
-/// The layer table of ARCHITECTURE.md: (layer, may use), in table order.
-fn layer_table(text: &str) -> Vec<(String, BTreeSet<String>)> {
+/// A parent's uses of its own child modules by relative path: `child::x`, `self::child::x` or
+/// `use child as y`, for each name in `children` (`mod child;` alone declares, it does not
+/// use). Paths after `::` are someone else's (`crate::…` paths are read by [`crate_paths`]);
+/// a method's turbofish (`.collect::<…>`) and a generic call (`fit::<T>`) are not modules.
+fn child_paths(code: &str, module: &[String], children: &BTreeSet<String>) -> Vec<Vec<String>> {
+    let ident = |c: char| c.is_alphanumeric() || c == '_';
+    let mut out = Vec::new();
+    for child in children {
+        let mut from = 0;
+        while let Some(k) = code[from..].find(child.as_str()) {
+            let i = from + k;
+            from = i + child.len();
+            let (before, after) = (&code[..i], &code[i + child.len()..]);
+            let outer = before.strip_suffix("self::").unwrap_or(before);
+            let prev = outer.chars().last();
+            if prev.is_some_and(|c| ident(c) || c == ':' || c == '.') || after.starts_with(ident) {
+                continue;
+            }
+            if (after.starts_with("::") && !after.starts_with("::<")) || after.starts_with(" as ") {
+                let mut p = module.to_vec();
+                p.push(child.clone());
+                out.push(p);
+            }
+        }
+    }
+    out
+}
+
+/// A row of ARCHITECTURE.md's layer table.
+#[derive(Debug, PartialEq)]
+struct Layer {
+    /// The first cell, in backticks: the folder `src/<name>/` or the file `src/<name>.rs`.
+    name: String,
+    /// The crate-root files the row's "what" cell names in backticks (`main.rs`, `lib.rs`):
+    /// files of `src/` that belong to this layer although they are not named after it.
+    files: BTreeSet<String>,
+    /// The last cell: the layers it may use, in backticks, comma-separated (`—` for none).
+    uses: BTreeSet<String>,
+}
+
+/// The layer table of ARCHITECTURE.md ("## Layers", `| layer | what | may use |`), bottom-up:
+/// one row per layer; rows whose first cell is not a name in backticks (the header and the
+/// separator) are skipped, so adding a layer is adding a row.
+fn layer_table(text: &str) -> Vec<Layer> {
     let section = text.split("\n## Layers").nth(1).expect("ARCHITECTURE.md has a '## Layers' section");
+    let ticked = |cell: &str| -> Vec<String> { cell.split('`').skip(1).step_by(2).map(String::from).collect() };
     let mut rows = Vec::new();
     for line in section.lines().skip_while(|l| !l.starts_with('|')) {
         if !line.starts_with('|') {
@@ -123,102 +226,197 @@ fn layer_table(text: &str) -> Vec<(String, BTreeSet<String>)> {
         let Some(name) = cells.first().and_then(|c| c.strip_prefix('`')).and_then(|c| c.strip_suffix('`')) else {
             continue; // the header and the separator row
         };
-        let uses = cells
-            .last()
-            .unwrap()
-            .split(',')
-            .filter_map(|c| c.trim().strip_prefix('`').and_then(|c| c.strip_suffix('`')))
-            .map(String::from)
-            .collect();
-        rows.push((name.to_string(), uses));
+        let files = match cells.len() {
+            3.. => ticked(cells[1]).into_iter().filter(|f| f.ends_with(".rs") && !f.contains('/')).collect(),
+            _ => BTreeSet::new(),
+        };
+        let uses = ticked(cells.last().unwrap()).into_iter().collect();
+        rows.push(Layer { name: name.to_string(), files, uses });
     }
     assert!(!rows.is_empty(), "the '## Layers' table of ARCHITECTURE.md has no rows");
     rows
 }
 
 struct Crate {
-    /// module path → (file, code)
+    /// module path → (file, code), crate roots aside
     modules: BTreeMap<Vec<String>, (PathBuf, String)>,
+    /// Every file of `src/` (crate roots included): (path relative to `src/`, code)
+    files: Vec<(PathBuf, String)>,
+}
+
+/// The binary's files: `main.rs` and the modules it declares (`mod cli;` → `cli.rs` or
+/// `cli/…`). They reach the library as `probelab::…`, read here as `crate::…`.
+fn is_binary_file(rel: &Path, main_code: &str) -> bool {
+    let first = rel.iter().next().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+    let stem = first.strip_suffix(".rs").unwrap_or(&first);
+    rel == Path::new("main.rs")
+        || main_code.lines().any(|l| {
+            let l = l.trim();
+            let l = l.strip_prefix("pub ").unwrap_or(l);
+            l.strip_prefix("mod ").and_then(|m| m.strip_suffix(';')).is_some_and(|m| m.trim() == stem)
+        })
 }
 
 fn read_crate() -> Crate {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
-    let mut files = Vec::new();
-    src_files(&root, &mut files);
+    let mut paths = Vec::new();
+    src_files(&root, &mut paths);
+    paths.sort();
+    let main_code = code_of(&std::fs::read_to_string(root.join("main.rs")).unwrap_or_default());
     let mut modules = BTreeMap::new();
-    for f in files {
+    let mut files = Vec::new();
+    for f in paths {
         let rel = f.strip_prefix(&root).unwrap().to_path_buf();
-        if let Some(m) = module_of(&rel) {
-            let mut code = code_of(&std::fs::read_to_string(&f).unwrap());
-            // The command line is a module of the binary: it reaches the layers as `probelab::`.
-            if rel == Path::new("cli.rs") {
-                code = code.replace("probelab::", "crate::");
-            }
-            modules.insert(m, (rel, code));
+        let mut code = code_of(&std::fs::read_to_string(&f).unwrap());
+        if is_binary_file(&rel, &main_code) {
+            code = code.replace("probelab::", "crate::");
         }
+        if let Some(m) = module_of(&rel) {
+            modules.insert(m, (rel.clone(), code.clone()));
+        }
+        files.push((rel, code));
     }
-    Crate { modules }
+    Crate { modules, files }
 }
 
-#[test]
-fn layers_use_exactly_what_architecture_md_allows() {
-    let arch = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("ARCHITECTURE.md")).unwrap();
-    let table = layer_table(&arch);
-    let krate = read_crate();
+/// The layer a file of `src/` belongs to: the row that names it (`main.rs`), else its first
+/// component (`pipeline/runner.rs` → `pipeline`, `cli.rs` → `cli`); `None` for a crate root no
+/// row names.
+fn layer_of(rel: &Path, table: &[Layer]) -> Option<String> {
+    let s = rel.to_string_lossy();
+    if let Some(l) = table.iter().find(|l| l.files.contains(s.as_ref())) {
+        return Some(l.name.clone());
+    }
+    let first = rel.iter().next()?.to_string_lossy().into_owned();
+    match first.strip_suffix(".rs") {
+        Some("lib" | "main") if rel.components().count() == 1 => None,
+        Some(stem) => Some(stem.to_string()),
+        None => Some(first),
+    }
+}
+
+fn architecture_md() -> String {
+    std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("ARCHITECTURE.md")).unwrap()
+}
+
+/// What the table says against what the code does: errors, one line each.
+fn layer_errors(table: &[Layer], krate: &Crate) -> Vec<String> {
+    let mut errors = Vec::new();
     // What each layer's code uses, with one example place per use.
     let mut used: BTreeMap<String, BTreeMap<String, String>> = BTreeMap::new();
-    for (m, (file, code)) in &krate.modules {
-        let layer = &m[0];
-        used.entry(layer.clone()).or_default();
+    for (file, code) in &krate.files {
+        let Some(layer) = layer_of(file, table) else {
+            errors.push(format!("src/{}: no row of ARCHITECTURE.md's layer table names it", file.display()));
+            continue;
+        };
+        let uses = used.entry(layer.clone()).or_default();
         for p in crate_paths(code) {
-            if &p[0] != layer {
-                used.get_mut(layer)
-                    .unwrap()
-                    .entry(p[0].clone())
-                    .or_insert_with(|| format!("src/{}: crate::{}", file.display(), p.join("::")));
+            if p[0] != layer {
+                uses.entry(p[0].clone()).or_insert_with(|| format!("src/{}: crate::{}", file.display(), p.join("::")));
             }
         }
     }
-    let mut errors = Vec::new();
-    let names: Vec<&String> = table.iter().map(|(n, _)| n).collect();
+    let names: Vec<&String> = table.iter().map(|l| &l.name).collect();
     for layer in used.keys() {
         if !names.contains(&layer) {
             errors.push(format!("layer `{layer}` (src/{layer}) is not in ARCHITECTURE.md's layer table"));
         }
     }
-    for (i, (layer, allowed)) in table.iter().enumerate() {
-        let below: BTreeSet<&String> = names[..i].iter().copied().collect();
-        for a in allowed {
-            if !below.contains(a) {
+    for (i, row) in table.iter().enumerate() {
+        let layer = &row.name;
+        if names[..i].contains(&layer) {
+            errors.push(format!("ARCHITECTURE.md: layer `{layer}` has two rows"));
+        }
+        for f in &row.files {
+            if !krate.files.iter().any(|(p, _)| p == Path::new(f)) {
+                errors.push(format!("ARCHITECTURE.md: layer `{layer}` names `{f}`, which is not a file of src/"));
+            }
+            if let Some(other) = table[..i].iter().find(|o| o.files.contains(f)) {
+                errors.push(format!("ARCHITECTURE.md: `{f}` is named by both `{}` and `{layer}`", other.name));
+            }
+        }
+        for a in &row.uses {
+            if !names[..i].contains(&a) {
                 errors.push(format!("ARCHITECTURE.md: `{layer}` may use `{a}`, which is not a layer listed above it"));
             }
         }
         let actual = used.get(layer).cloned().unwrap_or_default();
         for (u, place) in &actual {
-            if !allowed.contains(u) {
+            if !row.uses.contains(u) {
                 errors.push(format!("`{layer}` uses `{u}`, which ARCHITECTURE.md does not allow ({place})"));
             }
         }
-        for a in allowed {
+        for a in &row.uses {
             if !actual.contains_key(a) {
                 errors.push(format!("ARCHITECTURE.md says `{layer}` may use `{a}`, but no code of `{layer}` does"));
             }
         }
     }
-    assert!(errors.is_empty(), "{}", errors.join("\n"));
+    errors
 }
 
 #[test]
-fn no_import_cycles_between_module_files() {
-    let krate = read_crate();
+fn layers_use_exactly_what_architecture_md_allows() {
+    let errors = layer_errors(&layer_table(&architecture_md()), &read_crate());
+    assert!(errors.is_empty(), "{}", errors.join("\n"));
+}
+
+/// The file paths of the "## Code map" tables (the first cell of each row, in backticks,
+/// relative to the folder of the `### \`folder/\`` heading above it, or to `src/`), and the
+/// `.rs` files a folder's row lists in its second cell, relative to that folder.
+fn code_map_paths(text: &str) -> Vec<String> {
+    let section = text.split("\n## Code map").nth(1).expect("ARCHITECTURE.md has a '## Code map' section");
+    let section = section.split("\n## ").next().unwrap();
+    let ticked = |cell: &str| -> Vec<String> { cell.split('`').skip(1).step_by(2).map(String::from).collect() };
+    let mut folder = String::new();
+    let mut out = Vec::new();
+    for line in section.lines() {
+        if let Some(h) = line.strip_prefix("### ") {
+            folder = ticked(h).into_iter().next().unwrap_or_default();
+            continue;
+        }
+        let cells: Vec<&str> = line.trim_matches('|').split('|').map(str::trim).collect();
+        if !line.starts_with('|') || cells.len() < 2 {
+            continue;
+        }
+        for f in ticked(cells[0]) {
+            if f.ends_with('/') {
+                let sub = format!("{folder}{f}");
+                out.extend(ticked(cells[1]).into_iter().filter(|g| g.ends_with(".rs")).map(|g| format!("{sub}{g}")));
+            }
+            out.push(format!("{folder}{f}"));
+        }
+    }
+    out
+}
+
+#[test]
+fn the_code_map_names_only_files_that_exist() {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let paths = code_map_paths(&architecture_md());
+    assert!(paths.len() > 50, "the code map lists too few files to be read right: {paths:?}");
+    let gone: Vec<&String> = paths.iter().filter(|p| !src.join(p).exists()).collect();
+    assert!(gone.is_empty(), "ARCHITECTURE.md's code map names files that are not under src/: {gone:?}");
+}
+
+/// Module graph: module → the module files it imports. An import is a `crate::` path, a
+/// `super::` path, or a parent's relative path to its own child (`child::x`), each resolved to
+/// the longest module file it names (`crate::encoders::build` → `encoders`, the `mod.rs`), in
+/// product code (unit-test modules aside).
+type Edges = BTreeMap<Vec<String>, BTreeSet<Vec<String>>>;
+
+fn import_edges(modules: &BTreeMap<Vec<String>, (PathBuf, String)>) -> Edges {
     let resolve = |p: &[String]| -> Option<Vec<String>> {
-        (1..=p.len()).rev().map(|k| p[..k].to_vec()).find(|c| krate.modules.contains_key(c))
+        (1..=p.len()).rev().map(|k| p[..k].to_vec()).find(|c| modules.contains_key(c))
     };
-    let mut edges: BTreeMap<Vec<String>, BTreeSet<Vec<String>>> = BTreeMap::new();
-    for (m, (file, code)) in &krate.modules {
-        let is_mod_rs = file.file_name().is_some_and(|f| f == "mod.rs");
-        let mut targets: Vec<Vec<String>> = crate_paths(code);
-        targets.extend(super_paths(code, m, is_mod_rs));
+    let mut edges = Edges::new();
+    for (m, (_, code)) in modules {
+        let code = without_test_modules(code);
+        let children: BTreeSet<String> =
+            modules.keys().filter(|c| c.len() == m.len() + 1 && c.starts_with(m)).map(|c| c[m.len()].clone()).collect();
+        let mut targets: Vec<Vec<String>> = crate_paths(&code);
+        targets.extend(super_paths(&code, m));
+        targets.extend(child_paths(&code, m, &children));
         for t in targets {
             if let Some(r) = resolve(&t) {
                 if &r != m {
@@ -227,9 +425,14 @@ fn no_import_cycles_between_module_files() {
             }
         }
     }
-    // Tarjan's strongly connected components.
+    edges
+}
+
+/// The circles of the graph: its strongly connected components of more than one module
+/// (Tarjan), each as sorted `a::b` names.
+fn cycles(nodes: impl IntoIterator<Item = Vec<String>>, edges: &Edges) -> Vec<Vec<String>> {
     struct Tarjan<'a> {
-        edges: &'a BTreeMap<Vec<String>, BTreeSet<Vec<String>>>,
+        edges: &'a Edges,
         index: BTreeMap<Vec<String>, usize>,
         low: BTreeMap<Vec<String>, usize>,
         stack: Vec<Vec<String>>,
@@ -271,19 +474,57 @@ fn no_import_cycles_between_module_files() {
         }
     }
     let mut t = Tarjan {
-        edges: &edges,
+        edges,
         index: BTreeMap::new(),
         low: BTreeMap::new(),
         stack: Vec::new(),
         on: BTreeSet::new(),
         cycles: Vec::new(),
     };
-    for m in krate.modules.keys() {
-        if !t.index.contains_key(m) {
-            t.visit(m);
+    for m in nodes {
+        if !t.index.contains_key(&m) {
+            t.visit(&m);
         }
     }
-    assert!(t.cycles.is_empty(), "import cycles between module files: {:?}", t.cycles);
+    t.cycles
+}
+
+#[test]
+fn no_import_cycles_between_module_files() {
+    let krate = read_crate();
+    let found = cycles(krate.modules.keys().cloned(), &import_edges(&krate.modules));
+    assert!(found.is_empty(), "import cycles between module files: {found:?}");
+}
+
+/// The cycle check on a small synthetic crate: a `mod.rs` and its child that import each
+/// other — through `super::`, `crate::`, `child::` or `self::child::` — form a circle; a
+/// `mod child;` declaration alone, a unit test reaching up, or a sibling does not.
+#[test]
+fn the_cycle_check_sees_a_mod_rs_and_its_child() {
+    let crate_of = |files: &[(&str, &str)]| -> BTreeMap<Vec<String>, (PathBuf, String)> {
+        files
+            .iter()
+            .map(|(rel, code)| (module_of(Path::new(rel)).unwrap(), (PathBuf::from(rel), code_of(code))))
+            .collect()
+    };
+    let circle = vec![vec!["enc".to_string(), "enc::wrap".to_string()]];
+    let parents =
+        ["pub mod wrap;\nuse wrap::W;\npub fn build() {}", "pub mod wrap;\npub use self::wrap::W;\npub fn build() {}"];
+    let parents =
+        parents.iter().copied().chain(["pub mod wrap;\nconst R: &[fn()] = &[crate::enc::wrap::w];\npub fn build() {}"]);
+    for parent in parents {
+        for child in ["pub fn w() { super::build() }", "pub fn w() { crate::enc::build() }"] {
+            let k = crate_of(&[("enc/mod.rs", parent), ("enc/wrap.rs", child)]);
+            assert_eq!(cycles(k.keys().cloned(), &import_edges(&k)), circle, "{parent} / {child}");
+        }
+    }
+    let acyclic = [
+        ("enc/mod.rs", "pub mod wrap;\npub mod sh;\npub fn build() { wrap::w() }\nfn f() -> Vec<u8> { x.sh::<u8>() }"),
+        ("enc/wrap.rs", "pub fn w() { super::sh::s() }\n#[cfg(test)]\n#[allow(unused)]\nmod tests {\n fn t() { crate::enc::build(); let c = '{'; }\n}"),
+        ("enc/sh.rs", "pub fn s() {}"),
+    ];
+    let k = crate_of(&acyclic);
+    assert_eq!(cycles(k.keys().cloned(), &import_edges(&k)), Vec::<Vec<String>>::new());
 }
 
 #[test]
@@ -309,7 +550,7 @@ fn only_encoders_and_claims_name_an_encoder() {
 
 #[test]
 fn only_the_listed_modules_touch_the_disk() {
-    let arch = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("ARCHITECTURE.md")).unwrap();
+    let arch = architecture_md();
     let start = arch
         .find("**Only these modules touch the disk**")
         .expect("ARCHITECTURE.md states which modules touch the disk");
@@ -350,9 +591,23 @@ fn the_checker_reads_paths_modules_and_the_table() {
     assert_eq!(module_of(Path::new("lib.rs")), None);
     assert_eq!(code_of("let a = 1; // crate::x\n/// [`crate::y`]\nb"), "let a = 1; \n\nb");
     let m = vec!["envmap".to_string(), "search".to_string()];
-    assert_eq!(super_paths("use super::load;\nmod tests {\n use super::*;", &m, false), vec![vec!["envmap", "load"]]);
+    assert_eq!(super_paths("use super::load;\nmod tests {\n use super::*;", &m), vec![vec!["envmap", "load"]]);
     let t = layer_table(
-        "x\n## Layers\n\n| layer | what | may use |\n|---|---|---|\n| `a` | a | — |\n| `b` | b | `a` |\n\nafter",
+        "x\n## Layers\n\n| layer | what | may use |\n|---|---|---|\n| `a` | a | — |\n| `b` | b (`main.rs`, `b/x.rs`) | `a` |\n\nafter",
     );
-    assert_eq!(t, vec![("a".into(), BTreeSet::new()), ("b".into(), BTreeSet::from(["a".to_string()]))]);
+    let row = |name: &str, files: &[&str], uses: &[&str]| Layer {
+        name: name.into(),
+        files: files.iter().map(|s| s.to_string()).collect(),
+        uses: uses.iter().map(|s| s.to_string()).collect(),
+    };
+    assert_eq!(t, vec![row("a", &[], &[]), row("b", &["main.rs"], &["a"])]);
+    assert_eq!(layer_of(Path::new("main.rs"), &t), Some("b".into()));
+    assert_eq!(layer_of(Path::new("lib.rs"), &t), None);
+    assert_eq!(layer_of(Path::new("commands/run.rs"), &t), Some("commands".into()));
+    assert_eq!(layer_of(Path::new("cli.rs"), &t), Some("cli".into()));
+    assert!(is_binary_file(Path::new("commands/run.rs"), "mod cli;\nmod commands;\n"));
+    assert!(!is_binary_file(Path::new("pipeline/run.rs"), "mod cli;\nmod commands;\n"));
+    let map = "x\n## Code map\n\n### `math/`\n| file | what |\n|---|---|\n| `sh.rs`, `gram.rs` | x |\n\
+               | `sg/` | `lobes.rs` (x), `mod.rs` |\n\n`api.rs`: y\n\n## Next\n| `z.rs` | no |";
+    assert_eq!(code_map_paths(map), ["math/sh.rs", "math/gram.rs", "math/sg/lobes.rs", "math/sg/mod.rs", "math/sg/"]);
 }

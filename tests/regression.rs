@@ -463,3 +463,54 @@ fn run_check_bless_cycle() {
     assert_eq!(code, Some(0), "{so}");
     assert!(so.contains("NOT checked"), "{so}");
 }
+
+/// A new provenance record is dirty only when a file that can change the numbers differs from
+/// the commit: a change to README.md leaves it clean; a change under `src/` (an untracked file
+/// too) or to the experiment's own file makes it dirty.
+#[test]
+fn provenance_is_dirty_only_for_files_that_change_numbers() {
+    let s = common::harness::Scratch::new();
+    s.write("README.md", "a scratch repository\n");
+    s.write("src/lib.rs", "// the code\n");
+    s.copy_from_repo("tolerances.toml");
+    let exp = s.write("experiments/p.toml", "maps = [\"gen_constant\"]\nencoders = [\"sh1\"]\nresolution = [16, 8]\n");
+    let git = |args: &[&str]| {
+        let o = Command::new("git")
+            .args(["-c", "user.name=probelab", "-c", "user.email=probelab@example.com", "-c", "commit.gpgsign=false"])
+            .arg("-C")
+            .arg(s.path())
+            .args(args)
+            .output()
+            .expect("run git");
+        assert!(o.status.success(), "git {args:?}: {}", String::from_utf8_lossy(&o.stderr));
+    };
+    git(&["init", "-q"]);
+    git(&["add", "-A"]);
+    git(&["commit", "-q", "-m", "scratch"]);
+    let mut n = 0;
+    let mut record = || {
+        n += 1;
+        let out = s.path().join(format!("results{n}"));
+        let r = s
+            .probelab()
+            .env("PROBELAB_ENVMAPS", repo().join("envmaps"))
+            .args(["--no-timing", "run"])
+            .arg(&exp)
+            .arg("--out")
+            .arg(&out)
+            .run();
+        assert!(r.status.success(), "{}", text(&r).1);
+        Provenance::read(&out.join("p").join("provenance.toml")).unwrap().git_dirty
+    };
+    assert_eq!(record(), Some(false), "a clean checkout (the earlier results folders are untracked)");
+    s.write("README.md", "edited\n");
+    assert_eq!(record(), Some(false), "README.md cannot change the numbers");
+    s.write("experiments/p.toml", "maps = [\"gen_constant\"]\nencoders = [\"sh1\"]\nresolution = [16, 8]\n# edited\n");
+    assert_eq!(record(), Some(true), "the experiment's own file changed");
+    git(&["checkout", "-q", "--", "experiments/p.toml"]);
+    s.write("src/new.rs", "// untracked code\n");
+    assert_eq!(record(), Some(true), "an untracked file under src/");
+    std::fs::remove_file(s.path().join("src/new.rs")).unwrap();
+    s.write("Cargo.lock", "# changed\n");
+    assert_eq!(record(), Some(true), "Cargo.lock");
+}

@@ -201,9 +201,15 @@ pub const REGISTRY: &[EncoderKind] = &[
     EncoderKind {
         id: "with_self_bounce",
         summary: "inner encoder + (1 - H) albedo I_z self-bounce",
-        build: self_bounce::build,
+        build: build_self_bounce,
     },
 ];
+
+/// `with_self_bounce`, handed the registry's [`build`] for its inner encoder (the wrapper does
+/// not import the registry that lists it).
+fn build_self_bounce(p: &mut Params) -> Result<Box<dyn Encoder>> {
+    self_bounce::build(p, |kind, settings| Ok(build(kind, None, settings)?.encoder))
+}
 
 /// The ids of every registered encoder, comma-separated (for error messages).
 pub fn known_ids() -> String {

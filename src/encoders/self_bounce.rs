@@ -26,8 +26,13 @@ pub struct WithSelfBounce {
     inner: Box<dyn Encoder>,
 }
 
-/// Builds `with_self_bounce` from its settings.
-pub fn build(p: &mut Params) -> Result<Box<dyn Encoder>> {
+/// Builds an encoder of a kind with its settings: the registry's `build`, handed in by the
+/// registry, so that the wrapper wraps any registered encoder without importing the registry
+/// that lists it.
+pub type BuildInner = fn(&str, toml::Table) -> Result<Box<dyn Encoder>>;
+
+/// Builds `with_self_bounce` from its settings, its inner encoder through `build_inner`.
+pub fn build(p: &mut Params, build_inner: BuildInner) -> Result<Box<dyn Encoder>> {
     let (kind, settings) = match p.value("inner") {
         None => ("sh2".to_string(), toml::Table::new()),
         Some(toml::Value::String(k)) => (k, toml::Table::new()),
@@ -40,7 +45,7 @@ pub fn build(p: &mut Params) -> Result<Box<dyn Encoder>> {
     if kind == "with_self_bounce" {
         bail!("key 'inner': with_self_bounce cannot wrap itself");
     }
-    let inner = super::build(&kind, None, settings)?.encoder;
+    let inner = build_inner(&kind, settings)?;
     p.finish("with_self_bounce")?;
     Ok(Box::new(WithSelfBounce { inner }))
 }

@@ -26,7 +26,8 @@ pub struct Provenance {
     pub probelab_version: String,
     /// `git rev-parse HEAD` at the time of the run, or "unknown" outside a git checkout.
     pub git_commit: String,
-    /// Whether tracked files differed from that commit (uncommitted code produced the numbers).
+    /// Whether a file that can change the numbers differed from that commit ([`NUMBER_INPUTS`]
+    /// and the experiment's file: uncommitted code or settings produced them).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub git_dirty: Option<bool>,
     /// UTC, ISO 8601.
@@ -83,7 +84,7 @@ pub struct MapRecord {
 impl Provenance {
     /// The provenance of `table` (the CSV bytes about to be written) produced by `report`.
     pub fn new(exp: &Experiment, report: &RunReport, table: &[u8], root: &Path) -> Self {
-        let (git_commit, git_dirty) = git_state(root);
+        let (git_commit, git_dirty) = git_state(root, exp.source.as_deref());
         let file = exp.source.as_ref().map(|p| {
             let rel = p.strip_prefix(root).unwrap_or(p);
             rel.to_string_lossy().into_owned()
@@ -169,11 +170,19 @@ impl Provenance {
     }
 }
 
-/// `git rev-parse HEAD` in `root`, and whether tracked files are modified; ("unknown", None)
-/// when git or the repository is not there. Never fails.
-pub fn git_state(root: &Path) -> (String, Option<bool>) {
+/// The files of the repository, besides the experiment's own file, that can change a table's
+/// numbers: the code, the locked dependencies, the build script and the tolerances.
+pub const NUMBER_INPUTS: [&str; 5] = ["src", "Cargo.lock", "Cargo.toml", "build.rs", "tolerances.toml"];
+
+/// `git rev-parse HEAD` in `root`, and whether a file that can change the numbers differs from
+/// it: anything under `src/` (untracked files included), [`NUMBER_INPUTS`], or `experiment`
+/// when it lies in the repository. A change elsewhere (README.md, docs, results) leaves the
+/// record clean. ("unknown", None) when git or the repository is not there. Never fails, and
+/// never takes git's index lock (`--no-optional-locks`), so it cannot disturb a concurrent git.
+pub fn git_state(root: &Path, experiment: Option<&Path>) -> (String, Option<bool>) {
     let git = |args: &[&str]| {
         std::process::Command::new("git")
+            .arg("--no-optional-locks")
             .arg("-C")
             .arg(root)
             .args(args)
@@ -185,7 +194,15 @@ pub fn git_state(root: &Path) -> (String, Option<bool>) {
     };
     match git(&["rev-parse", "HEAD"]) {
         Some(c) if c.len() >= 7 && c.chars().all(|x| x.is_ascii_hexdigit()) => {
-            let dirty = git(&["status", "--porcelain", "--untracked-files=no"]).map(|s| !s.is_empty());
+            // Pathspecs are relative to `root`; an experiment outside it is not the repository's.
+            let exp = experiment.and_then(|p| {
+                let (p, r) = (std::fs::canonicalize(p).ok()?, std::fs::canonicalize(root).ok()?);
+                Some(p.strip_prefix(r).ok()?.to_str()?.to_string())
+            });
+            let mut args = vec!["status", "--porcelain", "--untracked-files=all", "--"];
+            args.extend(NUMBER_INPUTS);
+            args.extend(exp.as_deref());
+            let dirty = git(&args).map(|s| !s.is_empty());
             (c, dirty)
         }
         _ => ("unknown".into(), None),
@@ -233,7 +250,7 @@ mod tests {
     #[test]
     fn git_state_outside_a_repository_is_unknown() {
         let d = tempfile::tempdir().unwrap();
-        assert_eq!(git_state(d.path()), ("unknown".to_string(), None));
+        assert_eq!(git_state(d.path(), None), ("unknown".to_string(), None));
     }
 
     #[test]

@@ -57,7 +57,7 @@ pub type MapsUsed = Vec<(String, String)>;
 pub fn measure(search: &SearchPath) -> Result<(Vec<Measure>, MapsUsed)> {
     let progress = crate::io::progress::Progress::new(8, "claims: ZH3 measurements");
     let grid = cases::grid();
-    let (cases, maps) = cases::probes(search, &grid)?;
+    let (cases, maps) = cases::probes(search, &MAPS, &grid)?;
     progress.inc();
     type Step<'a> = (&'static str, Box<dyn Fn() -> Result<Measure> + 'a>);
     let steps: Vec<Step> = vec![
