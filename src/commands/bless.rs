@@ -3,7 +3,7 @@
 //! exclusive lock. Every write, then every line: a failing stdout never stops a bless between
 //! two baselines.
 
-use super::{writing, Env};
+use super::context::{writing, Env};
 use anyhow::Result;
 use probelab::io::output;
 use std::path::PathBuf;
@@ -34,8 +34,7 @@ pub fn run(a: Args, env: &Env) -> Result<i32> {
         let mut show = |c: &probelab::regression::check::ExperimentCheck| -> Result<()> {
             Ok(output::write(c.report().as_bytes())?)
         };
-        let (c, text) =
-            probelab::regression::check::bless(&env.root, &env.search, &out, (&names, a.force), &mut show)?;
+        let (c, text) = probelab::regression::check::bless(&env.root, &env.search, &out, (&names, a.force), &mut show)?;
         code = c;
         lines += &text;
     }

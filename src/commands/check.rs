@@ -3,8 +3,8 @@
 //! baseline while it is read. Text prints each experiment's report as it comes, then the
 //! verdict; JSON prints one document at the end.
 
+use super::context::{reading, Env};
 use super::terminal::{noteln, outln};
-use super::{reading, Env};
 use anyhow::Result;
 use probelab::io::output;
 use std::path::PathBuf;

@@ -3,8 +3,8 @@
 //! and the blending strips. Takes the results folder's exclusive lock; exit 1 when a
 //! measurement moved.
 
+use super::context::{writing, Env};
 use super::terminal::noteln;
-use super::{writing, Env};
 use anyhow::Result;
 use probelab::io::output;
 use probelab::regression::claims::ClaimsRun;

@@ -1,7 +1,7 @@
 //! `probelab eval`: scores encoders on maps, once, and prints the table (CSV or JSON) on
 //! stdout; nothing is written and no lock is taken. Exit 2 when a map is not found.
 
-use super::{describe_search, Env};
+use super::context::{describe_search, Env};
 use anyhow::{bail, Context, Result};
 use probelab::encoders;
 use probelab::io::output;

@@ -2,7 +2,7 @@
 //! units, roles and basis) and what it was fitted on, as JSON or CSV; everything is checked
 //! before anything is printed. Nothing is written and no lock is taken.
 
-use super::Env;
+use super::context::Env;
 use anyhow::{bail, Context, Result};
 use probelab::api::{Fit, Lighting, Map, Role, Stored, Surface};
 use probelab::encoders;

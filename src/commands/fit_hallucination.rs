@@ -2,7 +2,7 @@
 //! and/or a probe file and prints it beside SH L1 and the paper's curve
 //! (`pipeline::hallucination_fit`). Nothing is written and no lock is taken.
 
-use super::Env;
+use super::context::Env;
 use anyhow::Result;
 use probelab::io::output;
 use std::path::PathBuf;

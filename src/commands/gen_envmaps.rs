@@ -2,7 +2,7 @@
 //! EXR maps, each atomically, under the output folder's exclusive lock; prints each file after
 //! the last write, so a failing stdout never stops the writes half way.
 
-use super::{writing, Env};
+use super::context::{writing, Env};
 use anyhow::{bail, Result};
 use probelab::io::output;
 use std::path::PathBuf;

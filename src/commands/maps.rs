@@ -2,7 +2,7 @@
 //! makes the 256x128 maps of map files as the shared ones were made (`envmap::import`), named
 //! through the known maps, each written atomically under the output folder's exclusive lock.
 
-use super::{describe_search, writing, Env};
+use super::context::{describe_search, writing, Env};
 use anyhow::{bail, Context, Result};
 use probelab::envmap::import::Imported;
 use probelab::envmap::EnvMap;

@@ -1,7 +1,7 @@
 //! The command line, owned by the binary: one file per subcommand, each holding that command's
 //! clap arguments, the lock it takes, what it prints and its exit code, and calling the
-//! library. This file holds the global options, the dispatch, and what every command shares
-//! (the search path, the results folder, the writer's lock); `terminal` holds the streams.
+//! library. This file holds the global options and the dispatch; `context` what every command
+//! shares (the search path, the results folder, the locks); `terminal` the streams and bars.
 //!
 //! Exit codes: 0 done, 1 a check or a baseline guard failed (something moved), 2 an error
 //! (bad input, a file that cannot be read or written), 141 stdout's reader went away.
@@ -12,6 +12,7 @@
 mod bless;
 mod check;
 mod claims;
+mod context;
 mod encoders;
 mod eval;
 mod fit;
@@ -24,14 +25,13 @@ mod report;
 mod reproduce;
 mod run;
 mod sweep;
-pub mod terminal;
+mod terminal;
 
 use anyhow::{bail, Context, Result};
 use clap::{Parser, Subcommand};
+use context::Env;
 use probelab::envmap::search::SearchPath;
-use probelab::io::folder;
-use std::path::{Path, PathBuf};
-use terminal::noteln;
+use std::path::PathBuf;
 
 /// The `probelab` command line (its global options and the command).
 #[derive(Parser, Debug)]
@@ -99,21 +99,6 @@ pub enum Command {
 /// The most worker threads `--jobs` may ask for.
 pub const MAX_JOBS: usize = 1024;
 
-/// What every command is given: the repository root and the map search path.
-pub struct Env {
-    /// `--root`: the folder holding experiments/, results/ and envmaps/.
-    pub root: PathBuf,
-    /// `<root>/envmaps`, then `PROBELAB_ENVMAPS`.
-    pub search: SearchPath,
-}
-
-impl Env {
-    /// The results folder: `out`, or `<root>/results`.
-    pub fn results(&self, out: Option<PathBuf>) -> PathBuf {
-        out.unwrap_or_else(|| self.root.join("results"))
-    }
-}
-
 /// Runs the command line; returns the process exit code.
 pub fn main_with(cli: Cli) -> Result<i32> {
     if let Some(j) = cli.jobs {
@@ -146,50 +131,5 @@ pub fn main_with(cli: Cli) -> Result<i32> {
         Command::Probes(a) => probes::run(a, &env),
         Command::Merge(a) => merge::run(a),
         Command::Sweep(a) => sweep::run(a, &env),
-    }
-}
-
-/// Takes the exclusive lock on an output folder for a writing command (waiting, with a note,
-/// while another probelab command holds it), then removes the temporary files that killed
-/// runs left there, saying so (`io::folder`).
-pub fn writing(out: &Path) -> Result<folder::DirLock> {
-    let lock = folder::lock(out, true, || waiting(out))?;
-    for p in folder::remove_stale(out)? {
-        noteln!("removed {} (left by a killed run whose process is gone)", p.display());
-    }
-    Ok(lock)
-}
-
-/// The shared lock of a command that only reads an output folder (none when it does not
-/// exist yet).
-pub fn reading(out: &Path) -> Result<Option<folder::DirLock>> {
-    if !out.is_dir() {
-        return Ok(None);
-    }
-    Ok(Some(folder::lock(out, false, || waiting(out))?))
-}
-
-fn waiting(out: &Path) {
-    noteln!("waiting for {}: another probelab command is using it", out.display());
-}
-
-/// The search path's folders, each marked `(missing)` when it is not there.
-pub fn describe_search(s: &SearchPath) -> String {
-    s.dirs()
-        .iter()
-        .map(|d| if d.is_dir() { d.display().to_string() } else { format!("{} (missing)", d.display()) })
-        .collect::<Vec<_>>()
-        .join(", ")
-}
-
-/// The exit code of `run`/`reproduce` with the baselines of `refused` not written: 1, with the
-/// advice on stderr, when any was refused.
-pub fn refused_exit(refused: &[String]) -> i32 {
-    match probelab::regression::check::refusal_advice(refused) {
-        Some(advice) => {
-            terminal::note(&advice);
-            1
-        }
-        None => 0,
     }
 }

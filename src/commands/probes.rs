@@ -2,8 +2,8 @@
 //! optionally one shard of it (`pipeline::probeset::job`); prints the summary CSV on stdout and
 //! the run's figures on stderr, and with `--out` writes the mergeable statistics atomically.
 
+use super::context::Env;
 use super::terminal::noteln;
-use super::Env;
 use anyhow::{bail, Result};
 use probelab::io::output;
 use probelab::pipeline::probeset::format::DEFAULT_CHUNK;

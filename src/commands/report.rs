@@ -2,8 +2,8 @@
 //! the folders' pages and `PROVENANCE.md` from the result CSVs (`report::generate`). Takes the
 //! results folder's exclusive lock.
 
+use super::context::{writing, Env};
 use super::terminal::noteln;
-use super::{writing, Env};
 use anyhow::Result;
 use std::path::{Path, PathBuf};
 

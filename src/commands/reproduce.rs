@@ -4,8 +4,8 @@
 //! is skipped and listed. Takes the results folder's exclusive lock; exit 1 when a baseline or
 //! a claims measurement moved.
 
+use super::context::{describe_search, refused_exit, writing, Env};
 use super::terminal::{note, noteln, outln};
-use super::{describe_search, refused_exit, writing, Env};
 use anyhow::Result;
 use probelab::io::output;
 use probelab::io::progress::Progress;

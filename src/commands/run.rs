@@ -2,8 +2,8 @@
 //! exists; a table that exists is a baseline, left unchanged when nothing moved and refused
 //! (exit 1) when something did. Takes the results folder's exclusive lock.
 
+use super::context::{describe_search, refused_exit, writing, Env};
 use super::terminal::{note, noteln};
-use super::{describe_search, refused_exit, writing, Env};
 use anyhow::{bail, Result};
 use probelab::pipeline::experiment::Experiment;
 use probelab::pipeline::runner::{self, RunReport};

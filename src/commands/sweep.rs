@@ -2,8 +2,8 @@
 //! (`experiments/sweeps/*.toml`, `pipeline::sweep`), writing `results/sweeps/<name>.csv`
 //! atomically under the results folder's exclusive lock.
 
+use super::context::{writing, Env};
 use super::terminal::noteln;
-use super::{writing, Env};
 use anyhow::{bail, Result};
 use probelab::pipeline::sweep::{self, Sweep};
 use std::path::PathBuf;

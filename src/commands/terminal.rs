@@ -65,7 +65,9 @@ impl Sink for Bars {
         };
         let bar = self.0.add(ProgressBar::with_draw_target(len, ProgressDrawTarget::hidden()));
         bar.set_style(
-            ProgressStyle::with_template(template).unwrap_or_else(|_| ProgressStyle::default_bar()).progress_chars("=> "),
+            ProgressStyle::with_template(template)
+                .unwrap_or_else(|_| ProgressStyle::default_bar())
+                .progress_chars("=> "),
         );
         bar.set_prefix(what.to_string());
         bar.enable_steady_tick(Duration::from_millis(120));

@@ -152,7 +152,8 @@ fn write_set_failing_after(dir: &Path, files: &[(String, Vec<u8>)], fail_at: Opt
     let backups = Backups::keep(dir, files)?;
     for (i, s) in staged.into_iter().enumerate() {
         let target = dir.join(&files[i].0);
-        let result = if fail_at == Some(i) { Err(std::io::Error::other("injected failure (test)")) } else { s.commit() };
+        let result =
+            if fail_at == Some(i) { Err(std::io::Error::other("injected failure (test)")) } else { s.commit() };
         if let Err(e) = result {
             backups.restore(&files[..i]);
             return Err(e).with_context(|| {

@@ -513,7 +513,11 @@ impl Stored {
         let dir = out.join(&exp.name);
         match self {
             Stored::New => {
-                format!("wrote {} ({rows} rows) and {} (new baseline)\n", dir.join(TABLE).display(), provenance::FILE_NAME)
+                format!(
+                    "wrote {} ({rows} rows) and {} (new baseline)\n",
+                    dir.join(TABLE).display(),
+                    provenance::FILE_NAME
+                )
             }
             Stored::Unchanged(c) => format!(
                 "{}: matches the baseline ({} numbers compared); left unchanged\n",

@@ -38,8 +38,8 @@ pub mod text;
 pub mod tone;
 
 use crate::envmap::search::SearchPath;
-use crate::pipeline::experiment::{list_experiments, Experiment};
 use crate::io::progress::Progress;
+use crate::pipeline::experiment::{list_experiments, Experiment};
 use anyhow::{Context, Result};
 use charts::Outcome;
 use csvfile::CsvTable;
