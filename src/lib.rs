@@ -39,7 +39,6 @@
 
 #![warn(missing_docs)]
 
-#[doc(hidden)]
 pub mod api;
 pub use api::{
     encoder_ids, needs_surface_normal, Entry, Fit, Lighting, Map, Rgb, Role, Score, Stored, Surface, Unit, Value,
@@ -48,21 +47,12 @@ pub use glam::DVec3;
 
 // The internal modules below are reachable for the tests, benches and the binary, but hidden
 // from the documentation: internal, no stability promise.
-#[doc(hidden)]
 pub mod claims;
-#[doc(hidden)]
 pub mod encoders;
-#[doc(hidden)]
 pub mod envmap;
-#[doc(hidden)]
 pub mod io;
-#[doc(hidden)]
 pub mod math;
-#[doc(hidden)]
 pub mod pipeline;
-#[doc(hidden)]
 pub mod reference;
-#[doc(hidden)]
 pub mod regression;
-#[doc(hidden)]
 pub mod report;
