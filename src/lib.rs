@@ -31,11 +31,12 @@
 //!
 //! # Internals
 //!
-//! The command line (`src/cli.rs`) is the binary's, not the library's. The modules `math`, `envmap`, `reference`, `encoders`, `pipeline`, `claims`, `regression`,
-//! `report` and `api` are public for the binary, the tests and the benches, and hidden from
-//! this documentation: internal, with no stability promise. Each folder's `mod.rs` says what
-//! its layer is and what it may use; `ARCHITECTURE.md` holds the table that
-//! `tests/architecture.rs` checks every `use crate::` line against.
+//! The other modules are public for the binary (`src/commands/`, which owns the terminal), the
+//! tests and the benches: internal, with no stability promise, and documented like the surface
+//! (every public item has a doc comment; the lint below refuses one without). The library never
+//! prints: long work reports through [`io::progress`], everything else is returned. The layers,
+//! what each may use, and the module map are in `ARCHITECTURE.md`, which `tests/architecture.rs`
+//! checks against the code.
 
 #![warn(missing_docs)]
 
@@ -45,8 +46,8 @@ pub use api::{
 };
 pub use glam::DVec3;
 
-// The internal modules below are reachable for the tests, benches and the binary, but hidden
-// from the documentation: internal, no stability promise.
+// The internal layers (ARCHITECTURE.md): reachable for the binary, the tests and the benches;
+// no stability promise.
 pub mod claims;
 pub mod encoders;
 pub mod envmap;
