@@ -4,7 +4,6 @@
 //! the encoders by registry name, scored through the pipeline's one scoring step
 //! ([`crate::pipeline::runner::score_fit`]).
 
-use super::MAPS;
 use crate::encoders::encoder::{Encoder, FitInput, Fitted};
 use crate::envmap::moments::RowMoments;
 use crate::envmap::search::SearchPath;
@@ -71,15 +70,15 @@ pub(super) fn probulator(e: &dyn Encoder, case: &Case, grid: &OutputGrid) -> Sco
 /// The maps as cases, and (name, sha256 and reference description) for each.
 pub(super) type Probes = (Vec<Case>, Vec<(String, String)>);
 
-/// Every usable map ([`MAPS`]: the five paper probes, then every map of the search path's
-/// collection that is not degraded) that the search path has, as cases on the grid, with a
-/// description of each map (named, with its sha256; never a machine path). A missing map is
-/// left out and named on stderr: its rows are then absent, and a claim judged on a set that
-/// names it is untestable there.
-pub(super) fn probes(search: &SearchPath, grid: &OutputGrid) -> Result<Probes> {
+/// Every map of `names` (the declared ones, [`super::maps`]: the five paper probes, then every
+/// map of the search path's collection that is not degraded), in order, that the search path
+/// has, as cases on the grid, with a description of each map (named, with its sha256; never a
+/// machine path). A missing map is left out and named on stderr: its rows are then absent, and
+/// a claim judged on a set that names it is untestable there.
+pub(super) fn probes(search: &SearchPath, grid: &OutputGrid, names: &[String]) -> Result<Probes> {
     let mut maps = Vec::new();
     let mut cases = Vec::new();
-    for name in MAPS {
+    for name in names {
         match map_case(search, name, grid) {
             Ok((c, desc)) => {
                 maps.push((name.to_string(), desc));
