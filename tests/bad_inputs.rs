@@ -274,7 +274,7 @@ fn kinds() -> Vec<Kind> {
             make: |p| fs::write(p, b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n").unwrap(),
             fault: &["radiance hdr"],
         },
-        // Issue 17, item 1: chunks that do not store every scanline exactly once. The exr crate
+        // Chunk coverage: chunks that do not store every scanline exactly once. The exr crate
         // places a chunk by the y in it and leaves uncovered rows black; each is refused.
         Kind {
             file: "chunk_offset_duplicated.exr",

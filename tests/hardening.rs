@@ -1,14 +1,15 @@
-//! Issue 17 (hardening), item by item, through the `probelab` binary: each section reproduces
-//! one numbered item (or one of the "small things") as the issue states it, and checks what
-//! the fixed program does instead. Every test here fails on the code before the fixes
-//! (commit c18cedd); each test's doc comment says what the old code did.
+//! Hardening, through the `probelab` binary: each section reproduces one way user input or the
+//! environment broke the program (settings out of range, coarse maps, a hang, a failing
+//! stdout, concurrent writers, the leftovers of killed runs, and the small things) as it was
+//! reported, and checks what the fixed program does instead. Every test here fails on the code
+//! before the fixes (commit c18cedd); each test's doc comment says what the old code did.
 //!
-//! Items whose home is elsewhere:
-//! - item 1 (chunks that do not store every pixel once): `tests/bad_inputs.rs`, the corpus
-//!   files `chunk_*.exr` and `tile_duplicated.exr` through `eval` and `run`;
-//! - item 2 (probe values that overflow, files without probes): `tests/probe_sets.rs`
+//! Failures whose home is elsewhere:
+//! - chunks that do not store every pixel once: `tests/bad_inputs.rs`, the corpus files
+//!   `chunk_*.exr` and `tile_duplicated.exr` through `eval` and `run`;
+//! - probe values that overflow, files without probes: `tests/probe_sets.rs`
 //!   `bad_probe_corpus_fails_cleanly` on the corpus `tests/bad_probes/`;
-//! - item 4 (`merge` of mismatched or corrupt shards): `tests/probe_sets.rs`
+//! - `merge` of mismatched or corrupt shards: `tests/probe_sets.rs`
 //!   `merge_refuses_mismatched_or_corrupt_shards`.
 //!
 //! Each writing command here runs on a scratch repository ([`Scratch`]) whose maps are the
@@ -95,7 +96,7 @@ fn assert_ok(out: &Output, what: &str) -> String {
 
 /// Waits for `child`, killing it and failing the test if it is still running after ten
 /// minutes. Not a speed check (every command here takes well under a second when it works):
-/// it turns a hang, what item 7 was, into a failure instead of a test run that never ends.
+/// it turns a hang, what unbounded golden-section settings once caused, into a failure instead of a test run that never ends.
 fn wait_or_fail_on_hang(mut child: Child, what: &str) -> Output {
     let limit = std::time::Duration::from_secs(600);
     let start = std::time::Instant::now();
@@ -151,14 +152,14 @@ fn pair_is_consistent(out: &Path, name: &str) -> bool {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Item 3: NaN/Inf settings were accepted and written into a baseline.
+// Settings out of range: NaN/Inf settings were accepted and written into a baseline.
 
-/// Issue 17, item 3. Non-finite and absurd settings in an experiment file are refused with
+/// Non-finite and absurd settings in an experiment file are refused with
 /// exit 2 and `FILE:LINE: configuring encoder 'KIND': key 'KEY': expected … RANGE, got VALUE`,
 /// by `run` and by `bless`, and no baseline is written. The old code wrote a baseline for each
 /// (`weights = [nan, …]` gave `nonfinite` cells; the 1e308 curve gave rmse 3.8e291).
 #[test]
-fn item3_nonfinite_settings_are_refused_naming_file_line_key_and_range() {
+fn nonfinite_settings_are_refused_naming_file_line_key_and_range() {
     let cases = [
         ("nan_weights", "{ kind = 'probe_hhd_lum', weights = [nan, 1.0, 1.0] }", "weights", "[0, 1e6]", "[NaN, 1, 1]"),
         ("inf_weights", "{ kind = 'probe_hhd_lum', weights = [inf, 1.0, 1.0] }", "weights", "[0, 1e6]", "[inf, 1, 1]"),
@@ -187,16 +188,16 @@ fn item3_nonfinite_settings_are_refused_naming_file_line_key_and_range() {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Item 5: coarse maps got an inaccurate reference labelled "exact".
+// Coarse maps: they got an inaccurate reference labelled "exact".
 
-/// Issue 17, item 5, through `eval`: on a constant map of radiance 1, E/π is 1 at every
+/// The reference on coarse maps, through `eval`: on a constant map of radiance 1, E/π is 1 at every
 /// normal and SH L0 holds it exactly, so the whole error is the reference's. The old reference
 /// integrated each row's polar extent with two Gauss–Legendre nodes, wrong by 8.7% on a 2×1
 /// map (0.49% at 4×2). On the hemisphere about +X, E/π is (1 + n·X)/2 (the light above the
 /// wall), linear in n, so SH L1 of the visible light holds it exactly too (the cut polar
 /// pieces also meet the hemisphere's boundary).
 #[test]
-fn item5_coarse_maps_get_an_exact_reference() {
+fn coarse_maps_get_an_exact_reference() {
     let dir = tempfile::tempdir().unwrap();
     for (w, h) in [(2, 1), (4, 2), (8, 4)] {
         let path = dir.path().join(format!("constant_{w}x{h}.exr"));
@@ -216,13 +217,13 @@ fn item5_coarse_maps_get_an_exact_reference() {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Item 6: unchecked solver settings panicked (101) or aborted (134).
+// Solver settings: unchecked, they panicked (101) or aborted (134).
 
-/// Issue 17, item 6. `memory = 1e18` made the L-BFGS history allocation panic with "capacity
+/// `memory = 1e18` made the L-BFGS history allocation panic with "capacity
 /// overflow" (exit 101) and `memory = 1e12` abort for lack of memory (exit 134). Both, and the
 /// other solver settings' extremes, are now refused with the key and its range.
 #[test]
-fn item6_solver_settings_out_of_range_exit_2() {
+fn solver_settings_out_of_range_exit_2() {
     let root = root_with(&[]);
     for (name, entry, key, range) in [
         ("memory_1e18", "{ kind = 'zh3_solved_shared', memory = 1000000000000000000 }", "memory", "[1, 64]"),
@@ -240,9 +241,9 @@ fn item6_solver_settings_out_of_range_exit_2() {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Item 7: a hang.
+// Golden-section settings: a hang.
 
-/// Issue 17, item 7. `iterations = 1e18, tolerance_rad = 1e-300` ran forever in the old code:
+/// `iterations = 1e18, tolerance_rad = 1e-300` ran forever in the old code:
 /// the golden-section bracket cannot shrink below one ulp, so the tolerance was never met and
 /// the step count was the user's. The step count is now refused above its bound (200); and the
 /// tolerance alone, at the most steps allowed, no longer matters: the search stops when its
@@ -251,7 +252,7 @@ fn item6_solver_settings_out_of_range_exit_2() {
 /// (30 steps, 1e-6 rad) to 1%. (No timing: that the test ends is the proof; the guard only
 /// turns a hang into a failure.)
 #[test]
-fn item7_golden_section_settings_cannot_hang() {
+fn golden_section_settings_cannot_hang() {
     let root = root_with(&[]);
     let path = root.write(
         "experiments/hang.toml",
@@ -288,7 +289,7 @@ fn spawn(cmd: &mut Command) -> Child {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Item 8: a failing stdout panicked.
+// A failing stdout: it panicked.
 
 /// Every command that prints, with what it needs on the scratch repository `root` (which has a
 /// baseline for `small`, and a saved shard state `shard.toml`).
@@ -316,11 +317,11 @@ fn root_for_printing() -> Scratch {
     root
 }
 
-/// Issue 17, item 8: `probelab encoders > /dev/full` exited 101 (the panic of `println!`).
+/// `probelab encoders > /dev/full` exited 101 (the panic of `println!`).
 /// Every printing command now exits 2 with `error: cannot write to standard output: …`.
 #[cfg(target_os = "linux")]
 #[test]
-fn item8_stdout_to_dev_full_exits_2() {
+fn stdout_to_dev_full_exits_2() {
     let root = root_for_printing();
     for args in printing_commands() {
         let full = std::fs::File::options().write(true).open("/dev/full").expect("/dev/full");
@@ -334,11 +335,11 @@ fn item8_stdout_to_dev_full_exits_2() {
     }
 }
 
-/// Issue 17, item 8: `encoders`, `check`, `bless`, `maps` and `fit-hallucination` into a
+/// `encoders`, `check`, `bless`, `maps` and `fit-hallucination` into a
 /// closed pipe exited 101. Every printing command now ends quietly with 141 (128 + SIGPIPE,
 /// what a shell reports for a process that SIGPIPE ended), with nothing on stderr.
 #[test]
-fn item8_stdout_into_a_closed_pipe_exits_141_quietly() {
+fn stdout_into_a_closed_pipe_exits_141_quietly() {
     let root = root_for_printing();
     for args in printing_commands() {
         let mut cmd = probelab(&root);
@@ -350,7 +351,7 @@ fn item8_stdout_into_a_closed_pipe_exits_141_quietly() {
     }
 }
 
-/// Issue 17, item 8: `bless --force a b c | head -1` exited 101 after rewriting two of the
+/// `bless --force a b c | head -1` exited 101 after rewriting two of the
 /// three baselines (it printed a line after each). A bless now writes every baseline or none,
 /// whatever happens to its stdout, and leaves no temporary file. (Today it prints each
 /// experiment's comparison before its first write and the "wrote" lines after its last, so a
@@ -359,7 +360,7 @@ fn item8_stdout_into_a_closed_pipe_exits_141_quietly() {
 /// shows that the test sees a rewrite: each file replaced by a rename gets a new inode.
 #[cfg(unix)]
 #[test]
-fn item8_bless_into_a_closed_pipe_writes_all_or_none() {
+fn bless_into_a_closed_pipe_writes_all_or_none() {
     let root = root_with(&[("a", SMALL), ("b", SMALL), ("c", SMALL)]);
     assert_ok(&run_experiments(&root, &["a", "b", "c"]), "run a b c");
     let force = ["bless", "--force", "a", "b", "c"];
@@ -427,14 +428,14 @@ fn item8_bless_into_a_closed_pipe_writes_all_or_none() {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Item 9: two bless runs at once.
+// Concurrent writers: two bless runs at once.
 
-/// Issue 17, item 9, deterministically: while another process holds the lock on `results/`,
+/// The lock on `results/`, deterministically: while another process holds the lock on `results/`,
 /// `bless` says it is waiting and writes nothing; once the lock is released it finishes. The
 /// old code took no lock: it wrote at once. (`check` takes the lock shared, so it does not
 /// wait for another `check`, but does for a `bless`.)
 #[test]
-fn item9_a_writing_command_waits_for_the_lock_on_results() {
+fn a_writing_command_waits_for_the_lock_on_results() {
     let root = root_with(&[("small", SMALL)]);
     let results = root.path().join("results");
     std::fs::create_dir_all(&results).unwrap();
@@ -475,7 +476,7 @@ fn item9_a_writing_command_waits_for_the_lock_on_results() {
     assert!(child.wait().unwrap().success());
 }
 
-/// Issue 17, item 9, end to end: two `bless` runs of one experiment name, from two
+/// Concurrent writers, end to end: two `bless` runs of one experiment name, from two
 /// repositories whose experiment files differ (SH L1 in one, SH L2 in the other), into one
 /// results folder, started together, several times. Each time, `table.csv` and
 /// `provenance.toml` come from one run (the provenance's `table_sha256` is the table's), and
@@ -483,7 +484,7 @@ fn item9_a_writing_command_waits_for_the_lock_on_results() {
 /// they do in a given round is a matter of timing, which is why the test above shows the lock
 /// itself.
 #[test]
-fn item9_two_concurrent_blesses_leave_a_consistent_pair() {
+fn two_concurrent_blesses_leave_a_consistent_pair() {
     let sh1 = "maps = ['gen_constant', 'gen_sun_sky']\nencoders = ['sh1']\nresolution = [16, 8]\n";
     let sh2 = "maps = ['gen_constant', 'gen_sun_sky']\nencoders = ['sh2']\nresolution = [16, 8]\n";
     let (one, two) = (root_with(&[("x", sh1)]), root_with(&[("x", sh2)]));
@@ -514,14 +515,14 @@ fn item9_two_concurrent_blesses_leave_a_consistent_pair() {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Item 10: a killed run left hidden temporary files.
+// Leftovers: a killed run left hidden temporary files.
 
-/// Issue 17, item 10: the hidden files a killed run leaves (`.NAME.tmp-PID`,
+/// The hidden files a killed run leaves (`.NAME.tmp-PID`,
 /// `.NAME.tmp-PID-N`, `.NAME.old-PID`) were never removed. The next writing command removes
 /// those whose process is gone, in subfolders too, and names each on stderr; a live process's
 /// temporary file and every other file stay. The old code left them all.
 #[test]
-fn item10_stale_temporaries_are_removed_with_a_note() {
+fn stale_temporaries_are_removed_with_a_note() {
     let root = root_with(&[("small", SMALL)]);
     // A process id that is surely gone: a child that has been waited for.
     let mut child = Command::new("true").spawn().unwrap();

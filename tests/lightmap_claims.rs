@@ -1,10 +1,16 @@
-//! `experiments/lightmap_claims.toml`: H1, H2, H4 and D1 on the generated scenes.
-//! The H2 bound of `scenes::TiltedLight` against quadrature of the closed forms, and the bound
-//! the H2 declaration uses.
+//! The lightmap paper's claims (with the ZH3 measurements `probelab claims` takes beside them):
+//! - `experiments/lightmap_claims.toml`: H1, H2, H4 and D1 on the generated scenes. The H2
+//!   bound of `scenes::TiltedLight` against quadrature of the closed forms, and the bound the H2
+//!   declaration uses.
+//! - The claims measurements end to end: from the shared maps, `probelab claims` writes the
+//!   measurement tables (H5–H7, Z9, Z10 checked here) under `claims/measures/` and the blending
+//!   strips under `claims/`, each value checked against what it must be independently of the
+//!   program. Without the maps it takes no measurement.
 
 mod common;
 
-use common::harness::repo;
+use common::harness::{parse_csv, probelab, repo, Run};
+use common::shared_maps::shared_envmaps;
 use probelab::claims::declaration::{load_papers, Test};
 use probelab::encoders::lightmap::hhd_from_linear_sh;
 use probelab::math::cap::Cap;
@@ -13,6 +19,7 @@ use probelab::reference::domain::Domain;
 use probelab::reference::lighting::{Light, Lighting};
 use probelab::reference::metrics::score;
 use probelab::reference::scenes::{generated, TILTED_LIGHT};
+use std::path::Path;
 
 /// hhd_from_sh1 on gen_tilted_light's closed forms, seen from a floor: the visible linear SH is
 /// the hemisphere light of the ambient plus the whole cap (it lies above the horizon), and the
@@ -61,4 +68,84 @@ fn h2_claim_uses_the_derived_bound() {
     let want = (derived / unit).ceil() * unit;
     assert!((bound - want).abs() < 1e-6 * want, "H2 bound {bound:e}, derived {derived:e} (rounded up: {want:e})");
     assert_eq!(k.maps.as_deref(), Some(&["gen_tilted_light".to_string()][..]));
+}
+
+// ---------------------------------------------------------------------------------------------
+// The claims measurements (`probelab claims`), from the shared maps.
+
+/// The rows of `claims/measures/NAME.csv` under `dir`.
+fn table(dir: &Path, name: &str) -> Vec<std::collections::HashMap<String, String>> {
+    parse_csv(&std::fs::read_to_string(dir.join(format!("claims/measures/{name}.csv"))).unwrap())
+}
+
+fn num(r: &std::collections::HashMap<String, String>, col: &str) -> f64 {
+    r[col].parse().unwrap_or_else(|_| panic!("{col}: {:?}", r[col]))
+}
+
+#[test]
+#[cfg_attr(
+    not(shared_maps),
+    ignore = "needs the paper probes (not CC0, not in the repository): set PROBELAB_ENVMAPS to a folder holding them, see envmaps/README.md"
+)]
+fn claims_write_the_measurement_tables_and_strips() {
+    let papers = load_papers(&repo().join("experiments")).unwrap();
+    let maps = probelab::claims::zh3::maps(&papers).unwrap();
+    let env = shared_envmaps(&maps.iter().map(String::as_str).collect::<Vec<_>>());
+    let dir = tempfile::tempdir().unwrap();
+    let out = probelab().args(["claims", "--out", dir.path().to_str().unwrap()]).env("PROBELAB_ENVMAPS", env).run();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    // Fig. 2: IrradZ is linear (no overshoot); at 60° the renormalised AHD peaks at 1/(2 sin α).
+    let fig2 = table(dir.path(), "fig2");
+    assert!(fig2.iter().filter(|r| r["encoder"] == "irradz").all(|r| num(r, "overshoot") == 0.0));
+    let r = fig2.iter().find(|r| r["case"] == "alpha_60" && r["encoder"] == "ahd_renormalised").unwrap();
+    let a = 60f64.to_radians();
+    assert!((num(r, "overshoot") - (0.5 / a.sin() - a.cos())).abs() < 1e-12);
+    // The blending study: five pairs × six methods, 11 values of t; IrradZ blends I_z linearly,
+    // so I(N) never leaves the interval of its endpoints (luminance is linear too).
+    let blend = table(dir.path(), "blend");
+    assert_eq!(blend.len(), 30);
+    for r in blend.iter().filter(|r| r["encoder"].ends_with("_irradz")) {
+        assert!(num(r, "undershoot_rel") == 0.0 && num(r, "overshoot_rel") < 1e-12, "{r:?}");
+    }
+    assert_eq!(table(dir.path(), "blend_curve").len(), 30 * 11);
+    // The HHD round trip is exact up to rounding.
+    for r in table(dir.path(), "hhd_roundtrip") {
+        assert!(num(&r, "max_error") < 1e-9, "{r:?}");
+    }
+    for pair in ["ennis_to_grace", "uffizi_to_pisa_wall", "grace_light_on", "wells_light_on_wall", "ennis_turned_180"] {
+        assert!(dir.path().join(format!("claims/blend_strip_{pair}.png")).exists(), "{pair}");
+    }
+    let readme = std::fs::read_to_string(dir.path().join("claims/measures/README.md")).unwrap();
+    assert!(readme.contains("`hhd_roundtrip.csv`"), "{readme}");
+    // Z10: per map, the serialised sizes of the talk (13 / 13 / 16 / 28 bytes), each decoding to
+    // exactly what its quantised encoder evaluates.
+    let sizes = table(dir.path(), "quantised_sizes");
+    assert_eq!(sizes.len(), 4 * maps.len());
+    for r in &sizes {
+        let want = match r["encoder"].as_str() {
+            "sh1" | "zh3_hallucinate" => "13",
+            "zh3_solved_shared" => "16",
+            "sh2" => "28",
+            e => panic!("unexpected encoder {e}"),
+        };
+        assert_eq!((r["bytes"].as_str(), r["roundtrip_max_abs"].as_str()), (want, "0"), "{r:?}");
+    }
+    // Z9: the blend's own zonal coefficient is ¼ of an endpoint's (P₂(cos 45°)).
+    let blend = table(dir.path(), "zh3_blend");
+    let own = blend.iter().find(|r| r["case"] == "deltas_x_y" && r["encoder"] == "sh3_blended").unwrap();
+    assert!((num(own, "zonal_scale") - 0.25).abs() < 1e-12, "{own:?}");
+}
+
+/// Without the maps, `claims` takes no measurement and says so; it writes no measurement table
+/// (the committed ones would be judged as they stand).
+#[test]
+fn claims_without_the_maps_take_no_measurement() {
+    let empty = tempfile::tempdir().unwrap();
+    let out = probelab()
+        .args(["--root", env!("CARGO_MANIFEST_DIR"), "claims", "--out", empty.path().to_str().unwrap()])
+        .env_remove("PROBELAB_ENVMAPS")
+        .run();
+    assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(String::from_utf8_lossy(&out.stdout).contains("measurements not taken"));
+    assert!(!empty.path().join("claims/measures").exists());
 }

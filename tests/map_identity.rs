@@ -57,7 +57,7 @@ fn peer_hdr_files_have_the_pixels_of_our_exr_copies() {
     }
 }
 
-/// The acceptance of issue 18: with only the peer's folder on the search path, `check` of the
+/// Maps read from the peer's `.hdr` files: with only the peer's folder on the search path, `check` of the
 /// two experiments that use exactly the five probes passes, reading every map from a `.hdr`.
 #[test]
 #[cfg_attr(not(shared_maps), ignore = "needs PROBELAB_ENVMAPS with the paper probes (Probulator's Data/Probes/*.hdr)")]
@@ -142,7 +142,7 @@ fn import_remakes_the_shared_256x128_maps() {
 
 /// Every map an experiment or a claims map set names is committed in `envmaps/` or is one of
 /// the peer's five probes, so that `check --all` can pass on a clone plus Probulator's
-/// `Data/Probes` alone (issue 18). Runs everywhere: it reads only the committed files.
+/// `Data/Probes` alone. Runs everywhere: it reads only the committed files.
 #[test]
 fn every_experiment_map_is_committed_or_in_the_peer_folder() {
     let root = repo();

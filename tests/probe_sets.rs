@@ -149,7 +149,7 @@ fn docs_gnu_parallel_recipe() {
 
 /// The bad-probe corpus `tests/bad_probes/`: one small file per kind of bad probe file, written
 /// by [`probe_kinds`] (regenerate with `PROBELAB_REGEN_BAD_INPUTS=1 cargo test --test
-/// probe_sets`). Each is issue 17, item 2, or a member of its class: values that would overflow
+/// probe_sets`). Each is a probe file that broke the scoring, or a member of its class: values that would overflow
 /// the scoring (refused with the line or probe index and field), and files without a single
 /// probe (refused, where they used to print `rmse_mean 0` and exit 0).
 fn probe_kinds() -> Vec<(&'static str, Vec<u8>, &'static [&'static str])> {
@@ -246,7 +246,7 @@ fn edge_of_the_range_and_empty_shards() {
     }
 }
 
-/// Issue 17, item 4: `merge` refuses shards of different sets, repeated shards, counts that
+/// Merging shards: `merge` refuses shards of different sets, repeated shards, counts that
 /// overflow or do not add up, and corrupt exact-sum digits; each names the file.
 #[test]
 fn merge_refuses_mismatched_or_corrupt_shards() {

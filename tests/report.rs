@@ -111,6 +111,9 @@ fn report_on_a_scratch_repository() {
     let root = scratch.path();
     let rs = root.to_str().unwrap();
     stderr_ok(&probelab(&scratch, &["gen-envmaps", "--width", "32"]));
+    // The paper sections' plans, without the claims declarations: the sections take the plans'
+    // titles.
+    scratch.copy_from_repo("experiments/report/papers.toml");
     write(
         &root.join("experiments/a_sphere.toml"),
         "description = \"sphere\"\nmaps = [\"gen_sun_sky\", \"gen_constant\"]\nencoders = [\"sh0\", \"sh1\", \"sh2\"]\n\

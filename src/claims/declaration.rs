@@ -9,6 +9,7 @@
 //! | `title`, `authors`, `venue` | string | the paper, as cited in the report |
 //! | `order`          | integer | the paper's place in the report (ZH3 talk 1, hemispherical talk 2, 2018 brief 3) |
 //! | `[map_sets]`     | table of string lists | named map sets a check may be judged on besides `all` (e.g. `paper` = the five paper probes) |
+//! | `[measurements]` | table  | optional: `maps` = the maps the paper's claims measurements run on, in the order of their tables' rows (non-empty, each once) |
 //! | `[[claim]]`      | tables | the claims, in report order |
 //!
 //! | key (`[[claim]]`) | type | meaning |
@@ -62,6 +63,9 @@ pub struct Paper {
     pub order: i64,
     /// Named map sets (besides `all`).
     pub map_sets: BTreeMap<String, Vec<String>>,
+    /// The maps the paper's claims measurements run on, in order (`[measurements] maps`; empty
+    /// when the file declares none).
+    pub measurement_maps: Vec<String>,
     pub claims: Vec<ClaimDecl>,
 }
 
@@ -162,8 +166,15 @@ struct PaperFile {
     order: i64,
     #[serde(default)]
     map_sets: BTreeMap<String, Vec<String>>,
+    measurements: Option<MeasurementsFile>,
     #[serde(default)]
     claim: Vec<ClaimFile>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct MeasurementsFile {
+    maps: Vec<String>,
 }
 
 #[derive(Deserialize)]
@@ -371,6 +382,14 @@ impl CheckFile {
 pub fn parse(key: &str, text: &str, origin: &Path) -> Result<Paper> {
     let f: PaperFile =
         toml::from_str(text).with_context(|| format!("{}: not a claims declaration", origin.display()))?;
+    let declared = f.measurements.is_some();
+    let measurement_maps = f.measurements.map(|m| m.maps).unwrap_or_default();
+    if declared && measurement_maps.is_empty() {
+        bail!("{}: [measurements] maps = [] names no map", origin.display());
+    }
+    if let Some(m) = measurement_maps.iter().enumerate().find(|(i, m)| measurement_maps[..*i].contains(m)) {
+        bail!("{}: [measurements] maps: '{}' appears twice", origin.display(), m.1);
+    }
     let mut claims = Vec::new();
     for c in f.claim {
         let id = c.id.clone();
@@ -411,6 +430,7 @@ pub fn parse(key: &str, text: &str, origin: &Path) -> Result<Paper> {
         venue: f.venue,
         order: f.order,
         map_sets: f.map_sets,
+        measurement_maps,
         claims,
     })
 }
@@ -508,5 +528,25 @@ mod tests {
              criterion='c'\n{base}test='every_at_most'\nbound=1"
         );
         assert!(format!("{:#}", parse("t", &text, Path::new("t.toml")).unwrap_err()).contains("'says' has"));
+    }
+
+    #[test]
+    fn measurement_maps_keep_their_order_and_are_checked() {
+        let with = |maps: &str| {
+            let text = format!(
+                "title='T'\nauthors='A'\nvenue='V'\norder=1\n[measurements]\n{maps}\n[[claim]]\nid='X1'\nsays='s'\n\
+                 paper_figure='p'\ncriterion='c'\n[[claim.check]]\nname='n'\ntable='e'\nencoder='a'\n\
+                 test='every_at_most'\nbound=1"
+            );
+            parse("t", &text, Path::new("t.toml"))
+        };
+        assert_eq!(with("maps = ['m2', 'm1', 'm3']").unwrap().measurement_maps, ["m2", "m1", "m3"]);
+        assert!(paper("[[claim.check]]\nname='n'\ntable='e'\nencoder='a'\ntest='every_at_most'\nbound=1")
+            .unwrap()
+            .measurement_maps
+            .is_empty());
+        assert!(format!("{:#}", with("maps = []").unwrap_err()).contains("names no map"));
+        assert!(format!("{:#}", with("maps = ['m1', 'm2', 'm1']").unwrap_err()).contains("'m1' appears twice"));
+        assert!(with("maps = ['m1']\nsets = 2").is_err());
     }
 }

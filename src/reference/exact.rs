@@ -529,7 +529,7 @@ mod tests {
         assert!(worst(256, DEFAULT_POLAR_NODES) < 1e-6);
     }
 
-    /// Issue 17, item 5: "exact" holds to its stated 1e-6 on every accepted map size, the
+    /// The reference on coarse maps: "exact" holds to its stated 1e-6 on every accepted map size, the
     /// coarsest included (a 2×1 map's one row gave E/π 9% off before rows were cut into pieces
     /// of at most π/128). Expected values are closed forms: 1 for a constant map; with the
     /// hemisphere cap about N, (1 + n·N)/2 (the cosine lobe's visible fraction); and for a map

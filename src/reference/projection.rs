@@ -284,7 +284,7 @@ mod tests {
         assert!(max_diff(&got, &want) < 0.5, "sanity");
     }
 
-    /// Issue 17, item 5, for the masked projection: a constant map's projection under the
+    /// The reference on coarse maps, for the masked projection: a constant map's projection under the
     /// hemisphere about a tilted axis has c₀ = √π (Y₀₀ = 1/(2√π) over 2π sr) to 1e-6 at every
     /// map size, the 2×1 map included, since rows are cut into pieces of at most π/128. Every
     /// coefficient equals the 256×128 map's (the same integral) to 1e-4: near the latitudes

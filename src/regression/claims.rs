@@ -6,8 +6,8 @@
 //! the evidence as it stands in `results/`, and `check` fails if a verdict differs from the
 //! committed one.
 //!
-//! The measurements need every map they name ([`crate::claims::zh3::MAPS`] and the lightmap
-//! study's). Without them the committed measurement tables are judged as they stand, and the
+//! The measurements need every map they name (the ZH3 talk's declared `[measurements] maps`,
+//! [`crate::claims::zh3::maps`], and the lightmap study's). Without them the committed measurement tables are judged as they stand, and the
 //! command says so; nothing is rewritten from partial data.
 
 use crate::claims::declaration::{load_papers, Paper};
@@ -21,17 +21,18 @@ use anyhow::Result;
 use std::path::Path;
 
 /// The fresh measurements and the blending strips (as data), or why they were not taken (a
-/// map is missing).
-pub fn measure(search: &SearchPath) -> std::result::Result<(Vec<Measure>, Vec<BlendStrip>), String> {
-    let missing: Vec<&str> = crate::claims::zh3::MAPS
+/// map is missing, or the declarations `papers` name none for the ZH3 measurements).
+pub fn measure(search: &SearchPath, papers: &[Paper]) -> std::result::Result<(Vec<Measure>, Vec<BlendStrip>), String> {
+    let maps = crate::claims::zh3::maps(papers).map_err(|e| format!("{e:#}"))?;
+    let missing: Vec<&str> = maps
         .iter()
-        .copied()
+        .map(String::as_str)
         .filter(|m| matches!(search.open(m), Err(crate::envmap::search::OpenError::NotFound(_))))
         .collect();
     if !missing.is_empty() {
         return Err(format!("map(s) not on the search path: {}", missing.join(", ")));
     }
-    let (mut all, _) = crate::claims::zh3::measure(search).map_err(|e| format!("{e:#}"))?;
+    let (mut all, _) = crate::claims::zh3::measure(search, maps).map_err(|e| format!("{e:#}"))?;
     let study = crate::claims::lightmap::measure(search).map_err(|e| format!("{e:#}"))?;
     all.extend(study.measures);
     Ok((all, study.strips))
@@ -86,7 +87,7 @@ pub fn run(root: &Path, search: &SearchPath, results: &Path, bless: bool, write_
         return Ok(run);
     }
     let tolerances = Tolerances::load(root)?;
-    match measure(search) {
+    match measure(search, &papers) {
         Err(why) => run.skipped = Some(why),
         Ok((ms, strips)) => {
             run.strips = strips;

@@ -40,7 +40,7 @@ pub mod tone;
 use crate::envmap::search::SearchPath;
 use crate::io::progress::Progress;
 use crate::pipeline::experiment::{list_experiments, Experiment};
-use anyhow::{Context, Result};
+use anyhow::{bail, Context, Result};
 use charts::Outcome;
 use csvfile::CsvTable;
 use markdown::{anchor, href};
@@ -105,12 +105,11 @@ fn files(dir: &Path) -> Vec<String> {
     v
 }
 
-/// Writes the report; see the module doc.
-pub fn generate(opts: &Options) -> Result<Generated> {
-    let out = opts.out;
-    std::fs::create_dir_all(out).with_context(|| format!("{}: cannot create folder", out.display()))?;
+/// The report's sections: every experiment of `root/experiments/`, then every other folder of
+/// `out` that holds a CSV or a picture, by name.
+fn sections(root: &Path, out: &Path) -> Result<Vec<Section>> {
     let mut sections = Vec::new();
-    for path in list_experiments(&opts.root.join("experiments"))? {
+    for path in list_experiments(&root.join("experiments"))? {
         let exp = Experiment::load(&path)?;
         let text = std::fs::read_to_string(&path).with_context(|| format!("{}: cannot read", path.display()))?;
         sections.push(Section {
@@ -133,6 +132,14 @@ pub fn generate(opts: &Options) -> Result<Generated> {
             sections.push(Section { name, exp: None, source_text: None, source_file: None });
         }
     }
+    Ok(sections)
+}
+
+/// Writes the report; see the module doc.
+pub fn generate(opts: &Options) -> Result<Generated> {
+    let out = opts.out;
+    std::fs::create_dir_all(out).with_context(|| format!("{}: cannot create folder", out.display()))?;
+    let sections = sections(opts.root, out)?;
 
     // Maps: resolve and checksum every map an experiment names.
     let mut maps: BTreeMap<String, Option<MapUse>> = BTreeMap::new();
@@ -204,27 +211,44 @@ pub fn generate(opts: &Options) -> Result<Generated> {
         pages.push(Page { name: s.name.clone(), description: s.exp.as_ref().map(|e| e.description.clone()), has_page });
     }
 
-    // The claims: declarations (experiments/claims/) and the engine's CLAIMS.csv.
+    let doc = report_md(opts, &sections, &maps, &pages)?;
+    let report = out.join("REPORT.md");
+    crate::io::atomic::write(&report, doc.as_bytes())?;
+    crate::io::atomic::write(&out.join(PROVENANCE_PAGE), provenance(opts, &sections, &maps, out)?.as_bytes())?;
+    Ok(Generated { report, pictures, kept })
+}
+
+/// REPORT.md's text: the opening, the claims at a glance, one section per paper and the other
+/// results. Reads the claims declarations (`experiments/claims/`), the paper sections' plans
+/// ([`papers::PLAN_FILE`]) and the engine's CLAIMS.csv.
+fn report_md(
+    opts: &Options,
+    sections: &[Section],
+    maps: &BTreeMap<String, Option<MapUse>>,
+    pages: &[Page],
+) -> Result<String> {
+    let out = opts.out;
     let decl_dir = opts.root.join("experiments").join(crate::claims::declaration::DIR);
     let papers = if decl_dir.is_dir() {
         crate::claims::declaration::load_papers(&opts.root.join("experiments"))?
     } else {
         Vec::new()
     };
+    // The paper sections' plans; none when the file is absent (a section per declared paper only).
+    let plan_file = opts.root.join("experiments").join(papers::PLAN_FILE);
+    let plans = match std::fs::read_to_string(&plan_file) {
+        Ok(text) => papers::parse_plans(&text, &plan_file)?,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Vec::new(),
+        Err(e) => bail!("{}: cannot read: {e}", plan_file.display()),
+    };
     let claims_csv = out.join(CLAIMS_CSV);
     let claims = if claims_csv.is_file() { Some(CsvTable::read(&claims_csv)?) } else { None };
-
-    let mut doc = opening(&sections, &maps, out, &papers)?;
+    let mut doc = opening(sections, maps, out, &papers, &plans)?;
     doc.push_str(&papers::at_a_glance(&papers, claims.as_ref())?);
-    doc.push_str(&paper_sections(out, &papers, &pages)?);
-    doc.push_str(&other_results(
-        &pages,
-        &papers::PLANS.iter().flat_map(|p| p.pages.iter().copied()).collect::<Vec<_>>(),
-    ));
-    let report = out.join("REPORT.md");
-    crate::io::atomic::write(&report, doc.as_bytes())?;
-    crate::io::atomic::write(&out.join(PROVENANCE_PAGE), provenance(opts, &sections, &maps, out)?.as_bytes())?;
-    Ok(Generated { report, pictures, kept })
+    doc.push_str(&paper_sections(out, &papers, &plans, pages)?);
+    let planned: Vec<&str> = plans.iter().flat_map(|p| p.pages.iter().map(String::as_str)).collect();
+    doc.push_str(&other_results(pages, &planned));
+    Ok(doc)
 }
 
 /// A result folder's page, `results/<name>/README.md`.
@@ -250,6 +274,7 @@ fn opening(
     maps: &BTreeMap<String, Option<MapUse>>,
     out: &Path,
     papers: &[crate::claims::declaration::Paper],
+    plans: &[papers::PaperPlan],
 ) -> Result<String> {
     let mut commits: Vec<String> = Vec::new();
     let mut dates: Vec<String> = Vec::new();
@@ -299,16 +324,17 @@ fn opening(
         maps.len(),
         if papers.is_empty() {
             format!(
-                " No claims declarations (`experiments/{}/`) in this checkout: the papers' sections use their \
-                 built-in titles.",
-                crate::claims::declaration::DIR
+                " No claims declarations (`experiments/{}/`) in this checkout: the papers' sections use the \
+                 titles of `experiments/{}`.",
+                crate::claims::declaration::DIR,
+                papers::PLAN_FILE
             )
         } else {
             String::new()
         }
     );
     let mut toc = vec!["[Reproduction at a glance](#reproduction-at-a-glance)".to_string()];
-    for (title, _) in paper_titles(papers) {
+    for (title, _) in papers::section_titles(papers, plans) {
         toc.push(format!("[{title}](#{})", anchor(&title)));
     }
     toc.push("[Other results](#other-results)".into());
@@ -316,25 +342,13 @@ fn opening(
     Ok(md)
 }
 
-/// The papers' section titles, in report order: declared papers by `order`, then any plan
-/// without a declaration. Each with its plan, when the report has one.
-fn paper_titles(papers: &[crate::claims::declaration::Paper]) -> Vec<(String, Option<&'static papers::PaperPlan>)> {
-    let mut sorted: Vec<&crate::claims::declaration::Paper> = papers.iter().collect();
-    sorted.sort_by_key(|p| (p.order, p.key.clone()));
-    let mut out: Vec<(String, Option<&papers::PaperPlan>)> = Vec::new();
-    for p in sorted {
-        out.push((p.title.clone(), papers::PLANS.iter().find(|pl| pl.key == p.key)));
-    }
-    for pl in papers::PLANS {
-        if !papers.iter().any(|p| p.key == pl.key) {
-            out.push((pl.title.to_string(), Some(pl)));
-        }
-    }
-    out
-}
-
 /// One section per paper: its claims' ids, the paper's figures reproduced, and its pages.
-fn paper_sections(out: &Path, decls: &[crate::claims::declaration::Paper], pages: &[Page]) -> Result<String> {
+fn paper_sections(
+    out: &Path,
+    decls: &[crate::claims::declaration::Paper],
+    plans: &[papers::PaperPlan],
+    pages: &[Page],
+) -> Result<String> {
     let evidence = |key: &str| {
         let f = format!("claims/{key}.md");
         if out.join(&f).is_file() {
@@ -344,7 +358,7 @@ fn paper_sections(out: &Path, decls: &[crate::claims::declaration::Paper], pages
         }
     };
     let mut md = String::new();
-    for (title, plan) in paper_titles(decls) {
+    for (title, plan) in papers::section_titles(decls, plans) {
         let _ = writeln!(md, "## {title}\n");
         let decl = decls.iter().find(|p| p.title == title);
         if let Some(p) = decl {
@@ -359,7 +373,7 @@ fn paper_sections(out: &Path, decls: &[crate::claims::declaration::Paper], pages
             );
         }
         let Some(plan) = plan else { continue };
-        for f in plan.figures {
+        for f in &plan.figures {
             md.push_str(&figure(out, f)?);
         }
         let links: Vec<String> = plan

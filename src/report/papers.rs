@@ -3,8 +3,12 @@
 //! paper — the paper's own table or figure reproduced from the result CSVs, the sheets that
 //! matter, what accuracy costs, and links to the per-experiment pages (`results/<name>/README.md`).
 //!
-//! Everything here is handed data (tables, declarations) and returns Markdown; `report` (mod.rs)
-//! reads the files. No encoder is named: tables are pivoted over whatever encoders they hold.
+//! Which result folders and figures belong to which paper section is data: the plans of
+//! `experiments/report/papers.toml` ([`PLAN_FILE`], parsed by [`parse_plans`]).
+//!
+//! Everything here is handed data (tables, declarations, the plan file's text) and returns
+//! Markdown or plans; `report` (mod.rs) reads the files. No encoder is named: tables are
+//! pivoted over whatever encoders they hold.
 //!
 //! `CLAIMS.csv` (written by the claims engine, `claims::verdicts`): columns
 //! `id,verdict,paper_figure,our_figure,criterion,maps,detail`, `verdict` one of
@@ -14,8 +18,10 @@ use super::csvfile::CsvTable;
 use super::markdown::{href, table_with, text_cell};
 use super::number::sig;
 use crate::claims::declaration::Paper;
-use anyhow::{bail, Result};
+use anyhow::{bail, Context, Result};
+use serde::Deserialize;
 use std::fmt::Write as _;
+use std::path::Path;
 
 /// The longest cell of the at-a-glance table, in characters (longer text is cut at a word
 /// and ends in "…"; the full text is one click away in the claim's detail).
@@ -28,131 +34,93 @@ pub const CLAIMS_CSV_COLUMNS: [&str; 7] =
 /// The verdicts a claim can get.
 pub const VERDICTS: [&str; 4] = ["holds", "partly", "fails", "untestable"];
 
+/// Where the paper sections' plans are declared, relative to `experiments/` (a subfolder, so
+/// that no experiment listing takes it for an experiment).
+pub const PLAN_FILE: &str = "report/papers.toml";
+
 /// What the report shows of one paper, besides its declaration: the result folders that
 /// belong to it (their pages are linked, in this order) and the figures reproduced inline.
-/// The title is used only when the paper has no declaration file.
+/// The title is used only when the paper has no declaration file. Declared in
+/// [`PLAN_FILE`] (one `[[section]]` each), read by [`parse_plans`].
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct PaperPlan {
-    pub key: &'static str,
-    pub title: &'static str,
-    pub pages: &'static [&'static str],
-    pub figures: &'static [Figure],
+    /// The paper: its declaration's file stem (`experiments/claims/<key>.toml`), or a section
+    /// without claims.
+    pub key: String,
+    /// The section's title when no declaration of `key` exists.
+    pub title: String,
+    /// The result folders of the section, in link order.
+    #[serde(default)]
+    pub pages: Vec<String>,
+    /// The figures reproduced inline, in order (`[[section.figure]]`).
+    #[serde(default, rename = "figure")]
+    pub figures: Vec<Figure>,
 }
 
-/// A figure of a paper section, read from a result folder.
+/// A figure of a paper section, read from a result folder (`kind` in the plan file).
+#[derive(Debug, Deserialize, PartialEq)]
+#[serde(tag = "kind", rename_all = "lowercase", deny_unknown_fields)]
 pub enum Figure {
     /// The folder's `table.csv` as a map × encoder rmse pivot per metric (`markdown::pivot`).
-    Pivot { folder: &'static str, caption: &'static str },
+    Pivot { folder: String, caption: String },
     /// The folder's `summary.csv`: every encoder's ratio to the baseline, over all maps, per
     /// effects and orientation set ([`ratio_pivot`]).
-    Ratios { folder: &'static str, caption: &'static str },
+    Ratios { folder: String, caption: String },
     /// A small CSV of the folder, shown whole.
-    Csv { folder: &'static str, file: &'static str, caption: &'static str },
+    Csv { folder: String, file: String, caption: String },
     /// A picture of the folder, inline.
-    Picture { folder: &'static str, file: &'static str, caption: &'static str },
+    Picture { folder: String, file: String, caption: String },
     /// The folder's error-against-cost charts (stored scalars, bytes, eval time), inline.
-    Costs { folder: &'static str },
+    Costs { folder: String },
 }
 
-/// The three papers, in the report's order when no declaration gives one, then the landscape of
-/// every encoding (a section without claims).
-pub const PLANS: &[PaperPlan] = &[
-    PaperPlan {
-        key: "zh3",
-        title: "ZH3: Quadratic Zonal Harmonics (I3D 2024 talk)",
-        pages: &["zh3_table", "sh_baseline"],
-        figures: &[
-            Figure::Pivot {
-                folder: "zh3_table",
-                caption: "The talk's comparison (linear SH, stored and hallucinated ZH3, quadratic SH on a few maps), \
-                          whole sphere, every ZH3 variant; `probulator` is the talk's own metric, `exact` ours.",
-            },
-            Figure::Costs { folder: "zh3_table" },
-            Figure::Picture {
-                folder: "zh3_table",
-                file: "sheet_grace_256x128.png",
-                caption: "Grace: the talk says ZH3 comes very close to SH3 here.",
-            },
-        ],
-    },
-    PaperPlan {
-        key: "hemi",
-        title: "Hemispherical Lighting Insights (SIGGRAPH 2024 Advances talk)",
-        pages: &[
-            "lightmap_table",
-            "lightmap_search2d",
-            "lightmap_self_bounce",
-            "lightmap_claims",
-            "probe_occlusion",
-            "generated_probe_occlusion",
-            "cone_ao",
-        ],
-        figures: &[
-            Figure::Ratios {
-                folder: "lightmap_table",
-                caption: "Lightmap encodings (AHD/HHD, linear or searched direction, spherical or hemispherical \
-                          Gram; H3, H4) on every real map, error over the hemisphere about N.",
-            },
-            Figure::Ratios {
-                folder: "probe_occlusion",
-                caption: "Hemispherical occlusion of SH probes (H8) on every real map.",
-            },
-            Figure::Ratios {
-                folder: "cone_ao",
-                caption: "The cone multiply against AO (H9), per cone (cos α, tilt of the cone from N).",
-            },
-            Figure::Costs { folder: "lightmap_table" },
-            Figure::Picture {
-                folder: "lightmap_table",
-                file: "sheet_ennis_256x128.png",
-                caption: "Ennis, floor (N = +y): each lightmap encoding against the exact reference.",
-            },
-        ],
-    },
-    PaperPlan {
-        key: "brief2018",
-        title: "Directional Lightmap Encoding Insights (SIGGRAPH Asia 2018 brief)",
-        pages: &["lightmap_claims", "lightmap_table"],
-        figures: &[
-            Figure::Csv {
-                folder: "claims/measures",
-                file: "fig2.csv",
-                caption: "Fig. 2 in closed form: blending two AHD texels whose directions are α apart, per \
-                          direction-blend rule — where E(N) peaks, by how much it overshoots, and AHD over IrradZ at \
-                          t = ½.",
-            },
-            Figure::Picture {
-                folder: "claims",
-                file: "blend_strip_grace_light_on.png",
-                caption: "Blending a light on (grace): parameter blends against the blended reference.",
-            },
-        ],
-    },
-    PaperPlan {
-        key: "landscape",
-        title: "The landscape: every encoding by what it stores",
-        pages: &["landscape", "landscape_hemi", "probulator_parity"],
-        figures: &[
-            Figure::Costs { folder: "landscape" },
-            Figure::Ratios {
-                folder: "landscape",
-                caption: "Every probe encoding (the papers' and the peer tool's) on every usable real map, whole \
-                          sphere: its error as a ratio to SH L1's.",
-            },
-            Figure::Costs { folder: "landscape_hemi" },
-            Figure::Ratios {
-                folder: "landscape_hemi",
-                caption: "Every encoding on the hemisphere about N (lightmap use: H-basis, AHD, HHD and SH at their \
-                          real storage), the light above the surface only, on every usable real map, six normals.",
-            },
-            Figure::Pivot {
-                folder: "probulator_parity",
-                caption: "Parity with the peer tool (Probulator): every encoding it has, on the five paper probes, \
-                          scored with its metric against our exact reference; its own figures are in \
-                          docs/peer_encodings.md.",
-            },
-        ],
-    },
-];
+/// The plan file as written.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct PlanFile {
+    #[serde(default)]
+    section: Vec<PaperPlan>,
+}
+
+/// Parses the paper sections' plans ([`PLAN_FILE`]'s text; `origin` names it in errors), in
+/// the file's order: the report's order for sections that no declaration orders. Keys are
+/// unique and every folder and file stays inside `results/`.
+pub fn parse_plans(text: &str, origin: &Path) -> Result<Vec<PaperPlan>> {
+    let f: PlanFile = toml::from_str(text).with_context(|| format!("{}: not a report plan", origin.display()))?;
+    for (i, p) in f.section.iter().enumerate() {
+        if p.key.is_empty() || f.section[..i].iter().any(|q| q.key == p.key) {
+            bail!("{}: section key '{}' is empty or declared twice", origin.display(), p.key);
+        }
+        let files = p.figures.iter().flat_map(|g| match g {
+            Figure::Csv { folder, file, .. } | Figure::Picture { folder, file, .. } => vec![folder, file],
+            Figure::Pivot { folder, .. } | Figure::Ratios { folder, .. } | Figure::Costs { folder } => vec![folder],
+        });
+        for f in p.pages.iter().chain(files) {
+            if relative_link(f) != Some(f.as_str()) {
+                bail!("{}: section '{}': '{f}' is not a path inside results/", origin.display(), p.key);
+            }
+        }
+    }
+    Ok(f.section)
+}
+
+/// The papers' section titles, in report order: declared papers by `order`, then any plan
+/// without a declaration, in the plans' order. Each with its plan, when the report has one.
+pub fn section_titles<'a>(papers: &[Paper], plans: &'a [PaperPlan]) -> Vec<(String, Option<&'a PaperPlan>)> {
+    let mut sorted: Vec<&Paper> = papers.iter().collect();
+    sorted.sort_by_key(|p| (p.order, p.key.clone()));
+    let mut out: Vec<(String, Option<&PaperPlan>)> = Vec::new();
+    for p in sorted {
+        out.push((p.title.clone(), plans.iter().find(|pl| pl.key == p.key)));
+    }
+    for pl in plans {
+        if !papers.iter().any(|p| p.key == pl.key) {
+            out.push((pl.title.clone(), Some(pl)));
+        }
+    }
+    out
+}
 
 /// `s` cut to at most `max` characters, at a word boundary where there is one, ending in "…".
 pub fn shorten(s: &str, max: usize) -> String {
@@ -346,10 +314,37 @@ pub fn whole_csv(t: &CsvTable) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use std::path::Path;
 
     fn csv(s: &str) -> CsvTable {
         CsvTable::parse(Path::new("s.csv"), s.as_bytes()).unwrap()
+    }
+
+    #[test]
+    fn plans_parse_in_order_and_stay_inside_results() {
+        let text = "[[section]]\nkey = 'b'\ntitle = 'B'\npages = ['x', 'y']\n\
+                    [[section.figure]]\nkind = 'picture'\nfolder = 'x'\nfile = 'p.png'\ncaption = 'c'\n\
+                    [[section.figure]]\nkind = 'costs'\nfolder = 'y'\n\
+                    [[section]]\nkey = 'a'\ntitle = 'A'\n";
+        let plans = parse_plans(text, Path::new("p.toml")).unwrap();
+        assert_eq!(plans.iter().map(|p| p.key.as_str()).collect::<Vec<_>>(), ["b", "a"]);
+        assert_eq!(plans[0].pages, ["x", "y"]);
+        assert_eq!(
+            plans[0].figures,
+            [
+                Figure::Picture { folder: "x".into(), file: "p.png".into(), caption: "c".into() },
+                Figure::Costs { folder: "y".into() }
+            ]
+        );
+        assert!(plans[1].pages.is_empty() && plans[1].figures.is_empty());
+        let err = |t: &str| format!("{:#}", parse_plans(t, Path::new("p.toml")).unwrap_err());
+        assert!(err("[[section]]\nkey = 'a'\ntitle = 'A'\n[[section]]\nkey = 'a'\ntitle = 'B'\n").contains("twice"));
+        assert!(err("[[section]]\nkey = 'a'\ntitle = 'A'\npages = ['../x']\n").contains("inside results/"));
+        assert!(err(
+            "[[section]]\nkey = 'a'\ntitle = 'A'\n[[section.figure]]\nkind = 'costs'\nfolder = 'x'\ncaption = 'c'\n"
+        )
+        .contains("p.toml"));
+        assert!(err("[[section]]\nkey = 'a'\ntitle = 'A'\n[[section.figure]]\nkind = 'chart'\nfolder = 'x'\n")
+            .contains("p.toml"));
     }
 
     #[test]

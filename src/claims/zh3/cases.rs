@@ -70,15 +70,15 @@ pub(super) fn probulator(e: &dyn Encoder, case: &Case, grid: &OutputGrid) -> Sco
 /// The maps as cases, and (name, sha256 and reference description) for each.
 pub(super) type Probes = (Vec<Case>, Vec<(String, String)>);
 
-/// Every map of `names` (the ZH3 maps: the five paper probes, then every map of the search
-/// path's collection that is not degraded) as cases on the grid, with a description of each map
-/// (named, with its sha256; never a machine path). The caller runs the measurements only when
-/// every map is on the search path; one that is there but cannot be read is an error naming it,
-/// never a silently absent row.
-pub(super) fn probes(search: &SearchPath, names: &[&str], grid: &OutputGrid) -> Result<Probes> {
+/// Every map of `names` (the declared ones, [`super::maps`]: the five paper probes, then every
+/// map of the search path's collection that is not degraded), in order, as cases on the grid,
+/// with a description of each map (named, with its sha256; never a machine path). The caller
+/// runs the measurements only when every map is on the search path; one that is there but
+/// cannot be read is an error naming it, never a silently absent row.
+pub(super) fn probes(search: &SearchPath, grid: &OutputGrid, names: &[String]) -> Result<Probes> {
     let mut maps = Vec::new();
     let mut cases = Vec::new();
-    for &name in names {
+    for name in names {
         match map_case(search, name, grid) {
             Ok((c, desc)) => {
                 maps.push((name.to_string(), desc));

@@ -20,44 +20,36 @@ mod cases;
 mod geomerics;
 mod quantisation;
 
+use crate::claims::declaration::Paper;
 use crate::claims::measure::Measure;
 use crate::envmap::search::SearchPath;
-use anyhow::Result;
+use anyhow::{bail, Result};
 
-/// The maps the ZH3 measurements run on: the five paper probes (as the peer tool ships them
-/// for Wells), then every usable map of the search path's collection (none marked degraded in
-/// its SOURCES.md), at 256×128.
-pub const MAPS: [&str; 19] = [
-    "ennis_256x128",
-    "grace_256x128",
-    "pisa_256x128",
-    "uffizi_256x128",
-    "wells_probulator",
-    "blender_city_256x128",
-    "blender_courtyard_256x128",
-    "blender_interior_256x128",
-    "blender_studio_256x128",
-    "blender_sunrise_256x128",
-    "pmndrs_apartment_256x128",
-    "pmndrs_bridge_256x128",
-    "pmndrs_city_256x128",
-    "pmndrs_dawn_256x128",
-    "pmndrs_forest_256x128",
-    "pmndrs_night_256x128",
-    "pmndrs_studio_256x128",
-    "pmndrs_sunset_256x128",
-    "pmndrs_venice_256x128",
-];
+/// The paper whose declaration (`experiments/claims/zh3.toml`) names the maps these
+/// measurements run on.
+pub const PAPER: &str = "zh3";
+
+/// The maps the ZH3 measurements run on, in the order of their tables' rows: the
+/// `[measurements] maps` of the ZH3 talk's declaration (the five paper probes, then every usable
+/// map of the search path's collection, at 256×128). An error when the declaration is absent or
+/// names none.
+pub fn maps(papers: &[Paper]) -> Result<&[String]> {
+    match papers.iter().find(|p| p.key == PAPER) {
+        Some(p) if !p.measurement_maps.is_empty() => Ok(&p.measurement_maps),
+        Some(_) => bail!("experiments/claims/{PAPER}.toml names no [measurements] maps for the ZH3 measurements"),
+        None => bail!("no experiments/claims/{PAPER}.toml: the maps of the ZH3 measurements are not declared"),
+    }
+}
 
 /// The maps a measurement ran on: (name, sha256 and reference description).
 pub type MapsUsed = Vec<(String, String)>;
 
-/// Runs every ZH3 measurement on the maps the search path has; returns the tables and the
-/// maps used.
-pub fn measure(search: &SearchPath) -> Result<(Vec<Measure>, MapsUsed)> {
+/// Runs every ZH3 measurement on those of `maps` (in order; see [`maps`]) that the search path
+/// has; returns the tables and the maps used.
+pub fn measure(search: &SearchPath, maps: &[String]) -> Result<(Vec<Measure>, MapsUsed)> {
     let progress = crate::io::progress::Progress::new(8, "claims: ZH3 measurements");
     let grid = cases::grid();
-    let (cases, maps) = cases::probes(search, &MAPS, &grid)?;
+    let (cases, maps) = cases::probes(search, &grid, maps)?;
     progress.inc();
     type Step<'a> = (&'static str, Box<dyn Fn() -> Result<Measure> + 'a>);
     let steps: Vec<Step> = vec![
