@@ -140,7 +140,7 @@ fn import_remakes_the_shared_256x128_maps() {
     }
 }
 
-/// Every map an experiment or a claims map set names is committed in `envmaps/` or is one of
+/// Every map an experiment, a claims map set or the claims measurements name is committed in `envmaps/` or is one of
 /// the peer's five probes, so that `check --all` can pass on a clone plus Probulator's
 /// `Data/Probes` alone. Runs everywhere: it reads only the committed files.
 #[test]
@@ -167,8 +167,12 @@ fn every_experiment_map_is_committed_or_in_the_peer_folder() {
             continue;
         }
         let doc: toml::Table = std::fs::read_to_string(&file).unwrap().parse().unwrap();
-        let Some(sets) = doc.get("map_sets").and_then(|s| s.as_table()) else { continue };
-        for (set, maps) in sets {
+        let mut sets = doc.get("map_sets").and_then(|s| s.as_table()).cloned().unwrap_or_default();
+        // The maps the measurements run on are a set too.
+        if let Some(maps) = doc.get("measurements").and_then(|m| m.get("maps")) {
+            sets.insert("measurements".into(), maps.clone());
+        }
+        for (set, maps) in &sets {
             for m in maps.as_array().unwrap() {
                 let m = m.as_str().unwrap();
                 assert!(
