@@ -5,7 +5,8 @@
 //! are what no table row holds yet: the ZH3 talk's (`zh3`) and the lightmap papers'
 //! (`lightmap`: Fig. 2 in closed form, the blending study), written as `measure` tables.
 //!
-//! May use: `math`, `envmap`, `reference`, `encoders`, `pipeline`. Never `report`.
+//! What this layer may use: the layer table of ARCHITECTURE.md (checked by
+//! `tests/architecture.rs`).
 
 pub mod declaration;
 pub mod judge;

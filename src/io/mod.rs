@@ -8,7 +8,8 @@
 //! returns everything else as values. Only the binary (`src/main.rs`, `src/commands/`) writes
 //! to the terminal, through [`output`].
 //!
-//! May use: nothing of the crate.
+//! What this layer may use: the layer table of ARCHITECTURE.md (checked by
+//! `tests/architecture.rs`).
 
 pub mod atomic;
 pub mod folder;

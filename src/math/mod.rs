@@ -5,7 +5,8 @@
 //! and their arcs on a parallel (`cap`), linear RGB and Rec.709 luminance (`colour`), the direction convention (`convention`), and exact
 //! mergeable statistics (`stats`).
 //!
-//! May use: nothing else in the crate.
+//! What this layer may use: the layer table of ARCHITECTURE.md (checked by
+//! `tests/architecture.rs`).
 
 pub mod cap;
 pub mod colour;

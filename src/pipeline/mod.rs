@@ -4,7 +4,8 @@
 //! (`summary`), one-knob sweeps (`sweep`), probe sets at scale (`probeset`) and the ZH3
 //! hallucination-curve fit (`hallucination_fit`).
 //!
-//! May use: `io`, `math`, `envmap`, `reference`, `encoders`.
+//! What this layer may use: the layer table of ARCHITECTURE.md (checked by
+//! `tests/architecture.rs`).
 
 pub mod experiment;
 pub mod hallucination_fit;

@@ -6,7 +6,8 @@
 //! metrics (`metrics`); the light an encoder may read beyond L2 SH — SH through band 4,
 //! radiance samples, exact E/π at any normal (`radiance`); and the views of the sphere of normals that pictures evaluate at (`view`).
 //!
-//! May use: `math`, `envmap`.
+//! What this layer may use: the layer table of ARCHITECTURE.md (checked by
+//! `tests/architecture.rs`).
 
 pub mod domain;
 pub mod exact;

@@ -3,7 +3,8 @@
 //! each table (`provenance`), and the `check`/`bless` commands with the guard that keeps a run
 //! off a moved baseline (`check`).
 //!
-//! May use: `math`, `envmap`, `reference`, `encoders`, `pipeline`.
+//! What this layer may use: the layer table of ARCHITECTURE.md (checked by
+//! `tests/architecture.rs`).
 
 pub mod baseline;
 pub mod check;

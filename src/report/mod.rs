@@ -22,8 +22,8 @@
 //! colour scale), `number` (number formatting), `text` (font and labels), `canvas` (pixel
 //! painting), `png` (PNG encoding and atomic writing).
 //!
-//! May use everything below it: `math`, `envmap`, `reference`, `encoders`, `pipeline`,
-//! `claims`, `regression`.
+//! What this layer may use: the layer table of ARCHITECTURE.md (checked by
+//! `tests/architecture.rs`).
 
 pub mod canvas;
 pub mod charts;

@@ -6,7 +6,8 @@
 //! probe and the scoring of a set (`score`), the mergeable state file (`state`), and a whole
 //! job as `probelab probes` declares it, and the merge of shards (`job`).
 //!
-//! May use: `io`, `math`, `envmap`, `reference`, `encoders`, and `pipeline::table`.
+//! What this layer may use: the layer table of ARCHITECTURE.md (checked by
+//! `tests/architecture.rs`).
 
 pub mod format;
 pub mod job;
