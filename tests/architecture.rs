@@ -611,3 +611,36 @@ fn the_checker_reads_paths_modules_and_the_table() {
                | `sg/` | `lobes.rs` (x), `mod.rs` |\n\n`api.rs`: y\n\n## Next\n| `z.rs` | no |";
     assert_eq!(code_map_paths(map), ["math/sh.rs", "math/gram.rs", "math/sg/lobes.rs", "math/sg/mod.rs", "math/sg/"]);
 }
+
+/// The library never prints: only the binary (`main.rs` and the modules it declares) and the
+/// stream primitives it calls (`io/output.rs`) reach stdout or stderr. Everything else returns
+/// values or reports progress through `io::progress`. Unit tests are held to it too: what a
+/// test wants to say goes into its assertion's message.
+#[test]
+fn the_library_never_prints() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let main_code = code_of(&std::fs::read_to_string(root.join("main.rs")).unwrap());
+    let printing = ["println!", "eprintln!", "print!(", "eprint!(", "dbg!(", "stdout()", "stderr()", "io::output::"];
+    let mut found = Vec::new();
+    for (rel, code) in &read_crate().files {
+        if is_binary_file(rel, &main_code) || rel == Path::new("io/output.rs") {
+            continue;
+        }
+        for p in printing.iter().filter(|p| code.contains(*p)) {
+            found.push(format!("{}: {p}", rel.display()));
+        }
+    }
+    assert!(found.is_empty(), "library code that prints: {found:?}");
+}
+
+/// One atomic writer: only `io/atomic.rs` renames a file into place.
+#[test]
+fn only_the_atomic_writer_renames_files() {
+    let renaming: Vec<String> = read_crate()
+        .files
+        .iter()
+        .filter(|(rel, code)| code.contains("rename(") && rel != Path::new("io/atomic.rs"))
+        .map(|(rel, _)| rel.display().to_string())
+        .collect();
+    assert!(renaming.is_empty(), "files that rename outside io/atomic.rs: {renaming:?}");
+}

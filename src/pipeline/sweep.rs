@@ -37,7 +37,7 @@ use crate::pipeline::runner::{cases, score_fit, Case, CaseData, MapData};
 use crate::pipeline::timing::median_ns_with;
 use crate::reference::domain::OutputGrid;
 use crate::reference::exact::Reference;
-use crate::reference::metrics::{score, Metric};
+use crate::reference::metrics::{score, Metric, Scores};
 use anyhow::{bail, Context, Result};
 use rayon::prelude::*;
 use std::hint::black_box;
@@ -324,153 +324,189 @@ pub fn sweep_map_with(
     encoders_at: &dyn Fn(&toml::Value) -> Result<Vec<crate::encoders::NamedEncoder>>,
 ) -> Result<Vec<SweepRow>> {
     let exp = &sweep.exp;
-    let all: Vec<Case> = cases(exp);
     let full = MapData::new(map);
-    let qc = sweep.converged_polar_nodes;
     let mut rows = Vec::new();
-    let converged_label = format!("converged reference ({}x{} map, {qc} GL nodes)", map.width(), map.height());
-    let exact_label = format!("exact reference ({}x{} map, {} GL nodes)", map.width(), map.height(), exp.polar_nodes);
-    for case in &all {
+    for case in &cases(exp) {
         let grid = case.domain.output_grid(exp.resolution);
-        let res_label = format!("{}x{}", grid.resolution.0, grid.resolution.1);
-        let converged = || {
-            let _s = crate::io::profile::span("sweep: converged reference");
-            CaseData::new(&full, case, qc).reference_on(&grid)
-        };
-        let mut push = |value: &toml::Value,
-                        encoder: &str,
-                        scores: crate::reference::metrics::Scores,
-                        time_ns,
-                        timed: String,
-                        error_of: &str,
-                        res: &str| {
-            rows.push(SweepRow {
-                value: value_text(value),
-                map: map.name.clone(),
-                encoder: encoder.into(),
-                domain: case.domain_label.clone(),
-                rmse: scores.rmse,
-                rel_rmse: scores.rel_rmse,
-                time_ns,
-                timed,
-                error_of: error_of.into(),
-                resolution: res.into(),
-            })
+        let mut at = CaseSweep {
+            sweep,
+            map,
+            full: &full,
+            case,
+            res_label: format!("{}x{}", grid.resolution.0, grid.resolution.1),
+            grid,
+            rows: &mut rows,
         };
         match &sweep.knob {
-            Knob::RefResolution | Knob::PolarNodes => {
-                let conv = converged();
-                for v in &sweep.values {
-                    let (reduced, q) = match &sweep.knob {
-                        Knob::RefResolution => match parse_res_value(v, true)? {
-                            None => (None, exp.polar_nodes),
-                            Some((w, _)) if w > map.width() => continue,
-                            Some((w, h)) => (Some(area_average(map, w, h)?), exp.polar_nodes),
-                        },
-                        // Cannot fail: `from_table` accepts only integers 1..=16 for polar_nodes.
-                        _ => (None, v.as_integer().expect("validated") as usize),
-                    };
-                    let input = reduced.as_ref().unwrap_or(map);
-                    let data = MapData::new(input);
-                    let cd = CaseData::new(&data, case, q);
-                    let values = {
-                        let _s = crate::io::profile::span("sweep: swept reference");
-                        cd.reference_on(&grid)
-                    };
-                    let s = score(&conv, &values, &grid.weights, false);
-                    let what = if sweep.knob == Knob::RefResolution {
-                        format!(
-                            "row moments + reference on {res_label} normals ({}x{} map)",
-                            input.width(),
-                            input.height()
-                        )
-                    } else {
-                        format!("reference on {res_label} normals ({q} GL nodes)")
-                    };
-                    let _timing = crate::io::profile::span("sweep: timing repeats");
-                    let t = if sweep.knob == Knob::RefResolution {
-                        time_slow(|| {
-                            let m = crate::envmap::moments::RowMoments::new(input);
-                            black_box(reference_on(&Reference::new(&m, case.masks.clone(), q), &grid));
-                        })
-                    } else {
-                        time_slow(|| {
-                            black_box(reference_on(&Reference::new(&full.moments, case.masks.clone(), q), &grid));
-                        })
-                    };
-                    drop(_timing);
-                    // The reduced reference against the converged one: the "reference" row.
-                    push(v, "reference", s, t, what, &converged_label, &res_label);
-                    for named in &exp.encoders {
-                        let fit = named.encoder.fit(&cd.fit_input());
-                        let s = score_fit(named.encoder.as_ref(), fit.as_ref(), &grid, &conv, Metric::Exact);
-                        let (t, timed) = if sweep.knob == Knob::RefResolution {
-                            let t = crate::pipeline::timing::median_ns(|| {
-                                let sh = crate::reference::projection::project(input);
-                                let inp = crate::encoders::encoder::FitInput {
-                                    probe_sh: &sh,
-                                    visible_sh: &sh,
-                                    ..cd.fit_input()
-                                };
-                                black_box(named.encoder.fit(&inp));
-                            });
-                            (t, format!("SH projection of the {}x{} map + fit", input.width(), input.height()))
-                        } else {
-                            let inp = cd.fit_input();
-                            (
-                                crate::pipeline::timing::median_ns(|| drop(black_box(named.encoder.fit(&inp)))),
-                                "fit".to_string(),
-                            )
-                        };
-                        push(v, &named.name, s, t, timed, &converged_label, &res_label);
-                    }
-                }
-            }
-            Knob::OutResolution => {
-                let cd = CaseData::new(&full, case, exp.polar_nodes);
-                let fits: Vec<_> = exp.encoders.iter().map(|e| e.encoder.fit(&cd.fit_input())).collect();
-                for v in &sweep.values {
-                    // Cannot fail: without "full" allowed, a value parses to Some or is an error.
-                    let res = parse_res_value(v, false)?.expect("WxH");
-                    let grid = case.domain.output_grid(res);
-                    let label = format!("{}x{}", grid.resolution.0, grid.resolution.1);
-                    let values = cd.reference_on(&grid);
-                    // The reference is shared by every encoder: time it once.
-                    let t_ref = time_slow(|| drop(black_box(cd.reference_on(&grid))));
-                    for (named, fit) in exp.encoders.iter().zip(&fits) {
-                        let s = score_fit(named.encoder.as_ref(), fit.as_ref(), &grid, &values, Metric::Exact);
-                        let t = t_ref
-                            + time_slow(|| {
-                                black_box(score_fit(
-                                    named.encoder.as_ref(),
-                                    fit.as_ref(),
-                                    &grid,
-                                    &values,
-                                    Metric::Exact,
-                                ));
-                            });
-                        let timed = format!("reference + encoder eval + score on {label} normals");
-                        push(v, &named.name, s, t, timed, &exact_label, &label);
-                    }
-                }
-            }
-            Knob::EncoderKey(_) => {
-                let cd = CaseData::new(&full, case, exp.polar_nodes);
-                let values = cd.reference_on(&grid);
-                for v in &sweep.values {
-                    let encoders = encoders_at(v)?;
-                    let input = cd.fit_input();
-                    for named in &encoders {
-                        let fit = named.encoder.fit(&input);
-                        let s = score_fit(named.encoder.as_ref(), fit.as_ref(), &grid, &values, Metric::Exact);
-                        let t = crate::pipeline::timing::median_ns(|| drop(black_box(named.encoder.fit(&input))));
-                        push(v, &named.name, s, t, "fit".into(), &exact_label, &res_label);
-                    }
-                }
-            }
+            Knob::RefResolution | Knob::PolarNodes => at.reference_knob()?,
+            Knob::OutResolution => at.out_resolution()?,
+            Knob::EncoderKey(_) => at.encoder_key(encoders_at)?,
         }
     }
     Ok(rows)
+}
+
+/// One case of a sweep on one map: what every value of the knob is measured against, and the
+/// rows it adds.
+struct CaseSweep<'a> {
+    sweep: &'a Sweep,
+    map: &'a EnvMap,
+    full: &'a MapData<'a>,
+    case: &'a Case,
+    grid: OutputGrid,
+    res_label: String,
+    rows: &'a mut Vec<SweepRow>,
+}
+
+impl CaseSweep<'_> {
+    /// The label of the converged reference the reference knobs are scored against.
+    fn converged_label(&self) -> String {
+        let qc = self.sweep.converged_polar_nodes;
+        format!("converged reference ({}x{} map, {qc} GL nodes)", self.map.width(), self.map.height())
+    }
+
+    /// The label of the exact reference the other knobs are scored against.
+    fn exact_label(&self) -> String {
+        let (w, h, q) = (self.map.width(), self.map.height(), self.sweep.exp.polar_nodes);
+        format!("exact reference ({w}x{h} map, {q} GL nodes)")
+    }
+
+    /// Adds a row for `encoder` at the knob's value `value`.
+    fn push(&mut self, value: &toml::Value, encoder: &str, scores: Scores, timing: (f64, String), of: (&str, &str)) {
+        self.rows.push(SweepRow {
+            value: value_text(value),
+            map: self.map.name.clone(),
+            encoder: encoder.into(),
+            domain: self.case.domain_label.clone(),
+            rmse: scores.rmse,
+            rel_rmse: scores.rel_rmse,
+            time_ns: timing.0,
+            timed: timing.1,
+            error_of: of.0.into(),
+            resolution: of.1.into(),
+        })
+    }
+
+    /// `ref_resolution` or `polar_nodes`: the reference (and every encoder) at each value,
+    /// against the converged reference.
+    fn reference_knob(&mut self) -> Result<()> {
+        let (sweep, map, exp) = (self.sweep, self.map, &self.sweep.exp);
+        let conv = {
+            let _s = crate::io::profile::span("sweep: converged reference");
+            CaseData::new(self.full, self.case, sweep.converged_polar_nodes).reference_on(&self.grid)
+        };
+        let converged_label = self.converged_label();
+        for v in &sweep.values {
+            let (reduced, q) = match &sweep.knob {
+                Knob::RefResolution => match parse_res_value(v, true)? {
+                    None => (None, exp.polar_nodes),
+                    Some((w, _)) if w > map.width() => continue,
+                    Some((w, h)) => (Some(area_average(map, w, h)?), exp.polar_nodes),
+                },
+                // Cannot fail: `from_table` accepts only integers 1..=16 for polar_nodes.
+                _ => (None, v.as_integer().expect("validated") as usize),
+            };
+            let input = reduced.as_ref().unwrap_or(map);
+            let data = MapData::new(input);
+            let cd = CaseData::new(&data, self.case, q);
+            let values = {
+                let _s = crate::io::profile::span("sweep: swept reference");
+                cd.reference_on(&self.grid)
+            };
+            let s = score(&conv, &values, &self.grid.weights, false);
+            let timing = self.time_reference(input, q);
+            // The reduced reference against the converged one: the "reference" row.
+            let res_label = self.res_label.clone();
+            self.push(v, "reference", s, timing, (&converged_label, &res_label));
+            for named in &exp.encoders {
+                let fit = named.encoder.fit(&cd.fit_input());
+                let s = score_fit(named.encoder.as_ref(), fit.as_ref(), &self.grid, &conv, Metric::Exact);
+                let timing = self.time_fit(named, &cd, input);
+                self.push(v, &named.name, s, timing, (&converged_label, &res_label));
+            }
+        }
+        Ok(())
+    }
+
+    /// The time of the reference at a reference knob's value, and what was timed.
+    fn time_reference(&self, input: &EnvMap, q: usize) -> (f64, String) {
+        let (case, grid, res_label) = (self.case, &self.grid, &self.res_label);
+        let _timing = crate::io::profile::span("sweep: timing repeats");
+        if self.sweep.knob == Knob::RefResolution {
+            let t = time_slow(|| {
+                let m = crate::envmap::moments::RowMoments::new(input);
+                black_box(reference_on(&Reference::new(&m, case.masks.clone(), q), grid));
+            });
+            (t, format!("row moments + reference on {res_label} normals ({}x{} map)", input.width(), input.height()))
+        } else {
+            let t = time_slow(|| {
+                black_box(reference_on(&Reference::new(&self.full.moments, case.masks.clone(), q), grid));
+            });
+            (t, format!("reference on {res_label} normals ({q} GL nodes)"))
+        }
+    }
+
+    /// The time of an encoder's fit at a reference knob's value (with the SH projection of the
+    /// reduced map for `ref_resolution`), and what was timed.
+    fn time_fit(&self, named: &crate::encoders::NamedEncoder, cd: &CaseData, input: &EnvMap) -> (f64, String) {
+        if self.sweep.knob == Knob::RefResolution {
+            let t = crate::pipeline::timing::median_ns(|| {
+                let sh = crate::reference::projection::project(input);
+                let inp = crate::encoders::encoder::FitInput { probe_sh: &sh, visible_sh: &sh, ..cd.fit_input() };
+                black_box(named.encoder.fit(&inp));
+            });
+            (t, format!("SH projection of the {}x{} map + fit", input.width(), input.height()))
+        } else {
+            let inp = cd.fit_input();
+            (crate::pipeline::timing::median_ns(|| drop(black_box(named.encoder.fit(&inp)))), "fit".to_string())
+        }
+    }
+
+    /// `out_resolution`: every encoder scored on each output grid, timed with the reference.
+    fn out_resolution(&mut self) -> Result<()> {
+        let (sweep, exp) = (self.sweep, &self.sweep.exp);
+        let cd = CaseData::new(self.full, self.case, exp.polar_nodes);
+        let fits: Vec<_> = exp.encoders.iter().map(|e| e.encoder.fit(&cd.fit_input())).collect();
+        let exact_label = self.exact_label();
+        for v in &sweep.values {
+            // Cannot fail: without "full" allowed, a value parses to Some or is an error.
+            let res = parse_res_value(v, false)?.expect("WxH");
+            let grid = self.case.domain.output_grid(res);
+            let label = format!("{}x{}", grid.resolution.0, grid.resolution.1);
+            let values = cd.reference_on(&grid);
+            // The reference is shared by every encoder: time it once.
+            let t_ref = time_slow(|| drop(black_box(cd.reference_on(&grid))));
+            for (named, fit) in exp.encoders.iter().zip(&fits) {
+                let scored = || score_fit(named.encoder.as_ref(), fit.as_ref(), &grid, &values, Metric::Exact);
+                let s = scored();
+                let t = t_ref + time_slow(|| drop(black_box(scored())));
+                let timed = format!("reference + encoder eval + score on {label} normals");
+                self.push(v, &named.name, s, (t, timed), (&exact_label, &label));
+            }
+        }
+        Ok(())
+    }
+
+    /// `encoder.KEY`: the encoders built at each value, fitted, scored and their fits timed.
+    fn encoder_key(
+        &mut self,
+        encoders_at: &dyn Fn(&toml::Value) -> Result<Vec<crate::encoders::NamedEncoder>>,
+    ) -> Result<()> {
+        let cd = CaseData::new(self.full, self.case, self.sweep.exp.polar_nodes);
+        let values = cd.reference_on(&self.grid);
+        let (exact_label, res_label) = (self.exact_label(), self.res_label.clone());
+        for v in &self.sweep.values {
+            let encoders = encoders_at(v)?;
+            let input = cd.fit_input();
+            for named in &encoders {
+                let fit = named.encoder.fit(&input);
+                let s = score_fit(named.encoder.as_ref(), fit.as_ref(), &self.grid, &values, Metric::Exact);
+                let t = crate::pipeline::timing::median_ns(|| drop(black_box(named.encoder.fit(&input))));
+                self.push(v, &named.name, s, (t, "fit".into()), (&exact_label, &res_label));
+            }
+        }
+        Ok(())
+    }
 }
 
 /// Runs a sweep over the maps the search path finds; returns rows and the missing maps.
