@@ -66,7 +66,7 @@ pub struct Texel {
     pub normal: DVec3,
     /// Which layout `scalars` follows.
     pub storage: Storage,
-    /// The stored scalars, in the layout of `storage` (unused trailing entries are 0).
+    /// The stored scalars, in the layout of `storage` (only the first `storage.scalars()` are read).
     pub scalars: [f64; 8],
 }
 
