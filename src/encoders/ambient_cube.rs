@@ -207,6 +207,8 @@ impl Encoder for AmbientCubeEncoder {
     }
 }
 
+/// Builds the `ambient_cube` encoder from its settings: ambient cube, NNLS to exact E/pi (peer AC).
+/// An unknown or out-of-range setting is an error.
 pub fn build_ambient_cube(p: &mut Params) -> Result<Box<dyn Encoder>> {
     let w = p.str_or("weights", "solid_angle")?;
     let pixel_weights = match w.as_str() {
@@ -217,6 +219,8 @@ pub fn build_ambient_cube(p: &mut Params) -> Result<Box<dyn Encoder>> {
     p.finish("ambient_cube")?;
     Ok(Box::new(AmbientCubeEncoder { projection: false, pixel_weights }))
 }
+/// Builds the `ambient_cube_proj` encoder from its settings: ambient cube, exact E/pi at the axes
+/// (peer ACPROJ). An unknown or out-of-range setting is an error.
 pub fn build_ambient_cube_proj(p: &mut Params) -> Result<Box<dyn Encoder>> {
     p.finish("ambient_cube_proj")?;
     Ok(Box::new(AmbientCubeEncoder { projection: true, pixel_weights: false }))

@@ -53,7 +53,9 @@ pub struct FitInput<'a> {
 /// ([`ShLight`]: radiance Σ L_i Y_i, bands 3–4 zero, E/π by cosine convolution). Dereferences
 /// to [`RadianceSource`].
 pub enum Light<'a> {
+    /// The light source the runner passed in.
     Source(&'a dyn RadianceSource),
+    /// The fallback built from the fit's `visible_sh`.
     Sh(Box<ShLight>),
 }
 
@@ -226,6 +228,7 @@ pub struct Params {
 }
 
 impl Params {
+    /// Wraps a settings table; no key counts as read yet.
     pub fn new(table: toml::Table) -> Self {
         Params { table, used: Vec::new() }
     }

@@ -28,6 +28,7 @@ use std::f64::consts::PI;
 /// One channel's Geomerics parameters.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct GeomericsChannel {
+    /// R0: the mean radiance (or the peer's L₀₀), FORMULAS §6.
     pub r0: f64,
     /// R1 (the mean of ω·L over the sphere, or the peer's ½·L1).
     pub r1: DVec3,
@@ -105,6 +106,7 @@ pub fn fit_peer(sh: &Sh9) -> [GeomericsChannel; 3] {
     std::array::from_fn(|c| GeomericsChannel { r0: sh[0][c], r1: sh.l1_vector(c) * 0.5, scale: 1.0 / PI })
 }
 
+/// The Geomerics L1 encoder (`geomerics`, or `geomerics_peer` with the peer tool's normalisation).
 pub struct Geomerics {
     peer: bool,
 }
@@ -172,10 +174,14 @@ impl Encoder for Geomerics {
     }
 }
 
+/// Builds the `geomerics` encoder from its settings: Geomerics L1 reconstruction, normalised. An
+/// unknown or out-of-range setting is an error.
 pub fn build_geomerics(p: &mut Params) -> Result<Box<dyn Encoder>> {
     p.finish("geomerics")?;
     Ok(Box::new(Geomerics { peer: false }))
 }
+/// Builds the `geomerics_peer` encoder from its settings: Geomerics as the peer tool (R0=L00,
+/// R1=L1/2). An unknown or out-of-range setting is an error.
 pub fn build_geomerics_peer(p: &mut Params) -> Result<Box<dyn Encoder>> {
     p.finish("geomerics_peer")?;
     Ok(Box::new(Geomerics { peer: true }))

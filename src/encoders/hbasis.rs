@@ -153,6 +153,7 @@ pub struct HBasisEncoder {
 }
 
 impl HBasisEncoder {
+    /// An H-basis encoder with `count` functions (4 or 6).
     pub fn new(count: usize) -> Self {
         HBasisEncoder { count }
     }
@@ -200,10 +201,14 @@ impl Encoder for HBasisEncoder {
     }
 }
 
+/// Builds the `hbasis4` encoder from its settings: H-basis 4, E/pi over the hemisphere about N
+/// (peer H4). An unknown or out-of-range setting is an error.
 pub fn build_hbasis4(p: &mut Params) -> Result<Box<dyn Encoder>> {
     p.finish("hbasis4")?;
     Ok(Box::new(HBasisEncoder::new(4)))
 }
+/// Builds the `hbasis6` encoder from its settings: H-basis 6, E/pi over the hemisphere about N
+/// (peer H6). An unknown or out-of-range setting is an error.
 pub fn build_hbasis6(p: &mut Params) -> Result<Box<dyn Encoder>> {
     p.finish("hbasis6")?;
     Ok(Box::new(HBasisEncoder::new(6)))

@@ -23,8 +23,11 @@ use probe_occlusion as occ;
 
 /// A kind of encoder: its id, a one-line summary, and its factory from TOML settings.
 pub struct EncoderKind {
+    /// Name used in experiment files, tables and `--encoders`.
     pub id: &'static str,
+    /// One-line description for listings.
     pub summary: &'static str,
+    /// Builds the encoder from its TOML settings; an unknown or out-of-range setting is an error.
     pub build: fn(&mut Params) -> Result<Box<dyn Encoder>>,
 }
 
@@ -218,7 +221,9 @@ pub fn known_ids() -> String {
 
 /// A configured encoder with the name it appears under in tables.
 pub struct NamedEncoder {
+    /// Name shown in tables (the kind, unless the experiment renames it).
     pub name: String,
+    /// The configured encoder.
     pub encoder: Box<dyn Encoder>,
 }
 

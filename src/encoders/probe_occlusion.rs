@@ -247,7 +247,9 @@ impl Fitted for OccludedProbe {
 /// E/π linear in the normal: dc + (g_r·n, g_g·n, g_b·n). Linear SH irradiance, HLSH.
 #[derive(Clone, Copy, Debug)]
 pub struct Linear {
+    /// The constant term (E/π).
     pub dc: Rgb,
+    /// Per channel, the gradient g such that the channel's E/π is dc + g·n.
     pub grad: [DVec3; 3],
 }
 
@@ -356,8 +358,11 @@ impl HlshOperator {
 /// π·C_d·δ(ω − d); E/π(n) = C_a·(1 + n·N)/2 + C_d·max(0, n·d).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Hhd {
+    /// Radiance C_a of the hemisphere light (one channel).
     pub ca: f64,
+    /// C_d: E/π of the delta light facing it (one channel).
     pub cd: f64,
+    /// Unit direction d of the delta light (N when C_d = 0).
     pub d: DVec3,
 }
 
@@ -477,17 +482,25 @@ fn output_bands(p: &mut Params) -> Result<usize> {
     p.usize_in("output_bands", 2, 1..=2)
 }
 
+/// Builds the `probe_unoccluded` encoder from its settings: L2 probe, unoccluded (leaks). An
+/// unknown or out-of-range setting is an error.
 pub fn build_unoccluded(p: &mut Params) -> Result<Box<dyn Encoder>> {
     build(p, "probe_unoccluded", Op::Unoccluded)
 }
+/// Builds the `probe_hemi_full` encoder from its settings: L2 x hemisphere, rotated Gram. An
+/// unknown or out-of-range setting is an error.
 pub fn build_hemi_full(p: &mut Params) -> Result<Box<dyn Encoder>> {
     let bands = output_bands(p)?;
     build(p, "probe_hemi_full", Op::Full { cone: false, bands })
 }
+/// Builds the `probe_cone_full` encoder from its settings: L2 x cone, rotated Gram. An unknown or
+/// out-of-range setting is an error.
 pub fn build_cone_full(p: &mut Params) -> Result<Box<dyn Encoder>> {
     let bands = output_bands(p)?;
     build(p, "probe_cone_full", Op::Full { cone: true, bands })
 }
+/// Builds the `probe_hemi_q2l` encoder from its settings: quadratic-to-linear multiply. An unknown
+/// or out-of-range setting is an error.
 pub fn build_hemi_q2l(p: &mut Params) -> Result<Box<dyn Encoder>> {
     build(p, "probe_hemi_q2l", Op::Q2l)
 }
@@ -500,21 +513,31 @@ fn pin_iz(p: &mut Params) -> Result<bool> {
     }
 }
 
+/// Builds the `hlsh` encoder from its settings: HLSH: hemisphere multiply, I_z pinned. An unknown
+/// or out-of-range setting is an error.
 pub fn build_hlsh(p: &mut Params) -> Result<Box<dyn Encoder>> {
     let pin_iz = pin_iz(p)?;
     build(p, "hlsh", Op::Hlsh { cone: false, pin_iz })
 }
+/// Builds the `probe_hhd_lum` encoder from its settings: hemisphere multiply, luminance HHD. An
+/// unknown or out-of-range setting is an error.
 pub fn build_hhd_lum(p: &mut Params) -> Result<Box<dyn Encoder>> {
     let weights = p.weights_or("weights", named_weights("rec709")?)?;
     build(p, "probe_hhd_lum", Op::HhdLum { weights })
 }
+/// Builds the `cone_multiply` encoder from its settings: HLSH cone multiply. An unknown or
+/// out-of-range setting is an error.
 pub fn build_cone_multiply(p: &mut Params) -> Result<Box<dyn Encoder>> {
     let pin_iz = pin_iz(p)?;
     build(p, "cone_multiply", Op::Hlsh { cone: true, pin_iz })
 }
+/// Builds the `ao_scale` encoder from its settings: L2 probe irradiance x cone AO. An unknown or
+/// out-of-range setting is an error.
 pub fn build_ao_scale(p: &mut Params) -> Result<Box<dyn Encoder>> {
     build(p, "ao_scale", Op::AoScale)
 }
+/// Builds the `bent_normal` encoder from its settings: L2 probe at the cone centre x AO. An unknown
+/// or out-of-range setting is an error.
 pub fn build_bent_normal(p: &mut Params) -> Result<Box<dyn Encoder>> {
     build(p, "bent_normal", Op::BentNormal)
 }

@@ -29,9 +29,11 @@ use crate::math::colour::Rgb;
 use crate::math::sh::Sh9;
 use anyhow::{bail, Result};
 
-/// Bytes of a quantised L1, ZH3 and L2 probe (FORMULAS §11).
+/// Bytes of a quantised L1 probe (FORMULAS §11).
 pub const BYTES_L1: usize = 13;
+/// Bytes of a quantised ZH3 probe (FORMULAS §11).
 pub const BYTES_ZH3: usize = 16;
+/// Bytes of a quantised L2 probe (FORMULAS §11).
 pub const BYTES_L2: usize = 28;
 
 /// Ratio bound of each L1 component, |x|/L₀₀ ≤ √3.
@@ -206,10 +208,14 @@ impl Fitted for Quantised {
     }
 }
 
+/// Builds the `sh1_q13` encoder from its settings: SH L1, ratio-quantised to 13 bytes. An unknown
+/// or out-of-range setting is an error.
 pub fn build_sh1_q13(p: &mut Params) -> Result<Box<dyn Encoder>> {
     p.finish("sh1_q13")?;
     Ok(Box::new(ShQuantised { id: "sh1_q13", max_band: 1 }))
 }
+/// Builds the `sh2_q28` encoder from its settings: SH L2, ratio-quantised to 28 bytes. An unknown
+/// or out-of-range setting is an error.
 pub fn build_sh2_q28(p: &mut Params) -> Result<Box<dyn Encoder>> {
     p.finish("sh2_q28")?;
     Ok(Box::new(ShQuantised { id: "sh2_q28", max_band: 2 }))

@@ -27,6 +27,7 @@ pub struct ShEncoder {
 }
 
 impl ShEncoder {
+    /// The encoder truncated after band `max_band` (0, 1 or 2; larger values act as 2).
     pub fn new(max_band: usize) -> Self {
         let id = ["sh0", "sh1", "sh2"][max_band.min(2)];
         ShEncoder { id, max_band: max_band.min(2) }
@@ -86,14 +87,20 @@ impl Encoder for ShEncoder {
     }
 }
 
+/// Builds the `sh0` encoder from its settings: SH band 0 only (constant). An unknown or
+/// out-of-range setting is an error.
 pub fn build_sh0(p: &mut Params) -> Result<Box<dyn Encoder>> {
     p.finish("sh0")?;
     Ok(Box::new(ShEncoder::new(0)))
 }
+/// Builds the `sh1` encoder from its settings: SH L1 irradiance (bands 0-1). An unknown or
+/// out-of-range setting is an error.
 pub fn build_sh1(p: &mut Params) -> Result<Box<dyn Encoder>> {
     p.finish("sh1")?;
     Ok(Box::new(ShEncoder::new(1)))
 }
+/// Builds the `sh2` encoder from its settings: SH L2 irradiance (bands 0-2). An unknown or
+/// out-of-range setting is an error.
 pub fn build_sh2(p: &mut Params) -> Result<Box<dyn Encoder>> {
     p.finish("sh2")?;
     Ok(Box::new(ShEncoder::new(2)))

@@ -249,10 +249,14 @@ impl Encoder for WindowedSh {
     }
 }
 
+/// Builds the `sh3` encoder from its settings: SH L3 irradiance (bands 0-3; peer SHL3). An unknown
+/// or out-of-range setting is an error.
 pub fn build_sh3(p: &mut Params) -> Result<Box<dyn Encoder>> {
     p.finish("sh3")?;
     Ok(Box::new(Sh3Encoder))
 }
+/// Builds the `sh4` encoder from its settings: SH L4 irradiance (bands 0-4; peer SHL4). An unknown
+/// or out-of-range setting is an error.
 pub fn build_sh4(p: &mut Params) -> Result<Box<dyn Encoder>> {
     p.finish("sh4")?;
     Ok(Box::new(Sh4Encoder))
@@ -263,9 +267,13 @@ fn windowed(p: &mut Params, peer: bool, id: &str) -> Result<Box<dyn Encoder>> {
     p.finish(id)?;
     Ok(Box::new(WindowedSh { target_laplacian, peer_band_energy: peer }))
 }
+/// Builds the `sh2_windowed` encoder from its settings: SH L2, Laplacian window (peer SHL2W, full
+/// band energy). An unknown or out-of-range setting is an error.
 pub fn build_sh2_windowed(p: &mut Params) -> Result<Box<dyn Encoder>> {
     windowed(p, false, "sh2_windowed")
 }
+/// Builds the `sh2_windowed_peer` encoder from its settings: SH L2 windowed as the peer (its
+/// band-energy slip). An unknown or out-of-range setting is an error.
 pub fn build_sh2_windowed_peer(p: &mut Params) -> Result<Box<dyn Encoder>> {
     windowed(p, true, "sh2_windowed_peer")
 }

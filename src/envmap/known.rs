@@ -23,7 +23,9 @@ pub struct KnownMap {
     pub aliases: Vec<String>,
     /// Its pixel sha256 ([`crate::envmap::identity::pixel_sha256`]).
     pub pixel_sha256: String,
+    /// Width of the map in texels.
     pub width: usize,
+    /// Height of the map in texels.
     pub height: usize,
     /// sha256 of files known to hold exactly these pixels.
     pub files: Vec<String>,

@@ -50,63 +50,173 @@ const SUPPORTED: &str = "supported formats: OpenEXR (.exr, starts with bytes 76 
 pub enum LoadError {
     /// The file could not be opened, inspected or read (missing, permission denied, ...).
     #[error("{}: cannot {action}: {cause}", .path.display())]
-    Io { path: PathBuf, action: &'static str, cause: io::Error },
+    Io {
+        /// The map file being loaded.
+        path: PathBuf,
+        /// What was being attempted, as a verb phrase ("read file", "seek in file", ...).
+        action: &'static str,
+        /// The operating system's error.
+        cause: io::Error,
+    },
     /// The path names a directory.
     #[error("{}: is a directory, not an image file", .path.display())]
-    IsDirectory { path: PathBuf },
+    IsDirectory {
+        /// The map file being loaded.
+        path: PathBuf,
+    },
     /// The path names something other than a regular file (FIFO, socket, device).
     #[error("{}: is not a regular file", .path.display())]
-    NotAFile { path: PathBuf },
+    NotAFile {
+        /// The map file being loaded.
+        path: PathBuf,
+    },
     /// The file has no bytes at all.
     #[error("{}: file is empty (0 bytes)", .path.display())]
-    Empty { path: PathBuf },
+    Empty {
+        /// The map file being loaded.
+        path: PathBuf,
+    },
     /// The first bytes match neither the OpenEXR magic number nor the Radiance signature.
     #[error("{}: unrecognised file format: bad magic number (first bytes: {found}){note}; {SUPPORTED}", .path.display())]
-    UnknownFormat { path: PathBuf, found: String, note: String },
+    UnknownFormat {
+        /// The map file being loaded.
+        path: PathBuf,
+        /// The first bytes of the file, as space-separated hex.
+        found: String,
+        /// A remark on the name or length that makes the mismatch clearer (may be empty; starts
+        /// with ", " otherwise).
+        note: String,
+    },
     /// The decoder ran off the end of the file: the file is cut short, or a length or
     /// offset in it points past the end.
     #[error("{}: file is truncated (or a length field in it is corrupt): the data ends at {len} bytes where the {format} decoder expected more ({detail})", .path.display())]
-    Truncated { path: PathBuf, format: &'static str, len: u64, detail: String },
+    Truncated {
+        /// The map file being loaded.
+        path: PathBuf,
+        /// The decoder that ran out of data ("OpenEXR" or "Radiance HDR").
+        format: &'static str,
+        /// The file's length in bytes.
+        len: u64,
+        /// The decoder's own error message.
+        detail: String,
+    },
     /// The header claims a size above [`MAX_WIDTH`] x [`MAX_HEIGHT`]; nothing was decoded.
     #[error("{}: header claims an image of {width}x{height} pixels, above the limit of {MAX_WIDTH}x{MAX_HEIGHT}; refusing to decode it", .path.display())]
-    TooLarge { path: PathBuf, width: usize, height: usize },
+    TooLarge {
+        /// The map file being loaded.
+        path: PathBuf,
+        /// Width the header claims, in pixels.
+        width: usize,
+        /// Height the header claims, in pixels.
+        height: usize,
+    },
     /// The header claims a zero width or height.
     #[error("{}: image has zero size ({width}x{height})", .path.display())]
-    ZeroSize { path: PathBuf, width: usize, height: usize },
+    ZeroSize {
+        /// The map file being loaded.
+        path: PathBuf,
+        /// Width the header claims, in pixels.
+        width: usize,
+        /// Height the header claims, in pixels.
+        height: usize,
+    },
     /// The pixels do not form a valid map: wrong aspect, NaN, infinite or negative texels.
     #[error("{}: {cause}", .path.display())]
-    Map { path: PathBuf, cause: MapError },
+    Map {
+        /// The map file being loaded.
+        path: PathBuf,
+        /// What is wrong with the pixels or the size.
+        cause: MapError,
+    },
     /// The OpenEXR file holds more than one part.
     #[error("{}: multi-part OpenEXR file with {parts} parts ({names}); only single-part files are supported", .path.display())]
-    MultiPart { path: PathBuf, parts: usize, names: String },
+    MultiPart {
+        /// The map file being loaded.
+        path: PathBuf,
+        /// How many parts the file holds.
+        parts: usize,
+        /// The parts' layer names, quoted and comma-separated (unnamed parts by index).
+        names: String,
+    },
     /// The OpenEXR file holds deep data.
     #[error("{}: OpenEXR file contains deep data, which is not supported (need a flat RGB image)", .path.display())]
-    Deep { path: PathBuf },
+    Deep {
+        /// The map file being loaded.
+        path: PathBuf,
+    },
     /// Some of the R, G, B channels are missing.
     #[error("{}: missing channel(s) {missing}; the file has channels: {present} (need R, G, B, or one layer's LAYER.R, LAYER.G, LAYER.B)", .path.display())]
-    MissingChannel { path: PathBuf, missing: String, present: String },
+    MissingChannel {
+        /// The map file being loaded.
+        path: PathBuf,
+        /// The missing channel names, comma-separated, from the most complete candidate set.
+        missing: String,
+        /// Every channel name the file has, comma-separated ("(none)" if it has none).
+        present: String,
+    },
     /// Several layers of one part each have a full set of R, G, B channels.
     #[error("{}: ambiguous RGB channels: layers {layers} each have R, G and B, and there are no unprefixed R, G, B channels", .path.display())]
-    AmbiguousChannels { path: PathBuf, layers: String },
+    AmbiguousChannels {
+        /// The map file being loaded.
+        path: PathBuf,
+        /// The layer names that each have R, G and B, quoted and comma-separated.
+        layers: String,
+    },
     /// A colour channel holds unsigned integers.
     #[error("{}: channel {channel} holds 32-bit unsigned integer samples; only half and float channels are supported", .path.display())]
-    IntegerChannel { path: PathBuf, channel: String },
+    IntegerChannel {
+        /// The map file being loaded.
+        path: PathBuf,
+        /// Name of the integer channel.
+        channel: String,
+    },
     /// A colour channel is subsampled.
     #[error("{}: channel {channel} is subsampled ({x}x{y}); only full-resolution channels are supported", .path.display())]
-    Subsampled { path: PathBuf, channel: String, x: usize, y: usize },
+    Subsampled {
+        /// The map file being loaded.
+        path: PathBuf,
+        /// Name of the subsampled channel.
+        channel: String,
+        /// Horizontal sampling rate (1 is full resolution).
+        x: usize,
+        /// Vertical sampling rate (1 is full resolution).
+        y: usize,
+    },
     /// The OpenEXR chunks do not store every pixel exactly once (a duplicated, missing or
     /// misplaced scanline block or tile).
     #[error("{}: corrupt OpenEXR chunk layout: {detail}; every scanline block and tile must be stored exactly once", .path.display())]
-    CorruptChunks { path: PathBuf, detail: String },
+    CorruptChunks {
+        /// The map file being loaded.
+        path: PathBuf,
+        /// Which chunk is duplicated, missing or misplaced.
+        detail: String,
+    },
     /// The OpenEXR decoder rejected the file.
     #[error("{}: invalid or unsupported OpenEXR data: {message}", .path.display())]
-    Exr { path: PathBuf, message: String },
+    Exr {
+        /// The map file being loaded.
+        path: PathBuf,
+        /// The decoder's error message.
+        message: String,
+    },
     /// The Radiance HDR decoder rejected the file.
     #[error("{}: invalid Radiance HDR data: {message}", .path.display())]
-    Hdr { path: PathBuf, message: String },
+    Hdr {
+        /// The map file being loaded.
+        path: PathBuf,
+        /// The decoder's error message.
+        message: String,
+    },
     /// A decoder panicked; the panic was caught.
     #[error("{}: {format} decoder failed on malformed data (it panicked: {message})", .path.display())]
-    DecoderPanic { path: PathBuf, format: &'static str, message: String },
+    DecoderPanic {
+        /// The map file being loaded.
+        path: PathBuf,
+        /// The decoder that panicked ("OpenEXR" or "Radiance HDR").
+        format: &'static str,
+        /// The panic's message ("no message" if it carried none).
+        message: String,
+    },
 }
 
 /// Why [`write_exr`] failed. Every message starts with the file path.
@@ -114,10 +224,23 @@ pub enum LoadError {
 pub enum WriteError {
     /// Creating, writing, syncing or renaming a file failed.
     #[error("{}: cannot {action}: {cause}", .path.display())]
-    Io { path: PathBuf, action: &'static str, cause: io::Error },
+    Io {
+        /// The file being written (the target, or the temporary file beside it for steps that write
+        /// it).
+        path: PathBuf,
+        /// What was being attempted, as a verb phrase ("sync the temporary file", ...).
+        action: &'static str,
+        /// The operating system's error.
+        cause: io::Error,
+    },
     /// The OpenEXR encoder failed.
     #[error("{}: OpenEXR encoding failed: {message}", .path.display())]
-    Encode { path: PathBuf, message: String },
+    Encode {
+        /// The target file.
+        path: PathBuf,
+        /// The encoder's error message.
+        message: String,
+    },
 }
 
 /// The file formats [`load`] understands.

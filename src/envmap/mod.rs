@@ -43,12 +43,39 @@ pub struct EnvMap {
 /// Errors of map construction that do not involve a file (the loader wraps them with the path).
 #[derive(Debug, thiserror::Error, PartialEq)]
 pub enum MapError {
+    /// The size is not a 2:1 lat-long grid (width ≠ 2 × height, or height 0).
     #[error("size {width}x{height} is not a 2:1 lat-long map (width must be 2 x height, height >= 1)")]
-    Aspect { width: usize, height: usize },
+    Aspect {
+        /// Width in texels.
+        width: usize,
+        /// Height in texels.
+        height: usize,
+    },
+    /// The number of texels given differs from width × height.
     #[error("texel count {got} does not match {width}x{height}")]
-    Count { width: usize, height: usize, got: usize },
+    Count {
+        /// Width in texels.
+        width: usize,
+        /// Height in texels.
+        height: usize,
+        /// Number of texels given.
+        got: usize,
+    },
+    /// Some texel values are NaN, infinite or negative.
     #[error("{count} texel value(s) are {kind} (first at pixel x={x}, y={y}, channel {channel})")]
-    BadTexels { kind: &'static str, count: usize, x: usize, y: usize, channel: char },
+    BadTexels {
+        /// Which kind of bad value: "NaN", "infinite" or "negative" (the first kind found, in that
+        /// order).
+        kind: &'static str,
+        /// How many channel values are of that kind.
+        count: usize,
+        /// Column of the first such texel.
+        x: usize,
+        /// Row of the first such texel (row 0 at the zenith).
+        y: usize,
+        /// Channel of the first such value: 'R', 'G' or 'B'.
+        channel: char,
+    },
 }
 
 impl EnvMap {
@@ -105,9 +132,11 @@ impl EnvMap {
         Self::new(name, width, height, texels)
     }
 
+    /// Width of the map in texels (twice the height).
     pub fn width(&self) -> usize {
         self.width
     }
+    /// Height of the map in texels (rows from zenith to nadir).
     pub fn height(&self) -> usize {
         self.height
     }
@@ -144,11 +173,14 @@ impl EnvMap {
 /// for output grids of normals.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct LatLong {
+    /// Number of columns (azimuth steps).
     pub width: usize,
+    /// Number of rows (polar steps, zenith to nadir).
     pub height: usize,
 }
 
 impl LatLong {
+    /// A grid of `width` × `height` texels; the sizes are not checked.
     pub fn new(width: usize, height: usize) -> Self {
         Self { width, height }
     }

@@ -16,8 +16,11 @@ use std::f64::consts::{PI, TAU};
 /// (real, imaginary) parts, per channel.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Moments {
+    /// ∫L dθ over the arc, per channel.
     pub m0: Rgb,
+    /// ∫L e^{−iθ} dθ over the arc: (real, imaginary) parts.
     pub m1: [Rgb; 2],
+    /// ∫L e^{−2iθ} dθ over the arc: (real, imaginary) parts.
     pub m2: [Rgb; 2],
 }
 
@@ -67,7 +70,9 @@ pub struct RowMoments {
 /// (real, imaginary) parts, per channel.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Moments01 {
+    /// ∫L dθ over the arc, per channel.
     pub m0: Rgb,
+    /// ∫L e^{−iθ} dθ over the arc: (real, imaginary) parts.
     pub m1: [Rgb; 2],
 }
 
@@ -108,6 +113,7 @@ struct Cell01 {
 }
 
 impl RowMoments {
+    /// Builds the prefix sums of every row of `map` (rows in parallel).
     pub fn new(map: &EnvMap) -> Self {
         let (w, h) = (map.width(), map.height());
         let grid = map.grid();
@@ -163,9 +169,11 @@ impl RowMoments {
         Self { width: w, height: h, dtheta, cum, texels, edge_cis, cum01 }
     }
 
+    /// Width of the map in texels.
     pub fn width(&self) -> usize {
         self.width
     }
+    /// Height of the map in texels.
     pub fn height(&self) -> usize {
         self.height
     }

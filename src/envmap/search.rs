@@ -79,8 +79,10 @@ impl SearchError {
 /// Why [`SearchPath::open`] failed: the map is not here, or a file found cannot be read.
 #[derive(Debug, thiserror::Error)]
 pub enum OpenError {
+    /// The name resolved to no usable file on the search path.
     #[error(transparent)]
     NotFound(#[from] SearchError),
+    /// A file was found but could not be loaded.
     #[error(transparent)]
     Load(#[from] LoadError),
 }

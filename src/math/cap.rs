@@ -13,7 +13,9 @@ use std::f64::consts::{PI, TAU};
 /// The open cap {ω : ω·axis > cos}.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Cap {
+    /// Unit axis at the cap's centre.
     pub axis: DVec3,
+    /// Cosine of the cap's angular radius: the cap holds the directions with ω·axis above it.
     pub cos: f64,
     theta: f64,
     sin_phi: f64,
@@ -26,12 +28,16 @@ pub struct Cap {
 /// An arc of azimuth [lo, lo + len], len in [0, 2π].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Arc {
+    /// Start azimuth θ in radians.
     pub lo: f64,
+    /// Angular length in radians, in [0, 2π].
     pub len: f64,
 }
 
 impl Arc {
+    /// The whole circle: azimuths [−π, π].
     pub const FULL: Arc = Arc { lo: -PI, len: TAU };
+    /// End azimuth in radians, `lo + len` (not wrapped back into [−π, π]).
     pub fn hi(&self) -> f64 {
         self.lo + self.len
     }
@@ -45,15 +51,19 @@ pub struct Arcs {
 }
 
 impl Arcs {
+    /// The whole circle, as a single arc.
     pub fn full() -> Self {
         Arcs { arcs: [Arc::FULL; 4], n: 1 }
     }
+    /// No arc at all.
     pub fn empty() -> Self {
         Arcs { arcs: [Arc::FULL; 4], n: 0 }
     }
+    /// The arcs held, in the order they were added.
     pub fn as_slice(&self) -> &[Arc] {
         &self.arcs[..self.n]
     }
+    /// Whether no arc is held (the parallel misses the intersection of caps entirely).
     pub fn is_empty(&self) -> bool {
         self.n == 0
     }

@@ -166,9 +166,13 @@ pub fn multiply_full(f: &Sh9, c: f64, axis: DVec3) -> Sh9 {
 /// K = ½√(15/π); in A's tangent frame they are −(f₃, f₁) and −(f₇, f₅).
 #[derive(Clone, Copy, Debug)]
 pub struct AxialParts {
+    /// The unit symmetry axis A the parts are taken about.
     pub axis: DVec3,
+    /// The m = 0 components (f₀, b·A, √(4π/5)·A·MA), each an RGB triple.
     pub zonal: [Rgb; 3],
+    /// Per channel: the band-1 vector's component perpendicular to A (b⊥).
     pub b_perp: [DVec3; 3],
+    /// Per channel: (2/K)(MA)⊥, the band-2 part that couples to band 1 perpendicular to A.
     pub q_perp: [DVec3; 3],
 }
 
@@ -196,11 +200,14 @@ pub fn axial_parts(f: &Sh9, axis: DVec3) -> AxialParts {
 /// (= (3, 7)): everything [`multiply_to_linear`] and HLSH need.
 #[derive(Clone, Copy, Debug)]
 pub struct AxialGram {
+    /// The m = 0 block: rows and columns for SH indices 0, 2 and 6.
     pub m0: [[f64; 3]; 3],
+    /// The m = ±1 block: rows and columns for SH indices 1 and 5.
     pub m1: [[f64; 2]; 2],
 }
 
 impl AxialGram {
+    /// Extracts the two axial blocks from a full 9×9 Gram matrix in the cap's tangent frame.
     pub fn of(g: &Mat9) -> Self {
         let z = [0, 2, 6];
         let p = [1, 5];

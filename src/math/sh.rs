@@ -63,6 +63,7 @@ pub fn basis(d: DVec3) -> [f64; N_SH] {
 pub struct Sh9(pub [Rgb; N_SH]);
 
 impl Sh9 {
+    /// All coefficients zero.
     pub const ZERO: Sh9 = Sh9([Rgb::ZERO; N_SH]);
 
     /// Evaluates Σ c_i Y_i(d).

@@ -85,6 +85,7 @@ impl Default for Sh25 {
 }
 
 impl Sh25 {
+    /// All coefficients zero.
     pub const ZERO: Sh25 = Sh25([Rgb::ZERO; N_SH4]);
 
     /// Bands 0–2 from an [`Sh9`], bands 3–4 zero.

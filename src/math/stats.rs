@@ -291,13 +291,19 @@ pub struct Summary {
     /// Non-finite or negative values seen (a bug upstream; reported, never folded into the
     /// figures).
     pub invalid: u64,
+    /// The exact sum of the valid values.
     pub sum: ExactSum,
+    /// Smallest valid value seen (0 while none has been).
     pub min: f64,
+    /// Largest valid value seen (0 while none has been).
     pub max: f64,
+    /// Quantile sketch of the valid values.
     pub sketch: Sketch,
 }
 
 impl Summary {
+    /// Adds one value: finite non-negative values are folded in, anything else only counted in
+    /// `invalid`.
     pub fn add(&mut self, v: f64) {
         if !v.is_finite() || v < 0.0 {
             self.invalid += 1;
@@ -352,6 +358,8 @@ impl Summary {
         (self.count > 0).then_some((self.min, self.max))
     }
 
+    /// The nearest-rank q-quantile of the valid values (q in [0, 1]), clamped to the exact extrema;
+    /// None when no valid value was seen. See [`Sketch::quantile`].
     pub fn quantile(&self, q: f64) -> Option<f64> {
         self.sketch.quantile(q, self.min, self.max)
     }
@@ -361,15 +369,21 @@ impl Summary {
 /// written in Rust's shortest round-trip form).
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 pub struct SummaryState {
+    /// Valid (finite, non-negative) values summarised.
     pub count: u64,
+    /// Non-finite or negative values seen and left out.
     pub invalid: u64,
+    /// Smallest valid value (0 when there were none).
     pub min: f64,
+    /// Largest valid value (0 when there were none).
     pub max: f64,
     /// The exact sum: (digit index, base-2³² digit) pairs of the value scaled by 2¹⁰⁷⁴.
     pub sum_digits: Vec<(u32, i64)>,
     /// Sketch buckets: (index, count) pairs.
     pub buckets: Vec<(u32, u64)>,
+    /// Sketch values below the bucketed range (including 0).
     pub under: u64,
+    /// Sketch values at or above the bucketed range.
     pub over: u64,
 }
 

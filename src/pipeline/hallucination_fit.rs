@@ -30,6 +30,7 @@ use std::f64::consts::PI;
 /// One channel of one probe.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Sample {
+    /// L₀₀ of the channel (radiance).
     pub l00: f64,
     /// r = |L1·a|/L₀₀.
     pub ratio: f64,
@@ -107,18 +108,26 @@ pub fn fit(samples: &[Sample], degree: usize) -> Option<Coeffs> {
 /// One line of the report.
 #[derive(Clone, Debug, PartialEq)]
 pub struct CurveRow {
+    /// What the row scores (e.g. "fitted quadratic", "sh1 (no zonal term)").
     pub name: String,
+    /// The curve's coefficients (c₁, c₂, c₃); None for rows that are not a curve of r.
     pub coeffs: Option<Coeffs>,
+    /// Pooled sphere RMSE of E/π against SH3 over all samples (module doc).
     pub rmse: f64,
 }
 
 /// The full report of a fit.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Report {
+    /// Number of probes read.
     pub probes: usize,
+    /// Number of channel samples used.
     pub samples: usize,
+    /// Number of channels skipped (L₀₀ ≤ 0 or no axis).
     pub skipped: usize,
+    /// Label of the axis rule (`--axis`).
     pub axis: String,
+    /// One row per scored curve, in report order.
     pub rows: Vec<CurveRow>,
 }
 

@@ -29,14 +29,20 @@ use std::path::PathBuf;
 /// One surface configuration to score: where n′ ranges and what light is visible.
 #[derive(Clone, Debug)]
 pub struct Case {
+    /// Where the output normals n′ range (sphere or hemisphere about N).
     pub domain: Domain,
     /// `sphere` or `hemisphere:<orientation>` (or `sphere@<orientation>` for a sphere domain
     /// with effects about N).
     pub domain_label: String,
+    /// The orientation set N was drawn from ("-" without one).
     pub orientation_set: String,
+    /// The effects applied, joined with "+" ("none" without any).
     pub effects_label: String,
+    /// The visibility caps the light is restricted to (hemisphere and cone effects).
     pub masks: Vec<Cap>,
+    /// The surface normal N; None for the sphere probe case.
     pub normal: Option<DVec3>,
+    /// The cone effect's (centre, cos α), if any.
     pub cone: Option<(DVec3, f64)>,
     /// The albedo ρ of the surface below the horizon under the `self_bounce` effect.
     pub albedo: Option<f64>,
@@ -136,9 +142,13 @@ pub fn cone_centre(n: DVec3, tilt_deg: f64) -> DVec3 {
 /// Identity of a map used in a run (for provenance).
 #[derive(Clone, Debug)]
 pub struct MapInfo {
+    /// The map's name.
     pub name: String,
+    /// The file it was loaded from; None for a generated map.
     pub path: Option<PathBuf>,
+    /// Width in texels.
     pub width: usize,
+    /// Height in texels.
     pub height: usize,
     /// The file's sha256.
     pub sha256: String,
@@ -148,7 +158,9 @@ pub struct MapInfo {
 
 /// What a run produced.
 pub struct RunReport {
+    /// The scored rows, in table order.
     pub rows: Vec<Row>,
+    /// Identity of every map that was run.
     pub maps: Vec<MapInfo>,
     /// Maps not found on the search path (their rows are absent), in the experiment's order.
     pub missing: Vec<String>,
@@ -226,12 +238,16 @@ pub fn run(exp: &Experiment, search: &SearchPath) -> Result<RunReport> {
 /// Per-map data computed once and shared by every case: the row moments (for the reference
 /// and masked projections) and the probe's L2 SH.
 pub struct MapData<'m> {
+    /// The map.
     pub map: &'m EnvMap,
+    /// Prefix sums of the map's row moments.
     pub moments: RowMoments,
+    /// The map's L2 radiance SH (the probe).
     pub probe_sh: Sh9,
 }
 
 impl<'m> MapData<'m> {
+    /// Computes the moments and the probe SH of `map`.
     pub fn new(map: &'m EnvMap) -> Self {
         MapData { map, moments: RowMoments::new(map), probe_sh: project(map) }
     }
@@ -242,8 +258,11 @@ impl<'m> MapData<'m> {
 /// caps, and the exact E/π at N.
 #[derive(Clone, Copy, Debug)]
 pub struct CaseInputs {
+    /// The probe's L2 radiance SH (the whole map).
     pub probe_sh: Sh9,
+    /// L2 radiance SH of the light visible under the case's caps.
     pub visible_sh: Sh9,
+    /// Exact E/π at N; None without a surface normal.
     pub exact_at_normal: Option<Rgb>,
 }
 
@@ -267,9 +286,13 @@ impl CaseInputs {
 /// light itself (lazy: nothing is computed unless an encoder asks). Sweeps, claims and sheets
 /// build it too, so everything scores the same inputs.
 pub struct CaseData<'a> {
+    /// The case scored.
     pub case: &'a Case,
+    /// What the encoders are fitted from.
     pub inputs: CaseInputs,
+    /// The exact reference under the case's caps.
     pub reference: Reference<'a>,
+    /// The visible light (lazy).
     pub light: MapLight<'a>,
 }
 

@@ -28,6 +28,7 @@ use std::path::Path;
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SummaryFile {
+    /// Name of the encoder that ratios are taken against; None for no ratio columns.
     pub baseline: Option<String>,
 }
 
@@ -88,6 +89,7 @@ pub struct RatioStats {
     pub median_ratio: f64,
     /// Largest per-row ratio and its index in the compared pairs.
     pub worst_ratio: f64,
+    /// Index of the worst ratio in the compared pairs.
     pub worst_at: usize,
     /// Fraction of compared rows whose ratio is below 1.
     pub frac_below_1: f64,

@@ -47,9 +47,13 @@ use std::time::Duration;
 /// The knob a sweep varies.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Knob {
+    /// `ref_resolution`: the map is area-averaged to a coarser grid first.
     RefResolution,
+    /// `polar_nodes`: Gauss–Legendre nodes per row piece of the reference.
     PolarNodes,
+    /// `out_resolution`: the output grid of normals the RMSE is estimated on.
     OutResolution,
+    /// `encoder.KEY`: a setting of every listed encoder (the key name held).
     EncoderKey(String),
 }
 
@@ -77,9 +81,13 @@ impl Knob {
 
 /// A validated sweep.
 pub struct Sweep {
+    /// Name of the sweep: its experiment's name (by default the file stem).
     pub name: String,
+    /// What the sweep varies.
     pub knob: Knob,
+    /// The knob's values, least to most accurate.
     pub values: Vec<toml::Value>,
+    /// Gauss–Legendre nodes of the converged reference.
     pub converged_polar_nodes: usize,
     /// The experiment table without the sweep keys (re-validated per value for `encoder.KEY`).
     base: toml::Table,
@@ -115,6 +123,8 @@ impl Sweep {
         Self::from_table(table, &stem).with_context(|| format!("{}", path.display()))
     }
 
+    /// Validates a parsed sweep table: the sweep keys and the experiment around them, named
+    /// `default_name` unless the table names it. An error names the bad key.
     pub fn from_table(mut t: toml::Table, default_name: &str) -> Result<Self> {
         let knob = match t.remove("knob") {
             Some(toml::Value::String(s)) => Knob::parse(&s)?,
@@ -186,15 +196,25 @@ impl Sweep {
 /// One row of a sweep CSV.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SweepRow {
+    /// The knob's value, as text ("64x32", "4").
     pub value: String,
+    /// The map's name.
     pub map: String,
+    /// The encoder's name, or "reference" for the reference's own row.
     pub encoder: String,
+    /// Domain label, as in result tables.
     pub domain: String,
+    /// RMSE of E/π over the domain, solid-angle weighted.
     pub rmse: f64,
+    /// `rmse` relative to the RMS of the reference.
     pub rel_rmse: f64,
+    /// Median wall time in ns of what `timed` names (varies run to run).
     pub time_ns: f64,
+    /// What `time_ns` measured.
     pub timed: String,
+    /// Which reference the error is against (converged or exact, with its map size and nodes).
     pub error_of: String,
+    /// Output grid the error was estimated on ("WxH").
     pub resolution: String,
 }
 

@@ -39,18 +39,31 @@ pub const TIMING_COLUMNS: &[&str] = &["fit_ns", "eval_ns"];
 /// One scored (map, encoder, domain, metric).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Row {
+    /// The map's name.
     pub map: String,
+    /// The encoder's name in the experiment.
     pub encoder: String,
+    /// Domain label: `sphere`, `hemisphere:<orientation>` or `sphere@<orientation>`.
     pub domain: String,
+    /// The metric's name (`exact` or `probulator`).
     pub metric: String,
+    /// The error scores.
     pub scores: Scores,
+    /// Scalars the encoder stores per probe or texel.
     pub stored_scalars: usize,
+    /// The orientation set N came from ("-" without one).
     pub orientation_set: String,
+    /// The effects applied ("none" without any).
     pub effects: String,
+    /// How normals are weighted ("solid-angle" or "per-pixel").
     pub weighting: String,
+    /// Output grid the scores were estimated on ("WxH").
     pub resolution: String,
+    /// Units of the scores ("E/pi").
     pub units: String,
+    /// Description of the reference the scores are against.
     pub reference: String,
+    /// The fit's diagnostics as `key=value` pairs joined by ";".
     pub diagnostics: String,
     /// |E_encoder(N) − E_exact(N)|, the largest channel, at the surface normal N (the IrradZ
     /// point); `None` without a surface normal.
@@ -107,6 +120,7 @@ impl Row {
         Ok(())
     }
 
+    /// The row's CSV fields, in [`COLUMNS`] order.
     pub fn fields(&self) -> Vec<String> {
         let s = &self.scores;
         vec![
@@ -200,7 +214,9 @@ pub fn write_csv(path: &Path, rows: &[Row]) -> Result<()> {
 /// (`regression::baseline`) and the claims engine judges them in it (`claims::judge`).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct CsvText {
+    /// The header's column names.
     pub columns: Vec<String>,
+    /// The records, each a list of field texts.
     pub rows: Vec<Vec<String>>,
 }
 

@@ -28,6 +28,7 @@ pub fn set_enabled(on: bool) {
     DISABLED.store(!on, Ordering::Relaxed);
 }
 
+/// Whether the timing pass runs (on unless [`set_enabled`] turned it off).
 pub fn enabled() -> bool {
     !DISABLED.load(Ordering::Relaxed)
 }

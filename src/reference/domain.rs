@@ -11,13 +11,18 @@ pub enum Domain {
     /// Every normal of the sphere.
     Sphere,
     /// Normals n′ with n′·N > 0: a surface with normal N, normal-mapped.
-    Hemisphere { normal: DVec3 },
+    Hemisphere {
+        /// The surface normal N (unit, world space).
+        normal: DVec3,
+    },
 }
 
 /// A set of output normals with solid-angle weights summing to the domain's solid angle.
 #[derive(Clone, Debug)]
 pub struct OutputGrid {
+    /// Unit output normals n′, world space.
     pub normals: Vec<DVec3>,
+    /// Solid-angle weight of each normal (steradians), in the order of `normals`.
     pub weights: Vec<f64>,
     /// The world-space lat-long grid these normals form, when they do (sphere domain), which
     /// lets the reference use its fast path.
@@ -82,6 +87,7 @@ pub struct Orientation {
     pub label: String,
     /// The set it came from: "+y", "axes6", "fibonacci32", "up".
     pub set: String,
+    /// The surface normal N (unit, world space).
     pub normal: DVec3,
 }
 

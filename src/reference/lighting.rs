@@ -25,15 +25,37 @@ pub enum Light {
     Ambient(Rgb),
     /// A hemisphere light: radiance c from the hemisphere ω·axis > 0 (unit axis), 0 from the
     /// other; E/π = c·H(n) with H(n) = (1 + n·axis)/2 (FORMULAS §8).
-    Hemisphere { axis: DVec3, radiance: Rgb },
+    Hemisphere {
+        /// Unit axis the lit hemisphere is centred on.
+        axis: DVec3,
+        /// Radiance c of the lit half.
+        radiance: Rgb,
+    },
     /// A uniform spherical cap ("disc" light, or a cone light) of radiance c, half-angle α
     /// (radians, 0 < α ≤ π) about the unit axis.
-    Cap { axis: DVec3, half_angle: f64, radiance: Rgb },
+    Cap {
+        /// Unit axis of the cap.
+        axis: DVec3,
+        /// Angular radius α in radians.
+        half_angle: f64,
+        /// Radiance c inside the cap.
+        radiance: Rgb,
+    },
     /// A sky gradient c0 + c1·y over the whole sphere (non-negative when c0 ≥ |c1|); +y is up
     /// (`math::convention`).
-    Gradient { c0: Rgb, c1: Rgb },
+    Gradient {
+        /// Radiance at the horizon (y = 0).
+        c0: Rgb,
+        /// Change of radiance per unit of y (c0 + c1 at the zenith, c0 − c1 at the nadir).
+        c1: Rgb,
+    },
     /// A directional (delta) light π·facing·δ(ω − dir) (unit dir): E/π facing it is `facing`.
-    Delta { dir: DVec3, facing: Rgb },
+    Delta {
+        /// Unit direction the light arrives from.
+        dir: DVec3,
+        /// E/π of a surface facing the light.
+        facing: Rgb,
+    },
 }
 
 /// A sum of lights.

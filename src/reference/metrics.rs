@@ -13,11 +13,15 @@ use anyhow::{bail, Result};
 /// Which scoring rule.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Metric {
+    /// Solid-angle-weighted RMSE over the output domain, against the exact reference.
     Exact,
+    /// The peer tool's per-pixel mean over its 256×128 lat-long output (FORMULAS §10), still
+    /// against the exact reference.
     Probulator,
 }
 
 impl Metric {
+    /// Parses a metric name, `exact` or `probulator`; any other name is an error.
     pub fn parse(s: &str) -> Result<Self> {
         match s {
             "exact" => Ok(Metric::Exact),
@@ -25,6 +29,7 @@ impl Metric {
             _ => bail!("unknown metric '{s}' (expected exact or probulator)"),
         }
     }
+    /// The metric's name as [`Metric::parse`] accepts it.
     pub fn name(&self) -> &'static str {
         match self {
             Metric::Exact => "exact",
@@ -50,8 +55,11 @@ impl Metric {
 /// The scores of one encoder against the reference over one output grid.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Scores {
+    /// Weighted RMSE of E/π per channel (R, G, B).
     pub rmse_rgb: [f64; 3],
+    /// √(mean of the three channel MSEs), in E/π.
     pub rmse: f64,
+    /// `rmse` divided by the RMS of the reference E/π (dimensionless).
     pub rel_rmse: f64,
     /// Weighted fraction of output normals where any channel of the test value is negative.
     pub neg_frac: f64,

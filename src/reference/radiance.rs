@@ -31,7 +31,9 @@ use std::sync::{Arc, Mutex, OnceLock};
 /// One radiance sample: a unit direction and the radiance seen there.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RadianceSample {
+    /// Unit world-space direction the radiance arrives from.
     pub direction: DVec3,
+    /// Radiance seen along `direction`.
     pub radiance: Rgb,
 }
 

@@ -18,8 +18,11 @@ use std::f64::consts::{PI, TAU};
 /// A named analytic scene: lighting with a name and a description.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Scene {
+    /// Identifier used as the map name (e.g. `gen_tilted_light`).
     pub id: String,
+    /// One-line human description of the lighting.
     pub description: String,
+    /// The analytic lighting itself.
     pub lighting: Lighting,
 }
 
@@ -216,13 +219,19 @@ pub fn generated() -> Vec<Scene> {
 /// of angular radius σ whose axis a is tilted θ from +y (towards azimuth φ), of radiance
 /// I/sin²σ, so that its E/π facing it is I (the cap's form factor, [`cap_irradiance`]).
 pub struct TiltedLight {
+    /// Ambient radiance A from every direction.
     pub ambient: Rgb,
+    /// E/π facing the cap, I.
     pub facing: Rgb,
+    /// Angular radius σ of the cap, in degrees.
     pub radius_deg: f64,
+    /// Tilt θ of the cap's axis from +y, in degrees.
     pub tilt_deg: f64,
+    /// Azimuth φ the axis is tilted towards, in degrees.
     pub azimuth_deg: f64,
 }
 
+/// The parameters of the `gen_tilted_light` scene.
 pub const TILTED_LIGHT: TiltedLight = TiltedLight {
     ambient: Rgb::new(0.3, 0.35, 0.4),
     facing: Rgb::new(1.5, 1.4, 1.2),

@@ -66,13 +66,19 @@ fn axis_name(v: DVec3) -> String {
 /// nearest point just inside the rim.
 #[derive(Clone, Debug)]
 pub struct Disc {
+    /// Side of the square image in pixels.
     pub d: usize,
+    /// Fraction of each pixel inside the disc (0 to 1, in sixteenths), row-major d × d.
     pub coverage: Vec<f32>,
+    /// Per pixel (row-major), the index into `normals` of its normal; None for pixels the disc
+    /// misses.
     pub index: Vec<Option<usize>>,
+    /// World normals of the covered pixels, in row-major pixel order.
     pub normals: Vec<DVec3>,
 }
 
 impl Disc {
+    /// Rasterises the disc of `view` at `d` × `d` pixels.
     pub fn new(view: &View, d: usize) -> Self {
         let mut coverage = vec![0.0f32; d * d];
         let mut index = vec![None; d * d];

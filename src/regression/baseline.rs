@@ -74,11 +74,17 @@ impl Table {
 /// repeats a key).
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct RowKey {
+    /// The map's name.
     pub map: String,
+    /// The encoder's name in the table.
     pub encoder: String,
+    /// The domain label.
     pub domain: String,
+    /// The effects label.
     pub effects: String,
+    /// The metric's name.
     pub metric: String,
+    /// 0 for the first row with this key, 1 for the second, and so on.
     pub ordinal: usize,
 }
 
@@ -101,23 +107,37 @@ impl fmt::Display for RowKey {
 pub enum Change {
     /// A number moved beyond its tolerance. `rel` = (new − old)/|old| (infinite when old = 0).
     Moved {
+        /// The row.
         key: RowKey,
+        /// The column's name.
         column: String,
+        /// The baseline's cell text.
         old: String,
+        /// The fresh cell text.
         new: String,
+        /// (new − old)/|old|; infinite when old = 0.
         rel: f64,
+        /// The tolerance the move exceeded.
         tolerance: Tolerance,
     },
     /// A text cell (or a number that became text, or the reverse) changed.
     Text {
+        /// The row.
         key: RowKey,
+        /// The column's name.
         column: String,
+        /// The baseline's cell text.
         old: String,
+        /// The fresh cell text.
         new: String,
     },
+    /// A row only the fresh table has.
     RowAdded(RowKey),
+    /// A row only the baseline has.
     RowRemoved(RowKey),
+    /// A column only the fresh table has.
     ColumnAdded(String),
+    /// A column only the baseline has.
     ColumnRemoved(String),
 }
 
@@ -140,6 +160,7 @@ impl fmt::Display for Change {
 /// The result of comparing two tables.
 #[derive(Clone, Debug, Default)]
 pub struct Comparison {
+    /// Every difference found.
     pub changes: Vec<Change>,
     /// Rows present in both tables and compared.
     pub rows: usize,

@@ -32,18 +32,47 @@ pub enum Finding {
     NoProvenance(String),
     /// The table's sha256 is not the one its provenance records (edited by hand, merged, or
     /// an interrupted bless).
-    TableEdited { recorded: String, actual: String },
+    TableEdited {
+        /// The table sha256 the provenance records.
+        recorded: String,
+        /// The sha256 of the table file as it is.
+        actual: String,
+    },
     /// A map of the experiment is not on this machine's search path (`why`: what was looked
     /// for and passed over, and how to get it when it is a known map).
-    MapMissing { map: String, why: String, allowed: bool },
+    MapMissing {
+        /// The map's name.
+        map: String,
+        /// What was looked for and passed over, and how to get the map when it is known.
+        why: String,
+        /// Whether missing maps were allowed for this check (then not a failure).
+        allowed: bool,
+    },
     /// A map read from another file than the baseline's, with the same pixels
     /// ([`same_map`]): its rows are compared. A note, never a failure.
-    MapSamePixels { map: String, file: String, pixel_sha256: String },
+    MapSamePixels {
+        /// The map's name.
+        map: String,
+        /// The file it was read from now ("(no file)" for a generated map).
+        file: String,
+        /// The pixel sha256 both files share.
+        pixel_sha256: String,
+    },
     /// A map's file differs from the one the baseline was computed from; its rows are not
     /// compared.
-    MapChanged { map: String, old: String, new: String },
+    MapChanged {
+        /// The map's name.
+        map: String,
+        /// The baseline's file: size and start of its sha256.
+        old: String,
+        /// The file read now: size and start of its sha256.
+        new: String,
+    },
     /// The table has rows of a map the provenance does not list; they are not compared.
-    MapUnrecorded { map: String },
+    MapUnrecorded {
+        /// The map's name.
+        map: String,
+    },
     /// A difference in the table.
     Change(baseline::Change),
 }
@@ -125,11 +154,15 @@ impl fmt::Display for Finding {
 /// The outcome of checking one experiment.
 #[derive(Clone, Debug)]
 pub struct ExperimentCheck {
+    /// The experiment's name.
     pub experiment: String,
     /// The baseline folder.
     pub dir: PathBuf,
+    /// Everything found, failures and notes, in the order they were found.
     pub findings: Vec<Finding>,
+    /// The cell-by-cell comparison of the tables (empty when there was nothing to compare).
     pub comparison: Comparison,
+    /// The baseline's provenance, when it could be read.
     pub baseline: Option<Provenance>,
     /// How many maps the experiment names.
     pub maps: usize,

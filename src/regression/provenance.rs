@@ -22,7 +22,9 @@ pub const FILE_NAME: &str = "provenance.toml";
 /// The provenance record. Unknown fields are accepted when reading (older or newer writers).
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 pub struct Provenance {
+    /// The experiment's name.
     pub experiment: String,
+    /// The probelab version (`CARGO_PKG_VERSION`) that wrote the table.
     pub probelab_version: String,
     /// `git rev-parse HEAD` at the time of the run, or "unknown" outside a git checkout.
     pub git_commit: String,
@@ -34,7 +36,9 @@ pub struct Provenance {
     pub date: String,
     /// sha256 of the table.csv written with this file.
     pub table_sha256: String,
+    /// The settings the runner used.
     pub settings: Settings,
+    /// Every map the run read.
     #[serde(default)]
     pub maps: Vec<MapRecord>,
 }
@@ -45,12 +49,19 @@ pub struct Settings {
     /// The experiment file, relative to the repository root where possible.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub file: Option<String>,
+    /// `sphere` or `hemisphere`.
     pub domain: String,
+    /// Each orientation's label with its normal.
     pub orientations: Vec<String>,
+    /// The metrics' names.
     pub metrics: Vec<String>,
+    /// Output resolution [W, H].
     pub resolution: [usize; 2],
+    /// Gauss–Legendre nodes per row piece of the reference.
     pub polar_nodes: usize,
+    /// Whether the CI check re-runs the experiment.
     pub ci: bool,
+    /// Every encoder, in table order.
     pub encoders: Vec<EncoderRecord>,
     /// The experiment file's text, verbatim (empty for experiments built in code).
     pub experiment_toml: String,
@@ -59,23 +70,30 @@ pub struct Settings {
 /// An encoder as configured: its table name, kind, and solver class.
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 pub struct EncoderRecord {
+    /// The encoder's name in the table.
     pub name: String,
+    /// Its registry id.
     pub kind: String,
+    /// Whether its fit is iterative (its class for tolerance rules).
     pub iterative: bool,
 }
 
 /// A map as read.
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 pub struct MapRecord {
+    /// The map's name.
     pub name: String,
     /// The file's name (not its folder, which depends on the machine).
     pub file: String,
+    /// sha256 of the file.
     pub sha256: String,
     /// The pixel sha256 (`envmap::identity`): the map's identity whatever file holds it.
     /// Absent from files written before it was recorded (docs/maps.md).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub pixel_sha256: Option<String>,
+    /// Width in texels.
     pub width: usize,
+    /// Height in texels.
     pub height: usize,
     /// The reference method the map was scored against.
     pub reference: String,

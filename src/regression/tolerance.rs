@@ -36,14 +36,22 @@ struct TolerancesFile {
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Rule {
+    /// Column names the rule applies to (one `*` matches any run of characters); empty: every
+    /// column.
     #[serde(default)]
     pub columns: Vec<String>,
+    /// Encoder kinds (registry ids) the rule applies to; empty: every kind.
     #[serde(default)]
     pub encoders: Vec<String>,
+    /// `iterative` or `closed-form`; None: either.
     pub class: Option<String>,
+    /// Relative tolerance to set; None leaves it unchanged.
     pub rel: Option<f64>,
+    /// Absolute tolerance to set, in the column's units; None leaves it unchanged.
     pub abs: Option<f64>,
+    /// Whether the column is not compared at all; None leaves it unchanged.
     pub ignore: Option<bool>,
+    /// Why the rule exists, for readers.
     pub why: Option<String>,
 }
 
@@ -53,7 +61,12 @@ pub enum Tolerance {
     /// Not compared (timings).
     Ignore,
     /// |new − old| ≤ max(abs, rel·|old|).
-    Within { rel: f64, abs: f64 },
+    Within {
+        /// Relative tolerance, a fraction of |old|.
+        rel: f64,
+        /// Absolute tolerance, in the column's units.
+        abs: f64,
+    },
 }
 
 impl Tolerance {
@@ -88,7 +101,9 @@ impl std::fmt::Display for Tolerance {
 /// that belong to no encoder).
 #[derive(Clone, Copy, Debug)]
 pub struct EncoderClass<'a> {
+    /// The encoder kind (registry id).
     pub kind: &'a str,
+    /// Whether the encoder's fit is iterative.
     pub iterative: bool,
 }
 

@@ -22,18 +22,28 @@ fn ahd(gram: Gram, colours: Colours, search: bool) -> Defaults {
     Defaults { basis: Basis::Ahd, gram, colours, search, storage }
 }
 
+/// Builds the `ahd_linear_sphere` encoder from its settings: AHD, L1 direction, sphere Gram. An
+/// unknown or out-of-range setting is an error.
 pub fn build_linear_sphere(p: &mut Params) -> Result<Box<dyn Encoder>> {
     build("ahd_linear_sphere", ahd(Gram::Sphere, Colours::Free, false), p)
 }
+/// Builds the `ahd_linear_hemi` encoder from its settings: AHD, L1 direction, hemisphere Gram. An
+/// unknown or out-of-range setting is an error.
 pub fn build_linear_hemi(p: &mut Params) -> Result<Box<dyn Encoder>> {
     build("ahd_linear_hemi", ahd(Gram::Hemisphere, Colours::Free, false), p)
 }
+/// Builds the `ahd_search_sphere` encoder from its settings: AHD, golden-section tilt, sphere Gram.
+/// An unknown or out-of-range setting is an error.
 pub fn build_search_sphere(p: &mut Params) -> Result<Box<dyn Encoder>> {
     build("ahd_search_sphere", ahd(Gram::Sphere, Colours::Free, true), p)
 }
+/// Builds the `ahd_search_hemi` encoder from its settings: AHD, golden-section tilt, hemisphere
+/// Gram. An unknown or out-of-range setting is an error.
 pub fn build_search_hemi(p: &mut Params) -> Result<Box<dyn Encoder>> {
     build("ahd_search_hemi", ahd(Gram::Hemisphere, Colours::Free, true), p)
 }
+/// Builds the `ahd_irradz_2018` encoder from its settings: AHD, I_z fixed, 2018 null-space fit. An
+/// unknown or out-of-range setting is an error.
 pub fn build_irradz_2018(p: &mut Params) -> Result<Box<dyn Encoder>> {
     build("ahd_irradz_2018", ahd(Gram::Hemisphere, Colours::IrradZ, false), p)
 }

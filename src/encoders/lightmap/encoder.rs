@@ -31,8 +31,11 @@ use std::ops::Bound::{Excluded, Included};
 
 /// An AHD/HHD lightmap encoder.
 pub struct LightmapEncoder {
+    /// The registry id it reports.
     pub id: &'static str,
+    /// How texels are fitted.
     pub spec: FitSpec,
+    /// How a fitted texel is stored.
     pub storage: Storage,
 }
 
@@ -48,8 +51,11 @@ pub enum TexelSource {
 
 /// A fitted texel, decoded.
 pub struct LightmapFit {
+    /// The decoded model the texel evaluates.
     pub model: Model,
+    /// What the texel stores (an AHD/HHD texel, or linear SH for `hhd_from_sh1`).
     pub source: TexelSource,
+    /// Named figures of the fit (reported in the `diagnostics` column).
     pub diagnostics: Vec<(&'static str, f64)>,
 }
 
@@ -140,10 +146,15 @@ impl Fitted for LightmapFit {
 
 /// The defaults of one encoder row.
 pub struct Defaults {
+    /// The ambient term of the model (AHD or HHD).
     pub basis: Basis,
+    /// Default domain of the least squares (sphere or hemisphere).
     pub gram: Gram,
+    /// Default colour fit (`colours` key): free or under the IrradZ constraint.
     pub colours: Colours,
+    /// Whether the direction is searched (golden section) rather than taken from L1.
     pub search: bool,
+    /// Default `storage` key: `raw`, `irradz_rgb` or `irradz_luma`.
     pub storage: &'static str,
 }
 

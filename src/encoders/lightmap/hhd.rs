@@ -30,15 +30,23 @@ fn hhd(gram: Gram, search: bool) -> Defaults {
     Defaults { basis: Basis::Hhd, gram, colours: Colours::IrradZ, search, storage: "irradz_rgb" }
 }
 
+/// Builds the `hhd_linear_sphere` encoder from its settings: HHD IrradZ, L1 direction, sphere Gram.
+/// An unknown or out-of-range setting is an error.
 pub fn build_linear_sphere(p: &mut Params) -> Result<Box<dyn Encoder>> {
     build("hhd_linear_sphere", hhd(Gram::Sphere, false), p)
 }
+/// Builds the `hhd_linear_hemi` encoder from its settings: HHD IrradZ, L1 direction, hemisphere
+/// Gram. An unknown or out-of-range setting is an error.
 pub fn build_linear_hemi(p: &mut Params) -> Result<Box<dyn Encoder>> {
     build("hhd_linear_hemi", hhd(Gram::Hemisphere, false), p)
 }
+/// Builds the `hhd_search_sphere` encoder from its settings: HHD IrradZ, golden-section tilt,
+/// sphere Gram. An unknown or out-of-range setting is an error.
 pub fn build_search_sphere(p: &mut Params) -> Result<Box<dyn Encoder>> {
     build("hhd_search_sphere", hhd(Gram::Sphere, true), p)
 }
+/// Builds the `hhd_search_hemi` encoder from its settings: HHD IrradZ, golden-section tilt,
+/// hemisphere Gram. An unknown or out-of-range setting is an error.
 pub fn build_search_hemi(p: &mut Params) -> Result<Box<dyn Encoder>> {
     build("hhd_search_hemi", hhd(Gram::Hemisphere, true), p)
 }
@@ -49,6 +57,8 @@ pub struct HhdFromSh1 {
     storage: Option<Storage>,
 }
 
+/// Builds the `hhd_from_sh1` encoder from its settings: HHD from linear SH, talk's closed form. An
+/// unknown or out-of-range setting is an error.
 pub fn build_from_sh1(p: &mut Params) -> Result<Box<dyn Encoder>> {
     let s = p.str_or("storage", "sh1")?;
     let storage = if s == "sh1" { None } else { Some(Storage::parse(&s)?) };

@@ -28,8 +28,12 @@ pub const MIN_DZ: f64 = 1.745_328_365_898_309e-3;
 /// How a texel is stored.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Storage {
+    /// C_a, C_d and the direction's tangent xy: 8 scalars.
     Raw,
+    /// C_a, I_z and the direction's tangent xy: 8 scalars (FORMULAS §7).
     IrradzRgb,
+    /// The luminance ratio L(C_a)/L(I_z), I_z and the direction's tangent xy: 6 scalars (FORMULAS
+    /// §7).
     IrradzLuma,
 }
 
@@ -56,9 +60,13 @@ impl Storage {
 /// stored), and its stored scalars (`storage.scalars()` of them are meaningful).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Texel {
+    /// The model's ambient term (known from the encoder, not stored).
     pub basis: Basis,
+    /// The surface normal N (known from the surface, not stored).
     pub normal: DVec3,
+    /// Which layout `scalars` follows.
     pub storage: Storage,
+    /// The stored scalars, in the layout of `storage` (only the first `storage.scalars()` are read).
     pub scalars: [f64; 8],
 }
 

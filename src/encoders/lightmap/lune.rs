@@ -23,12 +23,16 @@ use std::f64::consts::PI;
 /// An angle with its sine and cosine (so tilts need one sin/cos each).
 #[derive(Clone, Copy, Debug)]
 pub struct Angle {
+    /// The angle in radians.
     pub a: f64,
+    /// Its sine.
     pub sin: f64,
+    /// Its cosine.
     pub cos: f64,
 }
 
 impl Angle {
+    /// An angle with its sine and cosine from `f64::sin_cos`.
     pub fn new(a: f64) -> Self {
         let (sin, cos) = a.sin_cos();
         Angle { a, sin, cos }
@@ -92,6 +96,7 @@ fn kernel_cos(x: f64) -> f64 {
 /// Moments m\[a\]\[b\]\[c\] = ∫ x^a y^b z^c over a region α ∈ [α₀, α₁] (module docs), a + b + c ≤ 3.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Moments {
+    /// The moments, indexed `m[a][b][c]` (zero where a + b + c > 3).
     pub m: [[[f64; 4]; 4]; 4],
 }
 
@@ -250,6 +255,7 @@ impl Moments {
         Moments { m }
     }
 
+    /// The moment ∫ x^a y^b z^c.
     #[inline]
     pub fn get(&self, a: usize, b: usize, c: usize) -> f64 {
         self.m[a][b][c]

@@ -25,10 +25,15 @@ pub enum Basis {
 /// the highlight direction d (unit).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Model {
+    /// The ambient term: constant (AHD) or hemisphere (HHD).
     pub basis: Basis,
+    /// The surface normal N (unit).
     pub normal: DVec3,
+    /// Ambient colour C_a (E/π).
     pub c_a: Rgb,
+    /// Directional colour C_d (E/π facing d).
     pub c_d: Rgb,
+    /// Unit highlight direction d.
     pub d: DVec3,
 }
 

@@ -65,6 +65,7 @@ impl Design {
         Design { lobes: lobes.to_vec(), directions: directions.to_vec(), weights, gram, gram_pinv }
     }
 
+    /// The lobes of the design, in order.
     pub fn lobes(&self) -> &[Lobe] {
         &self.lobes
     }
@@ -132,7 +133,9 @@ pub fn least_squares(design: &Design, values: &[Rgb]) -> Vec<Rgb> {
 /// iterations summed over the channels).
 #[derive(Clone, Debug)]
 pub struct NnlsFit {
+    /// The fitted amplitude of each lobe.
     pub amplitudes: Vec<Rgb>,
+    /// Lawson–Hanson outer iterations, summed over the three channels.
     pub iterations: usize,
 }
 

@@ -22,7 +22,9 @@ use std::f64::consts::PI;
 /// An SG lobe without its amplitude: unit axis p and sharpness λ ≥ 0.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Lobe {
+    /// Unit axis p.
     pub axis: DVec3,
+    /// Sharpness λ (≥ 0).
     pub sharpness: f64,
 }
 

@@ -64,11 +64,17 @@ pub const COSINE_SHARPNESS_LS: f64 = 3.0;
 /// Which of the peer's SG experiments.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Variant {
+    /// `sg_naive`: scaled projection onto the lobes (peer SG).
     Naive,
+    /// `sg_ls`: least squares (peer SGLS).
     LeastSquares,
+    /// `sg_ls_ambient`: least squares plus a constant (λ = 0) lobe (peer SGLSA).
     LeastSquaresAmbient,
+    /// `sg_nnls`: non-negative least squares, Lawson–Hanson (peer SGNNLS).
     NonNegativeLeastSquares,
+    /// `sg_ra`: running average in the sample order (peer SGRA).
     RunningAverage,
+    /// `sg_nnra`: running average clamped ≥ 0 after each update (peer SGNNRA).
     NonNegativeRunningAverage,
 }
 
@@ -134,9 +140,11 @@ pub struct SgFit {
 }
 
 impl SgFit {
+    /// The RGB amplitude of each lobe, in the order of [`SgFit::lobes`].
     pub fn amplitudes(&self) -> &[Rgb] {
         &self.amplitudes
     }
+    /// The lobes (axes and sharpness).
     pub fn lobes(&self) -> &[Lobe] {
         &self.lobes
     }
@@ -254,21 +262,33 @@ fn build(p: &mut Params, variant: Variant) -> Result<Box<dyn Encoder>> {
     Ok(Box::new(SphericalGaussians { variant }))
 }
 
+/// Builds the `sg_naive` encoder from its settings: 12 SGs, naive projection (peer SG). An unknown
+/// or out-of-range setting is an error.
 pub fn build_naive(p: &mut Params) -> Result<Box<dyn Encoder>> {
     build(p, Variant::Naive)
 }
+/// Builds the `sg_ls` encoder from its settings: 12 SGs, least squares (peer SGLS). An unknown or
+/// out-of-range setting is an error.
 pub fn build_ls(p: &mut Params) -> Result<Box<dyn Encoder>> {
     build(p, Variant::LeastSquares)
 }
+/// Builds the `sg_ls_ambient` encoder from its settings: 12 SGs + ambient, least squares (peer
+/// SGLSA). An unknown or out-of-range setting is an error.
 pub fn build_ls_ambient(p: &mut Params) -> Result<Box<dyn Encoder>> {
     build(p, Variant::LeastSquaresAmbient)
 }
+/// Builds the `sg_nnls` encoder from its settings: 12 SGs, non-negative least squares (peer
+/// SGNNLS). An unknown or out-of-range setting is an error.
 pub fn build_nnls(p: &mut Params) -> Result<Box<dyn Encoder>> {
     build(p, Variant::NonNegativeLeastSquares)
 }
+/// Builds the `sg_ra` encoder from its settings: 12 SGs, running average (peer SGRA). An unknown or
+/// out-of-range setting is an error.
 pub fn build_ra(p: &mut Params) -> Result<Box<dyn Encoder>> {
     build(p, Variant::RunningAverage)
 }
+/// Builds the `sg_nnra` encoder from its settings: 12 SGs, non-negative running average (peer
+/// SGNNRA). An unknown or out-of-range setting is an error.
 pub fn build_nnra(p: &mut Params) -> Result<Box<dyn Encoder>> {
     build(p, Variant::NonNegativeRunningAverage)
 }

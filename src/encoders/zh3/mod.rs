@@ -81,9 +81,14 @@ impl AxisRule {
 /// zonal coefficients k (L₂ₘ ≈ k·Y₂ₘ(a)).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Zh3 {
+    /// Band 0 (E/π), per channel.
     pub l0: Rgb,
+    /// Per channel, the band-1 coefficients as a world xyz vector (−L₁,₁, −L₁,₋₁, L₁,₀), as
+    /// `Sh9::l1_vector` gives them.
     pub l1: [DVec3; 3],
+    /// Per channel, the zonal axis a; None when the channel has no usable L1 (no band-2 term then).
     pub axes: [Option<DVec3>; 3],
+    /// Per channel, the zonal coefficient k: band 2 is k·Y₂ₘ(a).
     pub k: Rgb,
 }
 
@@ -151,7 +156,9 @@ fn finish_stored(irr: &Sh9, l1: [DVec3; 3], rule: AxisRule) -> Zh3 {
 
 /// The solve's result: the ZH3 and the summed statistics of its solves.
 pub struct Solved {
+    /// The solved ZH3.
     pub zh3: Zh3,
+    /// Statistics of its solves, summed over the channels solved.
     pub stats: zh3_solve::SolveStats,
 }
 
@@ -241,6 +248,7 @@ pub struct Zh3Encoder {
 
 /// The fitted ZH3, expanded to irradiance SH3.
 pub struct Zh3Fit {
+    /// The fitted ZH3.
     pub zh3: Zh3,
     sh: Sh9,
     diagnostics: Vec<(&'static str, f64)>,
@@ -535,30 +543,48 @@ const KINDS: [(&str, Configure); 9] = [
     ("zh3_hallucinate_solved", hallucinate_solved_encoder),
 ];
 
+/// Builds the `zh3_hallucinate` encoder from its settings: ZH3 hallucinated, curve fit, Rec.709
+/// axis. An unknown or out-of-range setting is an error.
 pub fn build_hallucinate(p: &mut Params) -> Result<Box<dyn Encoder>> {
     Ok(Box::new(hallucinate_encoder(p)?))
 }
+/// Builds the `zh3_hallucinate_channel` encoder from its settings: ZH3 hallucinated, curve fit,
+/// per-channel axes. An unknown or out-of-range setting is an error.
 pub fn build_hallucinate_channel(p: &mut Params) -> Result<Box<dyn Encoder>> {
     Ok(Box::new(hallucinate_channel_encoder(p)?))
 }
+/// Builds the `zh3_hallucinate_ambdir` encoder from its settings: ZH3 hallucinated,
+/// ambient+directional model. An unknown or out-of-range setting is an error.
 pub fn build_hallucinate_ambdir(p: &mut Params) -> Result<Box<dyn Encoder>> {
     Ok(Box::new(hallucinate_ambdir_encoder(p)?))
 }
+/// Builds the `zh3_hallucinate_sphere` encoder from its settings: ZH3 hallucinated, sphere-light
+/// model. An unknown or out-of-range setting is an error.
 pub fn build_hallucinate_sphere(p: &mut Params) -> Result<Box<dyn Encoder>> {
     Ok(Box::new(hallucinate_sphere_encoder(p)?))
 }
+/// Builds the `zh3_stored_channel` encoder from its settings: ZH3 stored, per-channel L1 axes. An
+/// unknown or out-of-range setting is an error.
 pub fn build_stored_channel(p: &mut Params) -> Result<Box<dyn Encoder>> {
     Ok(Box::new(stored_channel_encoder(p)?))
 }
+/// Builds the `zh3_stored_shared` encoder from its settings: ZH3 stored, shared equal-weight L1
+/// axis. An unknown or out-of-range setting is an error.
 pub fn build_stored_shared(p: &mut Params) -> Result<Box<dyn Encoder>> {
     Ok(Box::new(stored_shared_encoder(p)?))
 }
+/// Builds the `zh3_solved_channel` encoder from its settings: ZH3 stored, axis solved per channel
+/// (L-BFGS). An unknown or out-of-range setting is an error.
 pub fn build_solved_channel(p: &mut Params) -> Result<Box<dyn Encoder>> {
     Ok(Box::new(solved_channel_encoder(p)?))
 }
+/// Builds the `zh3_solved_shared` encoder from its settings: ZH3 stored, shared axis solved
+/// (L-BFGS). An unknown or out-of-range setting is an error.
 pub fn build_solved_shared(p: &mut Params) -> Result<Box<dyn Encoder>> {
     Ok(Box::new(solved_shared_encoder(p)?))
 }
+/// Builds the `zh3_hallucinate_solved` encoder from its settings: ZH3 hallucinated from a solved
+/// L1, shared axis. An unknown or out-of-range setting is an error.
 pub fn build_hallucinate_solved(p: &mut Params) -> Result<Box<dyn Encoder>> {
     Ok(Box::new(hallucinate_solved_encoder(p)?))
 }

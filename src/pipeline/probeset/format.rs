@@ -62,7 +62,9 @@ fn bad_value(x: f64) -> Option<&'static str> {
 /// A probe file format.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Format {
+    /// Comma-separated text, one probe per line.
     Csv,
+    /// Raw little-endian f32 records.
     F32,
 }
 

@@ -21,7 +21,15 @@ pub enum Input<'a> {
     File(&'a Path, Option<&'a str>),
     /// `count` synthetic probes from `seed`, seeded by the maps of `palette` (comma-separated;
     /// `None`: every `*_256x128` map on the search path).
-    Synth { count: u64, seed: u64, palette: Option<&'a str> },
+    Synth {
+        /// Number of probes to synthesise.
+        count: u64,
+        /// Seed of the synthesis (the same seed gives the same probes).
+        seed: u64,
+        /// Comma-separated map names whose SH seed the probes (`None`: every `*_256x128` map on the
+        /// search path).
+        palette: Option<&'a str>,
+    },
 }
 
 /// One `probelab probes` job: what to score, how, and what to save.

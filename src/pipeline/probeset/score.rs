@@ -41,12 +41,14 @@ pub const REFERENCE: &str = "L2 SH irradiance of the probe (E/pi), sphere, solid
 pub struct SphereRule {
     /// "NZxNPHI", e.g. "6x12".
     pub label: String,
+    /// Unit nodes with their weights (the weights sum to 1).
     pub nodes: Vec<(DVec3, f64)>,
     /// The SH basis at each node (so the reference costs 9 multiply-adds a node).
     basis: Vec<[f64; N_SH]>,
 }
 
 impl SphereRule {
+    /// The product rule of `nz` Gauss–Legendre nodes in z times `nphi` equally spaced azimuths.
     pub fn product_gauss(nz: usize, nphi: usize) -> Self {
         let mut nodes = Vec::with_capacity(nz * nphi);
         for (z, w) in crate::math::quadrature::gauss_legendre(nz) {
@@ -80,7 +82,9 @@ impl SphereRule {
 /// How one probe's error was computed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Method {
+    /// By the fit's closed form (`Fitted::sphere_sq_error`).
     ClosedForm,
+    /// By the fixed sphere quadrature.
     Quadrature,
 }
 
@@ -111,13 +115,19 @@ pub fn sh_rms(sh: &Sh9) -> f64 {
 /// The statistics of one encoder over a set (or a shard of one).
 #[derive(Clone, Debug, PartialEq)]
 pub struct EncoderStats {
+    /// Name of the encoder as configured.
     pub name: String,
+    /// Scalars the encoder stores per probe.
     pub stored_scalars: usize,
+    /// Probes whose error came from the closed form.
     pub closed_form: u64,
+    /// Probes whose error came from quadrature.
     pub quadrature: u64,
     /// Wall seconds spent fitting and scoring this encoder (summed over shards when merged).
     pub seconds: f64,
+    /// Per-probe sphere RMSE of E/π.
     pub rmse: Summary,
+    /// Per-probe RMSE relative to the RMS of the reference.
     pub rel_rmse: Summary,
 }
 
@@ -149,11 +159,13 @@ impl EncoderStats {
 pub struct SetStats {
     /// The set's identity (synthesis parameters and palette fingerprint, or the input file).
     pub source: String,
+    /// Number of shards the set was split into (N of `--shard I/N`).
     pub shard_count: usize,
     /// The shards this state covers.
     pub shards: Vec<usize>,
     /// The quadrature rule of non-SH3 errors ("NZxNPHI").
     pub quadrature: String,
+    /// Probes scored.
     pub probes: u64,
     /// Wall seconds of the run (summed over shards when merged).
     pub wall_s: f64,
@@ -161,13 +173,26 @@ pub struct SetStats {
     pub input_s: f64,
     /// Peak resident memory (VmHWM) of the run, in bytes (max over shards); 0 if unknown.
     pub peak_mem_bytes: u64,
+    /// Worker threads of the run.
     pub threads: usize,
+    /// Statistics per encoder, in the order the encoders were listed.
     pub encoders: Vec<EncoderStats>,
 }
 
 /// Where probes come from.
 pub enum Source {
-    Synth { synth: Synth, start: u64, end: u64, next: u64 },
+    /// Synthetic probes of one shard's index range, generated on demand.
+    Synth {
+        /// The synthesiser.
+        synth: Synth,
+        /// First probe index of this shard.
+        start: u64,
+        /// One past the last probe index of this shard.
+        end: u64,
+        /// Index of the next probe to generate.
+        next: u64,
+    },
+    /// Probes read from a file.
     File(ProbeReader),
 }
 

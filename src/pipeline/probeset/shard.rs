@@ -7,11 +7,14 @@ use anyhow::Result;
 /// Shard I of N: the contiguous range of probe indices [⌊I·T/N⌋, ⌊(I+1)·T/N⌋) of a set of T.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Shard {
+    /// Index I of this shard, in [0, count).
     pub index: usize,
+    /// Number of shards N.
     pub count: usize,
 }
 
 impl Shard {
+    /// The whole set as one shard (0/1).
     pub const ALL: Shard = Shard { index: 0, count: 1 };
 
     /// Parses "I/N" with 0 ≤ I < N.

@@ -43,6 +43,7 @@ impl SplitMix64 {
     pub fn for_probe(seed: u64, index: u64) -> Self {
         SplitMix64(mix64(seed ^ mix64(index.wrapping_add(0x9e37_79b9_7f4a_7c15))))
     }
+    /// The next 64 random bits of the stream.
     pub fn next_u64(&mut self) -> u64 {
         self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
         mix64(self.0)
@@ -51,6 +52,7 @@ impl SplitMix64 {
     pub fn f64(&mut self) -> f64 {
         (self.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
     }
+    /// Uniform in [lo, hi).
     pub fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
         lo + (hi - lo) * self.f64()
     }
@@ -76,9 +78,11 @@ impl SplitMix64 {
 /// The probe synthesiser (see the module doc).
 #[derive(Clone, Debug)]
 pub struct Synth {
+    /// The seed every probe's stream is derived from.
     pub seed: u64,
     /// Palette SH3, each normalised to mean radiance luminance 1.
     palette: Vec<Sh9>,
+    /// Names of the palette maps, in palette order.
     pub palette_names: Vec<String>,
 }
 
