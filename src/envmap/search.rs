@@ -183,7 +183,7 @@ impl SearchPath {
         SearchError::NotFound { name: name.to_string(), as_path, searched, rejected, get }
     }
 
-    /// The file [`SearchPath::open`] would try first for `name` (see [`Self::candidates`]),
+    /// The file [`SearchPath::open`] would try first for `name` (see `candidates`),
     /// without reading it: for a known map found under an alias, whether its pixels are that
     /// map's is only known once it is opened. If no file exists the error lists every folder
     /// searched, marking those that do not exist.

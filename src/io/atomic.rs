@@ -5,7 +5,7 @@
 //!
 //! - [`Staged`]: a temporary file beside its target (`.NAME.tmp-PID-N`), removed when dropped
 //!   unless [`Staged::commit`] moved it into place;
-//! - [`write`] (bytes), [`write_with`] (streamed through a buffer) and [`write_set`] (several
+//! - [`write()`] (bytes), [`write_with`] (streamed through a buffer) and [`write_set`] (several
 //!   files of one folder, all or none: a baseline's table and provenance) build on it.
 //!
 //! The temporary names are the ones [`crate::io::folder::remove_stale`] recognises, so what a
