@@ -36,8 +36,10 @@ pub enum Rule {
 }
 
 impl Rule {
+    /// Every rule, in the order of the measures' rows.
     pub const ALL: [Rule; 3] = [Rule::TangentXy, Rule::Renormalised, Rule::LuminanceWeighted];
 
+    /// The rule's snake-case name (`tangent_xy`, …); the measures' encoder is `ahd_<name>`.
     pub fn name(self) -> &'static str {
         match self {
             Rule::TangentXy => "tangent_xy",
@@ -90,20 +92,30 @@ pub fn ahd_peak(alpha: f64, rule: Rule) -> (f64, f64) {
 /// One row of fig2.csv.
 #[derive(Clone, Debug)]
 pub struct Fig2Point {
+    /// The tilt α of the left texel's direction from N, degrees.
     pub alpha_deg: f64,
+    /// How the blended AHD parameters give a direction.
     pub rule: Rule,
+    /// The blend weight, 0 (left texel) to 1 (right texel).
     pub t: f64,
+    /// AHD's I(N) under `rule` at t, E/π ([`ahd_at_normal`]).
     pub ahd: f64,
+    /// IrradZ's I(N) at t, E/π ([`irradz_at_normal`]); the same for every rule.
     pub irradz: f64,
 }
 
 /// One row of the Fig. 2 summary.
 #[derive(Clone, Debug)]
 pub struct Fig2Summary {
+    /// The tilt α of the left texel's direction from N, degrees.
     pub alpha_deg: f64,
+    /// How the blended AHD parameters give a direction.
     pub rule: Rule,
+    /// The tilt above which `rule` overshoots, degrees ([`overshoot_threshold`]; 90: never).
     pub threshold_deg: f64,
+    /// The blend weight t where AHD's I(N) peaks (0 when it does not overshoot).
     pub t_peak: f64,
+    /// AHD's I(N) at `t_peak`, E/π.
     pub peak: f64,
     /// Peak minus the larger endpoint (cos α at t = 0), E/π; 0 when there is no overshoot.
     pub overshoot: f64,
