@@ -289,7 +289,7 @@ impl Blend {
     }
 }
 
-/// One row of blend.csv.
+/// One point of the blending study along t: a row of the `blend_curve` measure.
 #[derive(Clone, Debug)]
 pub struct BlendRow {
     /// The pair's id ([`Pair::id`]).
@@ -308,7 +308,7 @@ pub struct BlendRow {
     pub reference_at_normal: f64,
 }
 
-/// One row of blend_summary.csv.
+/// One pair and method of the blending study over all t: a row of the `blend` measure.
 #[derive(Clone, Debug)]
 pub struct BlendSummary {
     /// The pair's id ([`Pair::id`]).

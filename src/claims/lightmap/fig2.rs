@@ -89,7 +89,8 @@ pub fn ahd_peak(alpha: f64, rule: Rule) -> (f64, f64) {
     (t, ahd_at_normal(alpha, rule, t))
 }
 
-/// One row of fig2.csv.
+/// One point of the Fig. 2 curves, AHD under one rule and IrradZ at one tilt and t (the
+/// `fig2_curve` measure's rows).
 #[derive(Clone, Debug)]
 pub struct Fig2Point {
     /// The tilt α of the left texel's direction from N, degrees.
@@ -104,7 +105,7 @@ pub struct Fig2Point {
     pub irradz: f64,
 }
 
-/// One row of the Fig. 2 summary.
+/// One tilt and rule of the Fig. 2 summary: a row of the `fig2` measure.
 #[derive(Clone, Debug)]
 pub struct Fig2Summary {
     /// The tilt α of the left texel's direction from N, degrees.
@@ -126,7 +127,7 @@ pub struct Fig2Summary {
 /// The tilts swept (degrees).
 pub const ALPHAS_DEG: [f64; 7] = [15.0, 30.0, 35.0, 45.0, 60.0, 75.0, 85.0];
 
-/// fig2.csv: every tilt × rule at t = 0, 0.05, …, 1.
+/// The Fig. 2 curves (the `fig2_curve` measure): every tilt × rule at t = 0, 0.05, …, 1.
 pub fn points() -> Vec<Fig2Point> {
     let mut out = Vec::new();
     for &a in &ALPHAS_DEG {
