@@ -12,7 +12,9 @@ use std::path::Path;
 /// One cell: text or a number.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Cell {
+    /// A text cell (a key such as `case` or `encoder`, a label, units), written as is.
     Text(String),
+    /// A number, written in its shortest round-trip form; it must be finite.
     Num(f64),
 }
 
@@ -45,15 +47,19 @@ impl From<usize> for Cell {
 /// A measurement table.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Measure {
+    /// The table's name: its file is `claims/measures/<name>.csv`; claims cite it as `measure:<name>`.
     pub name: String,
     /// What the table is: reference, domain, weighting, resolution, units (first line of
     /// the page that lists it).
     pub about: String,
+    /// The column names, in order (the CSV header).
     pub columns: Vec<String>,
+    /// The rows, each with one cell per column.
     pub rows: Vec<Vec<Cell>>,
 }
 
 impl Measure {
+    /// An empty table named `name` with these columns; `about` as [`Measure::about`].
     pub fn new(name: &str, about: &str, columns: &[&str]) -> Self {
         Measure {
             name: name.into(),

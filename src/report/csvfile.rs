@@ -8,8 +8,11 @@ use std::path::{Path, PathBuf};
 /// A CSV file with a header row, held as strings.
 #[derive(Clone, Debug)]
 pub struct CsvTable {
+    /// Where the table was read from; it names the file in errors.
     pub path: PathBuf,
+    /// The column names of the header row, trimmed.
     pub headers: Vec<String>,
+    /// The records, each with one field per header, untrimmed.
     pub rows: Vec<Vec<String>>,
 }
 

@@ -63,16 +63,43 @@ pub struct PaperPlan {
 #[serde(tag = "kind", rename_all = "lowercase", deny_unknown_fields)]
 pub enum Figure {
     /// The folder's `table.csv` as a map × encoder rmse pivot per metric (`markdown::pivot`).
-    Pivot { folder: String, caption: String },
+    Pivot {
+        /// The result folder, relative to `results/`.
+        folder: String,
+        /// The text before the pivot.
+        caption: String,
+    },
     /// The folder's `summary.csv`: every encoder's ratio to the baseline, over all maps, per
     /// effects and orientation set ([`ratio_pivot`]).
-    Ratios { folder: String, caption: String },
+    Ratios {
+        /// The result folder, relative to `results/`.
+        folder: String,
+        /// The text before the ratios.
+        caption: String,
+    },
     /// A small CSV of the folder, shown whole.
-    Csv { folder: String, file: String, caption: String },
+    Csv {
+        /// The result folder, relative to `results/`.
+        folder: String,
+        /// The CSV file in the folder.
+        file: String,
+        /// The text before the table.
+        caption: String,
+    },
     /// A picture of the folder, inline.
-    Picture { folder: String, file: String, caption: String },
+    Picture {
+        /// The result folder, relative to `results/`.
+        folder: String,
+        /// The picture's file in the folder.
+        file: String,
+        /// The picture's alt text and the caption below it.
+        caption: String,
+    },
     /// The folder's error-against-cost charts (stored scalars, bytes, eval time), inline.
-    Costs { folder: String },
+    Costs {
+        /// The result folder, relative to `results/`.
+        folder: String,
+    },
 }
 
 /// The plan file as written.

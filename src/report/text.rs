@@ -36,12 +36,19 @@ const GREY_INK: RGBColor = RGBColor(90, 90, 90);
 /// A text item to draw.
 #[derive(Clone)]
 pub struct Label {
+    /// The text, one line.
     pub text: String,
+    /// The anchor's x in pixels: the left end, centre or right end of the line per `anchor`.
     pub x: i32,
+    /// The top edge of the line, in pixels from the image's top.
     pub y: i32,
+    /// The font size in pixels (an even count when built by [`Label::new`]).
     pub size: f64,
+    /// Whether the bold face is used.
     pub bold: bool,
+    /// Which point of the line `x` is: left end, centre or right end.
     pub anchor: HPos,
+    /// The text colour (near-black ink unless [`Label::grey`]).
     pub color: RGBColor,
 }
 
@@ -52,18 +59,22 @@ impl Label {
         let size = even_px(size);
         Label { text: text.into(), x: x as i32, y: y as i32, size, bold: false, anchor: HPos::Left, color: INK }
     }
+    /// The label in the bold face.
     pub fn bold(mut self) -> Self {
         self.bold = true;
         self
     }
+    /// The label centred on its x.
     pub fn centre(mut self) -> Self {
         self.anchor = HPos::Center;
         self
     }
+    /// The label in grey, the colour of secondary text (captions, notes).
     pub fn grey(mut self) -> Self {
         self.color = GREY_INK;
         self
     }
+    /// The label right-aligned on its x.
     pub fn right(mut self) -> Self {
         self.anchor = HPos::Right;
         self

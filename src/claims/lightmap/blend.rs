@@ -47,7 +47,9 @@ use crate::math::colour::REC709;
 /// optionally a white delta light.
 #[derive(Clone, Debug)]
 pub struct Endpoint {
+    /// The map's name, loaded through the search path (e.g. `grace_256x128`).
     pub map: &'static str,
+    /// Whether the map is turned 180° about +Y before baking ([`turned`]).
     pub turned: bool,
     /// (direction, k): a white delta light whose E/π at N is k × the map's L(I_z).
     pub light: Option<(DVec3, f64)>,
@@ -56,11 +58,17 @@ pub struct Endpoint {
 /// A blending pair on a surface of normal N.
 #[derive(Clone, Debug)]
 pub struct Pair {
+    /// The pair's id, the `case` of the `blend` measure (e.g. `ennis_to_grace`).
     pub id: &'static str,
+    /// A short human description of the two bakes and the surface.
     pub description: &'static str,
+    /// The normal as a label (`+x`, `+y`, `+z`), used in domain labels and captions.
     pub normal_label: &'static str,
+    /// The surface normal N (unit), about which both bakes are occluded.
     pub normal: DVec3,
+    /// The bake at t = 0.
     pub a: Endpoint,
+    /// The bake at t = 1.
     pub b: Endpoint,
 }
 
@@ -120,13 +128,19 @@ pub fn pairs() -> Vec<Pair> {
 
 /// A bake of one lighting on the surface: what the encoders see and the exact reference.
 pub struct Bake {
+    /// L2 SH of the unoccluded radiance (plus the delta light, if any).
     pub probe_sh: Sh9,
+    /// L2 SH of the radiance in the hemisphere about N (plus the delta light, if any).
     pub visible_sh: Sh9,
+    /// Exact occluded irradiance E/π at N (the bake's I_z).
     pub exact_at_normal: Rgb,
+    /// Exact occluded E/π at the normals the bake was made for, in their order.
     pub reference: Vec<Rgb>,
 }
 
 impl Bake {
+    /// The encoders' fit input for this bake on a surface of normal `normal` (no cone, no
+    /// albedo, SH only).
     pub fn input(&self, normal: DVec3) -> FitInput<'_> {
         FitInput {
             probe_sh: &self.probe_sh,
@@ -219,14 +233,19 @@ pub const METHODS: [&str; 6] = ["ahd_params", "hhd_params", "ahd_irradz", "hhd_i
 
 /// Everything one pair needs to reconstruct at any t.
 pub struct Blend {
+    /// The surface normal N of the pair.
     pub normal: DVec3,
+    /// The bake at t = 0.
     pub a: Bake,
+    /// The bake at t = 1.
     pub b: Bake,
     ahd: (Model, Model),
     hhd: (Model, Model),
 }
 
 impl Blend {
+    /// Fits the AHD and HHD models of both bakes once (as the registered `ahd_search_hemi`
+    /// and `hhd_search_hemi` encoders do); every t then blends these.
     pub fn new(normal: DVec3, a: Bake, b: Bake) -> Self {
         let ahd = (fitted_model(Basis::Ahd, &a.input(normal)), fitted_model(Basis::Ahd, &b.input(normal)));
         let hhd = (fitted_model(Basis::Hhd, &a.input(normal)), fitted_model(Basis::Hhd, &b.input(normal)));
@@ -270,30 +289,45 @@ impl Blend {
     }
 }
 
-/// One row of blend.csv.
+/// One point of the blending study along t: a row of the `blend_curve` measure.
 #[derive(Clone, Debug)]
 pub struct BlendRow {
+    /// The pair's id ([`Pair::id`]).
     pub pair: String,
+    /// The method, one of [`METHODS`].
     pub method: String,
+    /// The blend weight, 0 (bake a) to 1 (bake b).
     pub t: f64,
+    /// Solid-angle RMSE against the blended exact reference over the hemisphere about N, E/π.
     pub rmse: f64,
+    /// `rmse` over the RMS of the blended reference (dimensionless).
     pub rel_rmse: f64,
     /// Rec.709 luminance of the method's E/π at N, and the reference's.
     pub at_normal: f64,
+    /// Rec.709 luminance of the blended exact E/π at N.
     pub reference_at_normal: f64,
 }
 
-/// One row of blend_summary.csv.
+/// One pair and method of the blending study over all t: a row of the `blend` measure.
 #[derive(Clone, Debug)]
 pub struct BlendSummary {
+    /// The pair's id ([`Pair::id`]).
     pub pair: String,
+    /// The method, one of [`METHODS`].
     pub method: String,
+    /// The mean of the RMSE (E/π) over t = 0, 0.1, …, 1.
     pub mean_rmse: f64,
+    /// The largest RMSE (E/π) over those t.
     pub max_rmse: f64,
+    /// The RMSE (E/π) at t = 0 (bake a alone).
     pub rmse_t0: f64,
+    /// The RMSE (E/π) at t = ½.
     pub rmse_half: f64,
+    /// The RMSE (E/π) at t = 1 (bake b alone).
     pub rmse_t1: f64,
+    /// Relative overshoot of the luminance of I(N) above the larger endpoint ([`shoot`]).
     pub overshoot: f64,
+    /// Relative undershoot of the luminance of I(N) below the smaller endpoint ([`shoot`]).
     pub undershoot: f64,
 }
 

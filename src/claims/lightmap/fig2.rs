@@ -36,8 +36,10 @@ pub enum Rule {
 }
 
 impl Rule {
+    /// Every rule, in the order of the measures' rows.
     pub const ALL: [Rule; 3] = [Rule::TangentXy, Rule::Renormalised, Rule::LuminanceWeighted];
 
+    /// The rule's snake-case name (`tangent_xy`, …); the measures' encoder is `ahd_<name>`.
     pub fn name(self) -> &'static str {
         match self {
             Rule::TangentXy => "tangent_xy",
@@ -87,23 +89,34 @@ pub fn ahd_peak(alpha: f64, rule: Rule) -> (f64, f64) {
     (t, ahd_at_normal(alpha, rule, t))
 }
 
-/// One row of fig2.csv.
+/// One point of the Fig. 2 curves, AHD under one rule and IrradZ at one tilt and t (the
+/// `fig2_curve` measure's rows).
 #[derive(Clone, Debug)]
 pub struct Fig2Point {
+    /// The tilt α of the left texel's direction from N, degrees.
     pub alpha_deg: f64,
+    /// How the blended AHD parameters give a direction.
     pub rule: Rule,
+    /// The blend weight, 0 (left texel) to 1 (right texel).
     pub t: f64,
+    /// AHD's I(N) under `rule` at t, E/π ([`ahd_at_normal`]).
     pub ahd: f64,
+    /// IrradZ's I(N) at t, E/π ([`irradz_at_normal`]); the same for every rule.
     pub irradz: f64,
 }
 
-/// One row of the Fig. 2 summary.
+/// One tilt and rule of the Fig. 2 summary: a row of the `fig2` measure.
 #[derive(Clone, Debug)]
 pub struct Fig2Summary {
+    /// The tilt α of the left texel's direction from N, degrees.
     pub alpha_deg: f64,
+    /// How the blended AHD parameters give a direction.
     pub rule: Rule,
+    /// The tilt above which `rule` overshoots, degrees ([`overshoot_threshold`]; 90: never).
     pub threshold_deg: f64,
+    /// The blend weight t where AHD's I(N) peaks (0 when it does not overshoot).
     pub t_peak: f64,
+    /// AHD's I(N) at `t_peak`, E/π.
     pub peak: f64,
     /// Peak minus the larger endpoint (cos α at t = 0), E/π; 0 when there is no overshoot.
     pub overshoot: f64,
@@ -114,7 +127,7 @@ pub struct Fig2Summary {
 /// The tilts swept (degrees).
 pub const ALPHAS_DEG: [f64; 7] = [15.0, 30.0, 35.0, 45.0, 60.0, 75.0, 85.0];
 
-/// fig2.csv: every tilt × rule at t = 0, 0.05, …, 1.
+/// The Fig. 2 curves (the `fig2_curve` measure): every tilt × rule at t = 0, 0.05, …, 1.
 pub fn points() -> Vec<Fig2Point> {
     let mut out = Vec::new();
     for &a in &ALPHAS_DEG {

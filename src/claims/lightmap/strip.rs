@@ -27,7 +27,9 @@ pub fn strip_normals(n: DVec3) -> Vec<DVec3> {
 /// One method's reconstructions along t: E/π at the strip's normals, one vector per t.
 #[derive(Clone, Debug)]
 pub struct StripRow {
+    /// `reference` for the blended exact reference, else one of [`blend::METHODS`].
     pub method: String,
+    /// E/π per t (outer, as [`BlendStrip::ts`]) and per normal of [`strip_normals`] (inner).
     pub values: Vec<Vec<Rgb>>,
 }
 
@@ -36,6 +38,7 @@ pub struct StripRow {
 pub struct BlendStrip {
     /// The pair's id (`blend::Pair::id`).
     pub pair: String,
+    /// The strip's title: `blending <pair>: <description>`.
     pub title: String,
     /// Looking down the pair's N (its caption names N).
     pub view: View,
