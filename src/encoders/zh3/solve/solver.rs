@@ -177,7 +177,7 @@ pub(super) fn solve_n<const N: usize>(target: &Target, settings: &SolverSettings
     if settings.screen > 0 && form == Formulation::Axis {
         run.screened(dirs, &mut stats, &mut best);
     } else {
-        run.from_each_start(&dirs, &mut stats, &mut best);
+        run.run_every_start(&dirs, &mut stats, &mut best);
     }
 
     let mut l1 = [DVec3::ZERO; 3];
@@ -267,7 +267,7 @@ impl<const N: usize> MultiStart<'_, N> {
     }
 
     /// The plain multi-start: one L-BFGS run from every start direction.
-    fn from_each_start(&self, dirs: &[Option<DVec3>], stats: &mut SolveStats, best: &mut Best) {
+    fn run_every_start(&self, dirs: &[Option<DVec3>], stats: &mut SolveStats, best: &mut Best) {
         for (si, d) in dirs.iter().enumerate() {
             let x0 = self.start(&|_| *d);
             let end = self.run_if_axis(x0, stats);
