@@ -10,6 +10,7 @@
 
 use crate::claims::declaration::{CheckDecl, ClaimDecl, Paper, Rollup, Statistic, Test};
 use anyhow::{bail, Context, Result};
+use std::collections::HashMap;
 use std::fmt::Write as _;
 
 /// The columns that identify a row besides its encoder (those present in a table are used).
@@ -185,164 +186,249 @@ struct Picked<'a> {
     value: Option<f64>,
 }
 
-/// Judges one check on one set of a table.
-fn judge_set(t: &Evidence, k: &CheckDecl, set: &str, set_maps: Option<&[String]>) -> Result<SetOutcome> {
-    let enc_col = t.col("encoder").context("the table has no 'encoder' column")?;
-    let Some(val_col) = t.col(&k.column) else { bail!("the table has no column '{}'", k.column) };
-    let map_col = t.col("map");
-    let mut filters = Vec::new();
-    for (name, allowed) in &k.filter {
-        let Some(c) = t.col(name) else { bail!("where.{name}: the table has no column '{name}'") };
-        filters.push((c, allowed));
+/// A cell of the judged column in a row in scope, as read.
+enum Cell {
+    /// An empty cell: the row has no value (left out and counted, not an error).
+    Empty,
+    /// A number as written (finite or not: the caller decides).
+    Number(f64),
+}
+
+/// The rows a check reads in a table: the encoder and judged columns, the `where` filters,
+/// the maps of the set and of the check, and the key columns that label and match rows.
+struct Scope<'a> {
+    t: &'a Evidence,
+    k: &'a CheckDecl,
+    set_maps: Option<&'a [String]>,
+    enc_col: usize,
+    val_col: usize,
+    map_col: Option<usize>,
+    filters: Vec<(usize, &'a Vec<String>)>,
+    keys: Vec<usize>,
+}
+
+impl<'a> Scope<'a> {
+    /// The check's columns in `t`; an error names a column the table lacks.
+    fn new(t: &'a Evidence, k: &'a CheckDecl, set_maps: Option<&'a [String]>) -> Result<Self> {
+        let enc_col = t.col("encoder").context("the table has no 'encoder' column")?;
+        let Some(val_col) = t.col(&k.column) else { bail!("the table has no column '{}'", k.column) };
+        let map_col = t.col("map");
+        let mut filters = Vec::new();
+        for (name, allowed) in &k.filter {
+            let Some(c) = t.col(name) else { bail!("where.{name}: the table has no column '{name}'") };
+            filters.push((c, allowed));
+        }
+        let keys: Vec<usize> = KEY_COLUMNS.iter().filter_map(|c| t.col(c)).collect();
+        Ok(Scope { t, k, set_maps, enc_col, val_col, map_col, filters, keys })
     }
-    let keys: Vec<usize> = KEY_COLUMNS.iter().filter_map(|c| t.col(c)).collect();
-    let in_scope = |r: &[String]| -> bool {
-        filters.iter().all(|(c, allowed)| allowed.contains(&r[*c]))
-            && map_col.is_none_or(|m| {
-                set_maps.is_none_or(|s| s.contains(&r[m])) && k.maps.as_ref().is_none_or(|s| s.contains(&r[m]))
+
+    /// Whether a row passes the filters and lies on the set's and the check's maps.
+    fn in_scope(&self, r: &[String]) -> bool {
+        self.filters.iter().all(|(c, allowed)| allowed.contains(&r[*c]))
+            && self.map_col.is_none_or(|m| {
+                self.set_maps.is_none_or(|s| s.contains(&r[m]))
+                    && self.k.maps.as_ref().is_none_or(|s| s.contains(&r[m]))
             })
-    };
-    if set_maps.is_some() && map_col.is_none() {
-        let status = Status::Untestable(format!("the table has no map column to select set '{set}'"));
-        return Ok(SetOutcome {
-            set: set.into(),
-            maps: 0,
-            status,
-            headline: "no data".into(),
-            figure: String::new(),
-            values: vec![],
-            excluded: 0,
-        });
     }
-    let pick = |r: &'_ [String], encoder: &str| -> Option<Result<f64>> {
-        if (encoder != "*" && r[enc_col] != encoder) || !in_scope(r) {
+
+    /// The judged cell of a row of `encoder` (`*`: any) in scope; None for other rows, an
+    /// error for a cell that is not a number.
+    fn cell(&self, r: &[String], encoder: &str) -> Option<Result<Cell>> {
+        if (encoder != "*" && r[self.enc_col] != encoder) || !self.in_scope(r) {
             return None;
         }
-        let cell = r[val_col].trim();
+        let cell = r[self.val_col].trim();
         if cell.is_empty() {
-            return Some(Err(anyhow::anyhow!("empty")));
+            return Some(Ok(Cell::Empty));
         }
-        Some(cell.parse::<f64>().map_err(|_| anyhow::anyhow!("'{cell}' is not a number")))
-    };
-    let label =
-        |r: &[String]| keys.iter().map(|&c| r[c].as_str()).filter(|s| !s.is_empty()).collect::<Vec<_>>().join(" · ");
-    let mut picked: Vec<Picked> = Vec::new();
-    for r in &t.rows {
-        if let Some(v) = pick(r, &k.encoder) {
-            let value = match v {
-                Ok(x) if x.is_finite() => Some(x),
-                Ok(x) => bail!("row {}: {} is {x}", label(r), k.column),
-                Err(e) if e.to_string() == "empty" => None,
-                Err(e) => bail!("row {}: {}: {e}", label(r), k.column),
-            };
-            picked.push(Picked {
-                row: r,
-                label: label(r),
-                map: map_col.map(|m| r[m].clone()).unwrap_or_default(),
-                value,
-            });
-        }
+        Some(cell.parse::<f64>().map(Cell::Number).map_err(|_| anyhow::anyhow!("'{cell}' is not a number")))
     }
+
+    /// A row's label: its non-empty key cells.
+    fn label(&self, r: &[String]) -> String {
+        self.keys.iter().map(|&c| r[c].as_str()).filter(|s| !s.is_empty()).collect::<Vec<_>>().join(" · ")
+    }
+
+    /// A row's key, to match it with a baseline row.
+    fn key_of(&self, r: &[String]) -> Vec<String> {
+        self.keys.iter().map(|&c| r[c].clone()).collect()
+    }
+
+    /// The value of a row of `encoder` in scope (None: an empty cell); an error for a cell
+    /// that is not a finite number. `of` names the encoder in the error where it is a baseline.
+    fn value(&self, r: &[String], encoder: &str, of: &str) -> Option<Result<Option<f64>>> {
+        let cell = self.cell(r, encoder)?;
+        let col = &self.k.column;
+        Some(match cell {
+            Ok(Cell::Number(x)) if x.is_finite() => Ok(Some(x)),
+            Ok(Cell::Number(x)) => Err(anyhow::anyhow!("row {}: {col}{of} is {x}", self.label(r))),
+            Ok(Cell::Empty) => Ok(None),
+            Err(e) => Err(anyhow::anyhow!("row {}: {col}: {e}", self.label(r))),
+        })
+    }
+
+    /// The rows of the check's encoder in scope, in table order.
+    fn picked(&self) -> Result<Vec<Picked<'a>>> {
+        let mut picked = Vec::new();
+        for r in &self.t.rows {
+            if let Some(value) = self.value(r, &self.k.encoder, "") {
+                picked.push(Picked {
+                    row: r,
+                    label: self.label(r),
+                    map: self.map_col.map(|m| r[m].clone()).unwrap_or_default(),
+                    value: value?,
+                });
+            }
+        }
+        Ok(picked)
+    }
+
+    /// The baseline encoder's values in scope, by row key.
+    fn baseline_rows(&self, base: &str) -> Result<HashMap<Vec<String>, Option<f64>>> {
+        let mut rows = HashMap::new();
+        for r in &self.t.rows {
+            if let Some(value) = self.value(r, base, &format!(" of '{base}'")) {
+                rows.insert(self.key_of(r), value?);
+            }
+        }
+        Ok(rows)
+    }
+}
+
+/// A set that could not be judged, and why.
+fn untestable(set: &str, maps: usize, why: String) -> SetOutcome {
+    SetOutcome {
+        set: set.into(),
+        maps,
+        status: Status::Untestable(why),
+        headline: "no data".into(),
+        figure: String::new(),
+        values: vec![],
+        excluded: 0,
+    }
+}
+
+/// Pass when every row passes.
+fn pass_if(all: bool) -> Status {
+    if all {
+        Status::Pass
+    } else {
+        Status::Fail
+    }
+}
+
+/// Judges one check on one set of a table.
+fn judge_set(t: &Evidence, k: &CheckDecl, set: &str, set_maps: Option<&[String]>) -> Result<SetOutcome> {
+    let scope = Scope::new(t, k, set_maps)?;
+    if set_maps.is_some() && scope.map_col.is_none() {
+        return Ok(untestable(set, 0, format!("the table has no map column to select set '{set}'")));
+    }
+    let picked = scope.picked()?;
     let maps_judged = {
         let mut m: Vec<&str> = picked.iter().map(|p| p.map.as_str()).filter(|s| !s.is_empty()).collect();
         m.sort();
         m.dedup();
         m.len()
     };
-    let untestable = |why: String| SetOutcome {
-        set: set.into(),
-        maps: maps_judged,
-        status: Status::Untestable(why),
-        headline: "no data".into(),
-        figure: String::new(),
-        values: vec![],
-        excluded: 0,
-    };
     if picked.is_empty() {
-        return Ok(untestable(format!("no rows of '{}' in scope", k.encoder)));
+        return Ok(untestable(set, maps_judged, format!("no rows of '{}' in scope", k.encoder)));
     }
-    if let Some(s) = set_maps {
-        let present: Vec<&str> = picked.iter().map(|p| p.map.as_str()).collect();
-        let missing: Vec<&String> = s
-            .iter()
-            .filter(|m| k.maps.as_ref().is_none_or(|l| l.contains(m)))
-            .filter(|m| !present.contains(&m.as_str()))
-            .collect();
-        if !missing.is_empty() {
-            return Ok(untestable(format!(
-                "{} map(s) of set '{set}' have no rows of '{}': {}",
-                missing.len(),
-                k.encoder,
-                missing.iter().map(|s| s.as_str()).collect::<Vec<_>>().join(", ")
-            )));
-        }
+    if let Some(why) = set_maps.and_then(|s| missing_maps(k, set, s, &picked)) {
+        return Ok(untestable(set, maps_judged, why));
     }
-    let mut excluded = picked.iter().filter(|p| p.value.is_none()).count();
-    let col = &k.column;
+    let excluded = picked.iter().filter(|p| p.value.is_none()).count();
     if !k.test.needs_baseline() {
-        let vals: Vec<(&Picked, f64)> = picked.iter().filter_map(|p| p.value.map(|v| (p, v))).collect();
-        if vals.is_empty() {
-            return Ok(untestable(format!("every row of '{}' has an empty {col}", k.encoder)));
-        }
-        let (upper, bound) = match k.test {
-            Test::EveryAtMost { bound } => (true, bound),
-            Test::EveryAtLeast { bound } => (false, bound),
-            _ => unreachable!("needs_baseline covers the other tests"),
-        };
-        let ok = |v: f64| if upper { v <= bound } else { v >= bound };
-        let values: Vec<RowValue> = vals
-            .iter()
-            .map(|(p, v)| RowValue { label: p.label.clone(), map: p.map.clone(), value: *v, pass: ok(*v) })
-            .collect();
-        // Cannot fail: `values` has one entry per `vals`, and an empty `vals` returned above.
-        let worst = values
-            .iter()
-            .max_by(|a, b| if upper { a.value.total_cmp(&b.value) } else { b.value.total_cmp(&a.value) })
-            .expect("non-empty");
-        let passing = values.iter().filter(|v| v.pass).count();
-        let op = if upper { "≤" } else { "≥" };
-        let headline = format!(
-            "{} {col} {} {op} {} ({passing}/{})",
-            if upper { "max" } else { "min" },
-            fmt3(worst.value),
-            fmt3(bound),
-            values.len()
-        );
-        let figure = format!(
-            "{col} of {}: {} {} at {}; {op} {} in {passing}/{} rows{}",
-            k.encoder,
-            if upper { "largest" } else { "smallest" },
-            fmt3(worst.value),
-            worst.label,
-            fmt3(bound),
-            values.len(),
-            if excluded > 0 { format!(" ({excluded} row(s) without a value left out)") } else { String::new() }
-        );
-        let status = if passing == values.len() { Status::Pass } else { Status::Fail };
-        return Ok(SetOutcome { set: set.into(), maps: maps_judged, status, headline, figure, values, excluded });
+        return Ok(judge_bound(k, set, maps_judged, &picked, excluded));
     }
-    // Tests against a baseline: match rows on the key columns.
+    judge_against_baseline(&scope, set, maps_judged, &picked, excluded)
+}
+
+/// Why the set cannot be judged when some of its maps (those the check reads) have no rows.
+fn missing_maps(k: &CheckDecl, set: &str, set_maps: &[String], picked: &[Picked]) -> Option<String> {
+    let present: Vec<&str> = picked.iter().map(|p| p.map.as_str()).collect();
+    let missing: Vec<&String> = set_maps
+        .iter()
+        .filter(|m| k.maps.as_ref().is_none_or(|l| l.contains(m)))
+        .filter(|m| !present.contains(&m.as_str()))
+        .collect();
+    (!missing.is_empty()).then(|| {
+        format!(
+            "{} map(s) of set '{set}' have no rows of '{}': {}",
+            missing.len(),
+            k.encoder,
+            missing.iter().map(|s| s.as_str()).collect::<Vec<_>>().join(", ")
+        )
+    })
+}
+
+/// A bound on every row (`every_at_most`, `every_at_least`): each value against the bound.
+fn judge_bound(k: &CheckDecl, set: &str, maps_judged: usize, picked: &[Picked], excluded: usize) -> SetOutcome {
+    let col = &k.column;
+    let vals: Vec<(&Picked, f64)> = picked.iter().filter_map(|p| p.value.map(|v| (p, v))).collect();
+    if vals.is_empty() {
+        return untestable(set, maps_judged, format!("every row of '{}' has an empty {col}", k.encoder));
+    }
+    let (upper, bound) = match k.test {
+        Test::EveryAtMost { bound } => (true, bound),
+        Test::EveryAtLeast { bound } => (false, bound),
+        _ => unreachable!("needs_baseline covers the other tests"),
+    };
+    let ok = |v: f64| if upper { v <= bound } else { v >= bound };
+    let values: Vec<RowValue> = vals
+        .iter()
+        .map(|(p, v)| RowValue { label: p.label.clone(), map: p.map.clone(), value: *v, pass: ok(*v) })
+        .collect();
+    // Cannot fail: `values` has one entry per `vals`, and an empty `vals` returned above.
+    let worst = values
+        .iter()
+        .max_by(|a, b| if upper { a.value.total_cmp(&b.value) } else { b.value.total_cmp(&a.value) })
+        .expect("non-empty");
+    let passing = values.iter().filter(|v| v.pass).count();
+    let op = if upper { "≤" } else { "≥" };
+    let headline = format!(
+        "{} {col} {} {op} {} ({passing}/{})",
+        if upper { "max" } else { "min" },
+        fmt3(worst.value),
+        fmt3(bound),
+        values.len()
+    );
+    let figure = format!(
+        "{col} of {}: {} {} at {}; {op} {} in {passing}/{} rows{}",
+        k.encoder,
+        if upper { "largest" } else { "smallest" },
+        fmt3(worst.value),
+        worst.label,
+        fmt3(bound),
+        values.len(),
+        if excluded > 0 { format!(" ({excluded} row(s) without a value left out)") } else { String::new() }
+    );
+    let status = pass_if(passing == values.len());
+    SetOutcome { set: set.into(), maps: maps_judged, status, headline, figure, values, excluded }
+}
+
+/// The rows of a check paired with its baseline's on the key columns: (row, value, baseline).
+type Pairs<'p, 'a> = Vec<(&'p Picked<'a>, f64, f64)>;
+
+/// Tests against a baseline (`equal`, ratio tests): rows matched on the key columns, those
+/// whose baseline is at or below the floor, unmatched or empty left out and counted.
+fn judge_against_baseline(
+    scope: &Scope,
+    set: &str,
+    maps_judged: usize,
+    picked: &[Picked],
+    mut excluded: usize,
+) -> Result<SetOutcome> {
+    let k = scope.k;
+    let col = &k.column;
     // Cannot fail: `declaration` refuses a test that needs a baseline without one.
     let base = k.baseline.as_deref().expect("validated: the test needs a baseline");
-    let key_of = |r: &[String]| keys.iter().map(|&c| r[c].clone()).collect::<Vec<_>>();
-    let mut base_rows: std::collections::HashMap<Vec<String>, Option<f64>> = std::collections::HashMap::new();
-    for r in &t.rows {
-        if let Some(v) = pick(r, base) {
-            let value = match v {
-                Ok(x) if x.is_finite() => Some(x),
-                Ok(x) => bail!("row {}: {} of '{base}' is {x}", label(r), k.column),
-                Err(e) if e.to_string() == "empty" => None,
-                Err(e) => bail!("row {}: {}: {e}", label(r), k.column),
-            };
-            base_rows.insert(key_of(r), value);
-        }
-    }
-    let mut pairs: Vec<(&Picked, f64, f64)> = Vec::new();
+    let base_rows = scope.baseline_rows(base)?;
+    let mut pairs: Pairs = Vec::new();
     let mut unmatched = 0;
     let mut below_floor = 0;
-    for p in &picked {
+    for p in picked {
         let Some(a) = p.value else { continue };
-        match base_rows.get(&key_of(p.row)) {
+        match base_rows.get(&scope.key_of(p.row)) {
             None => unmatched += 1,
             Some(None) => excluded += 1,
             Some(Some(b)) => {
@@ -355,13 +441,11 @@ fn judge_set(t: &Evidence, k: &CheckDecl, set: &str, set_maps: Option<&[String]>
         }
     }
     if unmatched > 0 && pairs.is_empty() {
-        return Ok(untestable(format!("no rows of '{}' match rows of '{base}'", k.encoder)));
+        return Ok(untestable(set, maps_judged, format!("no rows of '{}' match rows of '{base}'", k.encoder)));
     }
     if pairs.is_empty() {
-        return Ok(untestable(format!(
-            "every row of '{base}' is at or below the floor {} ({below_floor} row(s))",
-            fmt3(k.floor)
-        )));
+        let why = format!("every row of '{base}' is at or below the floor {} ({below_floor} row(s))", fmt3(k.floor));
+        return Ok(untestable(set, maps_judged, why));
     }
     excluded += below_floor + unmatched;
     let left_out = {
@@ -381,39 +465,49 @@ fn judge_set(t: &Evidence, k: &CheckDecl, set: &str, set_maps: Option<&[String]>
             format!("; left out: {}", v.join(", "))
         }
     };
-    if let Test::Equal { tolerance, abs_tolerance } = k.test {
-        let values: Vec<RowValue> = pairs
-            .iter()
-            .map(|(p, a, b)| {
-                let d = (a - b).abs();
-                let scale = a.abs().max(b.abs());
-                let rel = if d <= abs_tolerance {
-                    0.0
-                } else if scale > 0.0 {
-                    d / scale
-                } else {
-                    f64::INFINITY
-                };
-                RowValue { label: p.label.clone(), map: p.map.clone(), value: rel, pass: rel <= tolerance }
-            })
-            .collect();
-        // Cannot fail: `values` has one entry per pair, and no pairs returned above.
-        let worst = values.iter().max_by(|a, b| a.value.total_cmp(&b.value)).expect("non-empty");
-        let passing = values.iter().filter(|v| v.pass).count();
-        let headline = format!(
-            "largest relative difference {} ≤ {} ({passing}/{})",
-            fmt3(worst.value),
-            fmt3(tolerance),
-            values.len()
-        );
-        let figure = format!(
-            "{headline}; worst at {}; differences ≤ {} count as equal{left_out}",
-            worst.label,
-            fmt3(abs_tolerance)
-        );
-        let status = if passing == values.len() { Status::Pass } else { Status::Fail };
-        return Ok(SetOutcome { set: set.into(), maps: maps_judged, status, headline, figure, values, excluded });
-    }
+    let (status, values, headline, figure) = match k.test {
+        Test::Equal { tolerance, abs_tolerance } => judge_equal(&pairs, tolerance, abs_tolerance, &left_out),
+        _ => judge_ratio(k, base, &pairs, &left_out),
+    };
+    Ok(SetOutcome { set: set.into(), maps: maps_judged, status, headline, figure, values, excluded })
+}
+
+/// What a baseline test gives a set: status, per-row values, headline and figure.
+type Judged = (Status, Vec<RowValue>, String, String);
+
+/// `equal`: every row's relative difference from its baseline within the tolerance
+/// (differences up to `abs_tolerance` count as none).
+fn judge_equal(pairs: &Pairs, tolerance: f64, abs_tolerance: f64, left_out: &str) -> Judged {
+    let values: Vec<RowValue> = pairs
+        .iter()
+        .map(|(p, a, b)| {
+            let d = (a - b).abs();
+            let scale = a.abs().max(b.abs());
+            let rel = if d <= abs_tolerance {
+                0.0
+            } else if scale > 0.0 {
+                d / scale
+            } else {
+                f64::INFINITY
+            };
+            RowValue { label: p.label.clone(), map: p.map.clone(), value: rel, pass: rel <= tolerance }
+        })
+        .collect();
+    // Cannot fail: `values` has one entry per pair, and no pairs returned above.
+    let worst = values.iter().max_by(|a, b| a.value.total_cmp(&b.value)).expect("non-empty");
+    let passing = values.iter().filter(|v| v.pass).count();
+    let headline =
+        format!("largest relative difference {} ≤ {} ({passing}/{})", fmt3(worst.value), fmt3(tolerance), values.len());
+    let figure =
+        format!("{headline}; worst at {}; differences ≤ {} count as equal{left_out}", worst.label, fmt3(abs_tolerance));
+    let status = pass_if(passing == values.len());
+    (status, values, headline, figure)
+}
+
+/// Ratio tests (`ratio_every`, `ratio_some`, `ratio_stat`) on the per-row ratios to the
+/// baseline, with the ratio of means and the median ratio in the figure.
+fn judge_ratio(k: &CheckDecl, base: &str, pairs: &Pairs, left_out: &str) -> Judged {
+    let col = &k.column;
     let ratios: Vec<f64> = pairs.iter().map(|(_, a, b)| a / b).collect();
     let sum_a: f64 = pairs.iter().map(|p| p.1).sum();
     let sum_b: f64 = pairs.iter().map(|p| p.2).sum();
@@ -422,18 +516,16 @@ fn judge_set(t: &Evidence, k: &CheckDecl, set: &str, set_maps: Option<&[String]>
     let (lo, hi) = ratios.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &x| (l.min(x), h.max(x)));
     let name = format!("{}/{base} {col}", k.encoder);
     let n = ratios.len();
-    let (status, values, headline) = match k.test {
+    let row_values = |pass: &dyn Fn(f64) -> bool| -> Vec<RowValue> {
+        pairs
+            .iter()
+            .zip(&ratios)
+            .map(|((p, _, _), &r)| RowValue { label: p.label.clone(), map: p.map.clone(), value: r, pass: pass(r) })
+            .collect()
+    };
+    let (ok, values, headline) = match k.test {
         Test::RatioEvery { below } | Test::RatioSome { below } => {
-            let values: Vec<RowValue> = pairs
-                .iter()
-                .zip(&ratios)
-                .map(|((p, _, _), &r)| RowValue {
-                    label: p.label.clone(),
-                    map: p.map.clone(),
-                    value: r,
-                    pass: r < below,
-                })
-                .collect();
+            let values = row_values(&|r| r < below);
             let passing = values.iter().filter(|v| v.pass).count();
             let every = matches!(k.test, Test::RatioEvery { .. });
             let ok = if every { passing == n } else { passing > 0 };
@@ -453,11 +545,7 @@ fn judge_set(t: &Evidence, k: &CheckDecl, set: &str, set_maps: Option<&[String]>
                 (None, Some(b)) => format!("[0, {}]", fmt3(b)),
                 (None, None) => unreachable!("validated: a band"),
             };
-            let values: Vec<RowValue> = pairs
-                .iter()
-                .zip(&ratios)
-                .map(|((p, _, _), &r)| RowValue { label: p.label.clone(), map: p.map.clone(), value: r, pass: ok })
-                .collect();
+            let values = row_values(&|_| ok);
             let headline = format!("{sname} {}, {} {band}", fmt3(stat), if ok { "within" } else { "outside" });
             (ok, values, headline)
         }
@@ -470,8 +558,7 @@ fn judge_set(t: &Evidence, k: &CheckDecl, set: &str, set_maps: Option<&[String]>
         fmt3(lo),
         fmt3(hi)
     );
-    let status = if status { Status::Pass } else { Status::Fail };
-    Ok(SetOutcome { set: set.into(), maps: maps_judged, status, headline, figure, values, excluded })
+    (pass_if(ok), values, headline, figure)
 }
 
 /// Judges one check on every set it declares. `table` is its evidence, or why there is none.

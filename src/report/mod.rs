@@ -28,6 +28,7 @@
 pub mod canvas;
 pub mod charts;
 pub mod csvfile;
+mod front;
 pub mod markdown;
 pub mod number;
 pub mod papers;
@@ -43,6 +44,8 @@ use crate::pipeline::experiment::{list_experiments, Experiment};
 use anyhow::{bail, Context, Result};
 use charts::Outcome;
 use csvfile::CsvTable;
+use front::{other_results, paper_sections, Page};
+pub use front::{CLAIMS_CSV, PAGE, PROVENANCE_PAGE};
 use markdown::{anchor, href};
 use rayon::prelude::*;
 use std::collections::BTreeMap;
@@ -251,23 +254,6 @@ fn report_md(
     Ok(doc)
 }
 
-/// A result folder's page, `results/<name>/README.md`.
-pub const PAGE: &str = "README.md";
-
-/// How the run was made in full (tables' provenance, settings, maps with sha256).
-pub const PROVENANCE_PAGE: &str = "PROVENANCE.md";
-
-/// The claims engine's table, relative to the results folder.
-pub const CLAIMS_CSV: &str = "CLAIMS.csv";
-
-/// A folder that got a page.
-struct Page {
-    name: String,
-    description: Option<String>,
-    /// False for an experiment with no results folder yet.
-    has_page: bool,
-}
-
 /// The first lines of REPORT.md: what probelab is and how this run was made.
 fn opening(
     sections: &[Section],
@@ -342,148 +328,6 @@ fn opening(
     Ok(md)
 }
 
-/// One section per paper: its claims' ids, the paper's figures reproduced, and its pages.
-fn paper_sections(
-    out: &Path,
-    decls: &[crate::claims::declaration::Paper],
-    plans: &[papers::PaperPlan],
-    pages: &[Page],
-) -> Result<String> {
-    let evidence = |key: &str| {
-        let f = format!("claims/{key}.md");
-        if out.join(&f).is_file() {
-            format!(", evidence in [{f}]({})", href(&f))
-        } else {
-            String::new()
-        }
-    };
-    let mut md = String::new();
-    for (title, plan) in papers::section_titles(decls, plans) {
-        let _ = writeln!(md, "## {title}\n");
-        let decl = decls.iter().find(|p| p.title == title);
-        if let Some(p) = decl {
-            let ids: Vec<String> = p.claims.iter().map(|c| c.id.clone()).collect();
-            let _ = writeln!(
-                md,
-                "{}. {}. Claims {}: verdicts above{}.\n",
-                p.authors,
-                p.venue,
-                ids.join(", "),
-                evidence(&p.key)
-            );
-        }
-        let Some(plan) = plan else { continue };
-        for f in &plan.figures {
-            md.push_str(&figure(out, f)?);
-        }
-        let links: Vec<String> = plan
-            .pages
-            .iter()
-            .filter(|n| pages.iter().any(|p| p.name == **n && p.has_page))
-            .map(|n| format!("[{n}]({})", href(&rel(n, PAGE))))
-            .collect();
-        if !links.is_empty() {
-            let _ = writeln!(md, "Full pages (tables, every chart and sheet): {}.\n", links.join(" · "));
-        }
-    }
-    Ok(md)
-}
-
-/// One figure of a paper section, or nothing when its file is absent.
-fn figure(out: &Path, f: &papers::Figure) -> Result<String> {
-    use papers::Figure;
-    let mut md = String::new();
-    match f {
-        Figure::Pivot { folder, caption } => {
-            let p = out.join(folder).join("table.csv");
-            if p.is_file() {
-                if let Some(pv) = markdown::pivot(&CsvTable::read(&p)?)? {
-                    let _ = writeln!(
-                        md,
-                        "{caption} From [{folder}/table.csv]({}).\n\n{pv}",
-                        href(&rel(folder, "table.csv"))
-                    );
-                }
-            }
-        }
-        Figure::Ratios { folder, caption } => {
-            let p = out.join(folder).join("summary.csv");
-            if p.is_file() {
-                if let Some(pv) = papers::ratio_pivot(&CsvTable::read(&p)?)? {
-                    let _ = writeln!(
-                        md,
-                        "{caption} From [{folder}/summary.csv]({}): {pv}",
-                        href(&rel(folder, "summary.csv"))
-                    );
-                }
-            }
-        }
-        Figure::Csv { folder, file, caption } => {
-            let p = out.join(folder).join(file);
-            if p.is_file() {
-                let t = CsvTable::read(&p)?;
-                let _ = writeln!(
-                    md,
-                    "{caption} From [{folder}/{file}]({}):\n\n{}",
-                    href(&rel(folder, file)),
-                    papers::whole_csv(&t)
-                );
-            }
-        }
-        Figure::Picture { folder, file, caption } => {
-            if out.join(folder).join(file).is_file() {
-                let _ = writeln!(
-                    md,
-                    "![{caption}]({})\n\n*{caption}* ([{folder}]({}))\n",
-                    href(&rel(folder, file)),
-                    href(&rel(folder, PAGE))
-                );
-            }
-        }
-        Figure::Costs { folder } => {
-            let drawn: Vec<charts::Cost> = charts::Cost::ALL
-                .into_iter()
-                .filter(|c| *c != charts::Cost::FitNs && out.join(folder).join(c.file()).is_file())
-                .collect();
-            if !drawn.is_empty() {
-                let _ = writeln!(
-                    md,
-                    "**What accuracy costs** ({folder}): error against {}; the red staircase is the Pareto front (lower \
-                     cost and lower error both better). Fit time and the captions: [{folder}]({}).\n",
-                    drawn.iter().map(|c| c.what()).collect::<Vec<_>>().join(", "),
-                    href(&rel(folder, PAGE))
-                );
-                for c in drawn {
-                    let _ = writeln!(md, "![error against {}]({})\n", c.what(), href(&rel(folder, c.file())));
-                }
-            }
-        }
-    }
-    Ok(md)
-}
-
-/// Links to the pages no paper section lists.
-fn other_results(pages: &[Page], in_papers: &[&str]) -> String {
-    let mut md = String::from("## Other results\n\n");
-    let rest: Vec<&Page> = pages.iter().filter(|p| !in_papers.contains(&p.name.as_str())).collect();
-    if rest.is_empty() {
-        md.push_str("Every result folder is linked from a paper's section above.\n\n");
-    }
-    for p in rest {
-        let what = p.description.as_deref().filter(|d| !d.is_empty()).unwrap_or("results without an experiment file");
-        if p.has_page {
-            let _ = writeln!(md, "- [{}]({}): {what}", p.name, href(&rel(&p.name, PAGE)));
-        } else {
-            let _ = writeln!(md, "- {}: no results yet (`probelab run experiments/{}.toml`): {what}", p.name, p.name);
-        }
-    }
-    let _ = writeln!(
-        md,
-        "\nHow every table was made (commit, date, settings, maps with sha256): [{PROVENANCE_PAGE}]({PROVENANCE_PAGE}).\n"
-    );
-    md
-}
-
 fn map_use(root: &Path, search: &SearchPath, name: &str) -> Result<MapUse> {
     let map = search.load(name)?;
     let path = map.path.clone().unwrap_or_default();
@@ -510,11 +354,6 @@ fn remove_stale(dir: &Path, prefix: &str, keep: &[String]) -> Result<()> {
 /// The SVG beside a chart's PNG: the same stem, `.svg`.
 fn svg_name(png: &str) -> String {
     format!("{}.svg", png.strip_suffix(".png").unwrap_or(png))
-}
-
-/// Link text from REPORT.md (in `out`) to `name/file`.
-fn rel(name: &str, file: &str) -> String {
-    format!("{name}/{file}")
 }
 
 /// The charts of one section: their Markdown and the files drawn.
@@ -561,6 +400,33 @@ fn section(
     kept: &mut Vec<String>,
 ) -> Result<(String, usize)> {
     let mut md = String::new();
+    page_header(&mut md, s, out, root);
+    let all = files(dir);
+    let mut drawn = ChartsOut { dir, md: String::new(), made: Vec::new() };
+
+    // The table.
+    table_part(&mut md, &mut drawn, s, dir, &all)?;
+    // Sweeps and blending.
+    csv_charts(&mut drawn, dir, &all)?;
+    if dir.is_dir() {
+        remove_stale(dir, "chart_", &drawn.made)?;
+    }
+    if !drawn.md.is_empty() {
+        let _ = writeln!(md, "## Charts\n\n{}", drawn.md);
+    }
+
+    // Sheets: drawn now, or kept from the committed run.
+    let now = files(dir);
+    sheets_part(&mut md, s, &now, sheets, kept);
+
+    // Claims, other pictures and files.
+    other_files(&mut md, dir, &now, &drawn.made)?;
+    Ok((md, drawn.made.iter().filter(|f| f.ends_with(".png")).count()))
+}
+
+/// The page's title, its note, the experiment's description and its settings (linked when the
+/// output is this repository's `results/`).
+fn page_header(md: &mut String, s: &Section, out: &Path, root: &Path) {
     let _ = writeln!(
         md,
         "# {}\n\nGenerated by `probelab report`; do not edit. Back to [the report](../REPORT.md). Every figure is E/π, \
@@ -586,10 +452,11 @@ fn section(
             );
         }
     }
-    let all = files(dir);
-    let mut drawn = ChartsOut { dir, md: String::new(), made: Vec::new() };
+}
 
-    // The table.
+/// The results table (pivot, timing, the whole table), the rmse bars and the cost charts, the
+/// ratios against the baseline; or a note that the experiment has not run.
+fn table_part(md: &mut String, drawn: &mut ChartsOut, s: &Section, dir: &Path, all: &[String]) -> Result<()> {
     if all.iter().any(|f| f == "table.csv") {
         let t = CsvTable::read(&dir.join("table.csv"))?;
         let link = "table.csv".to_string();
@@ -632,7 +499,11 @@ fn section(
     } else if s.exp.is_some() {
         let _ = writeln!(md, "No `table.csv` here yet (run `probelab run experiments/{}.toml`).\n", s.name);
     }
-    // Sweeps and blending.
+    Ok(())
+}
+
+/// The charts of the folder's sweep and blending CSVs.
+fn csv_charts(drawn: &mut ChartsOut, dir: &Path, all: &[String]) -> Result<()> {
     for f in all.iter().filter(|f| f.ends_with(".csv")) {
         let stem = f.trim_end_matches(".csv");
         let t = CsvTable::read(&dir.join(f))?;
@@ -652,15 +523,12 @@ fn section(
             }
         }
     }
-    if dir.is_dir() {
-        remove_stale(dir, "chart_", &drawn.made)?;
-    }
-    if !drawn.md.is_empty() {
-        let _ = writeln!(md, "## Charts\n\n{}", drawn.md);
-    }
+    Ok(())
+}
 
-    // Sheets: drawn now, or kept from the committed run.
-    let now = files(dir);
+/// The comparison sheets, in the experiment's map order, with the note when they were not
+/// (re)drawn in this run (the section is then `kept`).
+fn sheets_part(md: &mut String, s: &Section, now: &[String], sheets: Option<&Vec<String>>, kept: &mut Vec<String>) {
     let mut sheet_files: Vec<String> =
         now.iter().filter(|f| f.starts_with("sheet_") && f.ends_with(".png")).cloned().collect();
     if let Some(exp) = &s.exp {
@@ -700,8 +568,10 @@ fn section(
             let _ = writeln!(md, "![{} on {map}]({})\n", s.name, href(f));
         }
     }
+}
 
-    // Claims, other pictures and files.
+/// The experiment's own claims, other pictures, and links to the folder's other files.
+fn other_files(md: &mut String, dir: &Path, now: &[String], made: &[String]) -> Result<()> {
     if now.iter().any(|f| f == "claims.csv") {
         let t = CsvTable::read(&dir.join("claims.csv"))?;
         let _ = writeln!(
@@ -719,13 +589,12 @@ fn section(
             let _ = writeln!(md, "![{f}]({})\n", href(f));
         }
     }
-    let other: Vec<&String> =
-        now.iter().filter(|f| !f.ends_with(".png") && *f != PAGE && !drawn.made.contains(f)).collect();
+    let other: Vec<&String> = now.iter().filter(|f| !f.ends_with(".png") && *f != PAGE && !made.contains(f)).collect();
     if !other.is_empty() {
         let links: Vec<String> = other.iter().map(|f| format!("[{f}]({})", href(f))).collect();
         let _ = writeln!(md, "Files: {}\n", links.join(" · "));
     }
-    Ok((md, drawn.made.iter().filter(|f| f.ends_with(".png")).count()))
+    Ok(())
 }
 
 /// A folder as shown in the report: relative to the repository root when inside it, else

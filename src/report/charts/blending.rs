@@ -1,0 +1,119 @@
+//! The lightmap blending study: E/π at N along t per method, its rmse, and the overshoot.
+
+use super::super::csvfile::CsvTable;
+use super::super::number::sig;
+use super::draw::{canvas, pe, Outcome};
+use super::lines::{draw_legend, legend_height, legend_width, line_panel, Series};
+use super::rows::distinct;
+use crate::math::colour::luminance;
+use crate::math::colour::Rgb;
+use anyhow::Result;
+use plotters::prelude::*;
+
+/// Whether a CSV is a blending study: `t`, `method`, and E/π at N (`irradiance_at_n_r/_g/_b`
+/// or `luma_at_normal`), whatever its name.
+pub fn is_blend(t: &CsvTable) -> bool {
+    ["t", "method"].iter().all(|h| t.col(h).is_some())
+        && (t.col("luma_at_normal").is_some() || t.col("irradiance_at_n_r").is_some())
+}
+
+/// Irradiance at N along t per blending method, and its rmse along t (the lightmap blending
+/// study; the 2018 brief's Fig. 2). One chart per `set` value when that column exists. The
+/// caption gives each method's overshoot beyond both endpoints.
+pub fn blend_charts(t: &CsvTable) -> Result<Vec<(String, Outcome)>> {
+    let [tc, mc] = t.require(&["t", "method"])?[..] else { unreachable!() };
+    // E/π at N as RGB (luminance taken here) or as a luminance already.
+    let rgb = ["irradiance_at_n_r", "irradiance_at_n_g", "irradiance_at_n_b"].map(|h| t.col(h));
+    let luma = t.col("luma_at_normal");
+    if rgb.iter().any(|c| c.is_none()) && luma.is_none() {
+        t.require(&["irradiance_at_n_r", "irradiance_at_n_g", "irradiance_at_n_b"])?;
+    }
+    let at_n = |i: usize| -> Result<Option<f64>> {
+        if let [Some(r), Some(g), Some(b)] = rgb {
+            let (Some(x), Some(y), Some(z)) = (t.num(i, r)?, t.num(i, g)?, t.num(i, b)?) else { return Ok(None) };
+            return Ok(Some(luminance(Rgb::new(x, y, z))));
+        }
+        // Cannot fail: without all three rgb columns, `require` above refused a table without luma.
+        t.num(i, luma.expect("checked"))
+    };
+    // The blended reference: a method of its own, or a column beside every method's rows.
+    let refc = t.col("reference_luma_at_normal");
+    let rc = t.col("rmse");
+    let sc = t.col("set").or(t.col("pair"));
+    let all: Vec<usize> = (0..t.rows.len()).collect();
+    let sets = match sc {
+        Some(c) => distinct(t, &all, c),
+        None => vec![String::new()],
+    };
+    let mut out = Vec::new();
+    for set in sets {
+        let rows: Vec<usize> = all.iter().copied().filter(|&i| sc.is_none_or(|c| t.rows[i][c] == set)).collect();
+        let mut irr = Vec::new();
+        let mut err = Vec::new();
+        let mut notes = Vec::new();
+        let mut methods = distinct(t, &rows, mc);
+        if refc.is_some() {
+            methods.push("reference".into());
+        }
+        let first = methods.first().cloned().unwrap_or_default();
+        for (k, m) in methods.into_iter().enumerate() {
+            let mut a = Vec::new();
+            let mut e = Vec::new();
+            let from_column = refc.is_some() && m == "reference";
+            let picked = if from_column { &first } else { &m };
+            for &i in rows.iter().filter(|&&i| t.rows[i][mc] == *picked) {
+                let Some(tv) = t.num(i, tc)? else { continue };
+                // Cannot fail: `from_column` implies `refc.is_some()`.
+                let v = if from_column { t.num(i, refc.expect("checked"))? } else { at_n(i)? };
+                let Some(v) = v else { continue };
+                a.push((tv, v));
+                if from_column {
+                    continue;
+                }
+                if let Some(v) = rc.map(|c| t.num(i, c)).transpose()?.flatten() {
+                    e.push((tv, v));
+                }
+            }
+            a.sort_by(|p, q| p.0.total_cmp(&q.0));
+            e.sort_by(|p, q| p.0.total_cmp(&q.0));
+            if let (Some(first), Some(last)) = (a.first(), a.last()) {
+                let (lo, hi) = (first.1.min(last.1), first.1.max(last.1));
+                let over = a.iter().map(|p| (p.1 - hi).max(lo - p.1).max(0.0)).fold(0.0, f64::max);
+                notes.push(format!("{m}: overshoot {}", sig(over, 3)));
+            }
+            irr.push(Series { label: m.clone(), colour: k, points: a });
+            if !e.is_empty() {
+                err.push(Series { label: m, colour: k, points: e });
+            }
+        }
+        let two = !err.is_empty();
+        let title = if set.is_empty() { String::new() } else { format!(" ({set})") };
+        let w = if two { 1200 } else { 640 };
+        let (image, svg) = canvas!(w + legend_width(&irr), legend_height(&irr), |root| {
+            root.fill(&WHITE).map_err(pe)?;
+            draw_legend(root, &irr, w as i32)?;
+            let root = &root.split_horizontally(w).0;
+            let (a, b) = if two { root.split_horizontally(600) } else { (root.clone(), root.clone()) };
+            line_panel(
+                &a,
+                &format!("irradiance at N along t{title}"),
+                "t",
+                "E/pi at N (Rec.709 luminance)",
+                &irr,
+                true,
+            )?;
+            if two {
+                line_panel(&b, &format!("rmse along t{title}"), "t", "rmse of E/pi", &err, true)?;
+            }
+            Ok(())
+        })?;
+        let caption = format!(
+            "blending{title}: E/pi at N (luminance) along t per method{}; overshoot = largest excursion beyond both \
+             endpoints' values: {}",
+            if two { ", and rmse along t" } else { "" },
+            notes.join("; ")
+        );
+        out.push((set, Outcome::Drawn { image, svg, caption }));
+    }
+    Ok(out)
+}

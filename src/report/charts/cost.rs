@@ -1,0 +1,315 @@
+//! Error against a cost per encoder — stored scalars, bytes, evaluation and fit time — with
+//! the Pareto front drawn as a staircase, and the labels placed so none overlaps another.
+
+use super::super::csvfile::CsvTable;
+use super::super::text::{text_width, FONT};
+use super::axes::{decades, tick};
+use super::draw::{canvas, pe, Outcome};
+use super::rows::{distinct, metric_rows};
+use anyhow::Result;
+use plotters::prelude::*;
+
+/// Indices of the Pareto-optimal points of (cost, error), sorted by cost: lower cost and lower
+/// error are both better, and a point is on the front when no other point is at least as cheap
+/// and at least as accurate while strictly better in one. Equal points are all on the front.
+pub fn pareto_front(points: &[(f64, f64)]) -> Vec<usize> {
+    let mut idx: Vec<usize> = (0..points.len()).collect();
+    idx.sort_by(|&a, &b| points[a].0.total_cmp(&points[b].0).then(points[a].1.total_cmp(&points[b].1)));
+    let mut front: Vec<usize> = Vec::new();
+    let mut best = f64::INFINITY;
+    for i in idx {
+        let same_as_last = front.last().is_some_and(|&l| points[l] == points[i]);
+        if points[i].1 < best || same_as_last {
+            best = points[i].1;
+            front.push(i);
+        }
+    }
+    front
+}
+
+/// What an error-against-cost chart puts on x: a cost per encoder, read from the table by
+/// column name (or the `bytes` key of `diagnostics`), the same for every encoder set.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Cost {
+    /// `fit_ns`: the fit of one probe or texel (median over the table's rows).
+    FitNs,
+    /// `eval_ns`: one shaded normal (median over the table's rows).
+    EvalNs,
+    /// `stored_scalars`: what the encoding stores per probe or texel.
+    StoredScalars,
+    /// `bytes=` in `diagnostics`: the size of a quantised encoding (only quantised encoders
+    /// report it, so only they are drawn).
+    Bytes,
+}
+
+impl Cost {
+    /// Every cost, in the order the pages show them.
+    pub const ALL: [Cost; 4] = [Cost::StoredScalars, Cost::Bytes, Cost::EvalNs, Cost::FitNs];
+
+    /// The chart's file name.
+    pub fn file(self) -> &'static str {
+        match self {
+            Cost::FitNs => "chart_time.png",
+            Cost::EvalNs => "chart_cost_eval.png",
+            Cost::StoredScalars => "chart_cost_scalars.png",
+            Cost::Bytes => "chart_cost_bytes.png",
+        }
+    }
+
+    /// A phrase: "fit time", "stored scalars", …
+    pub fn what(self) -> &'static str {
+        match self {
+            Cost::FitNs => "fit time",
+            Cost::EvalNs => "evaluation time per shaded normal",
+            Cost::StoredScalars => "stored scalars",
+            Cost::Bytes => "bytes (quantised encoders)",
+        }
+    }
+
+    fn axis(self) -> &'static str {
+        match self {
+            Cost::FitNs => "fit time per probe or texel, ns (median; log scale)",
+            Cost::EvalNs => "evaluation time per shaded normal, ns (median; log scale)",
+            Cost::StoredScalars => "stored scalars per probe or texel (log scale)",
+            Cost::Bytes => "bytes per probe (quantised; log scale)",
+        }
+    }
+
+    fn source(self) -> &'static str {
+        match self {
+            Cost::FitNs => "median `fit_ns`",
+            Cost::EvalNs => "median `eval_ns`",
+            Cost::StoredScalars => "`stored_scalars`",
+            Cost::Bytes => "`bytes` of `diagnostics`",
+        }
+    }
+
+    /// This cost in row `i`, when the row has it.
+    fn value(self, t: &CsvTable, i: usize) -> Result<Option<f64>> {
+        let col = match self {
+            Cost::FitNs => "fit_ns",
+            Cost::EvalNs => "eval_ns",
+            Cost::StoredScalars => "stored_scalars",
+            Cost::Bytes => {
+                let Some(c) = t.col("diagnostics") else { return Ok(None) };
+                return Ok(diagnostic(&t.rows[i][c], "bytes"));
+            }
+        };
+        match t.col(col) {
+            Some(c) => t.num(i, c),
+            None => Ok(None),
+        }
+    }
+
+    /// Why nothing was drawn, when no row has this cost.
+    fn missing(self, t: &CsvTable) -> String {
+        match self {
+            Cost::FitNs | Cost::EvalNs => {
+                let col = if self == Cost::FitNs { "fit_ns" } else { "eval_ns" };
+                if t.col(col).is_none() {
+                    format!("not drawn: no {} in this table (it has no `{col}` column)", self.what())
+                } else {
+                    format!("not drawn: the `{col}` column is empty (the run had `--no-timing`)")
+                }
+            }
+            Cost::StoredScalars => "not drawn: the table has no `stored_scalars` column".into(),
+            Cost::Bytes => "not drawn: no encoder of this table is quantised (none reports `bytes`)".into(),
+        }
+    }
+}
+
+/// The value of `key` in a `k=v;k=v` diagnostics cell.
+pub(super) fn diagnostic(cell: &str, key: &str) -> Option<f64> {
+    cell.split(';')
+        .filter_map(|kv| kv.split_once('='))
+        .find(|(k, _)| k.trim() == key)
+        .and_then(|(_, v)| v.trim().parse().ok())
+}
+
+/// A chart's points, their encoders and the metric they are of.
+pub type CostPoints = (Vec<(f64, f64)>, Vec<String>, Option<String>);
+
+/// One point per encoder: (median cost over its rows, mean rmse), for the rows of the chart's
+/// metric; encoders without the cost (or with a cost ≤ 0, which a log axis cannot show) are
+/// left out. Returns the points, their encoders and the metric.
+pub fn cost_points(t: &CsvTable, cost: Cost) -> Result<CostPoints> {
+    let (Some(ec), Some(rc)) = (t.col("encoder"), t.col("rmse")) else { return Ok((vec![], vec![], None)) };
+    let (rows, metric) = metric_rows(t);
+    let mut pts = Vec::new();
+    let mut names = Vec::new();
+    for e in distinct(t, &rows, ec) {
+        let mut costs = Vec::new();
+        let (mut sum, mut n) = (0.0, 0usize);
+        for &i in rows.iter().filter(|&&i| t.rows[i][ec] == e) {
+            if let Some(v) = cost.value(t, i)? {
+                costs.push(v);
+            }
+            if let Some(v) = t.num(i, rc)? {
+                sum += v;
+                n += 1;
+            }
+        }
+        if costs.is_empty() || n == 0 {
+            continue;
+        }
+        costs.sort_by(f64::total_cmp);
+        let median = costs[costs.len() / 2];
+        if median > 0.0 && median.is_finite() {
+            pts.push((median, sum / n as f64));
+            names.push(e);
+        }
+    }
+    Ok((pts, names, metric))
+}
+
+/// Error against fit time (kept for callers of the first cost chart).
+pub fn error_vs_time(t: &CsvTable, title: &str) -> Result<Outcome> {
+    error_vs_cost(t, Cost::FitNs, title)
+}
+
+/// Error against a cost per encoder (x = the cost, y = mean rmse), log–log, with the Pareto
+/// front (lower cost and lower error both better) drawn as a staircase and named in the caption.
+pub fn error_vs_cost(t: &CsvTable, cost: Cost, title: &str) -> Result<Outcome> {
+    if t.col("encoder").is_none() || t.col("rmse").is_none() {
+        return Ok(Outcome::Skipped("not drawn: the table has no encoder and rmse columns".into()));
+    }
+    let (pts, names, metric) = cost_points(t, cost)?;
+    if pts.is_empty() {
+        return Ok(Outcome::Skipped(cost.missing(t)));
+    }
+    let front = pareto_front(&pts);
+    // Cannot fail: `cost_points` keeps only finite costs > 0, and `pts` is not empty.
+    let (xlo, xhi) = decades(pts.iter().map(|p| p.0)).expect("positive costs");
+    let (ylo, yhi) = decades(pts.iter().map(|p| p.1)).unwrap_or((1e-3, 1.0));
+    let h = 560u32;
+    let (image, svg) = canvas!(820, h, |root| {
+        root.fill(&WHITE).map_err(pe)?;
+        let mut chart = ChartBuilder::on(root)
+            .caption(title, (FONT, 16).into_font().style(FontStyle::Bold))
+            .margin(14)
+            .x_label_area_size(44)
+            .y_label_area_size(64)
+            .build_cartesian_2d((xlo..xhi).log_scale(), (ylo..yhi).log_scale())
+            .map_err(pe)?;
+        chart
+            .configure_mesh()
+            .x_desc(cost.axis())
+            .y_desc("rmse of E/pi (mean over the table's rows; log scale)")
+            .x_label_formatter(&|v| tick(*v))
+            .y_label_formatter(&|v| tick(*v))
+            .label_style((FONT, 12))
+            .axis_desc_style((FONT, 12))
+            .light_line_style(RGBColor(238, 238, 238))
+            .draw()
+            .map_err(pe)?;
+        let red = RGBColor(200, 30, 30);
+        // The front as a staircase: the best error reachable at a cost of at most x.
+        let mut line: Vec<(f64, f64)> = Vec::new();
+        for &i in &front {
+            let p = (pts[i].0, pts[i].1.max(ylo));
+            if let Some(&last) = line.last() {
+                line.push((p.0, last.1));
+            }
+            line.push(p);
+        }
+        chart
+            .draw_series(LineSeries::new(line, red.stroke_width(2)))
+            .map_err(pe)?
+            .label("Pareto front (none is both cheaper and more accurate)")
+            .legend(move |(x, y)| PathElement::new([(x, y), (x + 18, y)], red.stroke_width(2)));
+        // Labels from measured widths ([`place_labels`]): right of the point, or left of it
+        // where the right would leave the plot, moved up or down past labels already placed,
+        // with a leader line when moved off the point; never shortened.
+        let grey = RGBColor(90, 90, 90);
+        let (xr, yr) = chart.plotting_area().get_pixel_range();
+        let plot = (xr.start, yr.start, xr.end, yr.end);
+        let at: Vec<(f64, f64)> = pts.iter().map(|p| (p.0, p.1.max(ylo))).collect();
+        let px: Vec<(i32, i32)> = at.iter().map(|a| chart.backend_coord(a)).collect();
+        let widths: Vec<u32> = names.iter().map(|n| text_width(n, 12.0, false)).collect();
+        let boxes = place_labels(&px, &widths, 14, plot);
+        for (i, name) in names.iter().enumerate() {
+            let c = if front.contains(&i) { red } else { grey };
+            chart.draw_series(std::iter::once(Circle::new(at[i], 5, c.filled()))).map_err(pe)?;
+            let (bx0, by0, bx1, by1) = boxes[i];
+            let (x, y) = px[i];
+            let cy = (by0 + by1) / 2;
+            if (cy - y).abs() > 7 {
+                let ex = if bx0 >= x { bx0 - 2 } else { bx1 + 2 };
+                root.draw(&PathElement::new([(x, y), (ex, cy)], grey.mix(0.6).stroke_width(1))).map_err(pe)?;
+            }
+            root.draw_text(name, &TextStyle::from((FONT, 12).into_font()).color(&c), (bx0, by0 + 1)).map_err(pe)?;
+        }
+        chart
+            .configure_series_labels()
+            .background_style(WHITE.mix(0.9))
+            .border_style(BLACK)
+            .label_font((FONT, 12))
+            .position(SeriesLabelPosition::UpperRight)
+            .draw()
+            .map_err(pe)?;
+        Ok(())
+    })?;
+    let on: Vec<&str> = front.iter().map(|&i| names[i].as_str()).collect();
+    let left_out = {
+        let (rows, _) = metric_rows(t);
+        let ec = t.col("encoder").expect("checked"); // cannot fail: checked on entry
+        distinct(t, &rows, ec).len() - names.len()
+    };
+    Ok(Outcome::Drawn {
+        image,
+        svg,
+        caption: format!(
+            "error against {} per encoder: x = {} over the table's rows, y = mean rmse{}; Pareto front (lower cost \
+             and lower error both better): {}{}",
+            cost.what(),
+            cost.source(),
+            metric.map(|m| format!(" (metric `{m}`)")).unwrap_or_default(),
+            on.join(", "),
+            if left_out > 0 { format!("; {left_out} encoder(s) without this cost not drawn") } else { String::new() }
+        ),
+    })
+}
+
+/// Places one label per point: boxes (x0, y0, x1, y1) of width `widths[i]` and height
+/// `line`, inside `plot`, none overlapping another. Each label goes right of its point (12 px
+/// gap) or, when that leaves the plot, left of it; then at the point's height or the nearest
+/// free height, trying steps of a line up and down. Points are placed in order of x, then y.
+pub fn place_labels(
+    points: &[(i32, i32)],
+    widths: &[u32],
+    line: i32,
+    plot: (i32, i32, i32, i32),
+) -> Vec<(i32, i32, i32, i32)> {
+    let (px0, py0, px1, py1) = plot;
+    let mut order: Vec<usize> = (0..points.len()).collect();
+    order.sort_by_key(|&i| (points[i].0, points[i].1));
+    let mut placed: Vec<(i32, i32, i32, i32)> = vec![(0, 0, 0, 0); points.len()];
+    let mut done: Vec<usize> = Vec::new();
+    let overlaps = |a: (i32, i32, i32, i32), b: (i32, i32, i32, i32)| a.0 < b.2 && b.0 < a.2 && a.1 < b.3 && b.1 < a.3;
+    for i in order {
+        let (x, y) = points[i];
+        let w = widths[i] as i32;
+        let x0 = if x + 12 + w <= px1 { x + 12 } else { (x - 12 - w).max(px0) };
+        let mut best = None;
+        for k in 0..200 {
+            let step = if k % 2 == 0 { k / 2 } else { -(k / 2 + 1) };
+            let y0 = y - line / 2 + step * line;
+            let b = (x0, y0, x0 + w, y0 + line);
+            if y0 < py0 || y0 + line > py1 {
+                continue;
+            }
+            if done.iter().all(|&j| !overlaps(b, placed[j])) {
+                best = Some(b);
+                break;
+            }
+        }
+        placed[i] = best.unwrap_or((
+            x0,
+            (y - line / 2).clamp(py0, py1 - line),
+            x0 + w,
+            (y - line / 2).clamp(py0, py1 - line) + line,
+        ));
+        done.push(i);
+    }
+    placed
+}

@@ -1,0 +1,80 @@
+//! What a chart is and how it is drawn: the [`Outcome`] (pixels and SVG, or why not), the
+//! Tableau 20 palette, and `canvas!`, which runs one drawing body on both backends.
+
+use anyhow::anyhow;
+use image::RgbImage;
+use plotters::prelude::*;
+
+/// A drawn chart (the same drawing as pixels and as an SVG document of the same size), or the
+/// reason it was not drawn.
+#[derive(Debug)]
+pub enum Outcome {
+    Drawn { image: RgbImage, svg: String, caption: String },
+    Skipped(String),
+}
+
+pub fn pe<E: std::fmt::Display>(e: E) -> anyhow::Error {
+    anyhow!("drawing a chart: {e}")
+}
+
+/// Tableau 20 (the bold ten, then their light partners).
+pub(super) const PALETTE: [(u8, u8, u8); 20] = [
+    (31, 119, 180),
+    (255, 127, 14),
+    (44, 160, 44),
+    (214, 39, 40),
+    (148, 103, 189),
+    (140, 86, 75),
+    (227, 119, 194),
+    (127, 127, 127),
+    (188, 189, 34),
+    (23, 190, 207),
+    (174, 199, 232),
+    (255, 187, 120),
+    (152, 223, 138),
+    (255, 152, 150),
+    (197, 176, 213),
+    (196, 156, 148),
+    (247, 182, 210),
+    (199, 199, 199),
+    (219, 219, 141),
+    (158, 218, 229),
+];
+
+pub(super) fn colour(i: usize) -> RGBColor {
+    let (r, g, b) = PALETTE[i % PALETTE.len()];
+    RGBColor(r, g, b)
+}
+
+/// Draws a w×h chart twice with the same body, once on each backend: into a fresh bitmap
+/// buffer (the PNG's pixels) and into an SVG string (`SVGBackend::with_string`). The body
+/// sees `$root: &DrawingArea<DB, Shift>` for either backend, so every helper it calls is
+/// generic over `DB: DrawingBackend`; it returns `Result<()>`. Evaluates to
+/// `Result<(RgbImage, String)>`. (A macro, because a closure cannot be generic over the
+/// backend.)
+macro_rules! canvas {
+    ($w:expr, $h:expr, |$root:ident| $body:block) => {{
+        let (w, h): (u32, u32) = ($w, $h);
+        use ::plotters::prelude::{BitMapBackend, IntoDrawingArea, SVGBackend};
+        $crate::report::text::ensure_font();
+        (|| -> ::anyhow::Result<(::image::RgbImage, String)> {
+            let mut buf = vec![255u8; (w * h * 3) as usize];
+            {
+                let area = BitMapBackend::with_buffer(&mut buf, (w, h)).into_drawing_area();
+                let $root = &area;
+                (|| -> ::anyhow::Result<()> { $body })()?;
+                area.present().map_err($crate::report::charts::draw::pe)?;
+            }
+            let image = ::image::RgbImage::from_raw(w, h, buf).ok_or_else(|| ::anyhow::anyhow!("chart buffer size"))?;
+            let mut svg = String::new();
+            {
+                let area = SVGBackend::with_string(&mut svg, (w, h)).into_drawing_area();
+                let $root = &area;
+                (|| -> ::anyhow::Result<()> { $body })()?;
+                area.present().map_err($crate::report::charts::draw::pe)?;
+            }
+            Ok((image, svg))
+        })()
+    }};
+}
+pub(super) use canvas;

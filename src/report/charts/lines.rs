@@ -1,0 +1,126 @@
+//! Line charts: one panel of series (log axes where the range allows) and the legend column
+//! beside the panels, so a legend never covers data.
+
+use super::super::text::{text_width, FONT};
+use super::axes::tick;
+use super::draw::{colour, pe};
+use anyhow::Result;
+use plotters::coord::Shift;
+use plotters::prelude::*;
+
+/// Height of one legend entry, px.
+pub(super) const LEGEND_LINE: i32 = 16;
+
+/// Width of the legend column for these series: the widest measured label, the 24 px line
+/// sample before it and 12 px of margin on each side.
+pub(super) fn legend_width(series: &[Series]) -> u32 {
+    series.iter().map(|s| text_width(&s.label, 12.0, false)).max().unwrap_or(0) + 24 + 24
+}
+
+/// Boxes (x0, y0, x1, y1) of the legend entries in a column starting at `x0`, one line each
+/// from the top margin down, each as wide as its measured label plus the line sample.
+pub(super) fn legend_boxes(series: &[Series], x0: i32) -> Vec<(i32, i32, i32, i32)> {
+    series
+        .iter()
+        .enumerate()
+        .map(|(i, s)| {
+            let y0 = 40 + i as i32 * LEGEND_LINE;
+            (x0 + 12, y0, x0 + 12 + 24 + text_width(&s.label, 12.0, false) as i32, y0 + LEGEND_LINE)
+        })
+        .collect()
+}
+
+/// Image height: 460 px, or taller when the legend needs it.
+pub(super) fn legend_height(series: &[Series]) -> u32 {
+    460u32.max(40 + series.len() as u32 * LEGEND_LINE as u32 + 12)
+}
+
+/// Draws the legend in its own column right of the panels (`x0` = the panels' right edge),
+/// so it never covers data: a line sample with a point and the label per series.
+pub(super) fn draw_legend<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, series: &[Series], x0: i32) -> Result<()> {
+    for (s, b) in series.iter().zip(legend_boxes(series, x0)) {
+        let c = colour(s.colour);
+        let y = (b.1 + b.3) / 2;
+        root.draw(&PathElement::new([(b.0, y), (b.0 + 18, y)], c.stroke_width(2))).map_err(pe)?;
+        root.draw(&Circle::new((b.0 + 9, y), 3, c.filled())).map_err(pe)?;
+        root.draw_text(&s.label, &TextStyle::from((FONT, 12).into_font()).color(&BLACK), (b.0 + 24, b.1 + 1))
+            .map_err(pe)?;
+    }
+    Ok(())
+}
+
+/// One series of a line chart.
+pub(super) struct Series {
+    pub(super) label: String,
+    /// Palette index, so a label keeps its colour across panels.
+    pub(super) colour: usize,
+    pub(super) points: Vec<(f64, f64)>,
+}
+
+/// Draws one panel of line series on `area`: log axes where every value is positive and the
+/// range spans at least a factor 20.
+pub(super) fn line_panel<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    title: &str,
+    xdesc: &str,
+    ydesc: &str,
+    series: &[Series],
+    force_linear_y: bool,
+) -> Result<()> {
+    let xs = || series.iter().flat_map(|s| s.points.iter().map(|p| p.0));
+    let ys = || series.iter().flat_map(|s| s.points.iter().map(|p| p.1));
+    let span = |v: &mut dyn Iterator<Item = f64>| {
+        let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+        for x in v {
+            lo = lo.min(x);
+            hi = hi.max(x);
+        }
+        (lo, hi)
+    };
+    let (xl, xh) = span(&mut xs());
+    let (yl, yh) = span(&mut ys());
+    if !xl.is_finite() {
+        return Ok(());
+    }
+    let pad = |lo: f64, hi: f64| {
+        let d = if hi > lo { (hi - lo) * 0.06 } else { lo.abs().max(1.0) * 0.1 };
+        (lo - d, hi + d)
+    };
+    let xlog = xl > 0.0 && xh / xl >= 20.0;
+    let ylog = !force_linear_y && yl > 0.0 && yh / yl >= 20.0;
+    macro_rules! draw {
+        ($x:expr, $y:expr) => {{
+            let mut chart = ChartBuilder::on(area)
+                .caption(title, (FONT, 14).into_font().style(FontStyle::Bold))
+                .margin(12)
+                .x_label_area_size(40)
+                .y_label_area_size(62)
+                .build_cartesian_2d($x, $y)
+                .map_err(pe)?;
+            chart
+                .configure_mesh()
+                .x_desc(xdesc)
+                .y_desc(ydesc)
+                .x_label_formatter(&|v| tick(*v))
+                .y_label_formatter(&|v| tick(*v))
+                .label_style((FONT, 12))
+                .axis_desc_style((FONT, 12))
+                .light_line_style(RGBColor(238, 238, 238))
+                .draw()
+                .map_err(pe)?;
+            for s in series {
+                let c = colour(s.colour);
+                chart.draw_series(LineSeries::new(s.points.clone(), c.stroke_width(2))).map_err(pe)?;
+                chart.draw_series(s.points.iter().map(|p| Circle::new(*p, 3, c.filled()))).map_err(pe)?;
+            }
+        }};
+    }
+    let (xp, yp) = (pad(xl, xh), pad(yl, yh));
+    match (xlog, ylog) {
+        (true, true) => draw!((xl * 0.8..xh * 1.25).log_scale(), (yl * 0.8..yh * 1.25).log_scale()),
+        (true, false) => draw!((xl * 0.8..xh * 1.25).log_scale(), yp.0..yp.1),
+        (false, true) => draw!(xp.0..xp.1, (yl * 0.8..yh * 1.25).log_scale()),
+        (false, false) => draw!(xp.0..xp.1, yp.0..yp.1),
+    }
+    Ok(())
+}

@@ -1,0 +1,36 @@
+//! Charts (plotters, bundled font), each drawn twice from the same code: into a bitmap (the
+//! PNG) and into an SVG string (for papers; text as `<text>` elements with the full labels,
+//! laid out from the bitmap font's measured widths): rmse bars per encoder per map, error against fit
+//! time with the Pareto front, convergence curves of sweeps, and the lightmap blending line
+//! chart. Every chart reads its CSV by column name; a chart whose columns are absent is not
+//! drawn and says why (the report prints the reason).
+//!
+//! File formats read here (also in docs/report.md):
+//! - `table.csv` (the runner's): `map`, `encoder`, `rmse`; optional `metric` (rows of `exact`
+//!   are charted when present), `fit_ns` (the error-against-time chart needs it).
+//! - `sweep*.csv`: `knob,value,rmse,time_ns,label` — one chart per knob, one line per label;
+//!   `time_ns` may be empty; an optional `reference` column says what rmse is measured against.
+//! - `blend*.csv`: `t,method,irradiance_at_n_r,irradiance_at_n_g,irradiance_at_n_b,rmse` —
+//!   `rmse` may be empty; an optional `set` column gives one chart per lighting set.
+//!
+//! One concept per file: `draw.rs` (the outcome, the palette, drawing on both backends),
+//! `axes.rs` (log-axis bounds and ticks), `rows.rs` (which rows a table chart reads),
+//! `bars.rs` (rmse bars), `cost.rs` (error against cost, the Pareto front, point labels),
+//! `lines.rs` (line panels and their legend column), `sweeps.rs` and `blending.rs`.
+
+mod axes;
+mod bars;
+mod blending;
+mod cost;
+mod draw;
+mod lines;
+mod rows;
+mod sweeps;
+#[cfg(test)]
+mod tests;
+
+pub use bars::rmse_bars;
+pub use blending::{blend_charts, is_blend};
+pub use cost::{cost_points, error_vs_cost, error_vs_time, pareto_front, place_labels, Cost, CostPoints};
+pub use draw::Outcome;
+pub use sweeps::{is_sweep, knob_value, sweep_charts};

@@ -1,0 +1,409 @@
+//! The charts' unit tests: ticks, the Pareto front, label placement, legends, every chart as
+//! pixels and as a well-formed SVG with the full names.
+
+use super::super::csvfile::CsvTable;
+use super::super::text::text_width;
+use super::axes::*;
+use super::bars::*;
+use super::blending::*;
+use super::cost::*;
+use super::draw::*;
+use super::lines::*;
+use super::rows::*;
+use super::sweeps::*;
+use std::path::Path;
+
+fn csv(s: &str) -> CsvTable {
+    CsvTable::parse(Path::new("t.csv"), s.as_bytes()).unwrap()
+}
+
+#[test]
+fn tick_labels_are_short() {
+    assert_eq!(tick(0.01), "0.01");
+    assert_eq!(tick(1.0), "1");
+    assert_eq!(tick(2.5), "2.5");
+    assert_eq!(tick(1e-6), "1e-6");
+    assert_eq!(tick(1e5), "1e5");
+}
+
+#[test]
+fn pareto_front_by_hand() {
+    // (time, error): b dominates d; a is fastest; c is the most accurate.
+    let p = [(1.0, 5.0), (2.0, 3.0), (10.0, 1.0), (3.0, 4.0), (20.0, 1.0)];
+    assert_eq!(pareto_front(&p), vec![0, 1, 2]);
+    assert_eq!(pareto_front(&[]), Vec::<usize>::new());
+}
+
+#[test]
+fn pareto_front_of_a_constructed_storage_set() {
+    // (stored scalars, error), as an encoder landscape would give, worked by hand:
+    //  0 (3, 0.9)   cheapest: on the front
+    //  1 (12, 0.5)  dominated by 2 (same cost, lower error)
+    //  2 (12, 0.3)  on: nothing at ≤ 12 scalars is below 0.3
+    //  3 (12, 0.3)  equal to 2: both on (neither is strictly better)
+    //  4 (15, 0.35) dominated by 2 (cheaper and more accurate)
+    //  5 (15, 0.2)  on
+    //  6 (27, 0.2)  dominated by 5 (same error, cheaper)
+    //  7 (27, 0.05) on
+    //  8 (75, 0.06) dominated by 7
+    // Expected front by cost: 0, 2, 3, 5, 7 (1 is dominated by 2).
+    let p = [
+        (3.0, 0.9),
+        (12.0, 0.5),
+        (12.0, 0.3),
+        (12.0, 0.3),
+        (15.0, 0.35),
+        (15.0, 0.2),
+        (27.0, 0.2),
+        (27.0, 0.05),
+        (75.0, 0.06),
+    ];
+    assert_eq!(pareto_front(&p), vec![0, 2, 3, 5, 7]);
+    // Brute force agrees: a point is on the front iff no other dominates it.
+    let dominated = |i: usize| {
+        p.iter().enumerate().any(|(j, q)| j != i && q.0 <= p[i].0 && q.1 <= p[i].1 && (q.0 < p[i].0 || q.1 < p[i].1))
+    };
+    let brute: Vec<usize> = (0..p.len()).filter(|&i| !dominated(i)).collect();
+    assert_eq!(brute, vec![0, 2, 3, 5, 7]);
+}
+
+#[test]
+fn cost_charts_read_any_encoder_set() {
+    // Encoders with made-up names: costs by column name, bytes only where `diagnostics`
+    // has them, eval time per encoder the median of its rows.
+    let t = csv("map,encoder,metric,rmse,stored_scalars,diagnostics,fit_ns,eval_ns\n\
+         a,p,exact,0.5,12,,10,4\nb,p,exact,0.7,12,,10,6\na,q,exact,0.2,27,,20,9\nb,q,exact,0.2,27,,20,9\n\
+         a,r,exact,0.6,12,bytes=13;x=1,30,3\nb,r,exact,0.6,12,bytes=13;x=1,30,3\n\
+         a,s,exact,0.3,27,bytes=28,30,3\nb,s,exact,0.3,27,bytes=28,30,3\n");
+    let (pts, names, metric) = cost_points(&t, Cost::StoredScalars).unwrap();
+    assert_eq!(names, ["p", "q", "r", "s"]);
+    assert_eq!(metric.as_deref(), Some("exact"));
+    // p: 12 scalars, mean (0.5 + 0.7)/2 = 0.6; r: 12, 0.6 — equal points, both on the front.
+    assert_eq!(pts, vec![(12.0, 0.6), (27.0, 0.2), (12.0, 0.6), (27.0, 0.3)]);
+    assert_eq!(pareto_front(&pts), vec![0, 2, 1]);
+    let (pts, names, _) = cost_points(&t, Cost::Bytes).unwrap();
+    assert_eq!((pts, names), (vec![(13.0, 0.6), (28.0, 0.3)], vec!["r".to_string(), "s".to_string()]));
+    // Eval: p's median of {4, 6} is the upper middle (6); r and s share 3 ns, s is better.
+    let (pts, _, _) = cost_points(&t, Cost::EvalNs).unwrap();
+    assert_eq!(pts[0], (6.0, 0.6));
+    assert_eq!(pareto_front(&pts), vec![3, 1]);
+    for c in Cost::ALL {
+        match error_vs_cost(&t, c, "x").unwrap() {
+            Outcome::Drawn { caption, .. } => assert!(caption.contains("Pareto front"), "{caption}"),
+            Outcome::Skipped(s) => panic!("{c:?}: {s}"),
+        }
+    }
+    match error_vs_cost(&t, Cost::Bytes, "x").unwrap() {
+        Outcome::Drawn { caption, .. } => assert!(caption.contains("2 encoder(s) without this cost"), "{caption}"),
+        Outcome::Skipped(s) => panic!("{s}"),
+    }
+    let plain = csv("map,encoder,metric,rmse,stored_scalars,diagnostics\na,p,exact,0.5,12,\n");
+    assert!(matches!(error_vs_cost(&plain, Cost::Bytes, "x").unwrap(), Outcome::Skipped(s) if s.contains("quantised")));
+    assert!(matches!(error_vs_cost(&plain, Cost::EvalNs, "x").unwrap(), Outcome::Skipped(s) if s.contains("eval_ns")));
+}
+
+#[test]
+fn time_chart_skips_without_fit_ns_and_draws_with_it() {
+    let t = csv("map,encoder,metric,rmse\na,sh1,exact,0.5\na,sh2,exact,0.1\n");
+    assert!(matches!(error_vs_time(&t, "x").unwrap(), Outcome::Skipped(s) if s.contains("fit_ns")));
+    let t = csv("map,encoder,metric,rmse,fit_ns\na,sh1,exact,0.5,10\na,sh2,exact,0.1,40\na,zz,exact,0.3,50\n");
+    match error_vs_time(&t, "x").unwrap() {
+        Outcome::Drawn { caption, image, .. } => {
+            assert!(caption.contains("both better): sh1, sh2"), "{caption}");
+            assert_eq!(image.dimensions(), (820, 560));
+        }
+        Outcome::Skipped(s) => panic!("{s}"),
+    }
+}
+
+/// A cluster of points as the ZH3 table's time chart has (eight encoders within 40 px, one
+/// at the right edge): every box is inside the plot and no two overlap (checked pairwise from
+/// the returned layout), and the right-edge label went left of its point.
+#[test]
+fn labels_never_overlap_or_leave_the_plot() {
+    let plot = (70, 40, 800, 500);
+    let pts = [
+        (290, 215),
+        (295, 232),
+        (300, 245),
+        (305, 240),
+        (310, 250),
+        (288, 262),
+        (292, 268),
+        (297, 230),
+        (760, 250),
+        (680, 283),
+        (720, 290),
+        (150, 245),
+        (190, 365),
+        (200, 195),
+    ];
+    let widths: Vec<u32> = (0..pts.len()).map(|i| 100 + 10 * i as u32).collect();
+    let boxes = place_labels(&pts, &widths, 14, plot);
+    for (i, b) in boxes.iter().enumerate() {
+        assert!(b.0 >= plot.0 && b.1 >= plot.1 && b.2 <= plot.2 && b.3 <= plot.3, "label {i} {b:?} leaves the plot");
+        assert_eq!((b.2 - b.0) as u32, widths[i], "label {i} shortened");
+        for (j, c) in boxes.iter().enumerate().skip(i + 1) {
+            let overlap = b.0 < c.2 && c.0 < b.2 && b.1 < c.3 && c.1 < b.3;
+            assert!(!overlap, "labels {i} {b:?} and {j} {c:?} overlap");
+        }
+    }
+    assert!(boxes[8].2 <= pts[8].0, "the label of the right-edge point is left of it: {:?}", boxes[8]);
+}
+
+#[test]
+fn bars_average_cases_and_read_columns_by_name() {
+    let t = csv("rmse,encoder,map,metric\n0.5,sh1,a,exact\n0.25,sh1,a,exact\n9,sh1,a,probulator\n0.1,sh2,a,exact\n");
+    let (rows, m) = metric_rows(&t);
+    assert_eq!(m.as_deref(), Some("exact"));
+    let (_, encs, mean, k) = mean_rmse(&t, &rows).unwrap();
+    assert_eq!(encs, vec!["sh1", "sh2"]);
+    assert_eq!(mean[0][0], Some(0.375));
+    assert_eq!(k, 2);
+    assert!(
+        matches!(rmse_bars(&t, "x").unwrap(), Outcome::Drawn { caption, .. } if caption.contains("mean over the 2"))
+    );
+}
+
+#[test]
+fn blend_csv_of_the_lightmap_study() {
+    // Luminance at N per method, the reference in its own column, sets by `pair`.
+    let b = csv("pair,method,t,rmse,luma_at_normal,reference_luma_at_normal\np,ahd,0,0,1,1\np,ahd,0.5,0.1,1.5,1.1\n\
+         p,ahd,1,0,1.2,1.2\np,sh2,0,0,1,1\np,sh2,0.5,0.05,1.1,1.1\np,sh2,1,0,1.2,1.2\n");
+    let charts = blend_charts(&b).unwrap();
+    assert_eq!(charts.len(), 1);
+    assert_eq!(charts[0].0, "p");
+    match &charts[0].1 {
+        Outcome::Drawn { caption, .. } => {
+            assert!(caption.contains("ahd: overshoot 0.300"), "{caption}");
+            assert!(caption.contains("sh2: overshoot 0") && caption.contains("reference: overshoot 0"), "{caption}");
+        }
+        Outcome::Skipped(w) => panic!("{w}"),
+    }
+    assert!(blend_charts(&csv("t,method\n0,a\n")).unwrap_err().to_string().contains("irradiance_at_n_r"));
+}
+
+#[test]
+fn knob_values_and_sweeps_without_a_label_column() {
+    assert_eq!(knob_value("12"), Some(12.0));
+    assert_eq!(knob_value("256x128"), Some(256.0));
+    assert_eq!(knob_value("full"), None);
+    assert_eq!(knob_value("NaN"), None);
+    // The committed sweep format: series by map / encoder, W×H values, a `full` row.
+    let s = csv("sweep,knob,value,map,encoder,rmse,time_ns\nr,res,32x16,m,sh1,0.2,10\nr,res,64x32,m,sh1,0.1,40\n\
+         r,res,full,m,sh1,0.05,90\nr,res,32x16,m,reference,0.01,5\n");
+    assert!(is_sweep(&s) && !is_sweep(&csv("knob,rmse\na,1\n")));
+    let charts = sweep_charts(&s).unwrap();
+    assert_eq!(charts.len(), 1);
+    match &charts[0].1 {
+        Outcome::Drawn { caption, .. } => {
+            assert!(caption.contains("1 row(s) with a non-numeric value"), "{caption}")
+        }
+        Outcome::Skipped(w) => panic!("{w}"),
+    }
+}
+
+/// The legend is in its own column right of the panels, so it cannot cover data: every
+/// entry's box starts right of the panels and stays inside the image, no two overlap, and
+/// the pixels right of the panels in a series' colour all lie inside the legend boxes (the
+/// data, which fills the panels' upper right corner here, is drawn left of them).
+#[test]
+fn legends_are_beside_the_data() {
+    let s = csv(
+        "knob,value,rmse,time_ns,label\nk,1,0.001,10,a_long_series_name_one\nk,100,0.5,1000,a_long_series_name_one\n\
+         k,1,0.002,10,two\nk,100,0.4,1000,two\n",
+    );
+    let charts = sweep_charts(&s).unwrap();
+    let Outcome::Drawn { image, .. } = &charts[0].1 else { panic!("not drawn") };
+    let series: Vec<Series> = ["a_long_series_name_one", "two"]
+        .iter()
+        .enumerate()
+        .map(|(k, l)| Series { label: l.to_string(), colour: k, points: vec![] })
+        .collect();
+    let boxes = legend_boxes(&series, 1200);
+    for (i, b) in boxes.iter().enumerate() {
+        assert!(b.0 >= 1200 && b.2 <= image.width() as i32 && b.3 <= image.height() as i32, "entry {i} {b:?}");
+        for c in &boxes[i + 1..] {
+            assert!(!(b.0 < c.2 && c.0 < b.2 && b.1 < c.3 && c.1 < b.3), "entries overlap: {b:?} {c:?}");
+        }
+    }
+    let c0 = colour(0);
+    let (mut inside, mut outside, mut left) = (0, 0, 0);
+    for (x, y, p) in image.enumerate_pixels() {
+        if p.0 != [c0.0, c0.1, c0.2] {
+            continue;
+        }
+        let (x, y) = (x as i32, y as i32);
+        if x < 1200 {
+            left += 1;
+        } else if boxes.iter().any(|b| x >= b.0 && x < b.2 && y >= b.1 && y < b.3) {
+            inside += 1;
+        } else {
+            outside += 1;
+        }
+    }
+    assert!(
+        left > 0 && inside > 0 && outside == 0,
+        "series colour: {left} in panels, {inside} in legend, {outside} elsewhere"
+    );
+}
+
+/// Same CSV, same bytes: drawing a sweep twice gives identical images (series in file
+/// order, legend and labels from measured widths; nothing depends on hashing or threads).
+#[test]
+fn sweep_charts_are_deterministic() {
+    let text = "knob,value,rmse,time_ns,label\nk,32,0.1,100,b\nk,64,0.02,400,b\nk,32,0.2,90,a\nk,64,0.05,300,a\n";
+    let draw = || match sweep_charts(&csv(text)).unwrap().remove(0).1 {
+        Outcome::Drawn { image, .. } => image.into_raw(),
+        Outcome::Skipped(w) => panic!("{w}"),
+    };
+    assert!(draw() == draw());
+}
+
+/// Checks that `svg` is well-formed XML (every tag closed in order, attribute values
+/// quoted, only the five predefined entities) and returns its root's `width`/`height`
+/// and the text of every `<text>` element, unescaped.
+fn parse_svg(svg: &str) -> ((u32, u32), Vec<String>) {
+    let unescape = |t: &str| -> String {
+        let mut out = String::new();
+        let mut rest = t;
+        while let Some(i) = rest.find('&') {
+            out.push_str(&rest[..i]);
+            let j = rest[i..].find(';').unwrap_or_else(|| panic!("unterminated entity in {t:?}"));
+            out.push(match &rest[i..i + j + 1] {
+                "&amp;" => '&',
+                "&lt;" => '<',
+                "&gt;" => '>',
+                "&quot;" => '"',
+                "&apos;" => '\'',
+                e => panic!("unknown entity {e}"),
+            });
+            rest = &rest[i + j + 1..];
+        }
+        out + rest
+    };
+    let mut stack: Vec<String> = Vec::new();
+    let (mut size, mut texts) = (None, Vec::new());
+    let mut rest = svg.trim_start();
+    if rest.starts_with("<?xml") {
+        rest = &rest[rest.find("?>").expect("xml declaration closed") + 2..];
+    }
+    while let Some(lt) = rest.find('<') {
+        let content = &rest[..lt];
+        assert!(!content.contains('>'), "stray '>' in {content:?}");
+        if stack.last().is_some_and(|t| t == "text") {
+            // plotters writes the text on its own line; SVG's default whitespace handling
+            // drops the newlines around it.
+            texts.push(unescape(content.trim()));
+        } else {
+            let _ = unescape(content);
+        }
+        let gt = rest[lt..].find('>').expect("tag closed") + lt;
+        let tag = &rest[lt + 1..gt];
+        rest = &rest[gt + 1..];
+        if let Some(name) = tag.strip_prefix('/') {
+            assert_eq!(stack.pop().as_deref(), Some(name.trim()), "closing tag out of order");
+            continue;
+        }
+        let self_closing = tag.ends_with('/');
+        let tag = tag.trim_end_matches('/');
+        let name = tag.split_whitespace().next().expect("tag name").to_string();
+        // Attributes: name="value" pairs, values without '<' or a bare '&'.
+        let mut attrs = tag[name.len()..].trim();
+        let mut found = Vec::new();
+        while !attrs.is_empty() {
+            let eq = attrs.find("=\"").unwrap_or_else(|| panic!("attribute without =\"…\" in <{tag}>"));
+            let key = attrs[..eq].trim().to_string();
+            let end = attrs[eq + 2..].find('"').expect("attribute value closed") + eq + 2;
+            let value = &attrs[eq + 2..end];
+            assert!(!value.contains('<'), "'<' in attribute {key}");
+            found.push((key, unescape(value)));
+            attrs = attrs[end + 1..].trim_start();
+        }
+        if name == "svg" && stack.is_empty() {
+            let get = |k: &str| found.iter().find(|a| a.0 == k).map(|a| a.1.parse::<u32>().unwrap());
+            size = Some((get("width").expect("width"), get("height").expect("height")));
+        }
+        if !self_closing {
+            stack.push(name);
+        }
+    }
+    assert!(stack.is_empty(), "unclosed tags {stack:?}");
+    assert!(rest.trim().is_empty(), "text after the root element");
+    (size.expect("an <svg> root"), texts)
+}
+
+#[test]
+fn svg_checker_refuses_broken_documents() {
+    let ok = r#"<svg width="3" height="2" viewBox="0 0 3 2"><text x="1">a &amp; b</text><rect x="0"/></svg>"#;
+    assert_eq!(parse_svg(ok), ((3, 2), vec!["a & b".to_string()]));
+    assert_eq!(parse_svg("<svg width=\"1\" height=\"1\"><text>\nx\n</text></svg>").1, ["x"]);
+    for bad in [
+        r#"<svg width="3" height="2"><text>a</svg>"#,
+        r#"<svg width="3" height="2"><text>a & b</text></svg>"#,
+        r#"<svg width="3" height="2"><g></text></g></svg>"#,
+        r#"<svg width="3" height=2></svg>"#,
+    ] {
+        assert!(std::panic::catch_unwind(|| parse_svg(bad)).is_err(), "accepted {bad}");
+    }
+}
+
+/// Every chart is also an SVG: well-formed, the same width and height as its PNG, with a
+/// `<text>` element holding each encoder's (or series') full name — long ones and names
+/// with XML's special characters included.
+#[test]
+fn every_chart_is_also_an_svg_with_the_full_names() {
+    let names = ["zh3_hallucinate_sun_sky_windowed_long_name", "sh<2>&co", "hlsh"];
+    let mut table = String::from("map,encoder,metric,rmse,stored_scalars,fit_ns,eval_ns\n");
+    for (k, n) in names.iter().enumerate() {
+        let n = format!("\"{n}\"");
+        table += &format!("m1,{n},exact,{},{},{},{}\n", 0.1 / (k + 1) as f64, 9 * (k + 1), 10 * (k + 1), 3 + k);
+        table += &format!("m2,{n},exact,{},{},{},{}\n", 0.2 / (k + 1) as f64, 9 * (k + 1), 10 * (k + 1), 3 + k);
+    }
+    let t = csv(&table);
+    let mut drawn = vec![("bars".to_string(), rmse_bars(&t, "bars").unwrap())];
+    for c in [Cost::StoredScalars, Cost::EvalNs, Cost::FitNs] {
+        drawn.push((format!("{c:?}"), error_vs_cost(&t, c, "cost").unwrap()));
+    }
+    let mut sweep = String::from("knob,value,rmse,time_ns,label\n");
+    let mut blend = String::from("t,method,irradiance_at_n_r,irradiance_at_n_g,irradiance_at_n_b,rmse\n");
+    for n in names {
+        sweep += &format!("k,1,0.5,10,\"{n}\"\nk,10,0.05,100,\"{n}\"\n");
+        blend += &format!("0,\"{n}\",1,1,1,0\n0.5,\"{n}\",1.3,1.3,1.3,0.1\n1,\"{n}\",1.2,1.2,1.2,0\n");
+    }
+    drawn.extend(sweep_charts(&csv(&sweep)).unwrap());
+    drawn.extend(blend_charts(&csv(&blend)).unwrap());
+    assert_eq!(drawn.len(), 6);
+    for (what, o) in drawn {
+        let Outcome::Drawn { image, svg, .. } = o else { panic!("{what}: not drawn") };
+        let (size, texts) = parse_svg(&svg);
+        assert_eq!(size, image.dimensions(), "{what}: SVG size");
+        for n in names {
+            assert!(texts.iter().any(|t| t == n), "{what}: no <text> with the full name {n:?}: {texts:?}");
+        }
+    }
+}
+
+#[test]
+fn sweep_and_blend_formats() {
+    let s = csv("knob,value,rmse,time_ns,label\nref_res,32,0.1,100,grace\nref_res,64,0.02,400,grace\n\
+         ref_res,128,0.004,1600,grace\niters,1,0.5,,hhd\niters,2,0.2,,hhd\n");
+    let charts = sweep_charts(&s).unwrap();
+    assert_eq!(charts.len(), 2);
+    // The panels (1200 px for two, 640 for one) plus the legend column for "grace" / "hhd".
+    let lw = |l: &str| text_width(l, 12.0, false) + 48;
+    assert!(matches!(&charts[0].1, Outcome::Drawn { image, .. } if image.width() == 1200 + lw("grace")));
+    assert!(matches!(&charts[1].1, Outcome::Drawn { image, .. } if image.width() == 640 + lw("hhd")));
+    assert!(sweep_charts(&csv("knob,value\na,1\n")).unwrap_err().to_string().contains("missing column"));
+    let b = csv(
+        "t,method,irradiance_at_n_r,irradiance_at_n_g,irradiance_at_n_b,rmse\n0,ahd,1,1,1,0\n0.5,ahd,1.5,1.5,1.5,0.1\n\
+         1,ahd,1.2,1.2,1.2,0\n0,reference,1,1,1,\n0.5,reference,1.1,1.1,1.1,\n1,reference,1.2,1.2,1.2,\n",
+    );
+    let charts = blend_charts(&b).unwrap();
+    match &charts[0].1 {
+        Outcome::Drawn { caption, .. } => {
+            assert!(caption.contains("ahd: overshoot 0.300") && caption.contains("reference: overshoot 0"), "{caption}")
+        }
+        Outcome::Skipped(s) => panic!("{s}"),
+    }
+}
