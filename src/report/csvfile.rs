@@ -1,5 +1,5 @@
 //! A CSV file read by column name. The report reads every result file through this, so a
-//! column that a later issue adds (`fit_ns`, `eval_ns`, …) is found by its name wherever it
+//! column added later (`fit_ns`, `eval_ns`, …) is found by its name wherever it
 //! sits, and a file that lacks a column is skipped or refused with the file and column named.
 
 use anyhow::{bail, Context, Result};

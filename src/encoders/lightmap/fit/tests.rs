@@ -155,7 +155,7 @@ fn theta_objective_equals_colours_at() {
 /// path `fit` takes: frame at the L1 azimuth, `ThetaObjective`, `solve_by`). Only objectives
 /// with one minimum on the coarse grid are compared (a golden section finds a local one);
 /// the test requires most cases to qualify.
-/// Issue 17 item 7: a tolerance below one ulp (and a huge step count) once looped forever,
+/// A tolerance below one ulp (and a huge step count) once looped forever,
 /// the bracket no longer shrinking. The search now stops when the bracket stops shrinking:
 /// from [0, 1.55] that is about 80 steps (0.618^k · 1.55 < 2^-52 for k ≥ 78), and never
 /// more than the cap.
