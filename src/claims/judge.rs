@@ -22,7 +22,9 @@ pub use crate::pipeline::table::CsvText as Evidence;
 /// Where a check, or a claim, stands.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Status {
+    /// The criterion is met.
     Pass,
+    /// The criterion is not met.
     Fail,
     /// The data to judge it is missing; the reason.
     Untestable(String),
@@ -32,9 +34,13 @@ pub enum Status {
 /// tests) and whether the row passes on its own.
 #[derive(Clone, Debug)]
 pub struct RowValue {
+    /// The row's key as text (map, domain, effects, metric, case: those the table has).
     pub label: String,
+    /// The row's map, for counting distinct maps.
     pub map: String,
+    /// The value judged: the cell, or its ratio to the baseline encoder's for ratio tests.
     pub value: f64,
+    /// Whether this row alone meets the criterion.
     pub pass: bool,
 }
 
@@ -45,11 +51,13 @@ pub struct SetOutcome {
     pub set: String,
     /// Distinct maps judged.
     pub maps: usize,
+    /// The check's status on this set.
     pub status: Status,
     /// One short phrase with the number.
     pub headline: String,
     /// The full figure.
     pub figure: String,
+    /// Every row judged, in the table's order.
     pub values: Vec<RowValue>,
     /// Rows left out: baseline at or below the floor, or no value.
     pub excluded: usize,
@@ -58,16 +66,23 @@ pub struct SetOutcome {
 /// A check judged on each set it declares.
 #[derive(Clone, Debug)]
 pub struct CheckOutcome {
+    /// The check as declared in the claims file.
     pub decl: CheckDecl,
+    /// Its outcome on each map set it names (or `all`).
     pub sets: Vec<SetOutcome>,
 }
 
 /// A claim's one verdict.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Verdict {
+    /// The claim's roll-up rule is met: every required check passes on every set (`all`), or
+    /// one check does (`any`).
     Holds,
+    /// Some required checks pass and some fail; what held and what failed.
     Partly(String),
+    /// No required check passes on any set; what failed.
     Fails(String),
+    /// A required check cannot be judged (its evidence is missing); why.
     Untestable(String),
 }
 
@@ -93,8 +108,11 @@ impl Verdict {
 /// A judged claim.
 #[derive(Clone, Debug)]
 pub struct ClaimOutcome {
+    /// The claim's id (`Z1`, `H3`, `D2`, …).
     pub id: String,
+    /// The one verdict, rolled up from the checks.
     pub verdict: Verdict,
+    /// Every check, judged.
     pub checks: Vec<CheckOutcome>,
 }
 

@@ -123,6 +123,8 @@ pub struct AmbientDiceEncoder {
 }
 
 impl AmbientDiceEncoder {
+    /// The dice of `variant`, fitted with per-pixel weights (the peer's) when `pixel_weights`,
+    /// solid-angle weights otherwise.
     pub fn new(variant: Variant, pixel_weights: bool) -> Self {
         AmbientDiceEncoder { variant, pixel_weights }
     }
@@ -243,6 +245,7 @@ impl Encoder for AmbientDiceEncoder {
     }
 }
 
+/// The `weights` setting: `solid_angle` (false, the default) or `pixel` (true).
 pub(super) fn weights_key(p: &mut Params) -> Result<bool> {
     let w = p.str_or("weights", "solid_angle")?;
     match w.as_str() {
@@ -252,16 +255,21 @@ pub(super) fn weights_key(p: &mut Params) -> Result<bool> {
     }
 }
 
+/// `ambient_dice`: the Bézier dice (settings: `weights`).
 pub fn build_ambient_dice(p: &mut Params) -> Result<Box<dyn Encoder>> {
     let pixel = weights_key(p)?;
     p.finish("ambient_dice")?;
     Ok(Box::new(AmbientDiceEncoder::new(Variant::Bezier, pixel)))
 }
+
+/// `ambient_dice_ycocg`: Y in the Bézier basis, Co and Cg in the linear one (settings: `weights`).
 pub fn build_ambient_dice_ycocg(p: &mut Params) -> Result<Box<dyn Encoder>> {
     let pixel = weights_key(p)?;
     p.finish("ambient_dice_ycocg")?;
     Ok(Box::new(AmbientDiceEncoder::new(Variant::BezierYCoCg, pixel)))
 }
+
+/// `ambient_dice_srbf`: the cosine SRBF lobes (settings: `weights`).
 pub fn build_ambient_dice_srbf(p: &mut Params) -> Result<Box<dyn Encoder>> {
     let pixel = weights_key(p)?;
     p.finish("ambient_dice_srbf")?;

@@ -14,12 +14,14 @@ pub struct Geometry {
     pub vertices: [DVec3; 12],
     /// Each vertex's tangent t and bitangent s (t × s = v).
     pub frames: [(DVec3, DVec3); 12],
+    /// The 20 triangular faces.
     pub faces: Vec<Face>,
 }
 
 /// One face: its vertices, the rows that give its barycentrics, its centre, and the edge
 /// factors D·(v_j − v_i)·t_i, D·(v_j − v_i)·s_i of its six edge control points.
 pub struct Face {
+    /// Its three vertices, as indices into [`Geometry::vertices`].
     pub vertices: [usize; 3],
     /// b_i = dual[i]·n.
     pub(super) dual: [DVec3; 3],

@@ -9,10 +9,20 @@ use plotters::prelude::*;
 /// reason it was not drawn.
 #[derive(Debug)]
 pub enum Outcome {
-    Drawn { image: RgbImage, svg: String, caption: String },
+    /// The chart, drawn.
+    Drawn {
+        /// The pixels (written as PNG).
+        image: RgbImage,
+        /// The same drawing as an SVG document.
+        svg: String,
+        /// The caption the report prints under it.
+        caption: String,
+    },
+    /// Not drawn: why (no data, a single point, …).
     Skipped(String),
 }
 
+/// A plotters drawing error as an error of this crate.
 pub fn pe<E: std::fmt::Display>(e: E) -> anyhow::Error {
     anyhow!("drawing a chart: {e}")
 }

@@ -17,11 +17,13 @@ use super::target::*;
 /// The result of a fit.
 #[derive(Clone, Copy, Debug)]
 pub struct FitResult {
+    /// The fitted model, in world space.
     pub model: Model,
     /// Tilt of d from N (radians).
     pub theta: f64,
     /// Golden-section iterations and objective evaluations (0 for linear fits).
     pub iterations: usize,
+    /// Objective evaluations of the direction search (0 for linear fits).
     pub evaluations: usize,
     /// True when the pure-ambient fallback was used.
     pub fallback: bool,

@@ -12,7 +12,9 @@ use super::target::*;
 /// The colours and error for one direction.
 #[derive(Clone, Copy, Debug)]
 pub struct Colour {
+    /// The ambient colour C_a (E/π).
     pub c_a: Rgb,
+    /// The directional colour C_d (E/π).
     pub c_d: Rgb,
     /// Σ_c weight_c·(‖model − q‖² − ‖q‖²) over the domain.
     pub objective: f64,
@@ -79,6 +81,8 @@ pub struct ThetaObjective {
 }
 
 impl ThetaObjective {
+    /// The objective of `spec` on `domain` for `target` (with I_z, the irradiance at N, for
+    /// the IrradZ colours), its θ-independent parts computed once.
     pub fn new(spec: &FitSpec, domain: &FitDomain, target: &QuadraticTarget, i_z: Rgb) -> Self {
         let md = domain.moments;
         let plain = target.plain;

@@ -11,9 +11,13 @@ use super::target::*;
 /// The solved direction and colours in the frame.
 #[derive(Clone, Copy, Debug)]
 pub struct Solved {
+    /// The tilt of d from N (radians).
     pub theta: f64,
+    /// The colours and objective at that tilt.
     pub colour: Colour,
+    /// Golden-section steps taken.
     pub iterations: usize,
+    /// Objective evaluations.
     pub evaluations: usize,
 }
 

@@ -17,25 +17,34 @@ pub enum Gram {
 /// How the colours are fitted for a fixed direction.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Colours {
+    /// C_a and C_d unconstrained but non-negative (a two-variable NNLS per channel).
     Free,
+    /// The IrradZ constraint: the irradiance at N is I_z exactly, one free parameter left.
     IrradZ,
 }
 
 /// How the direction is chosen.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Direction {
+    /// The optimal linear direction: d along the band-1 SH vector, channels weighted by
+    /// `FitSpec::direction_weights`.
     Linear,
     /// Golden section in θ: at most `iterations` steps, stopping when the bracket is narrower
     /// than `tolerance` (radians).
     Search {
+        /// The most golden-section steps.
         iterations: usize,
+        /// The bracket width at which the search stops (radians).
         tolerance: f64,
     },
     /// The same in θ, then alternating golden sections in the azimuth φ (over ±90° about the
-    /// current azimuth, at the current θ) and in θ, `rounds` times (the 2-D search).
+    /// current azimuth, at the current θ) and in θ, `rounds` times (a 2-D search).
     Search2d {
+        /// The most golden-section steps of each 1-D search.
         iterations: usize,
+        /// The bracket width at which each 1-D search stops (radians).
         tolerance: f64,
+        /// How many φ-then-θ rounds follow the first θ search.
         rounds: usize,
     },
 }
@@ -43,9 +52,13 @@ pub enum Direction {
 /// Everything that defines a fit.
 #[derive(Clone, Copy, Debug)]
 pub struct FitSpec {
+    /// The model fitted: AHD or HHD.
     pub basis: Basis,
+    /// The domain of normals the error is integrated over.
     pub gram: Gram,
+    /// How the colours are fitted for a fixed direction.
     pub colours: Colours,
+    /// How the direction is chosen.
     pub direction: Direction,
     /// Largest tilt of d from N (radians).
     pub max_tilt: f64,

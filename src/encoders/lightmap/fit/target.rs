@@ -14,8 +14,11 @@ use std::sync::LazyLock;
 /// The tangent frame: e3 = N, e1 the azimuth of the direction search.
 #[derive(Clone, Copy, Debug)]
 pub struct Frame {
+    /// The tangent the direction search tilts towards (φ = 0).
     pub e1: DVec3,
+    /// N × e1, the other tangent.
     pub e2: DVec3,
+    /// The surface normal N.
     pub e3: DVec3,
 }
 
@@ -128,11 +131,14 @@ impl FitTarget for QuadraticTarget {
 /// The fit domain's moments and its lune at a tilt.
 #[derive(Clone, Copy, Debug)]
 pub struct FitDomain {
+    /// Which domain: the sphere or the hemisphere about N.
     pub gram: Gram,
+    /// Its closed-form moments (computed once per process).
     pub moments: &'static Moments,
 }
 
 impl FitDomain {
+    /// The domain of `gram`.
     pub fn new(gram: Gram) -> Self {
         // Computed once (they depend on nothing).
         static HEMISPHERE: LazyLock<Moments> = LazyLock::new(Moments::hemisphere);
@@ -143,6 +149,7 @@ impl FitDomain {
         };
         FitDomain { gram, moments }
     }
+    /// The moments of the part of the domain where n·d ≥ 0, for d tilted by `t` from N.
     #[inline]
     pub fn lune(&self, t: Angle) -> Moments {
         match self.gram {

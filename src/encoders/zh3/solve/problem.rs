@@ -24,13 +24,17 @@ pub struct Target {
     pub channels: usize,
     /// With three channels: each channel has its own axis (the objective is separable).
     pub per_channel: bool,
+    /// Each channel's band-0 coefficient L0 (E/π).
     pub l0: [f64; 3],
+    /// Each channel's band-1 target, as an xyz vector (E/π).
     pub t1: [DVec3; 3],
+    /// Each channel's five band-2 coefficients (E/π; FORMULAS §2 order).
     pub t2: [[f64; 5]; 3],
     /// Weights of each channel's error in the objective.
     pub err_w: [f64; 3],
     /// Weights of each channel's L1 in a shared axis (a channel alone has weight 1).
     pub axis_w: [f64; 3],
+    /// How the zonal coefficient follows from the axis: stored or hallucinated.
     pub zonal: Zonal,
 }
 
@@ -337,15 +341,22 @@ pub(super) type Evaluation<const N: usize> = (SVector<f64, N>, f64, SVector<f64,
 /// together and the pair is cached, since the line search asks for both at each trial point.
 /// Counts argmin's calls and the distinct evaluations.
 pub struct AxisProblem<'t, const N: usize> {
+    /// What is fitted.
     pub target: &'t Target,
+    /// What the `N` variables are.
     pub formulation: Formulation,
+    /// Calls argmin made to the cost.
     pub cost_calls: Cell<u32>,
+    /// Calls argmin made to the gradient.
     pub grad_calls: Cell<u32>,
+    /// Distinct points where cost and gradient were computed (cache misses).
     pub evals: Cell<u32>,
     cache: Cell<Option<Evaluation<N>>>,
 }
 
 impl<'t, const N: usize> AxisProblem<'t, N> {
+    /// The problem of `target` in `formulation`; `N` must be its variable count (3 per axis,
+    /// or 3 per channel), which is asserted.
     pub fn new(target: &'t Target, formulation: Formulation) -> Self {
         let want = if formulation == Formulation::Axis { 3 * target.n_axes() } else { 3 * target.channels };
         assert_eq!(N, want, "variable count for {formulation:?}");

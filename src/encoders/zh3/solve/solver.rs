@@ -50,11 +50,13 @@ impl Default for SolverSettings {
 /// Counts and figures of one solve (all starts).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct SolveStats {
-    /// L-BFGS runs and their iterations, over all starts.
+    /// L-BFGS runs, over all starts.
     pub runs: u32,
+    /// Their iterations, summed.
     pub iters: u32,
-    /// Calls argmin made to the cost and to the gradient.
+    /// Calls argmin made to the cost.
     pub cost_evals: u32,
+    /// Calls argmin made to the gradient.
     pub grad_evals: u32,
     /// Distinct points where cost and gradient were computed (cache misses), plus the
     /// screening evaluations.
@@ -73,7 +75,10 @@ pub struct SolveStats {
 /// The result of a solve: the L1 vectors (irradiance, xyz per channel) and the statistics.
 #[derive(Clone, Copy, Debug)]
 pub struct Solution {
+    /// Each channel's solved L1 vector (irradiance, xyz); the zonal axis is their direction,
+    /// weighted by `Target::axis_w` when the axis is shared.
     pub l1: [DVec3; 3],
+    /// How the solve went.
     pub stats: SolveStats,
 }
 
