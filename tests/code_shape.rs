@@ -42,7 +42,7 @@ fn code_only(line: &str) -> String {
                 // A char literal ('{', '\n') is skipped whole; a lifetime ('a) is kept.
                 let rest: String = chars.clone().take(3).collect();
                 if rest.starts_with('\\') || rest.chars().nth(1) == Some('\'') {
-                    while let Some(d) = chars.next() {
+                    for d in chars.by_ref() {
                         if d == '\'' {
                             break;
                         }

@@ -20,7 +20,7 @@ pub struct Args {
 
 pub fn run(a: Args, env: &Env) -> Result<i32> {
     let width = a.width;
-    if width < 4 || width % 2 != 0 || width > 8192 {
+    if width < 4 || !width.is_multiple_of(2) || width > 8192 {
         bail!("--width {width}: expected an even width from 4 to 8192");
     }
     let out = a.out.unwrap_or_else(|| env.root.join("envmaps"));

@@ -499,7 +499,10 @@ impl CaseSweep<'_> {
             for (named, fit) in exp.encoders.iter().zip(&fits) {
                 let scored = || score_fit(named.encoder.as_ref(), fit.as_ref(), &grid, &values, Metric::Exact);
                 let s = scored();
-                let t = t_ref + time_slow(|| drop(black_box(scored())));
+                let t = t_ref
+                    + time_slow(|| {
+                        black_box(scored());
+                    });
                 let timed = format!("reference + encoder eval + score on {label} normals");
                 self.push(v, &named.name, s, (t, timed), (&exact_label, &label));
             }
