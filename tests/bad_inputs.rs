@@ -105,6 +105,24 @@ struct Kind {
 
 /// The committed corpus. Every entry is written by `make` into the corpus folder.
 fn kinds() -> Vec<Kind> {
+    [
+        truncated_exr_kinds(),
+        size_kinds(),
+        texel_value_kinds(),
+        channel_kinds(),
+        exr_feature_kinds(),
+        huge_header_kinds(),
+        radiance_header_kinds(),
+        chunk_layout_kinds(),
+        not_a_map_kinds(),
+    ]
+    .into_iter()
+    .flatten()
+    .collect()
+}
+
+/// EXR files cut short: in the pixels, in the header.
+fn truncated_exr_kinds() -> Vec<Kind> {
     vec![
         Kind {
             file: "truncated_pixels.exr",
@@ -124,6 +142,12 @@ fn kinds() -> Vec<Kind> {
             },
             fault: &["truncated"],
         },
+    ]
+}
+
+/// Sizes that are not a 2:1 lat-long map: zero width, one texel, other aspects.
+fn size_kinds() -> Vec<Kind> {
+    vec![
         // A data window with x_max = x_min − 1 (zero width). The exr crate reads the box with
         // its corners ordered, so this arrives as 2×4; the Radiance file below has a true 0.
         Kind {
@@ -153,6 +177,12 @@ fn kinds() -> Vec<Kind> {
             fault: &["size 3x1", "2:1"],
         },
         Kind { file: "aspect_square.hdr", make: |p| write_hdr(p, 8, 8), fault: &["size 8x8", "2:1"] },
+    ]
+}
+
+/// A texel that is not a finite non-negative radiance, named by its place and channel.
+fn texel_value_kinds() -> Vec<Kind> {
+    vec![
         Kind { file: "nan_texel.exr", make: |p| write_with_texel(p, f32::NAN), fault: &["nan", "x=5, y=0, channel g"] },
         Kind {
             file: "inf_texel.exr",
@@ -164,6 +194,12 @@ fn kinds() -> Vec<Kind> {
             make: |p| write_with_texel(p, -0.25),
             fault: &["negative", "x=5, y=0, channel g"],
         },
+    ]
+}
+
+/// Channel sets without exactly one R, G, B of floats.
+fn channel_kinds() -> Vec<Kind> {
+    vec![
         Kind {
             file: "channels_xyz.exr",
             make: |p| {
@@ -206,6 +242,12 @@ fn kinds() -> Vec<Kind> {
             },
             fault: &["unsigned integer"],
         },
+    ]
+}
+
+/// OpenEXR features the loader does not read: deep data, several parts.
+fn exr_feature_kinds() -> Vec<Kind> {
+    vec![
         Kind {
             file: "deep.exr",
             make: |p| {
@@ -237,6 +279,12 @@ fn kinds() -> Vec<Kind> {
             },
             fault: &["multi-part", "2 parts"],
         },
+    ]
+}
+
+/// Headers claiming sizes too large to allocate: refused before reading pixels.
+fn huge_header_kinds() -> Vec<Kind> {
+    vec![
         Kind {
             file: "header_1e9_by_1e9.exr",
             make: |p| {
@@ -250,6 +298,12 @@ fn kinds() -> Vec<Kind> {
             make: |p| fs::write(p, b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 100000000 +X 200000000\n").unwrap(),
             fault: &["200000000x100000000", "refusing"],
         },
+    ]
+}
+
+/// Radiance files with a corrupt or missing size line, or cut short.
+fn radiance_header_kinds() -> Vec<Kind> {
+    vec![
         Kind {
             file: "corrupt_size_line.hdr",
             make: |p| fs::write(p, b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y eight +X 16\n").unwrap(),
@@ -274,6 +328,12 @@ fn kinds() -> Vec<Kind> {
             make: |p| fs::write(p, b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n").unwrap(),
             fault: &["radiance hdr"],
         },
+    ]
+}
+
+/// OpenEXR files whose offset table or chunk headers are edited after writing.
+fn chunk_layout_kinds() -> Vec<Kind> {
+    vec![
         // Chunk coverage: chunks that do not store every scanline exactly once. The exr crate
         // places a chunk by the y in it and leaves uncovered rows black; each is refused.
         Kind {
@@ -346,6 +406,12 @@ fn kinds() -> Vec<Kind> {
             },
             fault: &["corrupt openexr chunk layout", "stored twice"],
         },
+    ]
+}
+
+/// Files that are no map at all: empty, text, PNG, a bad magic number, a folder.
+fn not_a_map_kinds() -> Vec<Kind> {
+    vec![
         Kind { file: "empty.exr", make: |p| fs::write(p, b"").unwrap(), fault: &["empty (0 bytes)"] },
         Kind {
             file: "not_an_image.exr",

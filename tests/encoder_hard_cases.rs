@@ -52,9 +52,10 @@ mod common;
 
 use common::*;
 use glam::DVec3;
+use probelab::encoders::encoder::{Encoder, Fitted};
 use probelab::math::colour::Rgb;
 use probelab::math::sh::Sh9;
-use probelab::reference::domain::Domain;
+use probelab::reference::domain::{Domain, OutputGrid};
 use std::f64::consts::PI;
 
 /// Output grid of the checks.
@@ -123,11 +124,37 @@ fn l1_past_sqrt3(i: &mut Input) {
     }
 }
 
+/// A surface with the hemisphere effect about +Y.
+fn hemi() -> Option<Surface> {
+    Some(Surface::hemisphere(UP))
+}
+
+/// A direction off every axis.
+fn oblique_dir() -> DVec3 {
+    DVec3::new(0.3, 0.8, -0.52).normalize()
+}
+
+/// The catalogue, grouped by the kind of trouble.
 fn cases() -> Vec<Case> {
-    let hemi = || Some(Surface::hemisphere(UP));
-    let one = Rgb::ONE;
-    let oblique = DVec3::new(0.3, 0.8, -0.52).normalize();
-    let mut v = vec![
+    [
+        black_cases(),
+        constant_cases(),
+        horizon_cases(),
+        cancelling_lights_cases(),
+        per_channel_cases(),
+        extreme_scale_cases(),
+        hallucination_ratio_cases(),
+        singular_fit_cases(),
+        underflow_cases(),
+    ]
+    .into_iter()
+    .flatten()
+    .collect()
+}
+
+/// Black light: 0/0 in every ratio, with and without a surface and a cone.
+fn black_cases() -> Vec<Case> {
+    vec![
         degenerate(case("all_black", "zero everywhere: 0/0 in every ratio", vec![], None)),
         degenerate(case("all_black@hemisphere", "zero with a surface: I_z = 0", vec![], hemi())),
         degenerate(case(
@@ -136,6 +163,12 @@ fn cases() -> Vec<Case> {
             vec![],
             Some(Surface { normal: UP, hemisphere: true, cone: Some((UP, 0.5)) }),
         )),
+    ]
+}
+
+/// Constant light: no direction at all, and the hemisphere light whose HHD discriminant is 0.
+fn constant_cases() -> Vec<Case> {
+    vec![
         degenerate(case(
             "constant",
             "no direction at all: L1 = L2 = 0, r = 0",
@@ -148,6 +181,13 @@ fn cases() -> Vec<Case> {
             vec![Light::Ambient(Rgb::new(0.5, 1.0, 2.0))],
             hemi(),
         ),
+    ]
+}
+
+/// One light along N, grazing, exactly at the horizon and below it.
+fn horizon_cases() -> Vec<Case> {
+    let one = Rgb::ONE;
+    vec![
         case("delta_along_n@hemisphere", "one light along N: d = N", vec![delta(UP, one)], hemi()),
         case("delta_89.9deg@hemisphere", "a grazing light: d_z = 0.0017", vec![delta(from_up(89.9), one)], hemi()),
         case(
@@ -162,6 +202,13 @@ fn cases() -> Vec<Case> {
             vec![delta(from_up(100.0), one)],
             hemi(),
         ),
+    ]
+}
+
+/// Lights that cancel: L1 = 0 (and L2 = 0), the axis undefined.
+fn cancelling_lights_cases() -> Vec<Case> {
+    let one = Rgb::ONE;
+    vec![
         degenerate(case(
             "two_opposite",
             "two equal opposite lights: L1 = 0, the zonal axis is undefined; every BFGS start is stationary",
@@ -183,6 +230,12 @@ fn cases() -> Vec<Case> {
                 .collect(),
             None,
         )),
+    ]
+}
+
+/// Channels that disagree: per-channel axes, a channel that is zero everywhere.
+fn per_channel_cases() -> Vec<Case> {
+    vec![
         case(
             "rgb_directions",
             "R, G, B lit from three orthogonal directions: per-channel axes disagree",
@@ -215,6 +268,12 @@ fn cases() -> Vec<Case> {
             vec![Light::Ambient(Rgb::new(0.3, 0.0, 0.2)), delta(dir(40.0, 10.0), Rgb::new(5.0, 0.0, 2.0) / PI)],
             hemi(),
         ),
+    ]
+}
+
+/// Extreme scales: the whole scene at 1e-30 and 1e+30, a sun 1e6 times the sky.
+fn extreme_scale_cases() -> Vec<Case> {
+    vec![
         case("scale_1e-30", "sun and sky scaled by 1e-30: squares reach 1e-60", scale_lights(sun_sky(), 1e-30), None),
         case(
             "scale_1e-30@hemisphere",
@@ -250,6 +309,13 @@ fn cases() -> Vec<Case> {
             vec![Light::Ambient(Rgb::ONE), delta(dir(30.0, 60.0), Rgb::splat(1e6))],
             hemi(),
         ),
+    ]
+}
+
+/// The hallucination ratio r = |L1|/L00 at its physical maximum and near 0.
+fn hallucination_ratio_cases() -> Vec<Case> {
+    let oblique = oblique_dir();
+    vec![
         case(
             "ratio_r_sqrt3",
             "a single delta light: hallucination ratio r = sqrt(3), the physical maximum; ZH3 exact at the start",
@@ -262,6 +328,14 @@ fn cases() -> Vec<Case> {
             vec![Light::Ambient(Rgb::ONE), delta(oblique, Rgb::splat(1e-9 / PI))],
             None,
         ),
+    ]
+}
+
+/// Fits near a singularity: d_z = 0, a negative discriminant, a near-zero cone Gram, a zero gradient at the start.
+fn singular_fit_cases() -> Vec<Case> {
+    let one = Rgb::ONE;
+    let oblique = oblique_dir();
+    vec![
         case(
             "irradz_dz_zero@hemisphere",
             "sky plus a light exactly at the horizon: C_d = (I_z - C_a)/d_z with d_z = 0",
@@ -308,6 +382,21 @@ fn cases() -> Vec<Case> {
             ],
             None,
         ),
+    ]
+}
+
+/// Squares that underflow, and rounding that pushes r past its bound.
+fn underflow_cases() -> Vec<Case> {
+    let one = Rgb::ONE;
+    let oblique = oblique_dir();
+    let mut past = case(
+        "ratio_r_past_sqrt3",
+        "a single delta light with L1 8 ulps too long: r a hair above sqrt(3)",
+        vec![delta(oblique, one)],
+        None,
+    );
+    past.tweak = Some(l1_past_sqrt3);
+    vec![
         degenerate(case(
             "l1_1e-300",
             "ambient plus an L1 band of 1e-300: |L1|^2 underflows to 0",
@@ -320,16 +409,8 @@ fn cases() -> Vec<Case> {
             vec![delta(oblique, Rgb::splat(1e-300 / PI))],
             None,
         )),
-    ];
-    let mut past = case(
-        "ratio_r_past_sqrt3",
-        "a single delta light with L1 8 ulps too long: r a hair above sqrt(3)",
-        vec![delta(oblique, one)],
-        None,
-    );
-    past.tweak = Some(l1_past_sqrt3);
-    v.push(past);
-    v
+        past,
+    ]
 }
 
 /// Whether k times the input keeps every non-zero coefficient a normal f64 (with room for a
@@ -339,114 +420,170 @@ fn scale_in_range(sh: &Sh9, k: f64) -> bool {
     vals.clone().all(|v| v * k > 1e-250) && vals.clone().all(|v| v * k < 1e250)
 }
 
+/// One case fitted by one encoder: what the rules of the contract look at.
+struct FittedCase<'a> {
+    case: &'a Case,
+    enc: &'a dyn Encoder,
+    /// The case's input, after its tweak.
+    input: Input,
+    fit: Box<dyn Fitted>,
+    sphere: OutputGrid,
+    /// The case's domain: the sphere for a probe, the hemisphere about N for a surface.
+    domain: OutputGrid,
+    /// The case's scale: the largest unoccluded E/π on the sphere (1 for black).
+    scale: f64,
+    /// The fit on the sphere of normals.
+    out_sphere: Vec<Rgb>,
+}
+
+impl<'a> FittedCase<'a> {
+    fn new(case: &'a Case, enc: &'a dyn Encoder) -> Self {
+        let mut input = Input::new(&case.lighting, case.surface.as_ref());
+        if let Some(t) = case.tweak {
+            t(&mut input);
+        }
+        let sphere = Domain::Sphere.output_grid(RES);
+        let domain = input.domain().output_grid(RES);
+        let fit = enc.fit(&input.fit_input());
+        let e_probe_sphere: Vec<Rgb> = sphere.normals.iter().map(|&n| input.probe.irradiance(n)).collect();
+        let scale = match max_abs(&e_probe_sphere) {
+            s if s > 0.0 => s,
+            _ => 1.0,
+        };
+        let out_sphere = eval(fit.as_ref(), &sphere);
+        FittedCase { case, enc, input, fit, sphere, domain, scale, out_sphere }
+    }
+}
+
 /// Runs every check of the contract for one case and one encoder; returns failure messages.
-fn check(case: &Case, id: &str, enc: &dyn probelab::encoders::encoder::Encoder) -> Vec<String> {
+fn check(case: &Case, id: &str, enc: &dyn Encoder) -> Vec<String> {
+    let f = FittedCase::new(case, enc);
     let mut fails = Vec::new();
-    let mut fail = |m: String| fails.push(format!("{id} on {} ({}): {m}", case.name, case.why));
-    let mut input = Input::new(&case.lighting, case.surface.as_ref());
-    if let Some(t) = case.tweak {
-        t(&mut input);
+    // 1. Finite: a non-finite output ends the checks (the bounds would compare NaNs).
+    if let Some(m) = non_finite_output(&f) {
+        fails.push(m);
+    } else {
+        fails.extend(non_finite_diagnostics(&f));
+        fails.extend(black_in_black_out(&f));
+        fails.extend(sanity_bound(&f));
+        fails.extend(least_squares_bounds(&f));
+        fails.extend(scale_covariance(&f));
+        fails.extend(non_negative(&f));
     }
-    let sphere = Domain::Sphere.output_grid(RES);
-    let domain = input.domain().output_grid(RES);
-    let fit = enc.fit(&input.fit_input());
+    fails.into_iter().map(|m| format!("{id} on {} ({}): {m}", case.name, case.why)).collect()
+}
 
-    // The case's scale: the largest unoccluded E/π on the sphere (1 for black).
-    let e_probe_sphere: Vec<Rgb> = sphere.normals.iter().map(|&n| input.probe.irradiance(n)).collect();
-    let scale = match max_abs(&e_probe_sphere) {
-        s if s > 0.0 => s,
-        _ => 1.0,
-    };
+/// 1. Finite: the first non-finite output on the sphere of normals.
+fn non_finite_output(f: &FittedCase) -> Option<String> {
+    let (k, v) = f.out_sphere.iter().enumerate().find(|(_, v)| !v.is_finite())?;
+    Some(format!("non-finite output {v} at normal {}", f.sphere.normals[k]))
+}
 
-    // 1. Finite.
-    let out_sphere = eval(fit.as_ref(), &sphere);
-    if let Some((k, v)) = out_sphere.iter().enumerate().find(|(_, v)| !v.is_finite()) {
-        fail(format!("non-finite output {v} at normal {}", sphere.normals[k]));
-        return fails;
-    }
-    for (name, v) in fit.diagnostics() {
-        if !v.is_finite() {
-            fail(format!("non-finite diagnostic {name} = {v}"));
-        }
-    }
+/// 1. Finite: every non-finite diagnostic.
+fn non_finite_diagnostics(f: &FittedCase) -> Vec<String> {
+    f.fit
+        .diagnostics()
+        .into_iter()
+        .filter(|(_, v)| !v.is_finite())
+        .map(|(name, v)| format!("non-finite diagnostic {name} = {v}"))
+        .collect()
+}
 
-    // 2. Black in, black out.
+/// 2. Black in, black out.
+fn black_in_black_out(f: &FittedCase) -> Option<String> {
+    let input = &f.input;
     if input.probe_sh == Sh9::ZERO && input.exact_at_normal.is_none_or(|v| v == Rgb::ZERO) {
-        let m = max_abs(&out_sphere);
+        let m = max_abs(&f.out_sphere);
         if m != 0.0 {
-            fail(format!("black input gives output up to {m:e}"));
+            return Some(format!("black input gives output up to {m:e}"));
         }
     }
+    None
+}
 
-    // 3. Sanity bound on the case's domain.
-    let out_domain = eval(fit.as_ref(), &domain);
+/// 3. Sanity bound on the case's domain.
+fn sanity_bound(f: &FittedCase) -> Option<String> {
+    let (input, domain, scale) = (&f.input, &f.domain, f.scale);
+    let out_domain = eval(f.fit.as_ref(), domain);
     let e_vis: Vec<Rgb> = domain.normals.iter().map(|&n| input.visible.irradiance(n)).collect();
     let e_probe: Vec<Rgb> = domain.normals.iter().map(|&n| input.probe.irradiance(n)).collect();
-    let rmse = rmse_scaled(&e_vis, &out_domain, &domain, scale);
-    let sanity = rms_scaled(&e_vis, &domain, scale) + rms_scaled(&e_probe, &domain, scale);
-    if rmse > sanity * (1.0 + LSQ_REL) + LSQ_ABS {
-        fail(format!(
-            "rmse {rmse:e} above the sanity bound {sanity:e} (RMS of E_vis + E_probe), in units of {scale:e}"
-        ));
-    }
+    let rmse = rmse_scaled(&e_vis, &out_domain, domain, scale);
+    let sanity = rms_scaled(&e_vis, domain, scale) + rms_scaled(&e_probe, domain, scale);
+    (rmse > sanity * (1.0 + LSQ_REL) + LSQ_ABS).then(|| {
+        format!("rmse {rmse:e} above the sanity bound {sanity:e} (RMS of E_vis + E_probe), in units of {scale:e}")
+    })
+}
 
-    // Sphere error against the visible irradiance, and the SH projections' errors.
+/// 4 and 5: the sphere error against the visible irradiance, bounded by the SH projections'
+/// errors: for a degenerate case by the pure-ambient (band 0) answer, and where promised by the
+/// projection through band l.
+fn least_squares_bounds(f: &FittedCase) -> Vec<String> {
+    let (input, sphere, scale) = (&f.input, &f.sphere, f.scale);
+    let mut fails = Vec::new();
     let e_vis_sphere: Vec<Rgb> = sphere.normals.iter().map(|&n| input.visible.irradiance(n)).collect();
-    let sphere_rmse = rmse_scaled(&e_vis_sphere, &out_sphere, &sphere, scale);
+    let sphere_rmse = rmse_scaled(&e_vis_sphere, &f.out_sphere, sphere, scale);
     let sh_rmse = |l: usize| {
-        let p = sh_projection(&input, l);
+        let p = sh_projection(input, l);
         let v: Vec<Rgb> = sphere.normals.iter().map(|&n| p.eval(n)).collect();
-        rmse_scaled(&e_vis_sphere, &v, &sphere, scale)
+        rmse_scaled(&e_vis_sphere, &v, sphere, scale)
     };
 
     // 4. Degenerate cases: no worse than pure ambient.
-    if case.degenerate && !enc.degrades_input() {
+    if f.case.degenerate && !f.enc.degrades_input() {
         let ambient = sh_rmse(0);
         if sphere_rmse > ambient * (1.0 + LSQ_REL) + LSQ_ABS {
-            fail(format!(
+            fails.push(format!(
                 "no usable direction, yet sphere rmse {sphere_rmse:e} exceeds the pure-ambient fallback's {ambient:e}"
             ));
         }
     }
 
     // 5. Promised: no worse than the SH projection through band l.
-    if let Some(l) = enc.sphere_error_at_most_sh() {
+    if let Some(l) = f.enc.sphere_error_at_most_sh() {
         let bound = sh_rmse(l);
         if sphere_rmse > bound * (1.0 + LSQ_REL) + LSQ_ABS {
-            fail(format!("promises sphere rmse <= SH L{l} ({bound:e}) but has {sphere_rmse:e}"));
-        }
-    }
-
-    // 6. Promised: scale covariance.
-    if enc.is_scale_covariant() {
-        for k in [1e-30, 0.37, 3.7e5, 1e30] {
-            if !scale_in_range(&input.probe_sh, k) || !scale_in_range(&input.visible_sh, k) {
-                continue;
-            }
-            let scaled = input.scaled(k);
-            let fk = enc.fit(&scaled.fit_input());
-            let m = max_abs(&out_sphere);
-            let worst = sphere
-                .normals
-                .iter()
-                .zip(&out_sphere)
-                .map(|(&n, v)| ((fk.irradiance(n) / k) - *v).abs().max_element())
-                .fold(0.0, f64::max);
-            if worst.is_nan() || worst > SCALE_TOL * m {
-                fail(format!(
-                    "scale covariance: fit(k x)/k differs from fit(x) by {worst:e} (max output {m:e}) at k = {k:e}"
-                ));
-            }
-        }
-    }
-
-    // 7. Promised: non-negative.
-    if enc.promises_non_negative() {
-        if let Some((k, v)) = out_sphere.iter().enumerate().find(|(_, v)| v.min_element() < 0.0) {
-            fail(format!("promises non-negative output but gives {v} at normal {}", sphere.normals[k]));
+            fails.push(format!("promises sphere rmse <= SH L{l} ({bound:e}) but has {sphere_rmse:e}"));
         }
     }
     fails
+}
+
+/// 6. Promised: scale covariance, at every k that keeps the input's coefficients normal.
+fn scale_covariance(f: &FittedCase) -> Vec<String> {
+    let mut fails = Vec::new();
+    if !f.enc.is_scale_covariant() {
+        return fails;
+    }
+    let (input, sphere) = (&f.input, &f.sphere);
+    for k in [1e-30, 0.37, 3.7e5, 1e30] {
+        if !scale_in_range(&input.probe_sh, k) || !scale_in_range(&input.visible_sh, k) {
+            continue;
+        }
+        let scaled = input.scaled(k);
+        let fk = f.enc.fit(&scaled.fit_input());
+        let m = max_abs(&f.out_sphere);
+        let worst = sphere
+            .normals
+            .iter()
+            .zip(&f.out_sphere)
+            .map(|(&n, v)| ((fk.irradiance(n) / k) - *v).abs().max_element())
+            .fold(0.0, f64::max);
+        if worst.is_nan() || worst > SCALE_TOL * m {
+            fails.push(format!(
+                "scale covariance: fit(k x)/k differs from fit(x) by {worst:e} (max output {m:e}) at k = {k:e}"
+            ));
+        }
+    }
+    fails
+}
+
+/// 7. Promised: non-negative.
+fn non_negative(f: &FittedCase) -> Option<String> {
+    if !f.enc.promises_non_negative() {
+        return None;
+    }
+    let (k, v) = f.out_sphere.iter().enumerate().find(|(_, v)| v.min_element() < 0.0)?;
+    Some(format!("promises non-negative output but gives {v} at normal {}", f.sphere.normals[k]))
 }
 
 #[test]

@@ -168,51 +168,66 @@ fn all_encoders(sphere: bool) -> String {
 #[test]
 fn tables_are_bit_identical_for_any_thread_count() {
     let d = tempfile::tempdir().unwrap();
-    let (enc, sphere_enc) = (all_encoders(false), all_encoders(true));
-    let files = [
-        (
-            "det_sphere",
-            format!("maps = [\"gen_sun_sky\", \"gen_two_lights\"]\nencoders = [{sphere_enc}]\nmetrics = [\"exact\", \"probulator\"]\n"),
-        ),
-        (
-            "det_surface",
-            format!(
-                "maps = [\"gen_sky_sun\"]\nencoders = [{enc}]\ndomain = \"hemisphere\"\norientations = [\"up\", \"+x\"]\n\
-                 effects = [\"hemisphere\", {{ kind = \"cone\", cos_alpha = [0.5], tilt_deg = [0, 30] }}]\n\
-                 resolution = [64, 32]\n"
-            ),
-        ),
-        (
-            "det_cone",
-            format!(
-                "maps = [\"gen_cone\"]\nencoders = [{sphere_enc}]\norientations = [\"-z\"]\n\
-                 effects = [{{ kind = \"cone\", cos_alpha = [0.7] }}]\nresolution = [64, 32]\n"
-            ),
-        ),
-    ];
+    let files = thread_count_experiments();
     let mut paths = Vec::new();
     for (name, body) in &files {
         let p = d.path().join(format!("{name}.toml"));
         std::fs::write(&p, body).unwrap();
         paths.push(p.to_str().unwrap().to_string());
     }
-    let mut tables: Vec<Vec<Vec<u8>>> = Vec::new();
-    for jobs in ["1", "2", "3"] {
-        let out_dir = d.path().join(format!("jobs{jobs}"));
-        let mut args = vec!["--jobs", jobs, "run"];
-        args.extend(paths.iter().map(|s| s.as_str()));
-        args.extend(["--out", out_dir.to_str().unwrap()]);
-        let o = probelab().args(&args).run();
-        assert!(o.status.success(), "{}", text(&o).1);
-        tables.push(files.iter().map(|(n, _)| std::fs::read(out_dir.join(n).join("table.csv")).unwrap()).collect());
-    }
-    for (i, (name, _)) in files.iter().enumerate() {
+    let names = files.map(|(name, _)| name);
+    let tables: Vec<Vec<Vec<u8>>> =
+        ["1", "2", "3"].iter().map(|jobs| tables_with_jobs(d.path(), &paths, &names, jobs)).collect();
+    for (i, name) in names.iter().enumerate() {
         let rows = Table::parse(&tables[0][i], Path::new(name)).unwrap().rows.len();
         assert!(rows > 0, "{name}: empty table");
         for (t, jobs) in tables.iter().zip(["1", "2", "3"]).skip(1) {
             assert!(t[i] == tables[0][i], "{name}: --jobs {jobs} differs from --jobs 1");
         }
     }
+}
+
+/// The experiments of the thread-count test, by name: every registered encoder on the sphere
+/// under both metrics (the lat-long fast path), on a hemisphere under hemisphere and cone
+/// effects, and on a sphere under a cone (the general path).
+fn thread_count_experiments() -> [(&'static str, String); 3] {
+    let (enc, sphere_enc) = (all_encoders(false), all_encoders(true));
+    [
+        (
+            "det_sphere",
+            format!("maps = [\"gen_sun_sky\", \"gen_two_lights\"]\nencoders = [{sphere_enc}]\nmetrics = [\"exact\", \"probulator\"]\n"),
+        ),
+        (
+            "det_surface",
+            [
+                format!("maps = [\"gen_sky_sun\"]\nencoders = [{enc}]\ndomain = \"hemisphere\"\norientations = [\"up\", \"+x\"]\n"),
+                "effects = [\"hemisphere\", { kind = \"cone\", cos_alpha = [0.5], tilt_deg = [0, 30] }]\n".to_string(),
+                "resolution = [64, 32]\n".to_string(),
+            ]
+            .concat(),
+        ),
+        (
+            "det_cone",
+            [
+                format!("maps = [\"gen_cone\"]\nencoders = [{sphere_enc}]\norientations = [\"-z\"]\n"),
+                "effects = [{ kind = \"cone\", cos_alpha = [0.7] }]\n".to_string(),
+                "resolution = [64, 32]\n".to_string(),
+            ]
+            .concat(),
+        ),
+    ]
+}
+
+/// Runs the experiments at `paths` in one process with `--jobs jobs`, into `dir/jobs<jobs>`;
+/// returns the tables of `names`, in that order.
+fn tables_with_jobs(dir: &Path, paths: &[String], names: &[&str], jobs: &str) -> Vec<Vec<u8>> {
+    let out_dir = dir.join(format!("jobs{jobs}"));
+    let mut args = vec!["--jobs", jobs, "run"];
+    args.extend(paths.iter().map(|s| s.as_str()));
+    args.extend(["--out", out_dir.to_str().unwrap()]);
+    let o = probelab().args(&args).run();
+    assert!(o.status.success(), "{}", text(&o).1);
+    names.iter().map(|n| std::fs::read(out_dir.join(n).join("table.csv")).unwrap()).collect()
 }
 
 /// A deliberately broken variant of sh1: band 1 scaled by 0.6667 instead of Â₁ = 2/3 (a
@@ -311,73 +326,132 @@ fn finding_lines(stdout: &str, exp: &str) -> Vec<String> {
 /// checksum and a missing map are reported.
 #[test]
 fn run_check_bless_cycle() {
-    let d = tempfile::tempdir().unwrap();
-    let exp = d.path().join("cyc.toml");
-    std::fs::write(
-        &exp,
-        "maps = [\"gen_sun_sky\", \"gen_two_lights\"]\nencoders = [\"sh1\", \"sh2\"]\nresolution = [64, 32]\n",
-    )
-    .unwrap();
-    let out = d.path().join("results");
-    let base = out.join("cyc");
-    let (e, o) = (exp.to_str().unwrap(), out.to_str().unwrap());
-    let run = |args: &[&str]| {
+    let c = Cycle::new();
+    let table0 = run_writes_a_baseline_then_leaves_it(&c);
+    let (code, so, _) = c.run(&["check", &c.exp]);
+    assert_eq!(code, Some(0), "{so}");
+    assert!(so.contains("cyc: ok, nothing moved (4 rows, 32 numbers compared"), "{so}");
+    let edge = ToleranceEdge::of_sh2_rmse_on_gen_sun_sky(&table0);
+    let perturbed = with_cell(&table0, "gen_sun_sky", "sh2", "rmse", &edge.beyond_s);
+    let lines = a_number_beyond_its_tolerance_fails_check(&c, &perturbed, &edge);
+    a_number_at_its_tolerance_passes_check(&c, &table0, &edge);
+    let prov_perturbed = run_refuses_to_overwrite_a_moved_baseline(&c, &perturbed);
+    an_interrupted_bless_keeps_the_old_baseline(&c, &perturbed, &prov_perturbed);
+    bless_prints_what_check_printed_and_restores(&c, &lines, &table0);
+    a_changed_map_is_reported(&c);
+    a_missing_map_fails_check_unless_allowed(&c);
+}
+
+/// The cycle's scratch: a small experiment `cyc` and its results folder, in a temporary folder.
+struct Cycle {
+    dir: tempfile::TempDir,
+    /// The experiment file.
+    exp: String,
+    /// The results folder (`--out`).
+    out: String,
+    /// The baseline folder, `out/cyc`.
+    base: std::path::PathBuf,
+}
+
+impl Cycle {
+    fn new() -> Self {
+        let d = tempfile::tempdir().unwrap();
+        let exp = d.path().join("cyc.toml");
+        std::fs::write(
+            &exp,
+            "maps = [\"gen_sun_sky\", \"gen_two_lights\"]\nencoders = [\"sh1\", \"sh2\"]\nresolution = [64, 32]\n",
+        )
+        .unwrap();
+        let out = d.path().join("results");
+        let base = out.join("cyc");
+        let (exp, out) = (exp.to_str().unwrap().to_string(), out.to_str().unwrap().to_string());
+        Cycle { dir: d, exp, out, base }
+    }
+
+    /// The binary with `args` and `--out`: its exit code, stdout and stderr.
+    fn run(&self, args: &[&str]) -> (Option<i32>, String, String) {
         let mut a = args.to_vec();
-        a.extend(["--out", o]);
+        a.extend(["--out", &self.out]);
         let r = probelab().args(&a).run();
         let (so, se) = text(&r);
         (r.status.code(), so, se)
-    };
-    let read = |n: &str| std::fs::read_to_string(base.join(n)).unwrap();
+    }
 
-    let (code, _, err) = run(&["run", e]);
+    /// A file of the baseline folder.
+    fn read(&self, n: &str) -> String {
+        std::fs::read_to_string(self.base.join(n)).unwrap()
+    }
+}
+
+/// A first `run` writes the baseline and its provenance; a second leaves both untouched.
+/// Returns the table.
+fn run_writes_a_baseline_then_leaves_it(c: &Cycle) -> String {
+    let e = c.exp.as_str();
+    let (code, _, err) = c.run(&["run", e]);
     assert_eq!(code, Some(0), "{err}");
     assert!(err.contains("new baseline"), "{err}");
-    let (table0, prov0) = (read("table.csv"), read("provenance.toml"));
-    let prov = Provenance::read(&base.join("provenance.toml")).unwrap();
+    let (table0, prov0) = (c.read("table.csv"), c.read("provenance.toml"));
+    let prov = Provenance::read(&c.base.join("provenance.toml")).unwrap();
     assert_eq!(prov.table_sha256, sha256_hex(table0.as_bytes()));
     assert_eq!(prov.maps.len(), 2);
     assert!(prov.maps.iter().all(|m| m.width == 1024 && m.height == 512 && m.sha256.len() == 64));
     assert!(prov.maps[0].reference.starts_with("exact cell-integrated"));
 
-    let (code, _, err) = run(&["run", e]);
+    let (code, _, err) = c.run(&["run", e]);
     assert_eq!(code, Some(0), "{err}");
     assert!(err.contains("left unchanged"), "{err}");
-    assert_eq!((read("table.csv"), read("provenance.toml")), (table0.clone(), prov0.clone()));
+    assert_eq!((c.read("table.csv"), c.read("provenance.toml")), (table0.clone(), prov0.clone()));
+    table0
+}
 
-    let (code, so, _) = run(&["check", e]);
-    assert_eq!(code, Some(0), "{so}");
-    assert!(so.contains("cyc: ok, nothing moved (4 rows, 32 numbers compared"), "{so}");
+/// The first baseline value beyond the tolerance of sh2's rmse on gen_sun_sky, and the last
+/// one within it, as written in a table.
+struct ToleranceEdge {
+    /// The baseline value.
+    v: f64,
+    /// The last value within the tolerance.
+    edge_s: String,
+    /// The first value beyond it.
+    beyond_s: String,
+}
 
-    // The first baseline value beyond the tolerance of sh2's rmse on gen_sun_sky, and the last
-    // one within it, found by stepping one ulp at a time across the boundary.
-    let t0 = Table::parse(table0.as_bytes(), Path::new("t")).unwrap();
-    let [mc, ec, rc] = ["map", "encoder", "rmse"].map(|n| t0.columns.iter().position(|c| c == n).unwrap());
-    let v: f64 = t0.rows.iter().find(|r| r[mc] == "gen_sun_sky" && r[ec] == "sh2").unwrap()[rc].parse().unwrap();
-    let tol = Tolerances::load(&repo()).unwrap().get("rmse", Some(EncoderClass { kind: "sh2", iterative: false }));
-    let Tolerance::Within { rel, abs } = tol else { panic!("rmse is ignored") };
-    assert!(rel > 0.0);
-    let mut edge = v + abs.max(rel * v);
-    while tol.accepts(edge, v) {
-        edge = edge.next_up();
+impl ToleranceEdge {
+    /// Found by stepping one ulp at a time across the boundary.
+    fn of_sh2_rmse_on_gen_sun_sky(table0: &str) -> Self {
+        let t0 = Table::parse(table0.as_bytes(), Path::new("t")).unwrap();
+        let [mc, ec, rc] = ["map", "encoder", "rmse"].map(|n| t0.columns.iter().position(|c| c == n).unwrap());
+        let v: f64 = t0.rows.iter().find(|r| r[mc] == "gen_sun_sky" && r[ec] == "sh2").unwrap()[rc].parse().unwrap();
+        let tol = Tolerances::load(&repo()).unwrap().get("rmse", Some(EncoderClass { kind: "sh2", iterative: false }));
+        let Tolerance::Within { rel, abs } = tol else { panic!("rmse is ignored") };
+        assert!(rel > 0.0);
+        let mut edge = v + abs.max(rel * v);
+        while tol.accepts(edge, v) {
+            edge = edge.next_up();
+        }
+        while !tol.accepts(edge, v) {
+            edge = edge.next_down();
+        }
+        let beyond = edge.next_up();
+        let (edge_s, beyond_s) = (probelab::pipeline::table::num(edge), probelab::pipeline::table::num(beyond));
+        assert_eq!((edge_s.parse::<f64>().unwrap(), beyond_s.parse::<f64>().unwrap()), (edge, beyond));
+        ToleranceEdge { v, edge_s, beyond_s }
     }
-    while !tol.accepts(edge, v) {
-        edge = edge.next_down();
-    }
-    let beyond = edge.next_up();
-    let (edge_s, beyond_s) = (probelab::pipeline::table::num(edge), probelab::pipeline::table::num(beyond));
-    assert_eq!((edge_s.parse::<f64>().unwrap(), beyond_s.parse::<f64>().unwrap()), (edge, beyond));
-    let perturbed = with_cell(&table0, "gen_sun_sky", "sh2", "rmse", &beyond_s);
+}
 
-    // Edited by hand: both the edit and the moved number are reported.
-    std::fs::write(base.join("table.csv"), &perturbed).unwrap();
-    let (code, so, _) = run(&["check", e]);
+/// The baseline edited by hand to hold a number one ulp beyond its tolerance: both the edit
+/// and the moved number are reported; as if blessed, exactly one finding, the moved number with
+/// its key, values and change. Returns the finding lines.
+fn a_number_beyond_its_tolerance_fails_check(c: &Cycle, perturbed: &str, edge: &ToleranceEdge) -> Vec<String> {
+    let e = c.exp.as_str();
+    let (v, beyond_s) = (edge.v, &edge.beyond_s);
+    std::fs::write(c.base.join("table.csv"), perturbed).unwrap();
+    let (code, so, _) = c.run(&["check", e]);
     assert_eq!(code, Some(1), "{so}");
     assert!(so.contains("is not the table provenance.toml vouches for"), "{so}");
 
     // As if blessed: exactly one finding, the moved number with its key, values and change.
-    write_provenance_sha(&base);
-    let (code, check_out, _) = run(&["check", e]);
+    write_provenance_sha(&c.base);
+    let (code, check_out, _) = c.run(&["check", e]);
     assert_eq!(code, Some(1), "{check_out}");
     let lines = finding_lines(&check_out, "cyc");
     assert_eq!(lines.len(), 1, "{check_out}");
@@ -387,68 +461,88 @@ fn run_check_bless_cycle() {
     );
     assert!(lines[0].starts_with(&want), "{}\nwanted: {want}", lines[0]);
     assert!(check_out.contains("FAILED: 1 number(s) moved"), "{check_out}");
+    lines
+}
 
-    // At the tolerance: passes, and counts it.
-    std::fs::write(base.join("table.csv"), with_cell(&table0, "gen_sun_sky", "sh2", "rmse", &edge_s)).unwrap();
-    write_provenance_sha(&base);
-    let (code, so, _) = run(&["check", e]);
+/// At the tolerance: passes, and counts it.
+fn a_number_at_its_tolerance_passes_check(c: &Cycle, table0: &str, edge: &ToleranceEdge) {
+    let e = c.exp.as_str();
+    std::fs::write(c.base.join("table.csv"), with_cell(table0, "gen_sun_sky", "sh2", "rmse", &edge.edge_s)).unwrap();
+    write_provenance_sha(&c.base);
+    let (code, so, _) = c.run(&["check", e]);
     assert_eq!(code, Some(0), "{so}");
     assert!(so.contains("1 within tolerance"), "{so}");
+}
 
-    // `run` refuses to overwrite the moved baseline.
-    std::fs::write(base.join("table.csv"), &perturbed).unwrap();
-    write_provenance_sha(&base);
-    let prov_perturbed = read("provenance.toml");
-    let (code, _, err) = run(&["run", e]);
+/// `run` refuses to overwrite the moved baseline. Returns its provenance.
+fn run_refuses_to_overwrite_a_moved_baseline(c: &Cycle, perturbed: &str) -> String {
+    let e = c.exp.as_str();
+    std::fs::write(c.base.join("table.csv"), perturbed).unwrap();
+    write_provenance_sha(&c.base);
+    let prov_perturbed = c.read("provenance.toml");
+    let (code, _, err) = c.run(&["run", e]);
     assert_eq!(code, Some(1), "{err}");
     assert!(err.contains("NOT overwritten") && err.contains("probelab bless cyc"), "{err}");
-    assert_eq!(read("table.csv"), perturbed);
+    assert_eq!(c.read("table.csv"), perturbed);
+    prov_perturbed
+}
 
-    // A bless that cannot complete (the provenance's place is taken by a folder) leaves the
-    // old baseline whole.
-    std::fs::remove_file(base.join("provenance.toml")).unwrap();
-    std::fs::create_dir(base.join("provenance.toml")).unwrap();
-    let (code, _, err) = run(&["bless", e]);
+/// A bless that cannot complete (the provenance's place is taken by a folder) leaves the
+/// old baseline whole.
+fn an_interrupted_bless_keeps_the_old_baseline(c: &Cycle, perturbed: &str, prov_perturbed: &str) {
+    let e = c.exp.as_str();
+    std::fs::remove_file(c.base.join("provenance.toml")).unwrap();
+    std::fs::create_dir(c.base.join("provenance.toml")).unwrap();
+    let (code, _, err) = c.run(&["bless", e]);
     assert_eq!(code, Some(2), "{err}");
-    assert_eq!(read("table.csv"), perturbed);
-    std::fs::remove_dir(base.join("provenance.toml")).unwrap();
-    std::fs::write(base.join("provenance.toml"), &prov_perturbed).unwrap();
-    assert_eq!(std::fs::read_dir(&base).unwrap().count(), 2, "temporary files left behind");
+    assert_eq!(c.read("table.csv"), perturbed);
+    std::fs::remove_dir(c.base.join("provenance.toml")).unwrap();
+    std::fs::write(c.base.join("provenance.toml"), prov_perturbed).unwrap();
+    assert_eq!(std::fs::read_dir(&c.base).unwrap().count(), 2, "temporary files left behind");
+}
 
-    // `bless` prints the lines `check` printed, and writes the true numbers back.
-    let (code, bless_out, err) = run(&["bless", e]);
+/// `bless` prints the lines `check` printed, and writes the true numbers back; then it leaves
+/// a baseline that did not move unchanged unless --force.
+fn bless_prints_what_check_printed_and_restores(c: &Cycle, lines: &[String], table0: &str) {
+    let e = c.exp.as_str();
+    let (code, bless_out, err) = c.run(&["bless", e]);
     assert_eq!(code, Some(0), "{err}");
     assert_eq!(finding_lines(&bless_out, "cyc"), lines, "{bless_out}");
     assert!(bless_out.contains("bless cyc: wrote table.csv, provenance.toml"), "{bless_out}");
-    assert_eq!(read("table.csv"), table0);
-    let prov_blessed = read("provenance.toml");
-    let (code, so, _) = run(&["check", e]);
+    assert_eq!(c.read("table.csv"), table0);
+    let prov_blessed = c.read("provenance.toml");
+    let (code, so, _) = c.run(&["check", e]);
     assert_eq!(code, Some(0), "{so}");
-    let (code, so, _) = run(&["bless", e]);
+    let (code, so, _) = c.run(&["bless", e]);
     assert_eq!(code, Some(0));
     assert!(so.contains("nothing moved") && so.contains("left unchanged"), "{so}");
-    assert_eq!(read("provenance.toml"), prov_blessed);
-    let (code, so, _) = run(&["bless", e, "--force"]);
+    assert_eq!(c.read("provenance.toml"), prov_blessed);
+    let (code, so, _) = c.run(&["bless", e, "--force"]);
     assert_eq!(code, Some(0));
     assert!(so.contains("rewritten because of --force"), "{so}");
-    assert_eq!(read("table.csv"), table0);
+    assert_eq!(c.read("table.csv"), table0);
+}
 
-    // A map whose pixels changed since the baseline is reported, and its rows are not
-    // compared. (A file with other bytes but the same pixels is the same map: docs/maps.md.)
-    let good_prov = read("provenance.toml");
-    let mut p = Provenance::read(&base.join("provenance.toml")).unwrap();
+/// A map whose pixels changed since the baseline is reported, and its rows are not
+/// compared. (A file with other bytes but the same pixels is the same map: docs/maps.md.)
+fn a_changed_map_is_reported(c: &Cycle) {
+    let e = c.exp.as_str();
+    let good_prov = c.read("provenance.toml");
+    let mut p = Provenance::read(&c.base.join("provenance.toml")).unwrap();
     let m = p.maps.iter_mut().find(|m| m.name == "gen_two_lights").unwrap();
     m.sha256 = "0".repeat(64);
     m.pixel_sha256 = Some("0".repeat(64));
-    std::fs::write(base.join("provenance.toml"), p.to_toml().unwrap()).unwrap();
-    let (code, so, _) = run(&["check", e]);
+    std::fs::write(c.base.join("provenance.toml"), p.to_toml().unwrap()).unwrap();
+    let (code, so, _) = c.run(&["check", e]);
     assert_eq!(code, Some(1), "{so}");
     assert!(so.contains("cyc: map gen_two_lights is not the file the baseline used"), "{so}");
     assert!(so.contains("(2 rows, 16 numbers compared"), "{so}");
-    std::fs::write(base.join("provenance.toml"), good_prov).unwrap();
+    std::fs::write(c.base.join("provenance.toml"), good_prov).unwrap();
+}
 
-    // A map missing on this machine fails the check unless --allow-missing.
-    let exp2 = d.path().join("cyc2.toml");
+/// A map missing on this machine fails the check unless --allow-missing.
+fn a_missing_map_fails_check_unless_allowed(c: &Cycle) {
+    let exp2 = c.dir.path().join("cyc2.toml");
     std::fs::write(
         &exp2,
         "name = \"cyc\"\nmaps = [\"gen_sun_sky\", \"gen_two_lights\", \"no_such_map_xyz\"]\n\
@@ -456,10 +550,10 @@ fn run_check_bless_cycle() {
     )
     .unwrap();
     let e2 = exp2.to_str().unwrap();
-    let (code, so, _) = run(&["check", e2]);
+    let (code, so, _) = c.run(&["check", e2]);
     assert_eq!(code, Some(1), "{so}");
     assert!(so.contains("cyc: map no_such_map_xyz not found on this machine"), "{so}");
-    let (code, so, _) = run(&["check", e2, "--allow-missing"]);
+    let (code, so, _) = c.run(&["check", e2, "--allow-missing"]);
     assert_eq!(code, Some(0), "{so}");
     assert!(so.contains("NOT checked"), "{so}");
 }

@@ -105,12 +105,44 @@ fn write(p: &Path, s: &str) {
     std::fs::write(p, s).unwrap();
 }
 
+/// The scratch repository end to end, in one chained sequence: its results folder grows and
+/// changes step by step (a first report, the claims fixtures, a refused verdict, reports at
+/// other scales, a refused claims file), each step reading what the earlier ones left.
 #[test]
 fn report_on_a_scratch_repository() {
     let scratch = Scratch::new();
     let root = scratch.path();
     let rs = root.to_str().unwrap();
-    stderr_ok(&probelab(&scratch, &["gen-envmaps", "--width", "32"]));
+    run_two_experiments(&scratch);
+    let res = root.join("results");
+    assert!(res.join("a_sphere/provenance.toml").is_file(), "run records the maps' checksums");
+    fill_in_timings(&res);
+    add_other_result_files(root, &res);
+
+    let log = stderr_ok(&probelab(&scratch, &["report"]));
+    assert!(log.contains("REPORT.md"), "{log}");
+    let md = std::fs::read_to_string(res.join("REPORT.md")).unwrap();
+    let links = check_all_links(&res);
+    opening_then_papers_in_order(&md);
+    sheets_have_their_layout_sizes(&res);
+    pages_link_pictures_and_files(&res, &links);
+    charts_are_also_svg(&res, &links);
+    experiment_pages_explain_what_is_missing(&res, &md);
+    provenance_page_lists_every_map(&res);
+    assert_eq!(absolute_paths(&res, Some(rs)), Vec::<String>::new(), "no absolute path in results/");
+
+    claims_at_a_glance_in_paper_order(&scratch, &res);
+    unknown_verdict_is_refused(&scratch, &res);
+    let chart = pictures_are_deterministic(&scratch, &res);
+    sheet_scale_multiplies_sheets_only(&scratch, &res, &chart);
+    claims_file_without_its_columns_is_refused(&scratch, &res);
+}
+
+/// Generated maps, the paper plans, two experiments run (and a third that has no map here).
+fn run_two_experiments(scratch: &Scratch) {
+    let root = scratch.path();
+    let rs = root.to_str().unwrap();
+    stderr_ok(&probelab(scratch, &["gen-envmaps", "--width", "32"]));
     // The paper sections' plans, without the claims declarations: the sections take the plans'
     // titles.
     scratch.copy_from_repo("experiments/report/papers.toml");
@@ -127,13 +159,13 @@ fn report_on_a_scratch_repository() {
     write(&root.join("experiments/c_missing.toml"), "maps = [\"not_on_this_machine\"]\nencoders = [\"sh1\"]\n");
     // No timing pass: a_sphere's table then has no `fit_ns` column (b_floor's is added below).
     stderr_ok(&probelab(
-        &scratch,
+        scratch,
         &["--no-timing", "run", &format!("{rs}/experiments/a_sphere.toml"), &format!("{rs}/experiments/b_floor.toml")],
     ));
-    let res = root.join("results");
-    assert!(res.join("a_sphere/provenance.toml").is_file(), "run records the maps' checksums");
+}
 
-    // Timings filled into one table's (empty, under --no-timing) `fit_ns` column, read by name.
+/// Timings filled into one table's (empty, under --no-timing) `fit_ns` column, read by name.
+fn fill_in_timings(res: &Path) {
     let t = std::fs::read_to_string(res.join("b_floor/table.csv")).unwrap();
     let mut r = csv::Reader::from_reader(t.as_bytes());
     let head = r.headers().unwrap().clone();
@@ -146,6 +178,11 @@ fn report_on_a_scratch_repository() {
         w.write_record(&rec).unwrap();
     }
     write(&res.join("b_floor/table.csv"), &String::from_utf8(w.into_inner().unwrap()).unwrap());
+}
+
+/// Result files the report reads besides the tables: a sweep, a blend, claims, a folder with no
+/// experiment, a file that is no picture, and stale pictures.
+fn add_other_result_files(root: &Path, res: &Path) {
     write(
         &res.join("a_sphere/sweep_reference.csv"),
         "knob,value,rmse,time_ns,label\npolar_nodes,1,1e-3,100,gen_sun_sky\npolar_nodes,2,1e-6,200,gen_sun_sky\n\
@@ -168,16 +205,11 @@ fn report_on_a_scratch_repository() {
     std::fs::write(res.join("a_sphere/sheet_old_map.png"), &png).unwrap();
     std::fs::write(res.join("a_sphere/blend_strip.png"), &png).unwrap();
     std::fs::write(res.join("a_sphere/chart_old_knob.svg"), "<svg/>").unwrap();
+}
 
-    let log = stderr_ok(&probelab(&scratch, &["report"]));
-    assert!(log.contains("REPORT.md"), "{log}");
-    let report = res.join("REPORT.md");
-    let md = std::fs::read_to_string(&report).unwrap();
-    let links = check_all_links(&res);
-    let page = |name: &str| std::fs::read_to_string(res.join(name).join("README.md")).unwrap();
-
-    // The opening: what probelab is, how the run was made, then the claims at a glance — with
-    // no CLAIMS.csv, one line says so — then the papers, in their order.
+/// The opening: what probelab is, how the run was made, then the claims at a glance — with
+/// no CLAIMS.csv, one line says so — then the papers, in their order.
+fn opening_then_papers_in_order(md: &str) {
     assert!(md.starts_with("# probelab"), "{md}");
     let how = md.find("**How this run was made.**").expect("how the run was made");
     let glance = md.find("## Reproduction at a glance").expect("at a glance");
@@ -189,8 +221,10 @@ fn report_on_a_scratch_repository() {
     let brief = md.find("## Directional Lightmap Encoding Insights").expect("the 2018 brief's section");
     assert!(glance < zh3 && zh3 < hemi && hemi < brief, "papers in order");
     assert!(!md.contains("No `table.csv`") && !md.contains("yet (run"), "no folder is said to lack a table");
+}
 
-    // Sheets: one per map, sizes from the layout (3 rows × 2 views; 2 rows × 1 view).
+/// Sheets: one per map, sizes from the layout (3 rows × 2 views; 2 rows × 1 view).
+fn sheets_have_their_layout_sizes(res: &Path) {
     let h = |rows: u32| HEADER_H + COLHEAD_H + rows * ROW_H + MARGIN;
     let w2 = 2 * MARGIN + LABEL_W + 6 * CELL_W + VIEW_GAP;
     let w1 = (2 * MARGIN + LABEL_W + 3 * CELL_W).max(MIN_W);
@@ -198,6 +232,10 @@ fn report_on_a_scratch_repository() {
     assert_eq!(png_size(&res.join("a_sphere/sheet_gen_constant.png")), (w2, h(3)));
     assert_eq!(png_size(&res.join("b_floor/sheet_gen_hemisphere.png")), (w1, h(2)));
     assert!(!res.join("a_sphere/sheet_old_map.png").exists(), "stale sheet removed");
+}
+
+/// The pages link every page, picture, chart, claims file and experiment file.
+fn pages_link_pictures_and_files(res: &Path, links: &[String]) {
     for f in [
         "a_sphere/README.md",
         "b_floor/README.md",
@@ -219,8 +257,11 @@ fn report_on_a_scratch_repository() {
         assert!(links.iter().any(|l| l == f), "a page links {f}; links: {links:?}");
     }
     assert!(!res.join("a_sphere/chart_time.png").exists());
-    // Every chart is also written as SVG beside its PNG (same stem, same size) and linked;
-    // a stale chart SVG is removed, and no SVG is listed among the folder's other files.
+}
+
+/// Every chart is also written as SVG beside its PNG (same stem, same size) and linked;
+/// a stale chart SVG is removed, and no SVG is listed among the folder's other files.
+fn charts_are_also_svg(res: &Path, links: &[String]) {
     for png in [
         "a_sphere/chart_rmse.png",
         "a_sphere/chart_cost_scalars.png",
@@ -238,10 +279,15 @@ fn report_on_a_scratch_repository() {
         assert!(links.contains(&svg), "a page links {svg}");
     }
     assert!(!res.join("a_sphere/chart_old_knob.svg").exists(), "stale chart SVG removed");
-    let a_page = page("a_sphere");
+    let a_page = page(res, "a_sphere");
     let files_line = a_page.lines().find(|l| l.starts_with("Files:")).unwrap_or("");
     assert!(!files_line.contains(".svg"), "SVGs are not listed as other files: {files_line}");
-    let a = page("a_sphere");
+}
+
+/// The experiment pages state what is missing (timings, quantised encoders, results, an
+/// experiment file) and caption what they show.
+fn experiment_pages_explain_what_is_missing(res: &Path, md: &str) {
+    let a = page(res, "a_sphere");
     assert!(a.contains("no fit times") || a.contains("--no-timing"), "the missing timings are stated");
     assert!(a.contains("Pareto front (lower cost and lower error both better): "), "cost charts name their front");
     assert!(a.contains("no encoder of this table is quantised"), "the bytes chart says why it is not drawn");
@@ -251,17 +297,23 @@ fn report_on_a_scratch_repository() {
         md.contains("[timing_only](timing_only/README.md)"),
         "result folders without an experiment file get a page"
     );
-    assert!(!page("timing_only").contains("table.csv"), "no 'no table' line for a folder that never has one");
-    assert!(page("b_floor").contains("mean / worst over the 6 cases"), "the floor experiment's six orientations");
+    assert!(!page(res, "timing_only").contains("table.csv"), "no 'no table' line for a folder that never has one");
+    assert!(page(res, "b_floor").contains("mean / worst over the 6 cases"), "the floor experiment's six orientations");
     assert!(a.contains("ahd: overshoot 0.200"), "blend overshoot in the caption");
+}
+
+/// PROVENANCE.md has a checksum row per map found and says which map was not found.
+fn provenance_page_lists_every_map(res: &Path) {
     let prov = std::fs::read_to_string(res.join("PROVENANCE.md")).unwrap();
     for m in ["gen_sun_sky", "gen_constant", "gen_hemisphere"] {
         assert!(prov.contains(&format!("| {m} | `{m}.exr` in")), "checksum row for {m}");
     }
     assert!(prov.contains("| not_on_this_machine | not found on this machine |"));
-    assert_eq!(absolute_paths(&res, Some(rs)), Vec::<String>::new(), "no absolute path in results/");
+}
 
-    // Claims: fixture declarations (two papers, out of file order) and a fixture CLAIMS.csv.
+/// Claims: fixture declarations (two papers, out of file order) and a fixture CLAIMS.csv.
+fn claims_at_a_glance_in_paper_order(scratch: &Scratch, res: &Path) {
+    let root = scratch.path();
     write(
         &root.join("experiments/claims/zz_first.toml"),
         "title = \"Paper One\"\nauthors = \"A. Author\"\nvenue = \"Conf 1\"\norder = 1\n\
@@ -287,9 +339,9 @@ fn report_on_a_scratch_repository() {
     );
     write(&res.join("claims/aa_second.md"), "# Paper Two\n\n<a id=\"q1\"></a>\n");
     write(&res.join("claims/zz_first.md"), "# Paper One\n\n<a id=\"p1\"></a>\n");
-    stderr_ok(&probelab(&scratch, &["report"]));
-    let md = std::fs::read_to_string(&report).unwrap();
-    check_all_links(&res);
+    stderr_ok(&probelab(scratch, &["report"]));
+    let md = std::fs::read_to_string(res.join("REPORT.md")).unwrap();
+    check_all_links(res);
     let rows: Vec<&str> = md.lines().filter(|l| l.starts_with("| [") || l.starts_with("| P2")).collect();
     assert_eq!(rows.len(), 3, "{md}");
     // Paper order (by `order`, not file name), then declaration order; a declared claim without
@@ -310,46 +362,61 @@ fn report_on_a_scratch_repository() {
     assert!(md.contains("2 claims judged: 1 hold, 0 partly, 1 fail, 0 untestable"), "{md}");
     assert!(md.find("## Paper One").unwrap() < md.find("## Paper Two").unwrap(), "sections in paper order");
     assert!(md.contains("A. Author. Conf 1. Claims P1, P2"), "{md}");
+}
 
-    // A verdict outside the four is refused with the file and claim named, exit 2.
+/// A verdict outside the four is refused with the file and claim named, exit 2.
+fn unknown_verdict_is_refused(scratch: &Scratch, res: &Path) {
     write(&res.join("CLAIMS.csv"), "id,verdict,paper_figure,our_figure,criterion,maps,detail\nP1,yes,a,b,c,d,e\n");
-    let out = probelab(&scratch, &["report"]);
+    let out = probelab(scratch, &["report"]);
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("CLAIMS.csv") && err.contains("P1") && err.contains("holds, partly"), "{err}");
     std::fs::remove_file(res.join("CLAIMS.csv")).unwrap();
+}
 
-    // Pictures are deterministic: a second report draws the same bytes.
+/// Pictures are deterministic: a second report draws the same bytes. Returns the rmse chart.
+fn pictures_are_deterministic(scratch: &Scratch, res: &Path) -> Vec<u8> {
     let before = std::fs::read(res.join("a_sphere/sheet_gen_sun_sky.png")).unwrap();
     let chart = std::fs::read(res.join("a_sphere/chart_rmse.png")).unwrap();
-    stderr_ok(&probelab(&scratch, &["--jobs", "1", "report"]));
+    stderr_ok(&probelab(scratch, &["--jobs", "1", "report"]));
     assert_eq!(before, std::fs::read(res.join("a_sphere/sheet_gen_sun_sky.png")).unwrap());
     assert_eq!(chart, std::fs::read(res.join("a_sphere/chart_rmse.png")).unwrap());
+    chart
+}
 
-    // `--scale 1` is the default sheet, byte for byte; `--scale 2` draws every sheet exactly
-    // twice as wide and tall and leaves the charts as they were; then back to the default.
+/// `--scale 1` is the default sheet, byte for byte; `--scale 2` draws every sheet exactly
+/// twice as wide and tall and leaves the charts (`chart`: the rmse chart) as they were; then back
+/// to the default.
+fn sheet_scale_multiplies_sheets_only(scratch: &Scratch, res: &Path, chart: &[u8]) {
     let sheets =
         ["a_sphere/sheet_gen_sun_sky.png", "a_sphere/sheet_gen_constant.png", "b_floor/sheet_gen_hemisphere.png"];
     let default: Vec<Vec<u8>> = sheets.iter().map(|s| std::fs::read(res.join(s)).unwrap()).collect();
     let sizes: Vec<(u32, u32)> = sheets.iter().map(|s| png_size(&res.join(s))).collect();
-    stderr_ok(&probelab(&scratch, &["report", "--scale", "1"]));
+    stderr_ok(&probelab(scratch, &["report", "--scale", "1"]));
     for (s, bytes) in sheets.iter().zip(&default) {
         assert!(std::fs::read(res.join(s)).unwrap() == *bytes, "{s} at --scale 1 differs from the default");
     }
-    stderr_ok(&probelab(&scratch, &["report", "--scale", "2"]));
+    stderr_ok(&probelab(scratch, &["report", "--scale", "2"]));
     for (s, (w, h)) in sheets.iter().zip(&sizes) {
         assert_eq!(png_size(&res.join(s)), (2 * w, 2 * h), "{s} at --scale 2");
     }
     assert_eq!(chart, std::fs::read(res.join("a_sphere/chart_rmse.png")).unwrap(), "charts do not scale");
-    stderr_ok(&probelab(&scratch, &["report"]));
+    stderr_ok(&probelab(scratch, &["report"]));
     assert!(std::fs::read(res.join(sheets[0])).unwrap() == default[0]);
+}
 
-    // A claims file without its columns is refused with the file named, exit 2.
+/// A claims file without its columns is refused with the file named, exit 2.
+fn claims_file_without_its_columns_is_refused(scratch: &Scratch, res: &Path) {
     write(&res.join("a_sphere/claims.csv"), "id,claim\nX1,x\n");
-    let out = probelab(&scratch, &["report"]);
+    let out = probelab(scratch, &["report"]);
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("claims.csv") && err.contains("paper_figure"), "{err}");
+}
+
+/// A result folder's page.
+fn page(res: &Path, name: &str) -> String {
+    std::fs::read_to_string(res.join(name).join("README.md")).unwrap()
 }
 
 /// The committed report: every picture and file its pages link exists (what `reproduce` must
