@@ -380,30 +380,10 @@ pub fn experiment_sheet(
 
     let (figures, source) = match table.and_then(|t| figures_from_table(t, &map.name, case, &names)) {
         Some(f) => (f, "table.csv"),
-        None => {
-            // The scored grid: the exact metric over the case's domain at the experiment's
-            // resolution, scored by the runner's own step.
-            let grid = case.domain.output_grid(exp.resolution);
-            let ref_grid = cd.reference_on(&grid);
-            let f = exp
-                .encoders
-                .iter()
-                .zip(&fitted)
-                .map(|(e, f)| {
-                    RowFigures::from(&score_fit(e.encoder.as_ref(), f.as_ref(), &grid, &ref_grid, Metric::Exact))
-                })
-                .collect();
-            (f, "computed")
-        }
+        None => (computed_figures(exp, case, &cd, &fitted), "computed"),
     };
 
-    let views = match &case.domain {
-        Domain::Hemisphere { normal } => {
-            let label = case.domain_label.split(':').nth(1).unwrap_or("N").to_string();
-            vec![View::down(*normal, &label)]
-        }
-        Domain::Sphere => vec![View::front(), View::top()],
-    };
+    let views = case_views(case);
     let discs: Vec<Disc> = views.iter().map(|v| Disc::new(v, (scale * DISC) as usize)).collect();
     let reference: Vec<Vec<Rgb>> = {
         let _s = crate::io::profile::span("report: reference (sheets)");
@@ -413,64 +393,17 @@ pub fn experiment_sheet(
         let _s = crate::io::profile::span("report: encoder eval (sheets)");
         fitted.iter().map(|f| discs.iter().map(|d| evaluate(f.as_ref(), &d.normals)).collect()).collect()
     };
-
-    let drawn: Vec<Rgb> = reference.iter().flatten().copied().collect();
-    let mean_lum = drawn.iter().map(|c| luminance(*c)).sum::<f64>() / drawn.len().max(1) as f64;
-    let max_val = drawn.iter().map(|c| c.max_element()).fold(0.0, f64::max);
-    let tone = Tone::from_reference(mean_lum, max_val);
-    let floor = 0.01 * mean_lum.max(0.0);
-    let mut rel: Vec<f64> = figures.iter().map(|f| f.rel_rmse).filter(|v| v.is_finite()).collect();
-    rel.sort_by(f64::total_cmp);
-    let median = if rel.is_empty() { 0.0 } else { rel[(rel.len() - 1) / 2] };
-    let error = ErrorScale { floor, range: nice_ceil(median) };
+    let (tone, error) = sheet_scales(&reference, &figures);
 
     let rows: Vec<SheetRow> = exp
         .encoders
         .iter()
         .zip(values)
         .zip(&figures)
-        .map(|((e, values), f)| SheetRow {
-            name: e.name.clone(),
-            note: e.encoder.storage(&input),
-            values,
-            under_lit: if f.neg_frac > 0.0 { format!("negative on {}", percent(f.neg_frac)) } else { String::new() },
-            under_err: [format!("rmse {}", sig(f.rmse, 4)), format!("rel_rmse {}", percent(f.rel_rmse))],
-        })
+        .map(|((e, values), f)| sheet_row(e.name.clone(), e.encoder.storage(&input), values, f))
         .collect();
 
-    let (res_w, res_h) = match case.domain {
-        Domain::Sphere => exp.resolution,
-        Domain::Hemisphere { .. } => (exp.resolution.0, exp.resolution.1 / 2),
-    };
-    let mut lines = vec![];
-    if !exp.description.is_empty() {
-        lines.push(exp.description.clone());
-    }
-    lines.push(format!(
-        "case: {} (effects: {}){}",
-        case.domain_label,
-        case.effects_label,
-        if all.len() > 1 {
-            format!("; drawn: the case nearest N = +Y, 1 of {} in the table", all.len())
-        } else {
-            String::new()
-        }
-    ));
-    lines.push(format!("E/pi; reference: {}, at every pixel's normal", cd.reference.describe()));
-    lines.push(format!(
-        "figures: exact metric, solid-angle weighted over {} at {}x{} ({})",
-        if matches!(case.domain, Domain::Sphere) { "the sphere" } else { "the hemisphere about N" },
-        res_w,
-        res_h,
-        if source == "table.csv" { "from table.csv" } else { "computed as the runner does" }
-    ));
-    lines.push(format!("every sphere: {}", tone.describe()));
-    lines.push(format!(
-        "error scale +-{}: the median of the rows' rel_rmse, rounded up to a 1-2-5 step; beyond it saturates",
-        percent(error.range)
-    ));
-    lines.push("(Y = Rec.709 luminance; the denominator is held at >= 1% of the reference's mean Y)".into());
-
+    let lines = header_lines(exp, case, all.len(), &cd.reference.describe(), source, &tone, &error);
     let sheet = Sheet {
         title: format!("{} - {}", exp.name, map.name),
         lines,
@@ -495,6 +428,103 @@ pub fn experiment_sheet(
         source,
     };
     Ok((sheet, scores))
+}
+
+/// Every encoder's figures scored here, as the runner scores them: the exact metric over the
+/// case's domain at the experiment's resolution, through the runner's own step ([`score_fit`]).
+fn computed_figures(exp: &Experiment, case: &Case, cd: &CaseData, fitted: &[Box<dyn Fitted>]) -> Vec<RowFigures> {
+    let grid = case.domain.output_grid(exp.resolution);
+    let ref_grid = cd.reference_on(&grid);
+    exp.encoders
+        .iter()
+        .zip(fitted)
+        .map(|(e, f)| RowFigures::from(&score_fit(e.encoder.as_ref(), f.as_ref(), &grid, &ref_grid, Metric::Exact)))
+        .collect()
+}
+
+/// The views a case is drawn in: a hemisphere as a disc looking down its N (captioned with the
+/// orientation of its domain label), the sphere front and top.
+fn case_views(case: &Case) -> Vec<View> {
+    match &case.domain {
+        Domain::Hemisphere { normal } => {
+            let label = case.domain_label.split(':').nth(1).unwrap_or("N").to_string();
+            vec![View::down(*normal, &label)]
+        }
+        Domain::Sphere => vec![View::front(), View::top()],
+    }
+}
+
+/// The sheet's tone (from the mean luminance and the brightest channel of the reference drawn)
+/// and its error scale: the floor at 1% of that mean, the range the median of the rows'
+/// finite rel_rmse rounded up to a 1-2-5 step.
+fn sheet_scales(reference: &[Vec<Rgb>], figures: &[RowFigures]) -> (Tone, ErrorScale) {
+    let drawn: Vec<Rgb> = reference.iter().flatten().copied().collect();
+    let mean_lum = drawn.iter().map(|c| luminance(*c)).sum::<f64>() / drawn.len().max(1) as f64;
+    let max_val = drawn.iter().map(|c| c.max_element()).fold(0.0, f64::max);
+    let tone = Tone::from_reference(mean_lum, max_val);
+    let floor = 0.01 * mean_lum.max(0.0);
+    let mut rel: Vec<f64> = figures.iter().map(|f| f.rel_rmse).filter(|v| v.is_finite()).collect();
+    rel.sort_by(f64::total_cmp);
+    let median = if rel.is_empty() { 0.0 } else { rel[(rel.len() - 1) / 2] };
+    (tone, ErrorScale { floor, range: nice_ceil(median) })
+}
+
+/// An encoder's row: its name, storage note, values at the discs and the figures printed under
+/// its spheres.
+fn sheet_row(name: String, note: String, values: Vec<Vec<Rgb>>, f: &RowFigures) -> SheetRow {
+    SheetRow {
+        name,
+        note,
+        values,
+        under_lit: if f.neg_frac > 0.0 { format!("negative on {}", percent(f.neg_frac)) } else { String::new() },
+        under_err: [format!("rmse {}", sig(f.rmse, 4)), format!("rel_rmse {}", percent(f.rel_rmse))],
+    }
+}
+
+/// The sheet's header lines: the description, the case drawn (of `n_cases`), the reference
+/// (`reference`, its description), where the figures come from, the tone and the error scale.
+fn header_lines(
+    exp: &Experiment,
+    case: &Case,
+    n_cases: usize,
+    reference: &str,
+    source: &str,
+    tone: &Tone,
+    error: &ErrorScale,
+) -> Vec<String> {
+    let (res_w, res_h) = match case.domain {
+        Domain::Sphere => exp.resolution,
+        Domain::Hemisphere { .. } => (exp.resolution.0, exp.resolution.1 / 2),
+    };
+    let mut lines = vec![];
+    if !exp.description.is_empty() {
+        lines.push(exp.description.clone());
+    }
+    lines.push(format!(
+        "case: {} (effects: {}){}",
+        case.domain_label,
+        case.effects_label,
+        if n_cases > 1 {
+            format!("; drawn: the case nearest N = +Y, 1 of {n_cases} in the table")
+        } else {
+            String::new()
+        }
+    ));
+    lines.push(format!("E/pi; reference: {reference}, at every pixel's normal"));
+    lines.push(format!(
+        "figures: exact metric, solid-angle weighted over {} at {}x{} ({})",
+        if matches!(case.domain, Domain::Sphere) { "the sphere" } else { "the hemisphere about N" },
+        res_w,
+        res_h,
+        if source == "table.csv" { "from table.csv" } else { "computed as the runner does" }
+    ));
+    lines.push(format!("every sphere: {}", tone.describe()));
+    lines.push(format!(
+        "error scale +-{}: the median of the rows' rel_rmse, rounded up to a 1-2-5 step; beyond it saturates",
+        percent(error.range)
+    ));
+    lines.push("(Y = Rec.709 luminance; the denominator is held at >= 1% of the reference's mean Y)".into());
+    lines
 }
 
 #[cfg(test)]
