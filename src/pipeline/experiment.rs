@@ -169,48 +169,12 @@ impl Experiment {
         values.iter().map(|v| literals.get(v.as_str()).copied().or_else(|| find_key(&text, v))).collect()
     }
 
-    /// Validates a parsed file.
+    /// Validates a parsed file; `default_name` is the name when the file gives none. The
+    /// checks run in the order of the file's keys, so the first error is the one reported.
     pub fn from_file(f: ExperimentFile, default_name: &str) -> Result<Self> {
-        let name = f.name.unwrap_or_else(|| default_name.to_string());
-        if name.is_empty() || !name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-') {
-            bail!("name '{name}': use letters, digits, '_' or '-' (it names a folder under results/)");
-        }
-        if f.maps.is_empty() {
-            bail!("maps: list at least one map");
-        }
-        let mut seen = std::collections::HashSet::new();
-        if let Some(m) = f.maps.iter().find(|m| !seen.insert(m.as_str())) {
-            bail!("maps: '{m}' appears twice");
-        }
-        if f.encoders.is_empty() {
-            bail!("encoders: list at least one encoder (valid: {})", encoders::known_ids());
-        }
-        let mut built = Vec::new();
-        for e in f.encoders {
-            built.push(match e {
-                EncoderEntry::Kind(k) => encoders::build(&k, None, toml::Table::new())?,
-                EncoderEntry::Table(mut t) => {
-                    let kind = match t.remove("kind") {
-                        Some(toml::Value::String(k)) => k,
-                        _ => bail!(
-                            "encoders: a table entry needs kind = \"<encoder>\" (valid: {})",
-                            encoders::known_ids()
-                        ),
-                    };
-                    let name = match t.remove("name") {
-                        Some(toml::Value::String(n)) => Some(n),
-                        None => None,
-                        Some(v) => bail!("encoders: name must be a string, got {v}"),
-                    };
-                    encoders::build(&kind, name.as_deref(), t)?
-                }
-            });
-        }
-        for (i, e) in built.iter().enumerate() {
-            if built[..i].iter().any(|o| o.name == e.name) {
-                bail!("encoders: '{}' appears twice; give variants distinct names with name = \"…\"", e.name);
-            }
-        }
+        let name = check_name(f.name.unwrap_or_else(|| default_name.to_string()))?;
+        check_maps(&f.maps)?;
+        let built = build_encoders(f.encoders)?;
         let metrics = if f.metrics.is_empty() {
             vec![Metric::Exact]
         } else {
@@ -230,43 +194,8 @@ impl Experiment {
         for e in f.effects {
             effects.push(parse_effect(e)?);
         }
-        let variants = effects.iter().try_fold(orientations.len().max(1), |n: usize, e| match e {
-            Effect::Hemisphere => Some(n),
-            Effect::Cone { cos_alpha, tilt_deg } => n.checked_mul(cos_alpha.len())?.checked_mul(tilt_deg.len()),
-            Effect::SelfBounce { albedo } => n.checked_mul(albedo.len()),
-        });
-        if effects.iter().any(|e| matches!(e, Effect::SelfBounce { .. })) {
-            if !effects.contains(&Effect::Hemisphere) {
-                bail!(
-                    "effects: 'self_bounce' needs the hemisphere effect (the bounce is the light of the surface \
-                     below the horizon); add \"hemisphere\" to effects"
-                );
-            }
-            if effects.iter().filter(|e| matches!(e, Effect::SelfBounce { .. })).count() > 1 {
-                bail!("effects: 'self_bounce' appears twice; list every albedo in one entry");
-            }
-        }
-        match variants {
-            Some(n) if n <= MAX_CASES => {}
-            _ => bail!(
-                "orientations: the orientations and effect parameters make more than {MAX_CASES} cases (one per \
-                 normal and parameter combination); split the experiment"
-            ),
-        }
-        let needs_normal = domain == DomainKind::Hemisphere || !effects.is_empty();
-        if needs_normal && orientations.is_empty() {
-            bail!(
-                "orientations: a hemisphere domain or an effect needs surface normals (e.g. orientations = [\"up\"])"
-            );
-        }
-        if !needs_normal && !orientations.is_empty() {
-            bail!("orientations: only a hemisphere domain or an effect uses surface normals; remove them or set domain = \"hemisphere\"");
-        }
-        if domain == DomainKind::Hemisphere && metrics.contains(&Metric::Probulator) {
-            bail!(
-                "metrics: 'probulator' scores the whole sphere at 256x128; it cannot be used with a hemisphere domain"
-            );
-        }
+        check_cases(orientations.len(), &effects)?;
+        check_normals(domain, &orientations, &effects, &metrics)?;
         let resolution = f.resolution.map(|[w, h]| (w, h)).unwrap_or((256, 128));
         if resolution.0 != 2 * resolution.1 || resolution.1 < 2 || resolution.1 > 4096 {
             bail!("resolution {:?}: expected [2H, H] with 2 <= H <= 4096", resolution);
@@ -278,13 +207,7 @@ impl Experiment {
         let names: Vec<String> = built.iter().map(|e| e.name.clone()).collect();
         let summary = f.summary.map(|s| crate::pipeline::summary::summary_baseline(s, &names)).transpose()?;
         if let Some(sheets) = &f.sheets {
-            if let Some(m) = sheets.iter().find(|m| !f.maps.contains(m)) {
-                bail!("sheets: '{m}' is not one of the experiment's maps");
-            }
-            let mut seen = std::collections::HashSet::new();
-            if let Some(m) = sheets.iter().find(|m| !seen.insert(m.as_str())) {
-                bail!("sheets: '{m}' appears twice");
-            }
+            check_sheets(sheets, &f.maps)?;
         }
         Ok(Experiment {
             name,
@@ -303,6 +226,123 @@ impl Experiment {
             sheets: f.sheets,
         })
     }
+}
+
+/// The experiment's name, if it can name a folder under `results/`.
+fn check_name(name: String) -> Result<String> {
+    if name.is_empty() || !name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-') {
+        bail!("name '{name}': use letters, digits, '_' or '-' (it names a folder under results/)");
+    }
+    Ok(name)
+}
+
+/// Refuses an empty map list and a map listed twice.
+fn check_maps(maps: &[String]) -> Result<()> {
+    if maps.is_empty() {
+        bail!("maps: list at least one map");
+    }
+    let mut seen = std::collections::HashSet::new();
+    if let Some(m) = maps.iter().find(|m| !seen.insert(m.as_str())) {
+        bail!("maps: '{m}' appears twice");
+    }
+    Ok(())
+}
+
+/// Builds the `encoders` entries through the registry, in order; refuses an empty list and two
+/// encoders of one name.
+fn build_encoders(entries: Vec<EncoderEntry>) -> Result<Vec<NamedEncoder>> {
+    if entries.is_empty() {
+        bail!("encoders: list at least one encoder (valid: {})", encoders::known_ids());
+    }
+    let built = entries.into_iter().map(build_encoder).collect::<Result<Vec<_>>>()?;
+    for (i, e) in built.iter().enumerate() {
+        if built[..i].iter().any(|o| o.name == e.name) {
+            bail!("encoders: '{}' appears twice; give variants distinct names with name = \"…\"", e.name);
+        }
+    }
+    Ok(built)
+}
+
+/// One `encoders` entry: a kind with its default settings, or a table of `kind`, an optional
+/// `name` and the encoder's settings.
+fn build_encoder(e: EncoderEntry) -> Result<NamedEncoder> {
+    match e {
+        EncoderEntry::Kind(k) => encoders::build(&k, None, toml::Table::new()),
+        EncoderEntry::Table(mut t) => {
+            let kind = match t.remove("kind") {
+                Some(toml::Value::String(k)) => k,
+                _ => bail!("encoders: a table entry needs kind = \"<encoder>\" (valid: {})", encoders::known_ids()),
+            };
+            let name = match t.remove("name") {
+                Some(toml::Value::String(n)) => Some(n),
+                None => None,
+                Some(v) => bail!("encoders: name must be a string, got {v}"),
+            };
+            encoders::build(&kind, name.as_deref(), t)
+        }
+    }
+}
+
+/// Refuses a `self_bounce` effect without the hemisphere effect or listed twice, and more than
+/// [`MAX_CASES`] cases (the `n_orientations` normals, at least one, times every effect's
+/// parameter combinations).
+fn check_cases(n_orientations: usize, effects: &[Effect]) -> Result<()> {
+    let variants = effects.iter().try_fold(n_orientations.max(1), |n: usize, e| match e {
+        Effect::Hemisphere => Some(n),
+        Effect::Cone { cos_alpha, tilt_deg } => n.checked_mul(cos_alpha.len())?.checked_mul(tilt_deg.len()),
+        Effect::SelfBounce { albedo } => n.checked_mul(albedo.len()),
+    });
+    if effects.iter().any(|e| matches!(e, Effect::SelfBounce { .. })) {
+        if !effects.contains(&Effect::Hemisphere) {
+            bail!(
+                "effects: 'self_bounce' needs the hemisphere effect (the bounce is the light of the surface \
+                 below the horizon); add \"hemisphere\" to effects"
+            );
+        }
+        if effects.iter().filter(|e| matches!(e, Effect::SelfBounce { .. })).count() > 1 {
+            bail!("effects: 'self_bounce' appears twice; list every albedo in one entry");
+        }
+    }
+    match variants {
+        Some(n) if n <= MAX_CASES => Ok(()),
+        _ => bail!(
+            "orientations: the orientations and effect parameters make more than {MAX_CASES} cases (one per \
+             normal and parameter combination); split the experiment"
+        ),
+    }
+}
+
+/// Surface normals are given exactly when something uses them (a hemisphere domain or an
+/// effect); the `probulator` metric, which scores the whole sphere, only on the sphere domain.
+fn check_normals(
+    domain: DomainKind,
+    orientations: &[Orientation],
+    effects: &[Effect],
+    metrics: &[Metric],
+) -> Result<()> {
+    let needs_normal = domain == DomainKind::Hemisphere || !effects.is_empty();
+    if needs_normal && orientations.is_empty() {
+        bail!("orientations: a hemisphere domain or an effect needs surface normals (e.g. orientations = [\"up\"])");
+    }
+    if !needs_normal && !orientations.is_empty() {
+        bail!("orientations: only a hemisphere domain or an effect uses surface normals; remove them or set domain = \"hemisphere\"");
+    }
+    if domain == DomainKind::Hemisphere && metrics.contains(&Metric::Probulator) {
+        bail!("metrics: 'probulator' scores the whole sphere at 256x128; it cannot be used with a hemisphere domain");
+    }
+    Ok(())
+}
+
+/// Refuses a `sheets` entry that is not one of the experiment's maps, or listed twice.
+fn check_sheets(sheets: &[String], maps: &[String]) -> Result<()> {
+    if let Some(m) = sheets.iter().find(|m| !maps.contains(m)) {
+        bail!("sheets: '{m}' is not one of the experiment's maps");
+    }
+    let mut seen = std::collections::HashSet::new();
+    if let Some(m) = sheets.iter().find(|m| !seen.insert(m.as_str())) {
+        bail!("sheets: '{m}' appears twice");
+    }
+    Ok(())
 }
 
 /// Refuses an encoder defined only on the hemisphere about a surface normal
