@@ -57,34 +57,49 @@ pub const SAYS_MAX: usize = 110;
 pub struct Paper {
     /// The file stem (`zh3`, `hemi`, `brief2018`).
     pub key: String,
+    /// The paper's title, as cited in the report (`title`).
     pub title: String,
+    /// The paper's authors, as cited in the report (`authors`).
     pub authors: String,
+    /// Where the paper appeared, as cited in the report (`venue`).
     pub venue: String,
+    /// The paper's place in the report, smallest first (`order`).
     pub order: i64,
     /// Named map sets (besides `all`).
     pub map_sets: BTreeMap<String, Vec<String>>,
     /// The maps the paper's claims measurements run on, in order (`[measurements] maps`; empty
     /// when the file declares none).
     pub measurement_maps: Vec<String>,
+    /// The paper's claims, in report order (`[[claim]]`).
     pub claims: Vec<ClaimDecl>,
 }
 
 /// One declared claim.
 #[derive(Clone, Debug)]
 pub struct ClaimDecl {
+    /// The claim id of CLAIMS.md, unique within the paper (`id`, e.g. `Z6`).
     pub id: String,
+    /// What the paper says, in a phrase of at most [`SAYS_MAX`] characters (`says`).
     pub says: String,
+    /// The claim in full (`statement`; `says` when not given).
     pub statement: String,
+    /// The paper's own figure for the claim, as text (`paper_figure`).
     pub paper_figure: String,
+    /// When the claim counts as holding, in words fixed before the run (`criterion`).
     pub criterion: String,
+    /// How the checks roll up into the claim's verdict (`rollup`, default `all`).
     pub rollup: Rollup,
+    /// The sub-checks, at least one of them required (`[[claim.check]]`).
     pub checks: Vec<CheckDecl>,
 }
 
 /// How a claim's checks roll up into its one verdict.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Rollup {
+    /// `all`: holds if every required check passes on every set judged; fails if none passes
+    /// on any set; otherwise partly.
     All,
+    /// `any`: holds if some required check passes on every set judged.
     Any,
 }
 
@@ -117,12 +132,42 @@ impl Source {
 /// The criterion of a check.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Test {
-    RatioEvery { below: f64 },
-    RatioSome { below: f64 },
-    RatioStat { statistic: Statistic, min: Option<f64>, max: Option<f64> },
-    EveryAtMost { bound: f64 },
-    EveryAtLeast { bound: f64 },
-    Equal { tolerance: f64, abs_tolerance: f64 },
+    /// `ratio_every`: every matched encoder/baseline ratio is below the threshold.
+    RatioEvery {
+        /// The ratio threshold (`below`, default 1).
+        below: f64,
+    },
+    /// `ratio_some`: at least one matched encoder/baseline ratio is below the threshold.
+    RatioSome {
+        /// The ratio threshold (`below`, default 1).
+        below: f64,
+    },
+    /// `ratio_stat`: a ratio statistic over the matched rows lies in [`min`, `max`].
+    RatioStat {
+        /// The statistic computed (`statistic`).
+        statistic: Statistic,
+        /// The band's lower end (`min`), if any.
+        min: Option<f64>,
+        /// The band's upper end (`max`), if any.
+        max: Option<f64>,
+    },
+    /// `every_at_most`: every value is at most the bound.
+    EveryAtMost {
+        /// The bound, in the judged column's units (`bound`).
+        bound: f64,
+    },
+    /// `every_at_least`: every value is at least the bound.
+    EveryAtLeast {
+        /// The bound, in the judged column's units (`bound`).
+        bound: f64,
+    },
+    /// `equal`: every value agrees with its baseline's within the tolerances.
+    Equal {
+        /// The largest difference relative to max(|a|, |b|) (`tolerance`, default 1e-9).
+        tolerance: f64,
+        /// Differences up to this count as none (`abs_tolerance`, default 1e-12).
+        abs_tolerance: f64,
+    },
 }
 
 impl Test {
@@ -144,16 +189,28 @@ pub enum Statistic {
 /// One sub-check.
 #[derive(Clone, Debug, PartialEq)]
 pub struct CheckDecl {
+    /// What the check shows, in a phrase (`name`).
     pub name: String,
+    /// The evidence table (`table`: an experiment name or `measure:<name>`).
     pub source: Source,
+    /// Only rows whose text column equals one of the values (`where`), as (column, values).
     pub filter: Vec<(String, Vec<String>)>,
+    /// The rows judged: their `encoder` column's value (`encoder`).
     pub encoder: String,
+    /// The rows compared with in baseline tests, matched on the key columns (`baseline`).
     pub baseline: Option<String>,
+    /// The numeric column judged (`column`, default `rmse`).
     pub column: String,
+    /// The criterion (`test` with its keys).
     pub test: Test,
+    /// Ratio tests leave out and count rows whose baseline value is at or below this (`floor`,
+    /// default 0).
     pub floor: f64,
+    /// The map sets judged: `all` or names of `[map_sets]` (`on`, default `["all"]`).
     pub on: Vec<String>,
+    /// Only rows of these maps, within every set (`maps`); `None`: every map.
     pub maps: Option<Vec<String>>,
+    /// Whether the check is an anchor (`role = "anchor"`): shown, never counted.
     pub anchor: bool,
 }
 
