@@ -34,7 +34,9 @@ pub const MAX_CASES: usize = 1 << 20;
 #[derive(Clone, Debug, Deserialize)]
 #[serde(untagged)]
 pub enum EncoderEntry {
+    /// An encoder kind with its default settings, e.g. `"sh2"`.
     Kind(String),
+    /// `{ kind = "…", name = "…", <settings> }`: a kind, an optional name and its settings.
     Table(toml::Table),
 }
 
@@ -42,7 +44,9 @@ pub enum EncoderEntry {
 #[derive(Clone, Debug, Deserialize)]
 #[serde(untagged)]
 pub enum EffectEntry {
+    /// An effect by name: `"hemisphere"` (the others need parameters).
     Name(String),
+    /// `{ kind = "…", <parameters> }`: `hemisphere`, `cone` or `self_bounce` with its keys.
     Table(toml::Table),
 }
 
@@ -50,22 +54,35 @@ pub enum EffectEntry {
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ExperimentFile {
+    /// The results folder's name (`name`); the file stem when absent.
     pub name: Option<String>,
+    /// Shown in the report (`description`, default empty).
     #[serde(default)]
     pub description: String,
+    /// Map names on the search path, or file paths (`maps`).
     pub maps: Vec<String>,
+    /// The encoders compared (`encoders`).
     pub encoders: Vec<EncoderEntry>,
+    /// Metric names (`metrics`); empty means `["exact"]`.
     #[serde(default)]
     pub metrics: Vec<String>,
+    /// `sphere` or `hemisphere` (`domain`); absent means the sphere.
     #[serde(default)]
     pub domain: Option<String>,
+    /// Surface normals N as written (`orientations`): `+x` … `-z`, `up`, `axes6`, `fibonacciN`.
     #[serde(default)]
     pub orientations: Vec<String>,
+    /// The visibility effects (`effects`).
     #[serde(default)]
     pub effects: Vec<EffectEntry>,
+    /// The `exact` metric's output lat-long grid of normals, [W, H] in pixels (`resolution`;
+    /// default [256, 128]).
     pub resolution: Option<[usize; 2]>,
+    /// Gauss–Legendre nodes per row piece of the reference (`polar_nodes`; default 2).
     pub polar_nodes: Option<usize>,
+    /// Whether the CI check re-runs it (`ci`; default true).
     pub ci: Option<bool>,
+    /// The per-orientation summary and its baseline (`[summary]`), if declared.
     pub summary: Option<crate::pipeline::summary::SummaryFile>,
     /// The maps that get a comparison sheet in the report (default: every map).
     pub sheets: Option<Vec<String>>,
@@ -78,35 +95,57 @@ pub enum Effect {
     Hemisphere,
     /// Only light inside the cone of cos α about C counts, C being N tilted by `tilt_deg`
     /// towards the tangent of N's frame (the image of +X under the rotation taking +Y to N).
-    Cone { cos_alpha: Vec<f64>, tilt_deg: Vec<f64> },
+    Cone {
+        /// The cone's half-angle cosines cos α, each in [-1, 1); one case per value.
+        cos_alpha: Vec<f64>,
+        /// The tilts of C from N, in degrees; one case per value (default [0]).
+        tilt_deg: Vec<f64>,
+    },
     /// Self-bounce (hemispherical-lighting talk): the surface below the horizon is an infinite
     /// Lambertian plane of albedo ρ lit by the exact I_z, so it reflects the uniform radiance
     /// ρ·I_z (E/π units) from every direction below the horizon, and the reference gains
     /// ρ·I_z·(1 − H(n′)), H(n′) = (1 + n′·N)/2 (`runner::CaseData`). One case per albedo;
     /// needs the `hemisphere` effect.
-    SelfBounce { albedo: Vec<f64> },
+    SelfBounce {
+        /// The plane's albedos ρ, each in [0, 1].
+        albedo: Vec<f64>,
+    },
 }
 
 /// The domain of output normals.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum DomainKind {
+    /// Every normal of the sphere.
     Sphere,
+    /// The normals n′ of the hemisphere about each surface normal N.
     Hemisphere,
 }
 
 /// A validated experiment.
 pub struct Experiment {
+    /// The name: results go to `results/<name>/` (letters, digits, `_`, `-`).
     pub name: String,
+    /// Shown in the report; may be empty.
     pub description: String,
+    /// The file it was read from (`None` when built from a parsed file).
     pub source: Option<PathBuf>,
+    /// The map names, each once, in the file's order.
     pub maps: Vec<String>,
+    /// The encoders, built through the registry, with distinct names.
     pub encoders: Vec<NamedEncoder>,
+    /// The metrics scored, in the file's order (`exact` when it names none).
     pub metrics: Vec<Metric>,
+    /// The domain of output normals.
     pub domain: DomainKind,
+    /// The surface normals N, expanded from the file's orientation names.
     pub orientations: Vec<Orientation>,
+    /// The visibility effects, in the file's order.
     pub effects: Vec<Effect>,
+    /// The `exact` metric's output grid (W, H) in pixels, W = 2H.
     pub resolution: (usize, usize),
+    /// Gauss–Legendre nodes per row piece of the reference (1..=16).
     pub polar_nodes: usize,
+    /// Whether the CI check re-runs it.
     pub ci: bool,
     /// `Some(baseline)` when a per-orientation summary is declared.
     pub summary: Option<Option<String>>,
