@@ -33,9 +33,12 @@ use glam::DVec3;
 use image::RgbImage;
 use plotters::style::text_anchor::HPos;
 
-/// Sphere diameter and the sheet's fixed measures, in pixels.
+/// A sphere's (disc's) diameter at scale 1, in pixels. Every measure below is in pixels at
+/// scale 1.
 pub const DISC: u32 = 96;
+/// A sphere's cell width: the disc and 12 px.
 pub const CELL_W: u32 = DISC + 12;
+/// A sphere's cell height: the disc and 8 px.
 pub const CELL_H: u32 = DISC + 8;
 /// Two text lines under each row of spheres.
 pub const ROW_H: u32 = CELL_H + 34;
@@ -44,18 +47,27 @@ pub const LABEL_W: u32 = 128;
 /// Sizes of a row's name (bold) and storage note.
 const NAME_PX: f64 = 14.0;
 const NOTE_PX: f64 = 12.0;
+/// The margin around the sheet.
 pub const MARGIN: u32 = 12;
+/// The gap between two views' groups of three cells.
 pub const VIEW_GAP: u32 = 16;
+/// The most header lines drawn under the title.
 pub const HEADER_LINES: u32 = 7;
+/// The height of one header line.
 pub const LINE_H: u32 = 15;
+/// The map thumbnail's width (lat-long, so twice its height).
 pub const THUMB_W: u32 = 256;
+/// The map thumbnail's height.
 pub const THUMB_H: u32 = 128;
 /// Title, header lines, then the thumbnail with the colour bar beside it.
 pub const HEADER_H: u32 = MARGIN + 24 + HEADER_LINES * LINE_H + 8 + THUMB_H + 18;
 /// The view captions and column names above the rows.
 pub const COLHEAD_H: u32 = 36;
+/// The narrowest sheet: a narrower grid of cells is widened to this.
 pub const MIN_W: u32 = 640;
+/// The error colour bar's width.
 pub const BAR_W: u32 = 256;
+/// The error colour bar's height.
 pub const BAR_H: u32 = 16;
 /// The largest sheet scale (`--scale`): 8 draws a 96 px disc at 768 px.
 pub const MAX_SCALE: u32 = 8;
@@ -64,7 +76,9 @@ pub const MAX_SCALE: u32 = 8;
 /// relative error) per view.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SheetLayout {
+    /// The rows of spheres: one per encoder.
     pub rows: u32,
+    /// The views of the sphere of normals: 2 for the sphere (front, top), 1 for a hemisphere.
     pub views: u32,
     /// Width of the label column at scale 1 (names and storage notes in full).
     pub label_w: u32,
@@ -106,7 +120,9 @@ impl SheetLayout {
 /// One row of a sheet: an encoder's E/π at every view's disc normals and its labels.
 #[derive(Clone, Debug)]
 pub struct SheetRow {
+    /// The encoder's name, printed bold in the label column.
     pub name: String,
+    /// The encoder's storage note, printed under its name.
     pub note: String,
     /// Per view, E/π at that view's [`Disc::normals`].
     pub values: Vec<Vec<Rgb>>,
@@ -119,20 +135,29 @@ pub struct SheetRow {
 /// Everything a comparison sheet shows.
 #[derive(Clone, Debug)]
 pub struct Sheet {
+    /// The title: `<experiment> - <map>`.
     pub title: String,
     /// Header lines (at most [`HEADER_LINES`]).
     pub lines: Vec<String>,
+    /// The input map as a lat-long thumbnail, [`THUMB_W`]·scale × [`THUMB_H`]·scale pixels;
+    /// `None` draws none.
     pub thumbnail: Option<RgbImage>,
+    /// The line under the thumbnail.
     pub thumbnail_caption: String,
+    /// The views of the sphere of normals, one group of three cells each.
     pub views: Vec<View>,
+    /// Per view, the disc of normals drawn ([`DISC`]·scale pixels across).
     pub discs: Vec<Disc>,
     /// Per view, the reference E/π at the disc normals.
     pub reference: Vec<Vec<Rgb>>,
     /// The sheet's scale (1..=[`MAX_SCALE`]): the discs are [`DISC`]·scale across, the
     /// thumbnail [`THUMB_W`]·scale wide.
     pub scale: u32,
+    /// The exposure and tone curve every lit sphere shares.
     pub tone: Tone,
+    /// The error spheres' colour scale: the denominator's floor and the saturating range.
     pub error: ErrorScale,
+    /// One row per encoder, in the experiment's order.
     pub rows: Vec<SheetRow>,
 }
 
@@ -310,8 +335,11 @@ pub fn representative_case(all: &[Case]) -> usize {
 /// The figures printed under a row: the table's `exact` rmse, rel_rmse and neg_frac.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RowFigures {
+    /// The RMSE of E/π over the case's domain.
     pub rmse: f64,
+    /// `rmse` divided by the RMS of the reference E/π (dimensionless).
     pub rel_rmse: f64,
+    /// The weighted fraction of output normals where the encoder is negative in any channel.
     pub neg_frac: f64,
 }
 
@@ -323,8 +351,11 @@ impl From<&Scores> for RowFigures {
 
 /// What a sheet drew: the case and each encoder's figures, and where they came from.
 pub struct SheetScores {
+    /// The case drawn: its domain label (`sphere`, `hemisphere:+y`).
     pub case_label: String,
+    /// The case's effects label, as in the table's `effects` column.
     pub effects: String,
+    /// Each encoder's name and figures, in the experiment's order.
     pub figures: Vec<(String, RowFigures)>,
     /// "table.csv" or "computed".
     pub source: &'static str,
