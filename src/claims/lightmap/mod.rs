@@ -33,7 +33,9 @@ use glam::DVec3;
 /// What [`measure`] returns: the measurement tables, and the blending strips for the report
 /// layer to draw (one per pair, in `blend::pairs` order).
 pub struct Study {
+    /// The measurement tables: `fig2`, `fig2_curve`, `blend`, `blend_curve`, `hhd_roundtrip`.
     pub measures: Vec<Measure>,
+    /// The blending strips, one per pair in `blend::pairs` order.
     pub strips: Vec<strip::BlendStrip>,
 }
 
