@@ -808,7 +808,6 @@ mod tests {
                 } else {
                     assert!(varied as f64 > 0.05 * n as f64, "{what}");
                 }
-                eprintln!("{what}");
             }
         }
         let (bx, by) = l2.colour_bar();
