@@ -57,34 +57,49 @@ pub const SAYS_MAX: usize = 110;
 pub struct Paper {
     /// The file stem (`zh3`, `hemi`, `brief2018`).
     pub key: String,
+    /// The paper's title, as cited in the report (`title`).
     pub title: String,
+    /// The paper's authors, as cited in the report (`authors`).
     pub authors: String,
+    /// Where the paper appeared, as cited in the report (`venue`).
     pub venue: String,
+    /// The paper's place in the report, smallest first (`order`).
     pub order: i64,
     /// Named map sets (besides `all`).
     pub map_sets: BTreeMap<String, Vec<String>>,
     /// The maps the paper's claims measurements run on, in order (`[measurements] maps`; empty
     /// when the file declares none).
     pub measurement_maps: Vec<String>,
+    /// The paper's claims, in report order (`[[claim]]`).
     pub claims: Vec<ClaimDecl>,
 }
 
 /// One declared claim.
 #[derive(Clone, Debug)]
 pub struct ClaimDecl {
+    /// The claim id of CLAIMS.md, unique within the paper (`id`, e.g. `Z6`).
     pub id: String,
+    /// What the paper says, in a phrase of at most [`SAYS_MAX`] characters (`says`).
     pub says: String,
+    /// The claim in full (`statement`; `says` when not given).
     pub statement: String,
+    /// The paper's own figure for the claim, as text (`paper_figure`).
     pub paper_figure: String,
+    /// When the claim counts as holding, in words fixed before the run (`criterion`).
     pub criterion: String,
+    /// How the checks roll up into the claim's verdict (`rollup`, default `all`).
     pub rollup: Rollup,
+    /// The sub-checks, at least one of them required (`[[claim.check]]`).
     pub checks: Vec<CheckDecl>,
 }
 
 /// How a claim's checks roll up into its one verdict.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Rollup {
+    /// `all`: holds if every required check passes on every set judged; fails if none passes
+    /// on any set; otherwise partly.
     All,
+    /// `any`: holds if some required check passes on every set judged.
     Any,
 }
 
@@ -117,12 +132,42 @@ impl Source {
 /// The criterion of a check.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Test {
-    RatioEvery { below: f64 },
-    RatioSome { below: f64 },
-    RatioStat { statistic: Statistic, min: Option<f64>, max: Option<f64> },
-    EveryAtMost { bound: f64 },
-    EveryAtLeast { bound: f64 },
-    Equal { tolerance: f64, abs_tolerance: f64 },
+    /// `ratio_every`: every matched encoder/baseline ratio is below the threshold.
+    RatioEvery {
+        /// The ratio threshold (`below`, default 1).
+        below: f64,
+    },
+    /// `ratio_some`: at least one matched encoder/baseline ratio is below the threshold.
+    RatioSome {
+        /// The ratio threshold (`below`, default 1).
+        below: f64,
+    },
+    /// `ratio_stat`: a ratio statistic over the matched rows lies in [`min`, `max`].
+    RatioStat {
+        /// The statistic computed (`statistic`).
+        statistic: Statistic,
+        /// The band's lower end (`min`), if any.
+        min: Option<f64>,
+        /// The band's upper end (`max`), if any.
+        max: Option<f64>,
+    },
+    /// `every_at_most`: every value is at most the bound.
+    EveryAtMost {
+        /// The bound, in the judged column's units (`bound`).
+        bound: f64,
+    },
+    /// `every_at_least`: every value is at least the bound.
+    EveryAtLeast {
+        /// The bound, in the judged column's units (`bound`).
+        bound: f64,
+    },
+    /// `equal`: every value agrees with its baseline's within the tolerances.
+    Equal {
+        /// The largest difference relative to max(|a|, |b|) (`tolerance`, default 1e-9).
+        tolerance: f64,
+        /// Differences up to this count as none (`abs_tolerance`, default 1e-12).
+        abs_tolerance: f64,
+    },
 }
 
 impl Test {
@@ -144,16 +189,28 @@ pub enum Statistic {
 /// One sub-check.
 #[derive(Clone, Debug, PartialEq)]
 pub struct CheckDecl {
+    /// What the check shows, in a phrase (`name`).
     pub name: String,
+    /// The evidence table (`table`: an experiment name or `measure:<name>`).
     pub source: Source,
+    /// Only rows whose text column equals one of the values (`where`), as (column, values).
     pub filter: Vec<(String, Vec<String>)>,
+    /// The rows judged: their `encoder` column's value (`encoder`).
     pub encoder: String,
+    /// The rows compared with in baseline tests, matched on the key columns (`baseline`).
     pub baseline: Option<String>,
+    /// The numeric column judged (`column`, default `rmse`).
     pub column: String,
+    /// The criterion (`test` with its keys).
     pub test: Test,
+    /// Ratio tests leave out and count rows whose baseline value is at or below this (`floor`,
+    /// default 0).
     pub floor: f64,
+    /// The map sets judged: `all` or names of `[map_sets]` (`on`, default `["all"]`).
     pub on: Vec<String>,
+    /// Only rows of these maps, within every set (`maps`); `None`: every map.
     pub maps: Option<Vec<String>>,
+    /// Whether the check is an anchor (`role = "anchor"`): shown, never counted.
     pub anchor: bool,
 }
 
@@ -222,138 +279,29 @@ fn finite(id: &str, key: &str, v: f64) -> Result<f64> {
     Ok(v)
 }
 
+/// A non-negative finite number, or the key's error (`at` names the claim and check).
+fn non_negative(at: &str, key: &str, v: f64) -> Result<f64> {
+    let v = finite(at, key, v)?;
+    if v < 0.0 {
+        bail!("claim {at}: '{key}' must be ≥ 0, got {v}");
+    }
+    Ok(v)
+}
+
 impl CheckFile {
+    /// The validated check of claim `id`; `sets` are the paper's named map sets. The keys are
+    /// checked in a fixed order (table, test and its keys, baseline, where, on, maps, role,
+    /// floor), so the first error is the one reported.
     fn validate(self, id: &str, sets: &BTreeMap<String, Vec<String>>) -> Result<CheckDecl> {
         let at = format!("{id}, check '{}'", self.name);
-        let source = match self.table.strip_prefix("measure:") {
-            Some(m) if !m.is_empty() => Source::Measure(m.to_string()),
-            Some(_) => bail!("claim {at}: table 'measure:' names no measurement"),
-            None if self.table.is_empty() || self.table.contains(['/', '\\']) => {
-                bail!("claim {at}: table '{}' must be an experiment name or measure:<name>", self.table)
-            }
-            None => Source::Experiment(self.table.clone()),
-        };
-        let unused = |keys: &[(&str, bool)]| -> Result<()> {
-            for (k, present) in keys {
-                if *present {
-                    bail!("claim {at}: '{k}' is not used by test = \"{}\"", self.test);
-                }
-            }
-            Ok(())
-        };
-        let pos = |k: &str, v: f64| -> Result<f64> {
-            let v = finite(&at, k, v)?;
-            if v < 0.0 {
-                bail!("claim {at}: '{k}' must be ≥ 0, got {v}");
-            }
-            Ok(v)
-        };
-        let test = match self.test.as_str() {
-            "ratio_every" | "ratio_some" => {
-                unused(&[
-                    ("statistic", self.statistic.is_some()),
-                    ("min", self.min.is_some()),
-                    ("max", self.max.is_some()),
-                    ("bound", self.bound.is_some()),
-                    ("tolerance", self.tolerance.is_some()),
-                    ("abs_tolerance", self.abs_tolerance.is_some()),
-                ])?;
-                let below = pos("below", self.below.unwrap_or(1.0))?;
-                if self.test == "ratio_every" {
-                    Test::RatioEvery { below }
-                } else {
-                    Test::RatioSome { below }
-                }
-            }
-            "ratio_stat" => {
-                unused(&[
-                    ("below", self.below.is_some()),
-                    ("bound", self.bound.is_some()),
-                    ("tolerance", self.tolerance.is_some()),
-                    ("abs_tolerance", self.abs_tolerance.is_some()),
-                ])?;
-                let statistic = match self.statistic.as_deref() {
-                    Some("ratio_of_means") => Statistic::RatioOfMeans,
-                    Some("median_ratio") => Statistic::MedianRatio,
-                    Some(s) => bail!("claim {at}: statistic '{s}' (expected ratio_of_means or median_ratio)"),
-                    None => bail!("claim {at}: test = \"ratio_stat\" needs 'statistic'"),
-                };
-                let min = self.min.map(|v| pos("min", v)).transpose()?;
-                let max = self.max.map(|v| pos("max", v)).transpose()?;
-                if min.is_none() && max.is_none() {
-                    bail!("claim {at}: test = \"ratio_stat\" needs 'min' and/or 'max'");
-                }
-                if let (Some(a), Some(b)) = (min, max) {
-                    if a > b {
-                        bail!("claim {at}: min {a} > max {b}");
-                    }
-                }
-                Test::RatioStat { statistic, min, max }
-            }
-            "every_at_most" | "every_at_least" => {
-                unused(&[
-                    ("below", self.below.is_some()),
-                    ("statistic", self.statistic.is_some()),
-                    ("min", self.min.is_some()),
-                    ("max", self.max.is_some()),
-                    ("tolerance", self.tolerance.is_some()),
-                    ("abs_tolerance", self.abs_tolerance.is_some()),
-                    ("baseline", self.baseline.is_some()),
-                    ("floor", self.floor.is_some()),
-                ])?;
-                let Some(b) = self.bound else { bail!("claim {at}: test = \"{}\" needs 'bound'", self.test) };
-                let bound = finite(&at, "bound", b)?;
-                if self.test == "every_at_most" {
-                    Test::EveryAtMost { bound }
-                } else {
-                    Test::EveryAtLeast { bound }
-                }
-            }
-            "equal" => {
-                unused(&[
-                    ("below", self.below.is_some()),
-                    ("statistic", self.statistic.is_some()),
-                    ("min", self.min.is_some()),
-                    ("max", self.max.is_some()),
-                    ("bound", self.bound.is_some()),
-                    ("floor", self.floor.is_some()),
-                ])?;
-                Test::Equal {
-                    tolerance: pos("tolerance", self.tolerance.unwrap_or(1e-9))?,
-                    abs_tolerance: pos("abs_tolerance", self.abs_tolerance.unwrap_or(1e-12))?,
-                }
-            }
-            t => bail!(
-                "claim {at}: test '{t}' (expected ratio_every, ratio_some, ratio_stat, every_at_most, every_at_least or equal)"
-            ),
-        };
+        let source = self.source(&at)?;
+        let test = self.parse_test(&at)?;
         if test.needs_baseline() && self.baseline.is_none() {
             bail!("claim {at}: test = \"{}\" needs 'baseline'", self.test);
         }
-        let mut filter = Vec::new();
-        for (k, v) in self.filter {
-            let values = match v {
-                toml::Value::String(s) => vec![s],
-                toml::Value::Array(a) => a
-                    .into_iter()
-                    .map(|x| match x {
-                        toml::Value::String(s) => Ok(s),
-                        other => bail!("claim {at}: where.{k}: expected strings, got {other}"),
-                    })
-                    .collect::<Result<_>>()?,
-                other => bail!("claim {at}: where.{k}: expected a string or a list of strings, got {other}"),
-            };
-            filter.push((k, values));
-        }
+        let filter = row_filter(self.filter, &at)?;
         let on = self.on.unwrap_or_else(|| vec!["all".to_string()]);
-        if on.is_empty() {
-            bail!("claim {at}: on = [] judges nothing");
-        }
-        for s in &on {
-            if s != "all" && !sets.contains_key(s) {
-                bail!("claim {at}: on names map set '{s}', which [map_sets] does not declare");
-            }
-        }
+        check_on(&on, sets, &at)?;
         if self.maps.as_ref().is_some_and(|m| m.is_empty()) {
             bail!("claim {at}: maps = [] matches no row");
         }
@@ -370,12 +318,164 @@ impl CheckFile {
             baseline: self.baseline,
             column: self.column.unwrap_or_else(|| "rmse".into()),
             test,
-            floor: pos("floor", self.floor.unwrap_or(0.0))?,
+            floor: non_negative(&at, "floor", self.floor.unwrap_or(0.0))?,
             on,
             maps: self.maps,
             anchor,
         })
     }
+
+    /// The evidence named by `table`: an experiment, or `measure:<name>`.
+    fn source(&self, at: &str) -> Result<Source> {
+        Ok(match self.table.strip_prefix("measure:") {
+            Some(m) if !m.is_empty() => Source::Measure(m.to_string()),
+            Some(_) => bail!("claim {at}: table 'measure:' names no measurement"),
+            None if self.table.is_empty() || self.table.contains(['/', '\\']) => {
+                bail!("claim {at}: table '{}' must be an experiment name or measure:<name>", self.table)
+            }
+            None => Source::Experiment(self.table.clone()),
+        })
+    }
+
+    /// Refuses the first of `keys` (name, whether present) that is present: a key the test
+    /// does not use.
+    fn unused(&self, at: &str, keys: &[(&str, bool)]) -> Result<()> {
+        for (k, present) in keys {
+            if *present {
+                bail!("claim {at}: '{k}' is not used by test = \"{}\"", self.test);
+            }
+        }
+        Ok(())
+    }
+
+    /// The criterion named by `test`, from the keys it uses; any other test key is an error.
+    fn parse_test(&self, at: &str) -> Result<Test> {
+        match self.test.as_str() {
+            "ratio_every" | "ratio_some" => self.ratio_test(at),
+            "ratio_stat" => self.ratio_stat_test(at),
+            "every_at_most" | "every_at_least" => self.bound_test(at),
+            "equal" => {
+                self.unused(
+                    at,
+                    &[
+                        ("below", self.below.is_some()),
+                        ("statistic", self.statistic.is_some()),
+                        ("min", self.min.is_some()),
+                        ("max", self.max.is_some()),
+                        ("bound", self.bound.is_some()),
+                        ("floor", self.floor.is_some()),
+                    ],
+                )?;
+                Ok(Test::Equal {
+                    tolerance: non_negative(at, "tolerance", self.tolerance.unwrap_or(1e-9))?,
+                    abs_tolerance: non_negative(at, "abs_tolerance", self.abs_tolerance.unwrap_or(1e-12))?,
+                })
+            }
+            t => bail!(
+                "claim {at}: test '{t}' (expected ratio_every, ratio_some, ratio_stat, every_at_most, every_at_least or equal)"
+            ),
+        }
+    }
+
+    /// `ratio_every` / `ratio_some`: the threshold `below` (default 1).
+    fn ratio_test(&self, at: &str) -> Result<Test> {
+        self.unused(
+            at,
+            &[
+                ("statistic", self.statistic.is_some()),
+                ("min", self.min.is_some()),
+                ("max", self.max.is_some()),
+                ("bound", self.bound.is_some()),
+                ("tolerance", self.tolerance.is_some()),
+                ("abs_tolerance", self.abs_tolerance.is_some()),
+            ],
+        )?;
+        let below = non_negative(at, "below", self.below.unwrap_or(1.0))?;
+        Ok(if self.test == "ratio_every" { Test::RatioEvery { below } } else { Test::RatioSome { below } })
+    }
+
+    /// `ratio_stat`: the `statistic` and its band [`min`, `max`] (at least one of them).
+    fn ratio_stat_test(&self, at: &str) -> Result<Test> {
+        self.unused(
+            at,
+            &[
+                ("below", self.below.is_some()),
+                ("bound", self.bound.is_some()),
+                ("tolerance", self.tolerance.is_some()),
+                ("abs_tolerance", self.abs_tolerance.is_some()),
+            ],
+        )?;
+        let statistic = match self.statistic.as_deref() {
+            Some("ratio_of_means") => Statistic::RatioOfMeans,
+            Some("median_ratio") => Statistic::MedianRatio,
+            Some(s) => bail!("claim {at}: statistic '{s}' (expected ratio_of_means or median_ratio)"),
+            None => bail!("claim {at}: test = \"ratio_stat\" needs 'statistic'"),
+        };
+        let min = self.min.map(|v| non_negative(at, "min", v)).transpose()?;
+        let max = self.max.map(|v| non_negative(at, "max", v)).transpose()?;
+        if min.is_none() && max.is_none() {
+            bail!("claim {at}: test = \"ratio_stat\" needs 'min' and/or 'max'");
+        }
+        if let (Some(a), Some(b)) = (min, max) {
+            if a > b {
+                bail!("claim {at}: min {a} > max {b}");
+            }
+        }
+        Ok(Test::RatioStat { statistic, min, max })
+    }
+
+    /// `every_at_most` / `every_at_least`: the `bound`; no baseline.
+    fn bound_test(&self, at: &str) -> Result<Test> {
+        self.unused(
+            at,
+            &[
+                ("below", self.below.is_some()),
+                ("statistic", self.statistic.is_some()),
+                ("min", self.min.is_some()),
+                ("max", self.max.is_some()),
+                ("tolerance", self.tolerance.is_some()),
+                ("abs_tolerance", self.abs_tolerance.is_some()),
+                ("baseline", self.baseline.is_some()),
+                ("floor", self.floor.is_some()),
+            ],
+        )?;
+        let Some(b) = self.bound else { bail!("claim {at}: test = \"{}\" needs 'bound'", self.test) };
+        let bound = finite(at, "bound", b)?;
+        Ok(if self.test == "every_at_most" { Test::EveryAtMost { bound } } else { Test::EveryAtLeast { bound } })
+    }
+}
+
+/// The `where` table as (column, allowed values): a string, or a list of strings.
+fn row_filter(filter: BTreeMap<String, toml::Value>, at: &str) -> Result<Vec<(String, Vec<String>)>> {
+    let mut out = Vec::new();
+    for (k, v) in filter {
+        let values = match v {
+            toml::Value::String(s) => vec![s],
+            toml::Value::Array(a) => a
+                .into_iter()
+                .map(|x| match x {
+                    toml::Value::String(s) => Ok(s),
+                    other => bail!("claim {at}: where.{k}: expected strings, got {other}"),
+                })
+                .collect::<Result<_>>()?,
+            other => bail!("claim {at}: where.{k}: expected a string or a list of strings, got {other}"),
+        };
+        out.push((k, values));
+    }
+    Ok(out)
+}
+
+/// Refuses an empty `on` and a map set that is neither `all` nor one of `sets`.
+fn check_on(on: &[String], sets: &BTreeMap<String, Vec<String>>, at: &str) -> Result<()> {
+    if on.is_empty() {
+        bail!("claim {at}: on = [] judges nothing");
+    }
+    for s in on {
+        if s != "all" && !sets.contains_key(s) {
+            bail!("claim {at}: on names map set '{s}', which [map_sets] does not declare");
+        }
+    }
+    Ok(())
 }
 
 /// Parses one declaration file's text; `key` is its stem, `origin` names it in errors.

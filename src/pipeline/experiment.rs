@@ -34,7 +34,9 @@ pub const MAX_CASES: usize = 1 << 20;
 #[derive(Clone, Debug, Deserialize)]
 #[serde(untagged)]
 pub enum EncoderEntry {
+    /// An encoder kind with its default settings, e.g. `"sh2"`.
     Kind(String),
+    /// `{ kind = "…", name = "…", <settings> }`: a kind, an optional name and its settings.
     Table(toml::Table),
 }
 
@@ -42,7 +44,9 @@ pub enum EncoderEntry {
 #[derive(Clone, Debug, Deserialize)]
 #[serde(untagged)]
 pub enum EffectEntry {
+    /// An effect by name: `"hemisphere"` (the others need parameters).
     Name(String),
+    /// `{ kind = "…", <parameters> }`: `hemisphere`, `cone` or `self_bounce` with its keys.
     Table(toml::Table),
 }
 
@@ -50,22 +54,35 @@ pub enum EffectEntry {
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ExperimentFile {
+    /// The results folder's name (`name`); the file stem when absent.
     pub name: Option<String>,
+    /// Shown in the report (`description`, default empty).
     #[serde(default)]
     pub description: String,
+    /// Map names on the search path, or file paths (`maps`).
     pub maps: Vec<String>,
+    /// The encoders compared (`encoders`).
     pub encoders: Vec<EncoderEntry>,
+    /// Metric names (`metrics`); empty means `["exact"]`.
     #[serde(default)]
     pub metrics: Vec<String>,
+    /// `sphere` or `hemisphere` (`domain`); absent means the sphere.
     #[serde(default)]
     pub domain: Option<String>,
+    /// Surface normals N as written (`orientations`): `+x` … `-z`, `up`, `axes6`, `fibonacciN`.
     #[serde(default)]
     pub orientations: Vec<String>,
+    /// The visibility effects (`effects`).
     #[serde(default)]
     pub effects: Vec<EffectEntry>,
+    /// The `exact` metric's output lat-long grid of normals, [W, H] in pixels (`resolution`;
+    /// default [256, 128]).
     pub resolution: Option<[usize; 2]>,
+    /// Gauss–Legendre nodes per row piece of the reference (`polar_nodes`; default 2).
     pub polar_nodes: Option<usize>,
+    /// Whether the CI check re-runs it (`ci`; default true).
     pub ci: Option<bool>,
+    /// The per-orientation summary and its baseline (`[summary]`), if declared.
     pub summary: Option<crate::pipeline::summary::SummaryFile>,
     /// The maps that get a comparison sheet in the report (default: every map).
     pub sheets: Option<Vec<String>>,
@@ -78,35 +95,57 @@ pub enum Effect {
     Hemisphere,
     /// Only light inside the cone of cos α about C counts, C being N tilted by `tilt_deg`
     /// towards the tangent of N's frame (the image of +X under the rotation taking +Y to N).
-    Cone { cos_alpha: Vec<f64>, tilt_deg: Vec<f64> },
+    Cone {
+        /// The cone's half-angle cosines cos α, each in [-1, 1); one case per value.
+        cos_alpha: Vec<f64>,
+        /// The tilts of C from N, in degrees; one case per value (default [0]).
+        tilt_deg: Vec<f64>,
+    },
     /// Self-bounce (hemispherical-lighting talk): the surface below the horizon is an infinite
     /// Lambertian plane of albedo ρ lit by the exact I_z, so it reflects the uniform radiance
     /// ρ·I_z (E/π units) from every direction below the horizon, and the reference gains
     /// ρ·I_z·(1 − H(n′)), H(n′) = (1 + n′·N)/2 (`runner::CaseData`). One case per albedo;
     /// needs the `hemisphere` effect.
-    SelfBounce { albedo: Vec<f64> },
+    SelfBounce {
+        /// The plane's albedos ρ, each in [0, 1].
+        albedo: Vec<f64>,
+    },
 }
 
 /// The domain of output normals.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum DomainKind {
+    /// Every normal of the sphere.
     Sphere,
+    /// The normals n′ of the hemisphere about each surface normal N.
     Hemisphere,
 }
 
 /// A validated experiment.
 pub struct Experiment {
+    /// The name: results go to `results/<name>/` (letters, digits, `_`, `-`).
     pub name: String,
+    /// Shown in the report; may be empty.
     pub description: String,
+    /// The file it was read from (`None` when built from a parsed file).
     pub source: Option<PathBuf>,
+    /// The map names, each once, in the file's order.
     pub maps: Vec<String>,
+    /// The encoders, built through the registry, with distinct names.
     pub encoders: Vec<NamedEncoder>,
+    /// The metrics scored, in the file's order (`exact` when it names none).
     pub metrics: Vec<Metric>,
+    /// The domain of output normals.
     pub domain: DomainKind,
+    /// The surface normals N, expanded from the file's orientation names.
     pub orientations: Vec<Orientation>,
+    /// The visibility effects, in the file's order.
     pub effects: Vec<Effect>,
+    /// The `exact` metric's output grid (W, H) in pixels, W = 2H.
     pub resolution: (usize, usize),
+    /// Gauss–Legendre nodes per row piece of the reference (1..=16).
     pub polar_nodes: usize,
+    /// Whether the CI check re-runs it.
     pub ci: bool,
     /// `Some(baseline)` when a per-orientation summary is declared.
     pub summary: Option<Option<String>>,
@@ -169,48 +208,12 @@ impl Experiment {
         values.iter().map(|v| literals.get(v.as_str()).copied().or_else(|| find_key(&text, v))).collect()
     }
 
-    /// Validates a parsed file.
+    /// Validates a parsed file; `default_name` is the name when the file gives none. The
+    /// checks run in the order of the file's keys, so the first error is the one reported.
     pub fn from_file(f: ExperimentFile, default_name: &str) -> Result<Self> {
-        let name = f.name.unwrap_or_else(|| default_name.to_string());
-        if name.is_empty() || !name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-') {
-            bail!("name '{name}': use letters, digits, '_' or '-' (it names a folder under results/)");
-        }
-        if f.maps.is_empty() {
-            bail!("maps: list at least one map");
-        }
-        let mut seen = std::collections::HashSet::new();
-        if let Some(m) = f.maps.iter().find(|m| !seen.insert(m.as_str())) {
-            bail!("maps: '{m}' appears twice");
-        }
-        if f.encoders.is_empty() {
-            bail!("encoders: list at least one encoder (valid: {})", encoders::known_ids());
-        }
-        let mut built = Vec::new();
-        for e in f.encoders {
-            built.push(match e {
-                EncoderEntry::Kind(k) => encoders::build(&k, None, toml::Table::new())?,
-                EncoderEntry::Table(mut t) => {
-                    let kind = match t.remove("kind") {
-                        Some(toml::Value::String(k)) => k,
-                        _ => bail!(
-                            "encoders: a table entry needs kind = \"<encoder>\" (valid: {})",
-                            encoders::known_ids()
-                        ),
-                    };
-                    let name = match t.remove("name") {
-                        Some(toml::Value::String(n)) => Some(n),
-                        None => None,
-                        Some(v) => bail!("encoders: name must be a string, got {v}"),
-                    };
-                    encoders::build(&kind, name.as_deref(), t)?
-                }
-            });
-        }
-        for (i, e) in built.iter().enumerate() {
-            if built[..i].iter().any(|o| o.name == e.name) {
-                bail!("encoders: '{}' appears twice; give variants distinct names with name = \"…\"", e.name);
-            }
-        }
+        let name = check_name(f.name.unwrap_or_else(|| default_name.to_string()))?;
+        check_maps(&f.maps)?;
+        let built = build_encoders(f.encoders)?;
         let metrics = if f.metrics.is_empty() {
             vec![Metric::Exact]
         } else {
@@ -230,43 +233,8 @@ impl Experiment {
         for e in f.effects {
             effects.push(parse_effect(e)?);
         }
-        let variants = effects.iter().try_fold(orientations.len().max(1), |n: usize, e| match e {
-            Effect::Hemisphere => Some(n),
-            Effect::Cone { cos_alpha, tilt_deg } => n.checked_mul(cos_alpha.len())?.checked_mul(tilt_deg.len()),
-            Effect::SelfBounce { albedo } => n.checked_mul(albedo.len()),
-        });
-        if effects.iter().any(|e| matches!(e, Effect::SelfBounce { .. })) {
-            if !effects.contains(&Effect::Hemisphere) {
-                bail!(
-                    "effects: 'self_bounce' needs the hemisphere effect (the bounce is the light of the surface \
-                     below the horizon); add \"hemisphere\" to effects"
-                );
-            }
-            if effects.iter().filter(|e| matches!(e, Effect::SelfBounce { .. })).count() > 1 {
-                bail!("effects: 'self_bounce' appears twice; list every albedo in one entry");
-            }
-        }
-        match variants {
-            Some(n) if n <= MAX_CASES => {}
-            _ => bail!(
-                "orientations: the orientations and effect parameters make more than {MAX_CASES} cases (one per \
-                 normal and parameter combination); split the experiment"
-            ),
-        }
-        let needs_normal = domain == DomainKind::Hemisphere || !effects.is_empty();
-        if needs_normal && orientations.is_empty() {
-            bail!(
-                "orientations: a hemisphere domain or an effect needs surface normals (e.g. orientations = [\"up\"])"
-            );
-        }
-        if !needs_normal && !orientations.is_empty() {
-            bail!("orientations: only a hemisphere domain or an effect uses surface normals; remove them or set domain = \"hemisphere\"");
-        }
-        if domain == DomainKind::Hemisphere && metrics.contains(&Metric::Probulator) {
-            bail!(
-                "metrics: 'probulator' scores the whole sphere at 256x128; it cannot be used with a hemisphere domain"
-            );
-        }
+        check_cases(orientations.len(), &effects)?;
+        check_normals(domain, &orientations, &effects, &metrics)?;
         let resolution = f.resolution.map(|[w, h]| (w, h)).unwrap_or((256, 128));
         if resolution.0 != 2 * resolution.1 || resolution.1 < 2 || resolution.1 > 4096 {
             bail!("resolution {:?}: expected [2H, H] with 2 <= H <= 4096", resolution);
@@ -278,13 +246,7 @@ impl Experiment {
         let names: Vec<String> = built.iter().map(|e| e.name.clone()).collect();
         let summary = f.summary.map(|s| crate::pipeline::summary::summary_baseline(s, &names)).transpose()?;
         if let Some(sheets) = &f.sheets {
-            if let Some(m) = sheets.iter().find(|m| !f.maps.contains(m)) {
-                bail!("sheets: '{m}' is not one of the experiment's maps");
-            }
-            let mut seen = std::collections::HashSet::new();
-            if let Some(m) = sheets.iter().find(|m| !seen.insert(m.as_str())) {
-                bail!("sheets: '{m}' appears twice");
-            }
+            check_sheets(sheets, &f.maps)?;
         }
         Ok(Experiment {
             name,
@@ -303,6 +265,123 @@ impl Experiment {
             sheets: f.sheets,
         })
     }
+}
+
+/// The experiment's name, if it can name a folder under `results/`.
+fn check_name(name: String) -> Result<String> {
+    if name.is_empty() || !name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-') {
+        bail!("name '{name}': use letters, digits, '_' or '-' (it names a folder under results/)");
+    }
+    Ok(name)
+}
+
+/// Refuses an empty map list and a map listed twice.
+fn check_maps(maps: &[String]) -> Result<()> {
+    if maps.is_empty() {
+        bail!("maps: list at least one map");
+    }
+    let mut seen = std::collections::HashSet::new();
+    if let Some(m) = maps.iter().find(|m| !seen.insert(m.as_str())) {
+        bail!("maps: '{m}' appears twice");
+    }
+    Ok(())
+}
+
+/// Builds the `encoders` entries through the registry, in order; refuses an empty list and two
+/// encoders of one name.
+fn build_encoders(entries: Vec<EncoderEntry>) -> Result<Vec<NamedEncoder>> {
+    if entries.is_empty() {
+        bail!("encoders: list at least one encoder (valid: {})", encoders::known_ids());
+    }
+    let built = entries.into_iter().map(build_encoder).collect::<Result<Vec<_>>>()?;
+    for (i, e) in built.iter().enumerate() {
+        if built[..i].iter().any(|o| o.name == e.name) {
+            bail!("encoders: '{}' appears twice; give variants distinct names with name = \"…\"", e.name);
+        }
+    }
+    Ok(built)
+}
+
+/// One `encoders` entry: a kind with its default settings, or a table of `kind`, an optional
+/// `name` and the encoder's settings.
+fn build_encoder(e: EncoderEntry) -> Result<NamedEncoder> {
+    match e {
+        EncoderEntry::Kind(k) => encoders::build(&k, None, toml::Table::new()),
+        EncoderEntry::Table(mut t) => {
+            let kind = match t.remove("kind") {
+                Some(toml::Value::String(k)) => k,
+                _ => bail!("encoders: a table entry needs kind = \"<encoder>\" (valid: {})", encoders::known_ids()),
+            };
+            let name = match t.remove("name") {
+                Some(toml::Value::String(n)) => Some(n),
+                None => None,
+                Some(v) => bail!("encoders: name must be a string, got {v}"),
+            };
+            encoders::build(&kind, name.as_deref(), t)
+        }
+    }
+}
+
+/// Refuses a `self_bounce` effect without the hemisphere effect or listed twice, and more than
+/// [`MAX_CASES`] cases (the `n_orientations` normals, at least one, times every effect's
+/// parameter combinations).
+fn check_cases(n_orientations: usize, effects: &[Effect]) -> Result<()> {
+    let variants = effects.iter().try_fold(n_orientations.max(1), |n: usize, e| match e {
+        Effect::Hemisphere => Some(n),
+        Effect::Cone { cos_alpha, tilt_deg } => n.checked_mul(cos_alpha.len())?.checked_mul(tilt_deg.len()),
+        Effect::SelfBounce { albedo } => n.checked_mul(albedo.len()),
+    });
+    if effects.iter().any(|e| matches!(e, Effect::SelfBounce { .. })) {
+        if !effects.contains(&Effect::Hemisphere) {
+            bail!(
+                "effects: 'self_bounce' needs the hemisphere effect (the bounce is the light of the surface \
+                 below the horizon); add \"hemisphere\" to effects"
+            );
+        }
+        if effects.iter().filter(|e| matches!(e, Effect::SelfBounce { .. })).count() > 1 {
+            bail!("effects: 'self_bounce' appears twice; list every albedo in one entry");
+        }
+    }
+    match variants {
+        Some(n) if n <= MAX_CASES => Ok(()),
+        _ => bail!(
+            "orientations: the orientations and effect parameters make more than {MAX_CASES} cases (one per \
+             normal and parameter combination); split the experiment"
+        ),
+    }
+}
+
+/// Surface normals are given exactly when something uses them (a hemisphere domain or an
+/// effect); the `probulator` metric, which scores the whole sphere, only on the sphere domain.
+fn check_normals(
+    domain: DomainKind,
+    orientations: &[Orientation],
+    effects: &[Effect],
+    metrics: &[Metric],
+) -> Result<()> {
+    let needs_normal = domain == DomainKind::Hemisphere || !effects.is_empty();
+    if needs_normal && orientations.is_empty() {
+        bail!("orientations: a hemisphere domain or an effect needs surface normals (e.g. orientations = [\"up\"])");
+    }
+    if !needs_normal && !orientations.is_empty() {
+        bail!("orientations: only a hemisphere domain or an effect uses surface normals; remove them or set domain = \"hemisphere\"");
+    }
+    if domain == DomainKind::Hemisphere && metrics.contains(&Metric::Probulator) {
+        bail!("metrics: 'probulator' scores the whole sphere at 256x128; it cannot be used with a hemisphere domain");
+    }
+    Ok(())
+}
+
+/// Refuses a `sheets` entry that is not one of the experiment's maps, or listed twice.
+fn check_sheets(sheets: &[String], maps: &[String]) -> Result<()> {
+    if let Some(m) = sheets.iter().find(|m| !maps.contains(m)) {
+        bail!("sheets: '{m}' is not one of the experiment's maps");
+    }
+    let mut seen = std::collections::HashSet::new();
+    if let Some(m) = sheets.iter().find(|m| !seen.insert(m.as_str())) {
+        bail!("sheets: '{m}' appears twice");
+    }
+    Ok(())
 }
 
 /// Refuses an encoder defined only on the hemisphere about a surface normal

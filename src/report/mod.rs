@@ -58,6 +58,7 @@ pub struct Options<'a> {
     pub root: &'a Path,
     /// The results folder (`REPORT.md` is written here).
     pub out: &'a Path,
+    /// Where the experiments' maps are looked up (for the sheets and the maps' checksums).
     pub search: &'a SearchPath,
     /// The comparison sheets' scale (`report --scale`, 1..=[`sheet::MAX_SCALE`]): every measure
     /// of a sheet times this; 1 is the standard sheet. Charts do not depend on it.
@@ -66,7 +67,9 @@ pub struct Options<'a> {
 
 /// What a report run produced.
 pub struct Generated {
+    /// The path of the `REPORT.md` written.
     pub report: PathBuf,
+    /// The number of PNG pictures drawn: comparison sheets and charts (their SVGs not counted).
     pub pictures: usize,
     /// Experiments whose sheets were not redrawn (maps missing).
     pub kept: Vec<String>,
@@ -143,10 +146,21 @@ pub fn generate(opts: &Options) -> Result<Generated> {
     let out = opts.out;
     std::fs::create_dir_all(out).with_context(|| format!("{}: cannot create folder", out.display()))?;
     let sections = sections(opts.root, out)?;
+    let maps = map_uses(opts, &sections);
+    let (sheet_pictures, drawn_sheets) = draw_sheets(opts, &sections, &maps)?;
+    let (pages, page_pictures, kept) = write_pages(opts, &sections, &drawn_sheets)?;
+    let doc = report_md(opts, &sections, &maps, &pages)?;
+    let report = out.join("REPORT.md");
+    crate::io::atomic::write(&report, doc.as_bytes())?;
+    crate::io::atomic::write(&out.join(PROVENANCE_PAGE), provenance(opts, &sections, &maps, out)?.as_bytes())?;
+    Ok(Generated { report, pictures: sheet_pictures + page_pictures, kept })
+}
 
-    // Maps: resolve and checksum every map an experiment names.
+/// Every map an experiment names, resolved on the search path and checksummed (`None` when it
+/// is not found), with the sections that use it.
+fn map_uses(opts: &Options, sections: &[Section]) -> BTreeMap<String, Option<MapUse>> {
     let mut maps: BTreeMap<String, Option<MapUse>> = BTreeMap::new();
-    for s in &sections {
+    for s in sections {
         let Some(exp) = &s.exp else { continue };
         for m in &exp.maps {
             let entry = maps.entry(m.clone()).or_insert_with(|| map_use(opts.root, opts.search, m).ok());
@@ -155,8 +169,16 @@ pub fn generate(opts: &Options) -> Result<Generated> {
             }
         }
     }
+    maps
+}
 
-    // Sheets.
+/// Draws the comparison sheets of every experiment whose maps are all found, removing its
+/// stale ones: the number of sheets drawn and, per experiment drawn, its sheets' file names.
+fn draw_sheets(
+    opts: &Options,
+    sections: &[Section],
+    maps: &BTreeMap<String, Option<MapUse>>,
+) -> Result<(usize, BTreeMap<String, Vec<String>>)> {
     let drawable: Vec<&Section> = sections
         .iter()
         .filter(|s| s.exp.as_ref().is_some_and(|e| e.maps.iter().all(|m| maps.get(m).is_some_and(|u| u.is_some()))))
@@ -168,42 +190,57 @@ pub fn generate(opts: &Options) -> Result<Generated> {
     for s in &drawable {
         // Cannot fail: `drawable` holds only the sections that have an experiment.
         let exp = s.exp.as_ref().expect("drawable sections are experiments");
-        let dir = out.join(&s.name);
-        let table_path = dir.join("table.csv");
-        let table = if table_path.is_file() { Some(CsvTable::read(&table_path)?) } else { None };
+        let dir = opts.out.join(&s.name);
         progress.message(s.name.clone());
-        // The sheets of one experiment are independent files: drawn in parallel (each one's
-        // pixels do not depend on the thread count), named in the experiment's map order.
-        let names = exp
-            .sheet_maps()
-            .par_iter()
-            .map(|m| -> Result<String> {
-                let map = {
-                    let _s = crate::io::profile::span("report: decode");
-                    opts.search.load(m)?
-                };
-                let (sheet, _) = sheet::experiment_sheet(exp, &map, table.as_ref(), opts.sheet_scale)?;
-                let name = format!("sheet_{}.png", file_safe(m));
-                let image = {
-                    let _s = crate::io::profile::span("report: draw");
-                    sheet.draw()?
-                };
-                png::write_png(&dir.join(&name), &image)?;
-                progress.log(format!("wrote {}", dir.join(&name).display()));
-                progress.inc();
-                Ok(name)
-            })
-            .collect::<Result<Vec<String>>>()?;
+        let names = experiment_sheets(opts, exp, &dir, &progress)?;
         pictures += names.len();
         remove_stale(&dir, "sheet_", &names)?;
         drawn_sheets.insert(s.name.clone(), names);
     }
     progress.finish();
+    Ok((pictures, drawn_sheets))
+}
 
-    // Per-experiment pages: results/<name>/README.md.
+/// Draws and writes the sheets of one experiment into `dir`, with the figures of its
+/// `table.csv` when there is one; their file names, in the experiment's map order.
+fn experiment_sheets(opts: &Options, exp: &Experiment, dir: &Path, progress: &Progress) -> Result<Vec<String>> {
+    let table_path = dir.join("table.csv");
+    let table = if table_path.is_file() { Some(CsvTable::read(&table_path)?) } else { None };
+    // The sheets of one experiment are independent files: drawn in parallel (each one's
+    // pixels do not depend on the thread count), named in the experiment's map order.
+    exp.sheet_maps()
+        .par_iter()
+        .map(|m| -> Result<String> {
+            let map = {
+                let _s = crate::io::profile::span("report: decode");
+                opts.search.load(m)?
+            };
+            let (sheet, _) = sheet::experiment_sheet(exp, &map, table.as_ref(), opts.sheet_scale)?;
+            let name = format!("sheet_{}.png", file_safe(m));
+            let image = {
+                let _s = crate::io::profile::span("report: draw");
+                sheet.draw()?
+            };
+            png::write_png(&dir.join(&name), &image)?;
+            progress.log(format!("wrote {}", dir.join(&name).display()));
+            progress.inc();
+            Ok(name)
+        })
+        .collect::<Result<Vec<String>>>()
+}
+
+/// Writes every section's page (`results/<name>/README.md`, when its folder exists): the
+/// pages for REPORT.md, the number of charts drawn, and the sections whose sheets were kept.
+fn write_pages(
+    opts: &Options,
+    sections: &[Section],
+    drawn_sheets: &BTreeMap<String, Vec<String>>,
+) -> Result<(Vec<Page>, usize, Vec<String>)> {
+    let out = opts.out;
     let mut pages: Vec<Page> = Vec::new();
+    let mut pictures = 0;
     let mut kept = Vec::new();
-    for s in &sections {
+    for s in sections {
         let dir = out.join(&s.name);
         let (md, n) = section(s, &dir, out, opts.root, drawn_sheets.get(&s.name), &mut kept)?;
         pictures += n;
@@ -213,12 +250,7 @@ pub fn generate(opts: &Options) -> Result<Generated> {
         }
         pages.push(Page { name: s.name.clone(), description: s.exp.as_ref().map(|e| e.description.clone()), has_page });
     }
-
-    let doc = report_md(opts, &sections, &maps, &pages)?;
-    let report = out.join("REPORT.md");
-    crate::io::atomic::write(&report, doc.as_bytes())?;
-    crate::io::atomic::write(&out.join(PROVENANCE_PAGE), provenance(opts, &sections, &maps, out)?.as_bytes())?;
-    Ok(Generated { report, pictures, kept })
+    Ok((pages, pictures, kept))
 }
 
 /// REPORT.md's text: the opening, the claims at a glance, one section per paper and the other
@@ -610,31 +642,53 @@ fn shown_dir(root: &Path, d: &Path) -> String {
     }
 }
 
+/// A section's recorded run: the section's name and its folder's `provenance.toml`.
+type RunRecord = (String, crate::regression::provenance::Provenance);
+
+/// The `provenance.toml` of every section that has one, in section order, each read once.
+fn run_records(sections: &[Section], out: &Path) -> Result<Vec<RunRecord>> {
+    let mut records = Vec::new();
+    for s in sections {
+        let p = out.join(&s.name).join(crate::regression::provenance::FILE_NAME);
+        if !p.is_file() {
+            continue;
+        }
+        records.push((s.name.clone(), crate::regression::provenance::Provenance::read(&p)?));
+    }
+    Ok(records)
+}
+
+/// PROVENANCE.md: how each table was computed, the settings of every experiment and the maps.
+/// Everything comes from the committed files (each table's provenance.toml) and the maps, not
+/// from the clock or the checkout, so the same results give the same page.
 fn provenance(
     opts: &Options,
     sections: &[Section],
     maps: &BTreeMap<String, Option<MapUse>>,
     out: &Path,
 ) -> Result<String> {
+    let records = run_records(sections, out)?;
     let mut md = String::from(
         "# How this run was made\n\nGenerated by `probelab report`; do not edit. Back to [the report](REPORT.md).\n\n",
     );
-    // Everything here comes from the committed files (each table's provenance.toml) and the
-    // maps, not from the clock or the checkout, so the same results give the same report.
+    runs_part(&mut md, opts, &records);
+    settings_part(&mut md, sections);
+    maps_part(&mut md, maps, &records);
+    Ok(md)
+}
+
+/// The runs table (per table: commit, date, version, table checksum) and the pictures' build
+/// and map search path.
+fn runs_part(md: &mut String, opts: &Options, records: &[RunRecord]) {
     md.push_str(
         "Each table was computed by the run its `provenance.toml` records (`probelab run`, `reproduce` or `bless`); \
          the report was drawn from those tables.\n\n",
     );
     let mut rows = Vec::new();
-    for s in sections {
-        let p = out.join(&s.name).join(crate::regression::provenance::FILE_NAME);
-        if !p.is_file() {
-            continue;
-        }
-        let pr = crate::regression::provenance::Provenance::read(&p)?;
+    for (name, pr) in records {
         let short = |c: &str| if c.len() > 12 { c[..12].to_string() } else { c.to_string() };
         rows.push(vec![
-            s.name.clone(),
+            name.clone(),
             format!(
                 "`{}`{}",
                 short(&pr.git_commit),
@@ -659,40 +713,13 @@ fn provenance(
         if cfg!(debug_assertions) { "debug" } else { "release" },
         dirs.join(", ")
     );
+}
 
+/// The settings table: one row per experiment.
+fn settings_part(md: &mut String, sections: &[Section]) {
     md.push_str("## Settings\n\nEach experiment file is echoed in full on its page.\n\n");
-    let mut rows = Vec::new();
-    for s in sections {
-        let Some(e) = &s.exp else { continue };
-        let orient: Vec<String> = {
-            let mut sets: Vec<String> = Vec::new();
-            for o in &e.orientations {
-                if !sets.contains(&o.set) {
-                    sets.push(o.set.clone());
-                }
-            }
-            sets
-        };
-        rows.push(vec![
-            s.name.clone(),
-            e.maps.len().to_string(),
-            e.encoders.iter().map(|n| n.name.clone()).collect::<Vec<_>>().join(", "),
-            e.metrics.iter().map(|m| m.name()).collect::<Vec<_>>().join(", "),
-            format!("{:?}", e.domain).to_lowercase(),
-            if orient.is_empty() { "-".into() } else { orient.join(", ") },
-            {
-                let mut labels: Vec<String> = Vec::new();
-                for c in crate::pipeline::runner::cases(e) {
-                    if !labels.contains(&c.effects_label) {
-                        labels.push(c.effects_label);
-                    }
-                }
-                labels.join(", ")
-            },
-            format!("{}x{}", e.resolution.0, e.resolution.1),
-            e.polar_nodes.to_string(),
-        ]);
-    }
+    let rows: Vec<Vec<String>> =
+        sections.iter().filter_map(|s| s.exp.as_ref().map(|e| settings_row(&s.name, e))).collect();
     let headers: Vec<String> =
         ["experiment", "maps", "encoders", "metrics", "domain", "orientations", "effects", "resolution", "polar nodes"]
             .iter()
@@ -700,59 +727,89 @@ fn provenance(
             .collect();
     md.push_str(&markdown::table_with(&headers, &rows, markdown::text_cell));
     md.push('\n');
+}
 
+/// An experiment's row of the settings table: its orientation sets and effect labels each
+/// once, in first-use order.
+fn settings_row(name: &str, e: &Experiment) -> Vec<String> {
+    let mut orient: Vec<String> = Vec::new();
+    for o in &e.orientations {
+        if !orient.contains(&o.set) {
+            orient.push(o.set.clone());
+        }
+    }
+    let mut labels: Vec<String> = Vec::new();
+    for c in crate::pipeline::runner::cases(e) {
+        if !labels.contains(&c.effects_label) {
+            labels.push(c.effects_label);
+        }
+    }
+    vec![
+        name.to_string(),
+        e.maps.len().to_string(),
+        e.encoders.iter().map(|n| n.name.clone()).collect::<Vec<_>>().join(", "),
+        e.metrics.iter().map(|m| m.name()).collect::<Vec<_>>().join(", "),
+        format!("{:?}", e.domain).to_lowercase(),
+        if orient.is_empty() { "-".into() } else { orient.join(", ") },
+        labels.join(", "),
+        format!("{}x{}", e.resolution.0, e.resolution.1),
+        e.polar_nodes.to_string(),
+    ]
+}
+
+/// What the runs recorded of a map: its file, size, sha256 and the experiments that used it.
+type RecordedMap = (String, String, String, Vec<String>);
+
+/// The maps table: each map as read now, or as its tables recorded it when it is not found;
+/// and a warning naming every table computed from a map with another checksum.
+fn maps_part(md: &mut String, maps: &BTreeMap<String, Option<MapUse>>, records: &[RunRecord]) {
     md.push_str(
         "## Maps\n\nSHA-256 of the file read now (each experiment's `provenance.toml` records the files its table was \
          computed from).\n\n",
     );
-    let mut recorded: BTreeMap<String, (String, String, String, Vec<String>)> = BTreeMap::new();
+    let mut recorded: BTreeMap<String, RecordedMap> = BTreeMap::new();
     let mut mismatches = Vec::new();
-    for s in sections {
-        let p = out.join(&s.name).join(crate::regression::provenance::FILE_NAME);
-        if !p.is_file() {
-            continue;
-        }
-        for r in crate::regression::provenance::Provenance::read(&p)?.maps {
+    for (section, pr) in records {
+        for r in &pr.maps {
             if let Some(Some(u)) = maps.get(&r.name) {
                 if u.sha256 != r.sha256 {
-                    mismatches.push(format!("`{}`: its table used a map `{}` with another checksum", s.name, r.name));
+                    mismatches.push(format!("`{section}`: its table used a map `{}` with another checksum", r.name));
                 }
             }
             let e = recorded
                 .entry(r.name.clone())
                 .or_insert_with(|| (r.file.clone(), format!("{}x{}", r.width, r.height), r.sha256.clone(), Vec::new()));
-            e.3.push(s.name.clone());
+            e.3.push(section.clone());
         }
     }
-    let mut rows = Vec::new();
-    for (name, u) in maps {
-        match (u, recorded.get(name)) {
-            (Some(u), _) => rows.push(vec![
-                name.clone(),
-                format!("`{}` in `{}`", u.file, u.dir),
-                u.size.clone(),
-                format!("`{}`", u.sha256),
-                u.used_by.join(", "),
-            ]),
-            (None, Some((file, size, sha, by))) => rows.push(vec![
-                name.clone(),
-                format!("not found on this machine; the table used `{file}` (from provenance.toml)"),
-                size.clone(),
-                format!("`{sha}`"),
-                by.join(", "),
-            ]),
-            (None, None) => {
-                rows.push(vec![name.clone(), "not found on this machine".into(), "-".into(), "-".into(), "-".into()])
-            }
-        }
-    }
+    let rows: Vec<Vec<String>> = maps.iter().map(|(name, u)| map_row(name, u.as_ref(), recorded.get(name))).collect();
     let headers: Vec<String> = ["map", "file", "size", "sha256", "used by"].iter().map(|s| s.to_string()).collect();
     md.push_str(&markdown::table_with(&headers, &rows, markdown::text_cell));
     if !mismatches.is_empty() {
         let _ = writeln!(md, "\n**Warning:** {}.", mismatches.join("; "));
     }
     md.push('\n');
-    Ok(md)
+}
+
+/// A map's row of the maps table: as found now, else as recorded, else not found.
+fn map_row(name: &str, u: Option<&MapUse>, recorded: Option<&RecordedMap>) -> Vec<String> {
+    match (u, recorded) {
+        (Some(u), _) => vec![
+            name.to_string(),
+            format!("`{}` in `{}`", u.file, u.dir),
+            u.size.clone(),
+            format!("`{}`", u.sha256),
+            u.used_by.join(", "),
+        ],
+        (None, Some((file, size, sha, by))) => vec![
+            name.to_string(),
+            format!("not found on this machine; the table used `{file}` (from provenance.toml)"),
+            size.clone(),
+            format!("`{sha}`"),
+            by.join(", "),
+        ],
+        (None, None) => vec![name.to_string(), "not found on this machine".into(), "-".into(), "-".into(), "-".into()],
+    }
 }
 
 #[cfg(test)]

@@ -33,9 +33,12 @@ use glam::DVec3;
 use image::RgbImage;
 use plotters::style::text_anchor::HPos;
 
-/// Sphere diameter and the sheet's fixed measures, in pixels.
+/// A sphere's (disc's) diameter at scale 1, in pixels. Every measure below is in pixels at
+/// scale 1.
 pub const DISC: u32 = 96;
+/// A sphere's cell width: the disc and 12 px.
 pub const CELL_W: u32 = DISC + 12;
+/// A sphere's cell height: the disc and 8 px.
 pub const CELL_H: u32 = DISC + 8;
 /// Two text lines under each row of spheres.
 pub const ROW_H: u32 = CELL_H + 34;
@@ -44,18 +47,27 @@ pub const LABEL_W: u32 = 128;
 /// Sizes of a row's name (bold) and storage note.
 const NAME_PX: f64 = 14.0;
 const NOTE_PX: f64 = 12.0;
+/// The margin around the sheet.
 pub const MARGIN: u32 = 12;
+/// The gap between two views' groups of three cells.
 pub const VIEW_GAP: u32 = 16;
+/// The most header lines drawn under the title.
 pub const HEADER_LINES: u32 = 7;
+/// The height of one header line.
 pub const LINE_H: u32 = 15;
+/// The map thumbnail's width (lat-long, so twice its height).
 pub const THUMB_W: u32 = 256;
+/// The map thumbnail's height.
 pub const THUMB_H: u32 = 128;
 /// Title, header lines, then the thumbnail with the colour bar beside it.
 pub const HEADER_H: u32 = MARGIN + 24 + HEADER_LINES * LINE_H + 8 + THUMB_H + 18;
 /// The view captions and column names above the rows.
 pub const COLHEAD_H: u32 = 36;
+/// The narrowest sheet: a narrower grid of cells is widened to this.
 pub const MIN_W: u32 = 640;
+/// The error colour bar's width.
 pub const BAR_W: u32 = 256;
+/// The error colour bar's height.
 pub const BAR_H: u32 = 16;
 /// The largest sheet scale (`--scale`): 8 draws a 96 px disc at 768 px.
 pub const MAX_SCALE: u32 = 8;
@@ -64,7 +76,9 @@ pub const MAX_SCALE: u32 = 8;
 /// relative error) per view.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SheetLayout {
+    /// The rows of spheres: one per encoder.
     pub rows: u32,
+    /// The views of the sphere of normals: 2 for the sphere (front, top), 1 for a hemisphere.
     pub views: u32,
     /// Width of the label column at scale 1 (names and storage notes in full).
     pub label_w: u32,
@@ -106,7 +120,9 @@ impl SheetLayout {
 /// One row of a sheet: an encoder's E/π at every view's disc normals and its labels.
 #[derive(Clone, Debug)]
 pub struct SheetRow {
+    /// The encoder's name, printed bold in the label column.
     pub name: String,
+    /// The encoder's storage note, printed under its name.
     pub note: String,
     /// Per view, E/π at that view's [`Disc::normals`].
     pub values: Vec<Vec<Rgb>>,
@@ -119,20 +135,29 @@ pub struct SheetRow {
 /// Everything a comparison sheet shows.
 #[derive(Clone, Debug)]
 pub struct Sheet {
+    /// The title: `<experiment> - <map>`.
     pub title: String,
     /// Header lines (at most [`HEADER_LINES`]).
     pub lines: Vec<String>,
+    /// The input map as a lat-long thumbnail, [`THUMB_W`]·scale × [`THUMB_H`]·scale pixels;
+    /// `None` draws none.
     pub thumbnail: Option<RgbImage>,
+    /// The line under the thumbnail.
     pub thumbnail_caption: String,
+    /// The views of the sphere of normals, one group of three cells each.
     pub views: Vec<View>,
+    /// Per view, the disc of normals drawn ([`DISC`]·scale pixels across).
     pub discs: Vec<Disc>,
     /// Per view, the reference E/π at the disc normals.
     pub reference: Vec<Vec<Rgb>>,
     /// The sheet's scale (1..=[`MAX_SCALE`]): the discs are [`DISC`]·scale across, the
     /// thumbnail [`THUMB_W`]·scale wide.
     pub scale: u32,
+    /// The exposure and tone curve every lit sphere shares.
     pub tone: Tone,
+    /// The error spheres' colour scale: the denominator's floor and the saturating range.
     pub error: ErrorScale,
+    /// One row per encoder, in the experiment's order.
     pub rows: Vec<SheetRow>,
 }
 
@@ -310,8 +335,11 @@ pub fn representative_case(all: &[Case]) -> usize {
 /// The figures printed under a row: the table's `exact` rmse, rel_rmse and neg_frac.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RowFigures {
+    /// The RMSE of E/π over the case's domain.
     pub rmse: f64,
+    /// `rmse` divided by the RMS of the reference E/π (dimensionless).
     pub rel_rmse: f64,
+    /// The weighted fraction of output normals where the encoder is negative in any channel.
     pub neg_frac: f64,
 }
 
@@ -323,8 +351,11 @@ impl From<&Scores> for RowFigures {
 
 /// What a sheet drew: the case and each encoder's figures, and where they came from.
 pub struct SheetScores {
+    /// The case drawn: its domain label (`sphere`, `hemisphere:+y`).
     pub case_label: String,
+    /// The case's effects label, as in the table's `effects` column.
     pub effects: String,
+    /// Each encoder's name and figures, in the experiment's order.
     pub figures: Vec<(String, RowFigures)>,
     /// "table.csv" or "computed".
     pub source: &'static str,
@@ -380,30 +411,10 @@ pub fn experiment_sheet(
 
     let (figures, source) = match table.and_then(|t| figures_from_table(t, &map.name, case, &names)) {
         Some(f) => (f, "table.csv"),
-        None => {
-            // The scored grid: the exact metric over the case's domain at the experiment's
-            // resolution, scored by the runner's own step.
-            let grid = case.domain.output_grid(exp.resolution);
-            let ref_grid = cd.reference_on(&grid);
-            let f = exp
-                .encoders
-                .iter()
-                .zip(&fitted)
-                .map(|(e, f)| {
-                    RowFigures::from(&score_fit(e.encoder.as_ref(), f.as_ref(), &grid, &ref_grid, Metric::Exact))
-                })
-                .collect();
-            (f, "computed")
-        }
+        None => (computed_figures(exp, case, &cd, &fitted), "computed"),
     };
 
-    let views = match &case.domain {
-        Domain::Hemisphere { normal } => {
-            let label = case.domain_label.split(':').nth(1).unwrap_or("N").to_string();
-            vec![View::down(*normal, &label)]
-        }
-        Domain::Sphere => vec![View::front(), View::top()],
-    };
+    let views = case_views(case);
     let discs: Vec<Disc> = views.iter().map(|v| Disc::new(v, (scale * DISC) as usize)).collect();
     let reference: Vec<Vec<Rgb>> = {
         let _s = crate::io::profile::span("report: reference (sheets)");
@@ -413,64 +424,17 @@ pub fn experiment_sheet(
         let _s = crate::io::profile::span("report: encoder eval (sheets)");
         fitted.iter().map(|f| discs.iter().map(|d| evaluate(f.as_ref(), &d.normals)).collect()).collect()
     };
-
-    let drawn: Vec<Rgb> = reference.iter().flatten().copied().collect();
-    let mean_lum = drawn.iter().map(|c| luminance(*c)).sum::<f64>() / drawn.len().max(1) as f64;
-    let max_val = drawn.iter().map(|c| c.max_element()).fold(0.0, f64::max);
-    let tone = Tone::from_reference(mean_lum, max_val);
-    let floor = 0.01 * mean_lum.max(0.0);
-    let mut rel: Vec<f64> = figures.iter().map(|f| f.rel_rmse).filter(|v| v.is_finite()).collect();
-    rel.sort_by(f64::total_cmp);
-    let median = if rel.is_empty() { 0.0 } else { rel[(rel.len() - 1) / 2] };
-    let error = ErrorScale { floor, range: nice_ceil(median) };
+    let (tone, error) = sheet_scales(&reference, &figures);
 
     let rows: Vec<SheetRow> = exp
         .encoders
         .iter()
         .zip(values)
         .zip(&figures)
-        .map(|((e, values), f)| SheetRow {
-            name: e.name.clone(),
-            note: e.encoder.storage(&input),
-            values,
-            under_lit: if f.neg_frac > 0.0 { format!("negative on {}", percent(f.neg_frac)) } else { String::new() },
-            under_err: [format!("rmse {}", sig(f.rmse, 4)), format!("rel_rmse {}", percent(f.rel_rmse))],
-        })
+        .map(|((e, values), f)| sheet_row(e.name.clone(), e.encoder.storage(&input), values, f))
         .collect();
 
-    let (res_w, res_h) = match case.domain {
-        Domain::Sphere => exp.resolution,
-        Domain::Hemisphere { .. } => (exp.resolution.0, exp.resolution.1 / 2),
-    };
-    let mut lines = vec![];
-    if !exp.description.is_empty() {
-        lines.push(exp.description.clone());
-    }
-    lines.push(format!(
-        "case: {} (effects: {}){}",
-        case.domain_label,
-        case.effects_label,
-        if all.len() > 1 {
-            format!("; drawn: the case nearest N = +Y, 1 of {} in the table", all.len())
-        } else {
-            String::new()
-        }
-    ));
-    lines.push(format!("E/pi; reference: {}, at every pixel's normal", cd.reference.describe()));
-    lines.push(format!(
-        "figures: exact metric, solid-angle weighted over {} at {}x{} ({})",
-        if matches!(case.domain, Domain::Sphere) { "the sphere" } else { "the hemisphere about N" },
-        res_w,
-        res_h,
-        if source == "table.csv" { "from table.csv" } else { "computed as the runner does" }
-    ));
-    lines.push(format!("every sphere: {}", tone.describe()));
-    lines.push(format!(
-        "error scale +-{}: the median of the rows' rel_rmse, rounded up to a 1-2-5 step; beyond it saturates",
-        percent(error.range)
-    ));
-    lines.push("(Y = Rec.709 luminance; the denominator is held at >= 1% of the reference's mean Y)".into());
-
+    let lines = header_lines(exp, case, all.len(), &cd.reference.describe(), source, &tone, &error);
     let sheet = Sheet {
         title: format!("{} - {}", exp.name, map.name),
         lines,
@@ -495,6 +459,103 @@ pub fn experiment_sheet(
         source,
     };
     Ok((sheet, scores))
+}
+
+/// Every encoder's figures scored here, as the runner scores them: the exact metric over the
+/// case's domain at the experiment's resolution, through the runner's own step ([`score_fit`]).
+fn computed_figures(exp: &Experiment, case: &Case, cd: &CaseData, fitted: &[Box<dyn Fitted>]) -> Vec<RowFigures> {
+    let grid = case.domain.output_grid(exp.resolution);
+    let ref_grid = cd.reference_on(&grid);
+    exp.encoders
+        .iter()
+        .zip(fitted)
+        .map(|(e, f)| RowFigures::from(&score_fit(e.encoder.as_ref(), f.as_ref(), &grid, &ref_grid, Metric::Exact)))
+        .collect()
+}
+
+/// The views a case is drawn in: a hemisphere as a disc looking down its N (captioned with the
+/// orientation of its domain label), the sphere front and top.
+fn case_views(case: &Case) -> Vec<View> {
+    match &case.domain {
+        Domain::Hemisphere { normal } => {
+            let label = case.domain_label.split(':').nth(1).unwrap_or("N").to_string();
+            vec![View::down(*normal, &label)]
+        }
+        Domain::Sphere => vec![View::front(), View::top()],
+    }
+}
+
+/// The sheet's tone (from the mean luminance and the brightest channel of the reference drawn)
+/// and its error scale: the floor at 1% of that mean, the range the median of the rows'
+/// finite rel_rmse rounded up to a 1-2-5 step.
+fn sheet_scales(reference: &[Vec<Rgb>], figures: &[RowFigures]) -> (Tone, ErrorScale) {
+    let drawn: Vec<Rgb> = reference.iter().flatten().copied().collect();
+    let mean_lum = drawn.iter().map(|c| luminance(*c)).sum::<f64>() / drawn.len().max(1) as f64;
+    let max_val = drawn.iter().map(|c| c.max_element()).fold(0.0, f64::max);
+    let tone = Tone::from_reference(mean_lum, max_val);
+    let floor = 0.01 * mean_lum.max(0.0);
+    let mut rel: Vec<f64> = figures.iter().map(|f| f.rel_rmse).filter(|v| v.is_finite()).collect();
+    rel.sort_by(f64::total_cmp);
+    let median = if rel.is_empty() { 0.0 } else { rel[(rel.len() - 1) / 2] };
+    (tone, ErrorScale { floor, range: nice_ceil(median) })
+}
+
+/// An encoder's row: its name, storage note, values at the discs and the figures printed under
+/// its spheres.
+fn sheet_row(name: String, note: String, values: Vec<Vec<Rgb>>, f: &RowFigures) -> SheetRow {
+    SheetRow {
+        name,
+        note,
+        values,
+        under_lit: if f.neg_frac > 0.0 { format!("negative on {}", percent(f.neg_frac)) } else { String::new() },
+        under_err: [format!("rmse {}", sig(f.rmse, 4)), format!("rel_rmse {}", percent(f.rel_rmse))],
+    }
+}
+
+/// The sheet's header lines: the description, the case drawn (of `n_cases`), the reference
+/// (`reference`, its description), where the figures come from, the tone and the error scale.
+fn header_lines(
+    exp: &Experiment,
+    case: &Case,
+    n_cases: usize,
+    reference: &str,
+    source: &str,
+    tone: &Tone,
+    error: &ErrorScale,
+) -> Vec<String> {
+    let (res_w, res_h) = match case.domain {
+        Domain::Sphere => exp.resolution,
+        Domain::Hemisphere { .. } => (exp.resolution.0, exp.resolution.1 / 2),
+    };
+    let mut lines = vec![];
+    if !exp.description.is_empty() {
+        lines.push(exp.description.clone());
+    }
+    lines.push(format!(
+        "case: {} (effects: {}){}",
+        case.domain_label,
+        case.effects_label,
+        if n_cases > 1 {
+            format!("; drawn: the case nearest N = +Y, 1 of {n_cases} in the table")
+        } else {
+            String::new()
+        }
+    ));
+    lines.push(format!("E/pi; reference: {reference}, at every pixel's normal"));
+    lines.push(format!(
+        "figures: exact metric, solid-angle weighted over {} at {}x{} ({})",
+        if matches!(case.domain, Domain::Sphere) { "the sphere" } else { "the hemisphere about N" },
+        res_w,
+        res_h,
+        if source == "table.csv" { "from table.csv" } else { "computed as the runner does" }
+    ));
+    lines.push(format!("every sphere: {}", tone.describe()));
+    lines.push(format!(
+        "error scale +-{}: the median of the rows' rel_rmse, rounded up to a 1-2-5 step; beyond it saturates",
+        percent(error.range)
+    ));
+    lines.push("(Y = Rec.709 luminance; the denominator is held at >= 1% of the reference's mean Y)".into());
+    lines
 }
 
 #[cfg(test)]
@@ -747,7 +808,6 @@ mod tests {
                 } else {
                     assert!(varied as f64 > 0.05 * n as f64, "{what}");
                 }
-                eprintln!("{what}");
             }
         }
         let (bx, by) = l2.colour_bar();
