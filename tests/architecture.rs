@@ -153,18 +153,27 @@ fn without_test_modules(code: &str) -> String {
 }
 
 /// `super::x` paths of a file's top level (before any inline `mod … {`, where `super` would
-/// mean the file itself), resolved against the file's module.
+/// mean the file itself), resolved against the file's module; `super::super::x` climbs twice.
 fn super_paths(code: &str, module: &[String]) -> Vec<Vec<String>> {
     let top = &code[..inline_mod_start(code).unwrap_or(code.len())];
-    // `super` of `a/b.rs` (module `a::b`) is `a`; so is that of `a/b/mod.rs`.
-    let parent: Vec<String> = module[..module.len().saturating_sub(1)].to_vec();
     let mut out = Vec::new();
     let mut rest = top;
     while let Some(i) = rest.find("super::") {
-        rest = &rest[i + "super::".len()..];
+        let preceded = top[..top.len() - rest.len() + i].chars().next_back();
+        rest = &rest[i..];
+        let mut ups = 0;
+        while let Some(r) = rest.strip_prefix("super::") {
+            rest = r;
+            ups += 1;
+        }
+        // `x::super::` is not a path from this file (it does not occur in this crate).
+        if preceded.is_some_and(|c| c == ':') {
+            continue;
+        }
+        // `super` of `a/b.rs` (module `a::b`) is `a`; so is that of `a/b/mod.rs`.
+        let mut p: Vec<String> = module[..module.len().saturating_sub(ups)].to_vec();
         let end = rest.find(|c: char| !(c.is_alphanumeric() || c == '_')).unwrap_or(rest.len());
         if end > 0 {
-            let mut p = parent.clone();
             p.push(rest[..end].to_string());
             out.push(p);
         }
@@ -499,7 +508,8 @@ fn no_import_cycles_between_module_files() {
 
 /// The cycle check on a small synthetic crate: a `mod.rs` and its child that import each
 /// other — through `super::`, `crate::`, `child::` or `self::child::` — form a circle; a
-/// `mod child;` declaration alone, a unit test reaching up, or a sibling does not.
+/// `mod child;` declaration alone, a unit test reaching up, a sibling, or a grandchild's
+/// `super::super::` reaching past its parent does not.
 #[test]
 fn the_cycle_check_sees_a_mod_rs_and_its_child() {
     let crate_of = |files: &[(&str, &str)]| -> BTreeMap<Vec<String>, (PathBuf, String)> {
@@ -525,6 +535,31 @@ fn the_cycle_check_sees_a_mod_rs_and_its_child() {
         ("enc/sh.rs", "pub fn s() {}"),
     ];
     let k = crate_of(&acyclic);
+    assert_eq!(cycles(k.keys().cloned(), &import_edges(&k)), Vec::<Vec<String>>::new());
+    // `super::super::x` in a grandchild names its grandparent's `x`, not its parent.
+    assert_eq!(
+        super_paths("use super::super::lune::Angle;", &["enc".into(), "fit".into(), "a".into()]),
+        [["enc".to_string(), "lune".to_string()]]
+    );
+    let nested = [
+        (
+            "enc/mod.rs",
+            "pub mod fit;
+pub mod lune;",
+        ),
+        ("enc/lune.rs", "pub struct Angle;"),
+        (
+            "enc/fit/mod.rs",
+            "mod a;
+pub use a::f;",
+        ),
+        (
+            "enc/fit/a.rs",
+            "use super::super::lune::Angle;
+pub fn f() {}",
+        ),
+    ];
+    let k = crate_of(&nested);
     assert_eq!(cycles(k.keys().cloned(), &import_edges(&k)), Vec::<Vec<String>>::new());
 }
 
