@@ -33,12 +33,12 @@
 //!
 //! The other modules are public for the binary (`src/commands/`, which owns the terminal), the
 //! tests and the benches: internal, with no stability promise, and documented like the surface
-//! (every public item has a doc comment; the lint below refuses one without). The library never
+//! (every public item has a doc comment: `deny(missing_docs)` below refuses one without). The library never
 //! prints: long work reports through [`io::progress`], everything else is returned. The layers,
 //! what each may use, and the module map are in `ARCHITECTURE.md`, which `tests/architecture.rs`
 //! checks against the code.
 
-#![warn(missing_docs)]
+#![deny(missing_docs)]
 
 pub mod api;
 pub use api::{

@@ -98,7 +98,7 @@ pub enum Effect {
     Cone {
         /// The cone's half-angle cosines cos α, each in [-1, 1); one case per value.
         cos_alpha: Vec<f64>,
-        /// The tilts of C from N, in degrees; one case per value (default [0]).
+        /// The tilts of C from N, in degrees; one case per value (default `[0]`).
         tilt_deg: Vec<f64>,
     },
     /// Self-bounce (hemispherical-lighting talk): the surface below the horizon is an infinite
