@@ -17,10 +17,12 @@
 //! let map = Map::load("blender_city_256x128", ".")?;
 //! let light = map.lighting(Surface::Sphere)?;
 //! let fit = light.fit("zh3_solved_shared", "")?;
-//! for e in &fit.stored().entries {
-//!     println!("{} {:?} {} {:?}", e.name, e.role, e.unit.label(), e.value.components());
-//! }
-//! println!("E/pi at +Y: {:?}, exact {:?}", fit.irradiance(DVec3::Y), light.reference(&[DVec3::Y])[0]);
+//! // The stored coefficients: each with its name, role, unit and value.
+//! let stored = fit.stored();
+//! let names: Vec<&str> = stored.entries.iter().map(|e| e.name.as_str()).collect();
+//! // E/π at +Y from the fit, and the exact reference there.
+//! let (fitted, exact) = (fit.irradiance(DVec3::Y), light.reference(&[DVec3::Y])[0]);
+//! let error = (fitted - exact).length();
 //! # Ok(())
 //! # }
 //! ```

@@ -7,8 +7,9 @@
 //! committed one.
 //!
 //! The measurements need every map they name (the ZH3 talk's declared `[measurements] maps`,
-//! [`crate::claims::zh3::maps`], and the lightmap study's). Without them the committed measurement tables are judged as they stand, and the
-//! command says so; nothing is rewritten from partial data.
+//! [`crate::claims::zh3::maps`], and the lightmap study's). Without them the committed
+//! measurement tables are judged as they stand, and the command says so; nothing is rewritten
+//! from partial data.
 
 use crate::claims::declaration::{load_papers, Paper};
 use crate::claims::lightmap::strip::BlendStrip;
