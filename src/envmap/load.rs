@@ -355,27 +355,31 @@ pub fn write_exr_half(path: &Path, map: &EnvMap) -> Result<(), WriteError> {
 /// Runs `write` on a new temporary file beside `path` (the one atomic writer,
 /// [`crate::io::atomic::Staged`]), then moves it over `path`; on failure the temporary file is
 /// removed.
-fn write_atomically(path: &Path, write: impl FnOnce(&Path, File) -> Result<(), WriteError>) -> Result<(), WriteError> {
+fn write_atomically(
+    path: &Path,
+    write: impl FnOnce(&Path, &mut File) -> Result<(), WriteError>,
+) -> Result<(), WriteError> {
     let mut staged = crate::io::atomic::Staged::beside(path).map_err(|cause| WriteError::Io {
         path: path.to_path_buf(),
         action: "create a temporary file next to it",
         cause,
     })?;
     let tmp_path = staged.tmp_path().to_path_buf();
-    write(&tmp_path, staged.take_file())?;
+    write(&tmp_path, staged.file())?;
     staged.commit().map_err(|cause| WriteError::Io {
         path: path.to_path_buf(),
-        action: "rename the temporary file onto the target",
+        action: "sync the temporary file and rename it onto the target",
         cause,
     })
 }
 
 /// Encodes the pixels `pixel` gives for each position of `map`'s grid into the already
-/// created temporary file `file` (at `tmp_path`) and syncs it. Errors name the final `path`.
+/// created temporary file `file` (at `tmp_path`) and flushes it; the commit syncs it. An
+/// encoding error names the final `path`, a failed flush the temporary file.
 fn write_exr_to<S: exr::prelude::IntoSample + Sync>(
     path: &Path,
     tmp_path: &Path,
-    file: File,
+    file: &mut File,
     pixel: impl Fn(Vec2<usize>) -> (S, S, S) + Sync,
     map: &EnvMap,
 ) -> Result<(), WriteError> {
@@ -391,8 +395,8 @@ fn write_exr_to<S: exr::prelude::IntoSample + Sync>(
         .to_buffered(&mut writer)
         .map_err(|e| WriteError::Encode { path: path.to_path_buf(), message: e.to_string() })?;
     let io_err = |action, cause| WriteError::Io { path: tmp_path.to_path_buf(), action, cause };
-    let file = writer.into_inner().map_err(|e| io_err("flush the temporary file", e.into_error()))?;
-    file.sync_all().map_err(|e| io_err("sync the temporary file", e))
+    writer.into_inner().map_err(|e| io_err("flush the temporary file", e.into_error()))?;
+    Ok(())
 }
 
 /// Identifies the format from the first (up to four) bytes of a file.

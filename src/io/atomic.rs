@@ -23,7 +23,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 pub struct Staged {
     target: PathBuf,
     tmp: PathBuf,
-    file: Option<File>,
+    file: File,
 }
 
 impl Staged {
@@ -38,7 +38,7 @@ impl Staged {
             let n = COUNTER.fetch_add(1, Ordering::Relaxed);
             let tmp = dir.join(format!(".{name}.tmp-{}-{n}", std::process::id()));
             match OpenOptions::new().write(true).create_new(true).open(&tmp) {
-                Ok(file) => return Ok(Staged { target: target.to_path_buf(), tmp, file: Some(file) }),
+                Ok(file) => return Ok(Staged { target: target.to_path_buf(), tmp, file }),
                 Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => last = Some(e),
                 Err(e) => return Err(e),
             }
@@ -51,27 +51,15 @@ impl Staged {
         &self.tmp
     }
 
-    /// The open temporary file, to write into.
+    /// The open temporary file, to write into (directly, or through a `BufWriter` that borrows
+    /// it and is flushed before [`Staged::commit`]).
     pub fn file(&mut self) -> &mut File {
-        self.file.as_mut().expect("a staged file is open until it is committed")
-    }
-
-    /// Takes the open file out, to hand to a writer that consumes it; give it back with
-    /// [`Staged::put_back`] before [`Staged::commit`].
-    pub fn take_file(&mut self) -> File {
-        self.file.take().expect("a staged file is open until it is committed")
-    }
-
-    /// Gives back the file [`Staged::take_file`] took (after the writer is done with it).
-    pub fn put_back(&mut self, file: File) {
-        self.file = Some(file);
+        &mut self.file
     }
 
     /// Syncs the temporary file and moves it over the target, then syncs the folder.
     pub fn commit(mut self) -> std::io::Result<()> {
-        if let Some(f) = self.file.take() {
-            f.sync_all()?;
-        }
+        self.file.sync_all()?;
         std::fs::rename(&self.tmp, &self.target)?;
         // Renamed: nothing left to remove on drop.
         self.tmp = PathBuf::new();
@@ -118,12 +106,11 @@ pub fn write(path: &Path, bytes: &[u8]) -> Result<()> {
 
 /// Streams a file atomically: `f` writes into a buffered temporary file beside `path`, which
 /// replaces `path` only if `f` succeeds (for outputs too large to hold in memory).
-pub fn write_with<T>(path: &Path, f: impl FnOnce(&mut std::io::BufWriter<File>) -> Result<T>) -> Result<T> {
+pub fn write_with<T>(path: &Path, f: impl FnOnce(&mut std::io::BufWriter<&mut File>) -> Result<T>) -> Result<T> {
     let mut staged = stage(path)?;
-    let mut w = std::io::BufWriter::with_capacity(1 << 20, staged.take_file());
+    let mut w = std::io::BufWriter::with_capacity(1 << 20, staged.file());
     let out = f(&mut w)?;
-    let file = w.into_inner().map_err(|e| anyhow::anyhow!("{}: cannot write: {}", path.display(), e.error()))?;
-    staged.put_back(file);
+    w.into_inner().map_err(|e| anyhow::anyhow!("{}: cannot write: {}", path.display(), e.error()))?;
     staged.commit().with_context(|| format!("{}: cannot move into place", path.display()))?;
     Ok(out)
 }
@@ -146,6 +133,7 @@ fn write_set_failing_after(dir: &Path, files: &[(String, Vec<u8>)], fail_at: Opt
         let target = dir.join(name);
         let mut s = Staged::beside(&target).with_context(|| format!("{}: cannot create", target.display()))?;
         s.file().write_all(bytes).with_context(|| format!("{}: cannot write", s.tmp_path().display()))?;
+        // Every file synced before the first rename (the commit's own sync is then free).
         s.file().sync_all().with_context(|| format!("{}: cannot sync", s.tmp_path().display()))?;
         staged.push(s);
     }
