@@ -1,6 +1,6 @@
 //! Build script: tells the tests what this machine has, so that a test which cannot run here
 //! is reported by cargo as *ignored*, with its reason, instead of passing without checking
-//! anything. It sets three cfgs (declared below, so rustc does not warn about them); they reach
+//! anything. It sets four cfgs (declared below, so rustc does not warn about them); they reach
 //! every target of the package, the integration tests in `tests/` included:
 //!
 //! - `shared_maps`: `PROBELAB_ENVMAPS` is set (non-empty), or `CI` is `true`/`1`. Tests that
@@ -13,6 +13,10 @@
 //! - `gnu_parallel`: GNU parallel is on `PATH` (the sharding recipe of docs/scale.md needs it).
 //! - `mode_000_readable`: this user can open a file of mode 000 (root can), so the tests that a
 //!   permission-denied error is reported cannot run.
+//! - `python_package`: `PROBELAB_PYTHON` is set (non-empty), or `CI` is `true`/`1`. The test
+//!   that runs the Python package's pytest suite (`tests/python_package.rs`) needs an
+//!   interpreter with the package installed (`pip install ./bindings/python`); without one it
+//!   is ignored with that reason, and in CI a missing one fails it.
 
 use std::env;
 use std::path::PathBuf;
@@ -24,13 +28,22 @@ const PAPER_PROBES: [&str; 5] =
     ["ennis_256x128", "grace_256x128", "pisa_256x128", "uffizi_256x128", "wells_probulator"];
 
 fn main() {
-    for cfg in ["shared_maps", "gnu_parallel", "mode_000_readable"] {
+    for cfg in ["shared_maps", "gnu_parallel", "mode_000_readable", "python_package"] {
         println!("cargo::rustc-check-cfg=cfg({cfg})");
     }
     println!("cargo::rerun-if-changed=build.rs");
     shared_maps();
     gnu_parallel();
     mode_000_readable();
+    python_package();
+}
+
+fn python_package() {
+    println!("cargo::rerun-if-env-changed=PROBELAB_PYTHON");
+    let ci = env::var("CI").is_ok_and(|v| v == "true" || v == "1");
+    if ci || env::var_os("PROBELAB_PYTHON").is_some_and(|v| !v.is_empty()) {
+        println!("cargo::rustc-cfg=python_package");
+    }
 }
 
 fn shared_maps() {

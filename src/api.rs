@@ -50,6 +50,28 @@ impl Map {
         Ok(Map { map: search.load(name)? })
     }
 
+    /// A map from its texels in memory: `width` × `height` linear RGB radiances, row-major,
+    /// row 0 at the zenith and the centre column looking along −Z (`docs/conventions.md` §1,
+    /// the layout of a loaded file; [`Map::texels`]), named `name` in tables. A size that is
+    /// not 2:1, a texel count that does not match it, and a NaN, infinite or negative value are
+    /// errors naming `name`, what is wrong and the first bad texel.
+    pub fn from_texels(name: &str, width: usize, height: usize, texels: Vec<[f32; 3]>) -> Result<Map> {
+        let map = EnvMap::new(name, width, height, texels).with_context(|| format!("map '{name}'"))?;
+        Ok(Map { map })
+    }
+
+    /// The texels: linear RGB radiance, row-major, row 0 at the zenith, the centre column
+    /// looking along −Z (`docs/conventions.md` §1); [`Map::size`] gives (W, H).
+    pub fn texels(&self) -> &[[f32; 3]] {
+        self.map.texels()
+    }
+
+    /// The map as the internal layers hold it (for `front`).
+    #[doc(hidden)]
+    pub fn env_map(&self) -> &EnvMap {
+        &self.map
+    }
+
     /// The map's name (its file stem).
     pub fn name(&self) -> &str {
         &self.map.name

@@ -53,6 +53,7 @@ pub use glam::DVec3;
 pub mod claims;
 pub mod encoders;
 pub mod envmap;
+pub mod front;
 pub mod io;
 pub mod math;
 pub mod pipeline;

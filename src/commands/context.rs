@@ -49,11 +49,7 @@ fn waiting(out: &Path) {
 
 /// The search path's folders, each marked `(missing)` when it is not there.
 pub fn describe_search(s: &SearchPath) -> String {
-    s.dirs()
-        .iter()
-        .map(|d| if d.is_dir() { d.display().to_string() } else { format!("{} (missing)", d.display()) })
-        .collect::<Vec<_>>()
-        .join(", ")
+    s.describe()
 }
 
 /// The exit code of `run`/`reproduce` with the baselines of `refused` not written: 1, with the

@@ -1,11 +1,12 @@
 //! `probelab fit`: fits encoders to one map and prints each fit's stored coefficients (names,
 //! units, roles and basis) and what it was fitted on, as JSON or CSV; everything is checked
-//! before anything is printed. Nothing is written and no lock is taken.
+//! before anything is printed. Nothing is written and no lock is taken. The checks, the fits and
+//! the JSON document are `front::fit`, shared with the Python package.
 
 use super::context::Env;
 use anyhow::{bail, Context, Result};
 use probelab::api::{Fit, Lighting, Map, Role, Stored, Surface};
-use probelab::encoders;
+use probelab::front::fit;
 use probelab::io::output;
 
 /// `probelab fit`.
@@ -33,66 +34,13 @@ pub fn run(a: Args, env: &Env) -> Result<i32> {
         None => Surface::Sphere,
         Some(text) => Surface::Normal(parse_normal(text)?),
     };
-    let named = encoders::build_list(&a.encoders)?;
-    if surface == Surface::Sphere {
-        if let Some(e) = named.iter().find(|e| e.encoder.needs_surface_normal()) {
-            bail!(
-                "--encoders: {}; pass --normal x,y,z (the surface normal N)",
-                probelab::encoders::encoder::surface_normal_refusal(&e.name)
-            );
-        }
-    }
+    let ids = fit::encoder_ids(&a.encoders, surface)?;
     let map = Map::load_on(&env.search, &a.map)?;
     let light = map.lighting(surface)?;
-    let mut fits = Vec::new();
-    for e in &named {
-        let fit = light.fit(&e.name, "")?;
-        let stored = fit.stored();
-        if !stored.is_finite() {
-            bail!("encoder '{}' on {}: a stored value is not finite", e.name, light.describe());
-        }
-        fits.push((fit, stored));
-    }
-    let text = if a.format == "json" { to_json(&map, &light, &fits)? } else { to_csv(&map, &light, &fits)? };
+    let fits = fit::fit_all(&light, &ids)?;
+    let text = if a.format == "json" { fit::to_json(&map, &light, &fits)? } else { to_csv(&map, &light, &fits)? };
     output::write(text.as_bytes())?;
     Ok(0)
-}
-
-/// `sphere`, or `hemisphere` when the light is seen from a surface normal.
-fn domain_of(light: &Lighting) -> &'static str {
-    if light.normal().is_some() {
-        "hemisphere"
-    } else {
-        "sphere"
-    }
-}
-
-/// The fits as one JSON document: the map, domain, normal, what they were fitted on, units,
-/// and each fit's stored entries.
-fn to_json(map: &Map, light: &Lighting, fits: &[(Fit, Stored)]) -> Result<String> {
-    let fits: Vec<serde_json::Value> = fits
-        .iter()
-        .map(|(f, s)| {
-            serde_json::json!({
-                "encoder": f.id(),
-                "stored_scalars": f.stored_scalars(),
-                "basis": s.basis,
-                "entries": s.entries,
-            })
-        })
-        .collect();
-    let (w, h) = map.size();
-    let doc = serde_json::json!({
-        "map": map.name(),
-        "size": [w, h],
-        "domain": domain_of(light),
-        "normal": light.normal().map(|n| n.to_array()),
-        "fitted_on": light.describe(),
-        "units": "E/pi is irradiance over pi; directions are world-space unit vectors, +Y up \
-                  (docs/conventions.md section 1); SH follow section 2",
-        "fits": fits,
-    });
-    Ok(serde_json::to_string_pretty(&doc)? + "\n")
 }
 
 /// The fits as CSV: one row per stored or derived entry, its value's components in v0..v2.
@@ -110,7 +58,7 @@ fn to_csv(map: &Map, light: &Lighting, fits: &[(Fit, Stored)]) -> Result<String>
             };
             w.write_record([
                 map.name(),
-                domain_of(light),
+                fit::domain_of(light),
                 &normal_cell,
                 f.id(),
                 &e.name,

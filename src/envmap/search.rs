@@ -130,6 +130,17 @@ impl SearchPath {
         &self.dirs
     }
 
+    /// The folders searched, comma-separated, each marked `(missing)` when it is not there
+    /// (what an error about a map not found prints).
+    pub fn describe(&self) -> String {
+        let shown: Vec<String> = self
+            .dirs
+            .iter()
+            .map(|d| if d.is_dir() { d.display().to_string() } else { format!("{} (missing)", d.display()) })
+            .collect();
+        shown.join(", ")
+    }
+
     /// Every file that may hold map `name`, in the order they are tried.
     ///
     /// If `name` looks like a file path (contains a path separator or has an extension) and

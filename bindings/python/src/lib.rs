@@ -1,0 +1,288 @@
+//! `probelab._core`, the Python extension: a thin layer over the probelab crate that converts
+//! Python values to the library's and back. Every number comes from the same functions as the
+//! command line (`probelab::front` for `eval` and `fit`, `probelab::api` for maps and the
+//! reference); nothing here computes a score or a fit. The package `probelab`
+//! (`python/probelab/__init__.py`) wraps these functions with numpy arrays, checks array
+//! shapes and types, and documents the API.
+//!
+//! Every function that does real work releases the GIL (`Python::detach`) while it runs, so
+//! Python threads and Dask workers run in parallel. Errors are `probelab.Error` (a
+//! `ValueError`) carrying the command line's message, the `{:#}` form `probelab` prints after
+//! `error: `.
+
+use anyhow::Context;
+use probelab::api::{DVec3, Map, Surface, Value};
+use probelab::envmap::search::SearchPath;
+use probelab::front::eval::{rows_by_name, rows_on_map, EvalOptions};
+use probelab::front::fit::{encoder_ids, fit_all, to_json};
+use probelab::pipeline::table;
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use pyo3::types::{PyByteArray, PyBytes};
+use std::path::Path;
+
+pyo3::create_exception!(
+    probelab,
+    Error,
+    PyValueError,
+    "A probelab error: a map not found or refused, a bad option, a bad array. The message is the \
+     command line's."
+);
+
+/// The library's error as a `probelab.Error`, with the whole chain as the command line prints it.
+fn py_err(e: anyhow::Error) -> PyErr {
+    Error::new_err(format!("{e:#}"))
+}
+
+/// Where a map comes from: a name or file path on the search path (`<root>/envmaps`, then
+/// `PROBELAB_ENVMAPS`), or texels handed over from an array.
+enum Source {
+    Named { name: String, search: SearchPath },
+    Texels { name: String, width: usize, height: usize, texels: Vec<[f32; 3]> },
+}
+
+impl Source {
+    /// `map` is a `str` (a name or path) or a tuple `(name, width, height, bytes)` of
+    /// little-endian float32 RGB texels, row-major from the zenith (what `probelab` makes of
+    /// an (H, W, 3) array).
+    fn extract(map: &Bound<'_, PyAny>, root: &str) -> PyResult<Source> {
+        if let Ok(name) = map.extract::<String>() {
+            let search = SearchPath::from_env(Path::new(root).join("envmaps"));
+            return Ok(Source::Named { name, search });
+        }
+        let (name, width, height, bytes): (String, usize, usize, Bound<'_, PyBytes>) = map.extract()?;
+        let bytes = bytes.as_bytes();
+        if bytes.len() != width * height * 12 {
+            return Err(Error::new_err(format!(
+                "map '{name}': {} bytes of texels for {width}x{height} (expected {})",
+                bytes.len(),
+                width * height * 12
+            )));
+        }
+        let texels = bytes
+            .chunks_exact(12)
+            .map(|t| std::array::from_fn(|c| f32::from_le_bytes(t[4 * c..4 * c + 4].try_into().unwrap())))
+            .collect();
+        Ok(Source::Texels { name, width, height, texels })
+    }
+
+    /// The map (loaded, or built from the texels and checked).
+    fn open(self) -> anyhow::Result<Map> {
+        match self {
+            Source::Named { name, search } => Map::load_on(&search, &name),
+            Source::Texels { name, width, height, texels } => Map::from_texels(&name, width, height, texels),
+        }
+    }
+}
+
+/// `(name, width, height, texels)`: the map `name` (a name on the search path or a file
+/// path) with its texels as little-endian float32 RGB, row-major, row 0 at the zenith.
+#[pyfunction]
+fn load_map<'py>(
+    py: Python<'py>,
+    name: String,
+    root: String,
+) -> PyResult<(String, usize, usize, Bound<'py, PyByteArray>)> {
+    let search = SearchPath::from_env(Path::new(&root).join("envmaps"));
+    let map = py.detach(|| Map::load_on(&search, &name)).map_err(py_err)?;
+    let (w, h) = map.size();
+    let texels = PyByteArray::new_with(py, w * h * 12, |buf| {
+        for (dst, t) in buf.chunks_exact_mut(12).zip(map.texels()) {
+            for c in 0..3 {
+                dst[4 * c..4 * c + 4].copy_from_slice(&t[c].to_le_bytes());
+            }
+        }
+        Ok(())
+    })?;
+    Ok((map.name().to_string(), w, h, texels))
+}
+
+/// `probelab eval`'s table on one map, as its JSON text (`--format json`).
+#[pyfunction]
+#[allow(clippy::too_many_arguments)]
+fn eval(
+    py: Python<'_>,
+    map: &Bound<'_, PyAny>,
+    root: String,
+    encoders: String,
+    domain: String,
+    metric: String,
+    resolution: String,
+    polar_nodes: usize,
+) -> PyResult<String> {
+    let source = Source::extract(map, &root)?;
+    let options = EvalOptions { encoders, domain, metric, resolution, polar_nodes };
+    py.detach(|| {
+        let rows = match source {
+            Source::Named { name, search } => rows_by_name(vec![name], &options, &search)?,
+            texels => rows_on_map(&texels.open()?, &options)?,
+        };
+        Ok(String::from_utf8(table::to_json(&rows)?)?)
+    })
+    .map_err(py_err)
+}
+
+/// The flattened stored coefficients of one fit: per component, its name (`L1_0.g`, `d.x`,
+/// `ratio`), its unit and its value.
+type Coefficients = (Vec<String>, Vec<String>, Vec<f64>);
+
+/// `probelab fit`'s JSON document on one map, and each fit's stored coefficients flattened
+/// (the entries of role `stored`, their components in order: as many as the encoder stores).
+#[pyfunction]
+fn fit(
+    py: Python<'_>,
+    map: &Bound<'_, PyAny>,
+    root: String,
+    encoders: String,
+    normal: Option<(f64, f64, f64)>,
+) -> PyResult<(String, Vec<Coefficients>)> {
+    let source = Source::extract(map, &root)?;
+    let surface = surface(normal);
+    py.detach(|| {
+        let ids = encoder_ids(&encoders, surface)?;
+        let map = source.open()?;
+        let light = map.lighting(surface)?;
+        let fits = fit_all(&light, &ids)?;
+        let coefficients = fits.iter().map(|(_, stored)| flatten(stored)).collect();
+        Ok((to_json(&map, &light, &fits)?, coefficients))
+    })
+    .map_err(py_err)
+}
+
+/// The stored entries' components with their names and units.
+fn flatten(stored: &probelab::api::Stored) -> Coefficients {
+    let mut out: Coefficients = Default::default();
+    for e in stored.entries.iter().filter(|e| e.role == probelab::api::Role::Stored) {
+        let suffixes: &[&str] = match e.value {
+            Value::Scalar(_) => &[""],
+            Value::Rgb(_) => &[".r", ".g", ".b"],
+            Value::Vector(_) => &[".x", ".y", ".z"],
+        };
+        for (s, v) in suffixes.iter().zip(e.value.components()) {
+            out.0.push(format!("{}{s}", e.name));
+            out.1.push(e.unit.label().to_string());
+            out.2.push(v);
+        }
+    }
+    out
+}
+
+/// The exact E/π at each normal of `normals` (little-endian float64 triples; each finite and
+/// non-zero, normalised here), on the sphere or about the surface normal `normal`, as
+/// little-endian float64 RGB triples.
+#[pyfunction]
+fn reference<'py>(
+    py: Python<'py>,
+    map: &Bound<'_, PyAny>,
+    root: String,
+    normals: &[u8],
+    normal: Option<(f64, f64, f64)>,
+) -> PyResult<Bound<'py, PyByteArray>> {
+    let source = Source::extract(map, &root)?;
+    let normals = unit_normals(normals)?;
+    let surface = surface(normal);
+    let values = py
+        .detach(|| -> anyhow::Result<Vec<DVec3>> {
+            let map = source.open()?;
+            Ok(map.lighting(surface)?.reference(&normals))
+        })
+        .map_err(py_err)?;
+    rgb_bytes(py, &values)
+}
+
+/// The E/π of encoder `id` (defaults), fitted to the map on the sphere or about the surface
+/// normal `normal`, at each normal of `normals` (as for [`reference`]), as float64 RGB triples.
+#[pyfunction]
+fn irradiance<'py>(
+    py: Python<'py>,
+    map: &Bound<'_, PyAny>,
+    root: String,
+    id: String,
+    normals: &[u8],
+    normal: Option<(f64, f64, f64)>,
+) -> PyResult<Bound<'py, PyByteArray>> {
+    let source = Source::extract(map, &root)?;
+    let normals = unit_normals(normals)?;
+    let surface = surface(normal);
+    let values = py
+        .detach(|| -> anyhow::Result<Vec<DVec3>> {
+            let ids = encoder_ids(&id, surface)?;
+            let map = source.open()?;
+            let light = map.lighting(surface)?;
+            let fit = light.fit(&ids[0], "")?;
+            Ok(normals.iter().map(|&n| fit.irradiance(n)).collect())
+        })
+        .map_err(py_err)?;
+    rgb_bytes(py, &values)
+}
+
+/// RGB triples as a bytearray of little-endian float64.
+fn rgb_bytes<'py>(py: Python<'py>, values: &[DVec3]) -> PyResult<Bound<'py, PyByteArray>> {
+    PyByteArray::new_with(py, values.len() * 24, |buf| {
+        for (dst, v) in buf.chunks_exact_mut(8).zip(values.iter().flat_map(|v| v.to_array())) {
+            dst.copy_from_slice(&v.to_le_bytes());
+        }
+        Ok(())
+    })
+}
+
+/// The sphere, or the surface with normal `normal`.
+fn surface(normal: Option<(f64, f64, f64)>) -> Surface {
+    match normal {
+        None => Surface::Sphere,
+        Some((x, y, z)) => Surface::Normal(DVec3::new(x, y, z)),
+    }
+}
+
+/// The normals of `bytes` (float64 triples), each normalised; a zero or non-finite one is an
+/// error naming its row.
+fn unit_normals(bytes: &[u8]) -> PyResult<Vec<DVec3>> {
+    if bytes.len() % 24 != 0 {
+        return Err(Error::new_err(format!("normals: {} bytes is not a whole number of float64 triples", bytes.len())));
+    }
+    bytes
+        .chunks_exact(24)
+        .enumerate()
+        .map(|(i, t)| {
+            let c: [f64; 3] = std::array::from_fn(|k| f64::from_le_bytes(t[8 * k..8 * k + 8].try_into().unwrap()));
+            let n = DVec3::from_array(c);
+            n.try_normalize()
+                .filter(|u| n.is_finite() && u.is_finite())
+                .with_context(|| {
+                    format!("normals: row {i} is ({}, {}, {}): expected a finite, non-zero vector", c[0], c[1], c[2])
+                })
+                .map_err(py_err)
+        })
+        .collect()
+}
+
+/// Every registered encoder as `(id, summary)`, in the order `probelab encoders` lists them.
+#[pyfunction]
+fn encoders() -> Vec<(&'static str, &'static str)> {
+    probelab::encoders::REGISTRY.iter().map(|k| (k.id, k.summary)).collect()
+}
+
+/// Whether `eval` measures `fit_ns` and `eval_ns` (the command line's `--no-timing` is
+/// `set_timing(False)`); process-wide.
+#[pyfunction]
+fn set_timing(on: bool) {
+    probelab::pipeline::timing::set_enabled(on);
+}
+
+/// The module `probelab._core`.
+#[pymodule]
+fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add("Error", m.py().get_type::<Error>())?;
+    m.add("COLUMNS", table::COLUMNS.to_vec())?;
+    m.add("NUMERIC_COLUMNS", table::NUMERIC_COLUMNS.to_vec())?;
+    m.add("TIMING_COLUMNS", table::TIMING_COLUMNS.to_vec())?;
+    m.add("DEFAULT_POLAR_NODES", probelab::reference::exact::DEFAULT_POLAR_NODES)?;
+    m.add_function(wrap_pyfunction!(load_map, m)?)?;
+    m.add_function(wrap_pyfunction!(eval, m)?)?;
+    m.add_function(wrap_pyfunction!(fit, m)?)?;
+    m.add_function(wrap_pyfunction!(reference, m)?)?;
+    m.add_function(wrap_pyfunction!(irradiance, m)?)?;
+    m.add_function(wrap_pyfunction!(encoders, m)?)?;
+    m.add_function(wrap_pyfunction!(set_timing, m)?)?;
+    Ok(())
+}

@@ -1,0 +1,113 @@
+//! `probelab eval`'s table: the experiment its options describe (the encoders, the domain,
+//! the metric, the output resolution, the reference's polar nodes), run on maps found by name
+//! on the search path or on one map in memory, as the rows of the result table
+//! (`docs/tables.md`).
+
+use crate::api::Map;
+use crate::encoders;
+use crate::envmap::search::SearchPath;
+use crate::pipeline::experiment::{parse_resolution, DomainKind, Effect, Experiment};
+use crate::pipeline::runner;
+use crate::pipeline::table::Row;
+use crate::reference::domain::{expand_orientations, parse_axis, Orientation};
+use crate::reference::metrics::Metric;
+use anyhow::{bail, Context, Result};
+
+/// The options of `probelab eval`, as text (the command line's values).
+#[derive(Clone, Debug, PartialEq)]
+pub struct EvalOptions {
+    /// Comma-separated encoder ids (`--encoders`).
+    pub encoders: String,
+    /// `sphere`, or `hemisphere:AXIS` with AXIS one of +x -x +y -y +z -z (`--domain`).
+    pub domain: String,
+    /// `exact` or `probulator` (`--metric`).
+    pub metric: String,
+    /// The output lat-long grid `WxH` (`--resolution`).
+    pub resolution: String,
+    /// Gauss–Legendre nodes per row piece of the reference (`--polar-nodes`).
+    pub polar_nodes: usize,
+}
+
+impl Default for EvalOptions {
+    /// The command line's defaults.
+    fn default() -> Self {
+        EvalOptions {
+            encoders: "sh1,sh2".into(),
+            domain: "sphere".into(),
+            metric: "exact".into(),
+            resolution: "256x128".into(),
+            polar_nodes: crate::reference::exact::DEFAULT_POLAR_NODES,
+        }
+    }
+}
+
+/// The rows of `probelab eval MAPS…`: every map found by name (or path) on `search`. A map
+/// not found is an error naming it, why, and the folders searched.
+pub fn rows_by_name(maps: Vec<String>, o: &EvalOptions, search: &SearchPath) -> Result<Vec<Row>> {
+    let exp = experiment(maps, o)?;
+    let report = runner::run(&exp, search)?;
+    if !report.missing.is_empty() {
+        let why: Vec<String> =
+            report.missing.iter().zip(&report.missing_why).map(|(m, w)| format!("{m} ({w})")).collect();
+        bail!("map(s) not found: {}\nSearched: {}", why.join(", "), search.describe());
+    }
+    Ok(report.rows)
+}
+
+/// The rows of `probelab eval` on one map in memory (named `map.name()` in the rows): the
+/// same experiment and the same scoring as [`rows_by_name`].
+pub fn rows_on_map(map: &Map, o: &EvalOptions) -> Result<Vec<Row>> {
+    let exp = experiment(vec![map.name().to_string()], o)?;
+    Ok(runner::run_map(&exp, map.env_map()))
+}
+
+/// The experiment `probelab eval` runs. Every option is checked before any map is read.
+pub fn experiment(maps: Vec<String>, o: &EvalOptions) -> Result<Experiment> {
+    let res = parse_resolution(&o.resolution).context("--resolution")?;
+    let metric = Metric::parse(&o.metric)?;
+    let (kind, orientations, effects) = domain(&o.domain)?;
+    if kind == DomainKind::Hemisphere && metric == Metric::Probulator {
+        bail!("--metric probulator scores the whole sphere; use --domain sphere");
+    }
+    if !(1..=16).contains(&o.polar_nodes) {
+        bail!("--polar-nodes {}: expected 1..=16", o.polar_nodes);
+    }
+    let encoders = encoders::build_list(&o.encoders)?;
+    if kind == DomainKind::Sphere {
+        if let Some(e) = encoders.iter().find(|e| e.encoder.needs_surface_normal()) {
+            bail!(
+                "--encoders: {}; pass --domain hemisphere:AXIS (AXIS one of +x, -x, +y, -y, +z, -z), or run an \
+                 experiment with domain = \"hemisphere\"",
+                crate::encoders::encoder::surface_normal_refusal(&e.name)
+            );
+        }
+    }
+    Ok(Experiment {
+        name: "eval".into(),
+        description: String::new(),
+        source: None,
+        maps,
+        encoders,
+        metrics: vec![metric],
+        domain: kind,
+        orientations,
+        effects,
+        resolution: res,
+        polar_nodes: o.polar_nodes,
+        ci: false,
+        summary: None,
+        sheets: None,
+    })
+}
+
+/// The domain's kind, orientations and effects: `sphere` or `hemisphere:AXIS`.
+fn domain(domain: &str) -> Result<(DomainKind, Vec<Orientation>, Vec<Effect>)> {
+    if domain == "sphere" {
+        return Ok((DomainKind::Sphere, vec![], vec![]));
+    }
+    let Some(axis) = domain.strip_prefix("hemisphere:") else {
+        bail!("--domain '{domain}': expected sphere or hemisphere:AXIS (AXIS one of +x, -x, +y, -y, +z, -z)");
+    };
+    parse_axis(axis).with_context(|| format!("--domain {domain}"))?;
+    Ok((DomainKind::Hemisphere, expand_orientations(axis)?, vec![Effect::Hemisphere]))
+}
