@@ -237,7 +237,7 @@ fn surface(normal: Option<(f64, f64, f64)>) -> Surface {
 /// The normals of `bytes` (float64 triples), each normalised; a zero or non-finite one is an
 /// error naming its row.
 fn unit_normals(bytes: &[u8]) -> PyResult<Vec<DVec3>> {
-    if bytes.len() % 24 != 0 {
+    if !bytes.len().is_multiple_of(24) {
         return Err(Error::new_err(format!("normals: {} bytes is not a whole number of float64 triples", bytes.len())));
     }
     bytes
