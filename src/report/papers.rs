@@ -155,21 +155,9 @@ fn relative_link(l: &str) -> Option<&str> {
     (!outside).then_some(l)
 }
 
-/// The at-a-glance table: one row per claim, in paper order (declarations), then claims of
-/// the CSV that no declaration lists. No cell is ever cut: short text is written at the source
-/// (the declarations' `says` and `paper_figure`, the engine's headlines). `claims` is
-/// `None` when `results/CLAIMS.csv` does not exist: one line says so.
-pub fn at_a_glance(papers: &[Paper], claims: Option<&CsvTable>) -> Result<String> {
-    let mut md = String::from("## Reproduction at a glance\n\n");
-    let Some(t) = claims else {
-        md.push_str(
-            "`results/CLAIMS.csv` is not there yet: the claims engine writes it (`probelab reproduce`), and this \
-             table then lists every claim with its verdict.\n\n",
-        );
-        return Ok(md);
-    };
-    let c = t.require(&CLAIMS_CSV_COLUMNS)?;
-    let (id, kind, verdict, paper_fig, ours, detail) = (c[0], c[1], c[2], c[3], c[4], c[7]);
+/// Refuses a row of `CLAIMS.csv` with an unknown kind, a verdict word its kind does not allow,
+/// or an id seen twice (`id`, `kind`, `verdict`: the column indices).
+fn check_rows(t: &CsvTable, id: usize, kind: usize, verdict: usize) -> Result<()> {
     let mut seen: Vec<&str> = Vec::new();
     for r in &t.rows {
         let Some(k) = Kind::parse(r[kind].trim()) else {
@@ -198,6 +186,25 @@ pub fn at_a_glance(papers: &[Paper], claims: Option<&CsvTable>) -> Result<String
         }
         seen.push(&r[id]);
     }
+    Ok(())
+}
+
+/// The at-a-glance table: one row per claim, in paper order (declarations), then claims of
+/// the CSV that no declaration lists. No cell is ever cut: short text is written at the source
+/// (the declarations' `says` and `paper_figure`, the engine's headlines). `claims` is
+/// `None` when `results/CLAIMS.csv` does not exist: one line says so.
+pub fn at_a_glance(papers: &[Paper], claims: Option<&CsvTable>) -> Result<String> {
+    let mut md = String::from("## Reproduction at a glance\n\n");
+    let Some(t) = claims else {
+        md.push_str(
+            "`results/CLAIMS.csv` is not there yet: the claims engine writes it (`probelab reproduce`), and this \
+             table then lists every claim with its verdict.\n\n",
+        );
+        return Ok(md);
+    };
+    let c = t.require(&CLAIMS_CSV_COLUMNS)?;
+    let (id, kind, verdict, paper_fig, ours, detail) = (c[0], c[1], c[2], c[3], c[4], c[7]);
+    check_rows(t, id, kind, verdict)?;
     let row_of = |cid: &str| t.rows.iter().find(|r| r[id] == cid);
     let cell = |s: &str| s.trim().to_string();
     let line = |cid: &str, says: &str, r: Option<&Vec<String>>| -> Vec<String> {
