@@ -94,8 +94,13 @@ fn claims_on_the_committed_evidence_give_one_verdict_per_id() {
     assert!(stdout.contains("measurements not taken"), "{stdout}");
     let rows = parse_csv(&std::fs::read_to_string(s.path().join("results/CLAIMS.csv")).unwrap());
     assert_eq!(rows.len(), 22);
+    let papers = load_papers(&repo().join("experiments")).unwrap();
     for r in &rows {
-        assert!(["holds", "partly", "fails", "untestable"].contains(&r["verdict"].as_str()), "{r:?}");
+        // The kind is the declared one, and the verdict one of the words it allows.
+        let decl = papers.iter().flat_map(|p| &p.claims).find(|c| c.id == r["id"]).unwrap();
+        assert_eq!(r["kind"], decl.kind.as_str(), "{r:?}");
+        let v = r["verdict"].as_str();
+        assert!(decl.kind.verdict_words().contains(&v) || v == "untestable", "{r:?}");
         assert!(r["detail"].starts_with("claims/") && r["detail"].contains(".md#"), "{r:?}");
         assert!(!r["criterion"].is_empty() && !r["paper_figure"].is_empty(), "{r:?}");
     }
@@ -116,18 +121,25 @@ fn a_failing_claim_is_reported_as_failing() {
         "experiments/claims/t.toml",
         "title='T'\nauthors='A'\nvenue='V'\norder=1\n\
          [[claim]]\nid='X1'\nsays='a beats b by half'\npaper_figure='p'\ncriterion='a/b < 0.5 on every map'\n\
+         kind='measured'\nfixed='before data'\ndiffers='d'\n\
          [[claim.check]]\nname='a/b'\ntable='exp'\nencoder='a'\nbaseline='b'\ntest='ratio_every'\nbelow=0.7\n\
+         role='primary'\n\
          [[claim]]\nid='X2'\nsays='needs data'\npaper_figure='p'\ncriterion='c'\n\
-         [[claim.check]]\nname='missing'\ntable='nothing_here'\nencoder='a'\ntest='every_at_most'\nbound=1\n",
+         kind='identity'\nfixed='before data'\ndiffers='d'\n\
+         [[claim.check]]\nname='missing'\ntable='nothing_here'\nencoder='a'\ntest='every_at_most'\nbound=1\n\
+         role='primary'\n",
     );
     s.write("results/exp/table.csv", "map,encoder,rmse\nm1,a,0.6\nm1,b,1\nm2,a,0.4\nm2,b,1\n");
     let out = s.run(&["claims"]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let rows = parse_csv(&std::fs::read_to_string(s.path().join("results/CLAIMS.csv")).unwrap());
-    assert_eq!(rows[0]["verdict"], "holds");
-    assert_eq!(rows[1]["verdict"], "untestable");
+    assert_eq!((rows[0]["kind"].as_str(), rows[0]["verdict"].as_str()), ("measured", "holds"));
+    assert_eq!((rows[1]["kind"].as_str(), rows[1]["verdict"].as_str()), ("identity", "untestable"));
     let page = std::fs::read_to_string(s.path().join("results/claims/t.md")).unwrap();
     assert!(page.contains("nothing_here/table.csv"), "{page}");
+    // Every claim has its "What we found" paragraph, with our figure and the verdict.
+    assert_eq!(page.matches("**What we found.**").count(), 2, "{page}");
+    assert!(page.contains("We measure 2/2 maps < 0.700"), "{page}");
     // The paper's own wording, "by half": one map of two passes, so the claim fails.
     let text = std::fs::read_to_string(s.path().join("experiments/claims/t.toml")).unwrap();
     s.write("experiments/claims/t.toml", text.replace("below=0.7", "below=0.5"));

@@ -314,27 +314,33 @@ fn provenance_page_lists_every_map(res: &Path) {
 /// Claims: fixture declarations (two papers, out of file order) and a fixture CLAIMS.csv.
 fn claims_at_a_glance_in_paper_order(scratch: &Scratch, res: &Path) {
     let root = scratch.path();
+    const KIND: &str = "kind = \"measured\"\nfixed = \"before data\"\ndiffers = \"d\"\n";
     write(
         &root.join("experiments/claims/zz_first.toml"),
-        "title = \"Paper One\"\nauthors = \"A. Author\"\nvenue = \"Conf 1\"\norder = 1\n\
-         [[claim]]\nid = \"P1\"\nsays = \"sh2 beats sh1\"\npaper_figure = \"yes\"\ncriterion = \"every map\"\n\
-         [[claim.check]]\nname = \"c\"\ntable = \"a_sphere\"\nencoder = \"sh2\"\nbaseline = \"sh1\"\ntest = \"ratio_every\"\n\
-         [[claim]]\nid = \"P2\"\nsays = \"never judged\"\npaper_figure = \"-\"\ncriterion = \"-\"\n\
-         [[claim.check]]\nname = \"c\"\ntable = \"a_sphere\"\nencoder = \"sh2\"\ntest = \"every_at_most\"\nbound = 1\n",
+        &("title = \"Paper One\"\nauthors = \"A. Author\"\nvenue = \"Conf 1\"\norder = 1\n\
+         [[claim]]\nid = \"P1\"\nsays = \"sh2 beats sh1\"\npaper_figure = \"yes\"\ncriterion = \"every map\"\n{K}\
+         [[claim.check]]\nname = \"c\"\ntable = \"a_sphere\"\nencoder = \"sh2\"\nbaseline = \"sh1\"\ntest = \"ratio_every\"\n{P}\
+         [[claim]]\nid = \"P2\"\nsays = \"never judged\"\npaper_figure = \"-\"\ncriterion = \"-\"\n{K}\
+         [[claim.check]]\nname = \"c\"\ntable = \"a_sphere\"\nencoder = \"sh2\"\ntest = \"every_at_most\"\nbound = 1\n{P}"
+        )
+        .replace("{K}", KIND)
+        .replace("{P}", "role = \"primary\"\n"),
     );
     write(
         &root.join("experiments/claims/aa_second.toml"),
         "title = \"Paper Two\"\nauthors = \"B. Author\"\nvenue = \"Conf 2\"\norder = 2\n\
          [[claim]]\nid = \"Q1\"\nsays = \"the second paper's claim\"\npaper_figure = \"27%\"\ncriterion = \"-\"\n\
-         [[claim.check]]\nname = \"c\"\ntable = \"a_sphere\"\nencoder = \"sh2\"\ntest = \"every_at_most\"\nbound = 1\n",
+         kind = \"anchor\"\nfixed = \"after data: a production figure\"\ndiffers = \"d\"\n\
+         [[claim.check]]\nname = \"c\"\ntable = \"a_sphere\"\nencoder = \"sh2\"\nbaseline = \"sh1\"\n\
+         test = \"ratio_summary\"\nrole = \"primary\"\n",
     );
     let long = "x ".repeat(200);
     write(
         &res.join("CLAIMS.csv"),
         &format!(
-            "id,verdict,paper_figure,our_figure,criterion,maps,detail\n\
-             Q1,fails,27%,\"{long}\",c,all,claims/aa_second.md#q1\n\
-             P1,holds,yes,0.47 vs 1.9,c,all,claims/zz_first.md#p1\n"
+            "id,kind,verdict,paper_figure,our_figure,criterion,maps,detail\n\
+             Q1,anchor,not comparable,27%,\"{long}\",c,all,claims/aa_second.md#q1\n\
+             P1,measured,holds,yes,0.47 vs 1.9,c,all,claims/zz_first.md#p1\n"
         ),
     );
     write(&res.join("claims/aa_second.md"), "# Paper Two\n\n<a id=\"q1\"></a>\n");
@@ -347,30 +353,39 @@ fn claims_at_a_glance_in_paper_order(scratch: &Scratch, res: &Path) {
     // Paper order (by `order`, not file name), then declaration order; a declared claim without
     // a row is shown as not judged.
     assert!(
-        rows[0].starts_with("| [P1](claims/zz_first.md#p1) | sh2 beats sh1 | yes | 0.47 vs 1.9 | **holds** |"),
+        rows[0]
+            .starts_with("| [P1](claims/zz_first.md#p1) | measured | sh2 beats sh1 | yes | 0.47 vs 1.9 | **holds** |"),
         "{}",
         rows[0]
     );
-    assert!(rows[1].starts_with("| P2 | never judged | - | - | not judged"), "{}", rows[1]);
-    assert!(rows[2].starts_with("| [Q1](claims/aa_second.md#q1) | the second paper's claim | 27% |"), "{}", rows[2]);
-    assert!(rows[2].contains("…") && rows[2].contains("**fails**"), "the long figure is cut: {}", rows[2]);
-    for r in &rows {
-        for c in r.trim_matches('|').split(" | ") {
-            assert!(c.trim().chars().count() <= 150, "cell over 150 characters: {c}");
-        }
-    }
-    assert!(md.contains("2 claims judged: 1 hold, 0 partly, 1 fail, 0 untestable"), "{md}");
+    assert!(rows[1].starts_with("| P2 | - | never judged | - | - | not judged"), "{}", rows[1]);
+    assert!(
+        rows[2].starts_with("| [Q1](claims/aa_second.md#q1) | anchor | the second paper's claim | 27% |"),
+        "{}",
+        rows[2]
+    );
+    // No cell is ever cut: the long figure stands whole.
+    assert!(rows[2].contains(long.trim()) && !rows[2].contains('…'), "the long figure is cut: {}", rows[2]);
+    assert!(rows[2].contains("**not comparable**"), "{}", rows[2]);
+    assert!(md.contains("2 claims judged: 1 holds, 1 not comparable."), "{md}");
     assert!(md.find("## Paper One").unwrap() < md.find("## Paper Two").unwrap(), "sections in paper order");
     assert!(md.contains("A. Author. Conf 1. Claims P1, P2"), "{md}");
 }
 
-/// A verdict outside the four is refused with the file and claim named, exit 2.
+/// A verdict word its kind does not allow is refused with the file and claim named, exit 2.
 fn unknown_verdict_is_refused(scratch: &Scratch, res: &Path) {
-    write(&res.join("CLAIMS.csv"), "id,verdict,paper_figure,our_figure,criterion,maps,detail\nP1,yes,a,b,c,d,e\n");
+    let head = "id,kind,verdict,paper_figure,our_figure,criterion,maps,detail\n";
+    write(&res.join("CLAIMS.csv"), &format!("{head}P1,measured,yes,a,b,c,d,e\n"));
     let out = probelab(scratch, &["report"]);
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("CLAIMS.csv") && err.contains("P1") && err.contains("holds, partly"), "{err}");
+    // A word of another kind is refused too: an anchor never holds.
+    write(&res.join("CLAIMS.csv"), &format!("{head}P1,anchor,holds,a,b,c,d,e\n"));
+    let out = probelab(scratch, &["report"]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("an anchor claim may get (not comparable"), "{err}");
     std::fs::remove_file(res.join("CLAIMS.csv")).unwrap();
 }
 

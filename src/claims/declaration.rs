@@ -1,7 +1,8 @@
 //! The claims as data: one declaration file per paper, `experiments/claims/<paper>.toml`,
 //! parsed and validated here. Every claim of the papers (`CLAIMS.md` of the paper texts) is
-//! declared once, with the paper's statement and figure, the criterion fixed before the run,
-//! the evidence it is judged on and the rule its checks roll up by. Judging is
+//! declared once, with the paper's statement and figure, its evidence kind (which decides the
+//! verdict words it may get), the criterion and when it was fixed, the one primary check that
+//! decides the verdict and the context checks shown under it. Judging is
 //! [`crate::claims::judge`]; nothing in Rust writes a verdict.
 //!
 //! | key (top level)  | type   | meaning |
@@ -17,10 +18,12 @@
 //! | `id`              | string | the claim id of CLAIMS.md (`Z6`, `H3`, `D1`) |
 //! | `says`            | string | what the paper says, in a phrase (≤ 110 characters) |
 //! | `statement`       | string | the claim in full (optional; defaults to `says`) |
-//! | `paper_figure`    | string | the paper's own figure for it, as text |
-//! | `criterion`       | string | when it counts as holding, in words that mirror the paper's, and why any band was chosen |
-//! | `rollup`          | string | `all` (default): holds if every required check passes on every set it is judged on; fails if none passes on any set; otherwise partly (naming what failed). `any`: holds if some required check passes on every set. |
-//! | `[[claim.check]]` | tables | the sub-checks (at least one) |
+//! | `paper_figure`    | string | the paper's own figure for it, as text (≤ 110 characters, like `says`: the report never cuts a cell) |
+//! | `kind`            | string | the evidence kind ([`Kind`]): `identity` (true by derivation or construction: `holds (identity)` or `fails`), `measured` (a general statement over maps or scenes: `holds`, `partly`, `fails`), `example` (stated for one case: `reproduced` or `not reproduced`), `anchor` (the paper's figure comes from a population we do not have: `not comparable`) |
+//! | `criterion`       | string | when it counts as holding, in words that mirror the paper's, and why any band was chosen; for an `anchor`, why it is not comparable |
+//! | `fixed`           | string | when the criterion was fixed: `before data`, or `after data: <reason>` |
+//! | `differs`         | string | why our figure and the paper's may differ (population, metric, maps, resolution), for the page's "What we found" |
+//! | `[[claim.check]]` | tables | the checks: exactly one with `role = "primary"`, which alone decides the verdict; the others are context, shown under it |
 //!
 //! | key (`[[claim.check]]`) | type | meaning |
 //! |-------------------------|------|---------|
@@ -30,16 +33,18 @@
 //! | `encoder`   | string | the rows judged (the `encoder` column) |
 //! | `baseline`  | string | for ratio tests: the rows compared with, matched on the key columns (`map`, `domain`, `effects`, `metric`, `case` where present) |
 //! | `column`    | string | the numeric column judged (default `rmse`) |
-//! | `test`      | string | `ratio_every` (every matched ratio < `below`), `ratio_some` (at least one ratio < `below`), `ratio_stat` (the ratio statistic in [`min`, `max`]), `every_at_most` / `every_at_least` (every value against `bound`), `equal` (every pair agrees within `tolerance` relative to max(\|a\|, \|b\|), or within `abs_tolerance`) |
+//! | `test`      | string | `ratio_every` (every matched ratio < `below`), `ratio_some` (at least one ratio < `below`), `ratio_stat` (the statistic of the per-map ratios in [`min`, `max`]), `ratio_summary` (the per-map ratios summarised, no criterion: an anchor's figure or context), `every_at_most` / `every_at_least` (every value against `bound`), `every_equal` (every value exactly `bound`), `equal` (every pair agrees within `tolerance` relative to max(\|a\|, \|b\|), or within `abs_tolerance`) |
 //! | `below`     | number | the ratio threshold of `ratio_every`/`ratio_some` (default 1) |
-//! | `statistic` | string | `ratio_stat`: `ratio_of_means` (Σa / Σb) or `median_ratio` (median of the per-row ratios) |
+//! | `per_map`   | bool   | `ratio_every`/`ratio_some`: judge each map's ratio (the geometric mean of its rows' ratios) instead of each row (default false) |
+//! | `statistic` | string | `ratio_stat`: `median` or `geomean` of the per-map ratios (a map's ratio: the geometric mean of its rows' ratios). Never a ratio of pooled means. |
 //! | `min`, `max`| number | `ratio_stat`: the band (either may be omitted) |
-//! | `bound`     | number | `every_at_most` / `every_at_least` |
+//! | `bound`     | number | `every_at_most` / `every_at_least` / `every_equal` |
 //! | `tolerance`, `abs_tolerance` | number | `equal` (defaults 1e-9, 1e-12) |
 //! | `floor`     | number | ratio tests: rows whose baseline value is below this are excluded and counted (default 0: only an exactly zero baseline) |
 //! | `on`        | list   | the map sets judged: `all` and/or names of `[map_sets]` (default `["all"]`; a set absent from the table makes the check untestable on it) |
 //! | `maps`      | list   | only rows of these maps (within every set) |
-//! | `role`      | string | `required` (default) or `anchor`: shown, never counted (a production percentage of the paper) |
+//! | `role`      | string | `primary` (exactly one per claim: decides the verdict) or `context` (default: shown under it, never changes it) |
+//! | `beside`    | bool   | a context check whose headline stands beside the verdict in `CLAIMS.csv` and the report (e.g. a cost the verdict does not count; default false) |
 
 use anyhow::{bail, Context, Result};
 use serde::Deserialize;
@@ -49,8 +54,60 @@ use std::path::{Path, PathBuf};
 /// The folder under `experiments/` that holds the declarations.
 pub const DIR: &str = "claims";
 
-/// The longest `says` phrase (the report's at-a-glance table keeps cells short).
+/// The longest `says` and `paper_figure` phrases (the report's at-a-glance table never cuts a
+/// cell, so its cells are short at the source).
 pub const SAYS_MAX: usize = 110;
+
+/// What kind of evidence a claim is, which decides the verdict words it may get.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Kind {
+    /// True by derivation or construction, checked numerically to rounding (by an independent
+    /// path where one exists): `holds (identity)` or `fails`.
+    Identity,
+    /// A general statement over maps or scenes: `holds`, `partly` or `fails`, decided by the
+    /// primary check.
+    Measured,
+    /// Stated for one case (usually the paper's figure): `reproduced` or `not reproduced`, on
+    /// the paper's case or the closest we have; the rate over all maps is context.
+    Example,
+    /// The paper's figure comes from a population we do not have (a production set): `not
+    /// comparable`; our figure stands beside theirs, with the reason. It never holds or fails.
+    Anchor,
+}
+
+impl Kind {
+    /// Every kind, in the order the docs list them.
+    pub const ALL: [Kind; 4] = [Kind::Identity, Kind::Measured, Kind::Example, Kind::Anchor];
+
+    /// The key's value (`identity`, `measured`, `example`, `anchor`).
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Kind::Identity => "identity",
+            Kind::Measured => "measured",
+            Kind::Example => "example",
+            Kind::Anchor => "anchor",
+        }
+    }
+
+    /// The verdict words a claim of this kind may get when its evidence is there
+    /// (`untestable` is the one word any kind gets when it is not).
+    pub fn verdict_words(self) -> &'static [&'static str] {
+        match self {
+            Kind::Identity => &["holds (identity)", "fails"],
+            Kind::Measured => &["holds", "partly", "fails"],
+            Kind::Example => &["reproduced", "not reproduced"],
+            Kind::Anchor => &["not comparable"],
+        }
+    }
+
+    /// The kind named `s`, if any.
+    pub fn parse(s: &str) -> Option<Kind> {
+        Kind::ALL.into_iter().find(|k| k.as_str() == s)
+    }
+}
+
+/// The word of a claim whose evidence is missing, for any kind.
+pub const UNTESTABLE: &str = "untestable";
 
 /// A paper and its claims.
 #[derive(Clone, Debug)]
@@ -85,22 +142,24 @@ pub struct ClaimDecl {
     pub statement: String,
     /// The paper's own figure for the claim, as text (`paper_figure`).
     pub paper_figure: String,
-    /// When the claim counts as holding, in words fixed before the run (`criterion`).
+    /// When the claim counts as holding, in words that mirror the paper's (`criterion`).
     pub criterion: String,
-    /// How the checks roll up into the claim's verdict (`rollup`, default `all`).
-    pub rollup: Rollup,
-    /// The sub-checks, at least one of them required (`[[claim.check]]`).
+    /// The evidence kind (`kind`), which decides the verdict words.
+    pub kind: Kind,
+    /// When the criterion was fixed (`fixed`): `before data` or `after data: <reason>`.
+    pub fixed: String,
+    /// Why our figure and the paper's may differ (`differs`).
+    pub differs: String,
+    /// The checks (`[[claim.check]]`): exactly one primary, the others context.
     pub checks: Vec<CheckDecl>,
 }
 
-/// How a claim's checks roll up into its one verdict.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Rollup {
-    /// `all`: holds if every required check passes on every set judged; fails if none passes
-    /// on any set; otherwise partly.
-    All,
-    /// `any`: holds if some required check passes on every set judged.
-    Any,
+impl ClaimDecl {
+    /// The primary check: the one that decides the verdict.
+    pub fn primary(&self) -> &CheckDecl {
+        // Cannot fail: `parse` refuses a claim without exactly one primary check.
+        self.checks.iter().find(|k| k.primary).expect("validated: one primary check")
+    }
 }
 
 /// Where a check's rows come from.
@@ -132,17 +191,26 @@ impl Source {
 /// The criterion of a check.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Test {
-    /// `ratio_every`: every matched encoder/baseline ratio is below the threshold.
+    /// `ratio_every`: every matched encoder/baseline ratio (per row, or per map) is below the
+    /// threshold.
     RatioEvery {
         /// The ratio threshold (`below`, default 1).
         below: f64,
+        /// Judge each map's ratio instead of each row's (`per_map`).
+        per_map: bool,
     },
-    /// `ratio_some`: at least one matched encoder/baseline ratio is below the threshold.
+    /// `ratio_some`: at least one matched encoder/baseline ratio (per row, or per map) is
+    /// below the threshold.
     RatioSome {
         /// The ratio threshold (`below`, default 1).
         below: f64,
+        /// Judge each map's ratio instead of each row's (`per_map`).
+        per_map: bool,
     },
-    /// `ratio_stat`: a ratio statistic over the matched rows lies in [`min`, `max`].
+    /// `ratio_summary`: the per-map ratios summarised (median, geometric mean, range); no
+    /// criterion, so it neither passes nor fails.
+    RatioSummary,
+    /// `ratio_stat`: a statistic of the per-map ratios lies in [`min`, `max`].
     RatioStat {
         /// The statistic computed (`statistic`).
         statistic: Statistic,
@@ -161,6 +229,11 @@ pub enum Test {
         /// The bound, in the judged column's units (`bound`).
         bound: f64,
     },
+    /// `every_equal`: every value is exactly the bound (a count, a size in bytes).
+    EveryEqual {
+        /// The value every row must have (`bound`).
+        value: f64,
+    },
     /// `equal`: every value agrees with its baseline's within the tolerances.
     Equal {
         /// The largest difference relative to max(|a|, |b|) (`tolerance`, default 1e-9).
@@ -173,17 +246,28 @@ pub enum Test {
 impl Test {
     /// Whether the test compares the encoder with a baseline.
     pub fn needs_baseline(&self) -> bool {
-        !matches!(self, Test::EveryAtMost { .. } | Test::EveryAtLeast { .. })
+        !matches!(self, Test::EveryAtMost { .. } | Test::EveryAtLeast { .. } | Test::EveryEqual { .. })
     }
 }
 
-/// A ratio statistic over matched rows.
+/// A statistic of the per-map ratios (a map's ratio: the geometric mean of its rows' ratios).
+/// Never a ratio of pooled means, which one map with large errors dominates.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Statistic {
-    /// Σ encoder / Σ baseline.
-    RatioOfMeans,
-    /// The median of the per-row ratios.
-    MedianRatio,
+    /// The median of the per-map ratios (`median`).
+    Median,
+    /// The geometric mean of the per-map ratios (`geomean`).
+    GeoMean,
+}
+
+impl Statistic {
+    /// The statistic named in words, as every figure names it.
+    pub fn words(self) -> &'static str {
+        match self {
+            Statistic::Median => "median of per-map ratios",
+            Statistic::GeoMean => "geometric mean of per-map ratios",
+        }
+    }
 }
 
 /// One sub-check.
@@ -210,8 +294,11 @@ pub struct CheckDecl {
     pub on: Vec<String>,
     /// Only rows of these maps, within every set (`maps`); `None`: every map.
     pub maps: Option<Vec<String>>,
-    /// Whether the check is an anchor (`role = "anchor"`): shown, never counted.
-    pub anchor: bool,
+    /// Whether the check is the claim's primary one (`role = "primary"`): it alone decides
+    /// the verdict; the others are context.
+    pub primary: bool,
+    /// A context check whose headline stands beside the verdict (`beside`).
+    pub beside: bool,
 }
 
 #[derive(Deserialize)]
@@ -242,7 +329,9 @@ struct ClaimFile {
     statement: Option<String>,
     paper_figure: String,
     criterion: String,
-    rollup: Option<String>,
+    kind: String,
+    fixed: String,
+    differs: String,
     #[serde(default)]
     check: Vec<CheckFile>,
 }
@@ -259,6 +348,7 @@ struct CheckFile {
     column: Option<String>,
     test: String,
     below: Option<f64>,
+    per_map: Option<bool>,
     statistic: Option<String>,
     min: Option<f64>,
     max: Option<f64>,
@@ -269,6 +359,7 @@ struct CheckFile {
     on: Option<Vec<String>>,
     maps: Option<Vec<String>>,
     role: Option<String>,
+    beside: Option<bool>,
 }
 
 /// A finite number, or the key's error.
@@ -305,11 +396,18 @@ impl CheckFile {
         if self.maps.as_ref().is_some_and(|m| m.is_empty()) {
             bail!("claim {at}: maps = [] matches no row");
         }
-        let anchor = match self.role.as_deref().unwrap_or("required") {
-            "required" => false,
-            "anchor" => true,
-            r => bail!("claim {at}: role '{r}' (expected required or anchor)"),
+        let primary = match self.role.as_deref().unwrap_or("context") {
+            "primary" => true,
+            "context" => false,
+            r => bail!("claim {at}: role '{r}' (expected primary or context)"),
         };
+        let beside = self.beside.unwrap_or(false);
+        if beside && primary {
+            bail!("claim {at}: 'beside' is for a context check (the primary's figure is the claim's own)");
+        }
+        if self.per_map.is_some() && !matches!(self.test.as_str(), "ratio_every" | "ratio_some") {
+            bail!("claim {at}: 'per_map' is not used by test = \"{}\"", self.test);
+        }
         Ok(CheckDecl {
             name: self.name,
             source,
@@ -321,7 +419,8 @@ impl CheckFile {
             floor: non_negative(&at, "floor", self.floor.unwrap_or(0.0))?,
             on,
             maps: self.maps,
-            anchor,
+            primary,
+            beside,
         })
     }
 
@@ -353,7 +452,22 @@ impl CheckFile {
         match self.test.as_str() {
             "ratio_every" | "ratio_some" => self.ratio_test(at),
             "ratio_stat" => self.ratio_stat_test(at),
-            "every_at_most" | "every_at_least" => self.bound_test(at),
+            "ratio_summary" => {
+                self.unused(
+                    at,
+                    &[
+                        ("below", self.below.is_some()),
+                        ("statistic", self.statistic.is_some()),
+                        ("min", self.min.is_some()),
+                        ("max", self.max.is_some()),
+                        ("bound", self.bound.is_some()),
+                        ("tolerance", self.tolerance.is_some()),
+                        ("abs_tolerance", self.abs_tolerance.is_some()),
+                    ],
+                )?;
+                Ok(Test::RatioSummary)
+            }
+            "every_at_most" | "every_at_least" | "every_equal" => self.bound_test(at),
             "equal" => {
                 self.unused(
                     at,
@@ -372,7 +486,7 @@ impl CheckFile {
                 })
             }
             t => bail!(
-                "claim {at}: test '{t}' (expected ratio_every, ratio_some, ratio_stat, every_at_most, every_at_least or equal)"
+                "claim {at}: test '{t}' (expected ratio_every, ratio_some, ratio_stat, ratio_summary, every_at_most, every_at_least, every_equal or equal)"
             ),
         }
     }
@@ -391,7 +505,12 @@ impl CheckFile {
             ],
         )?;
         let below = non_negative(at, "below", self.below.unwrap_or(1.0))?;
-        Ok(if self.test == "ratio_every" { Test::RatioEvery { below } } else { Test::RatioSome { below } })
+        let per_map = self.per_map.unwrap_or(false);
+        Ok(if self.test == "ratio_every" {
+            Test::RatioEvery { below, per_map }
+        } else {
+            Test::RatioSome { below, per_map }
+        })
     }
 
     /// `ratio_stat`: the `statistic` and its band [`min`, `max`] (at least one of them).
@@ -406,9 +525,12 @@ impl CheckFile {
             ],
         )?;
         let statistic = match self.statistic.as_deref() {
-            Some("ratio_of_means") => Statistic::RatioOfMeans,
-            Some("median_ratio") => Statistic::MedianRatio,
-            Some(s) => bail!("claim {at}: statistic '{s}' (expected ratio_of_means or median_ratio)"),
+            Some("median") => Statistic::Median,
+            Some("geomean") => Statistic::GeoMean,
+            Some(s) => bail!(
+                "claim {at}: statistic '{s}' (expected median or geomean of the per-map ratios; a ratio of pooled \
+                 means is not offered: one map with large errors dominates it)"
+            ),
             None => bail!("claim {at}: test = \"ratio_stat\" needs 'statistic'"),
         };
         let min = self.min.map(|v| non_negative(at, "min", v)).transpose()?;
@@ -424,7 +546,7 @@ impl CheckFile {
         Ok(Test::RatioStat { statistic, min, max })
     }
 
-    /// `every_at_most` / `every_at_least`: the `bound`; no baseline.
+    /// `every_at_most` / `every_at_least` / `every_equal`: the `bound`; no baseline.
     fn bound_test(&self, at: &str) -> Result<Test> {
         self.unused(
             at,
@@ -441,7 +563,11 @@ impl CheckFile {
         )?;
         let Some(b) = self.bound else { bail!("claim {at}: test = \"{}\" needs 'bound'", self.test) };
         let bound = finite(at, "bound", b)?;
-        Ok(if self.test == "every_at_most" { Test::EveryAtMost { bound } } else { Test::EveryAtLeast { bound } })
+        Ok(match self.test.as_str() {
+            "every_at_most" => Test::EveryAtMost { bound },
+            "every_at_least" => Test::EveryAtLeast { bound },
+            _ => Test::EveryEqual { value: bound },
+        })
     }
 }
 
@@ -478,6 +604,39 @@ fn check_on(on: &[String], sets: &BTreeMap<String, Vec<String>>, at: &str) -> Re
     Ok(())
 }
 
+/// Refuses a `fixed` that is neither `before data` nor `after data: <reason>`.
+fn check_fixed(fixed: &str) -> Result<()> {
+    match fixed.strip_prefix("after data:") {
+        _ if fixed == "before data" => Ok(()),
+        Some(reason) if !reason.trim().is_empty() => Ok(()),
+        _ => bail!("fixed '{fixed}' (expected \"before data\" or \"after data: <reason>\")"),
+    }
+}
+
+/// Refuses a claim without exactly one primary check, and a primary whose test does not fit
+/// the kind: an anchor's primary only summarises (`ratio_summary`: it never holds or fails);
+/// every other kind's primary has a criterion.
+fn check_primary(kind: Kind, checks: &[CheckDecl]) -> Result<()> {
+    let primaries: Vec<&CheckDecl> = checks.iter().filter(|k| k.primary).collect();
+    let [p] = primaries.as_slice() else {
+        bail!("{} checks have role = \"primary\" (exactly one decides the verdict)", primaries.len())
+    };
+    let summary = matches!(p.test, Test::RatioSummary);
+    if kind == Kind::Anchor && !summary {
+        bail!(
+            "an anchor's primary check is test = \"ratio_summary\": an anchor is not comparable, never held or failed"
+        );
+    }
+    if kind != Kind::Anchor && summary {
+        bail!(
+            "the primary check of a{} {} claim needs a criterion (ratio_summary has none)",
+            if kind == Kind::Identity { "n" } else { "" },
+            kind.as_str()
+        );
+    }
+    Ok(())
+}
+
 /// Parses one declaration file's text; `key` is its stem, `origin` names it in errors.
 pub fn parse(key: &str, text: &str, origin: &Path) -> Result<Paper> {
     let f: PaperFile =
@@ -500,26 +659,31 @@ pub fn parse(key: &str, text: &str, origin: &Path) -> Result<Paper> {
         if c.says.chars().count() > SAYS_MAX {
             bail!("{}: 'says' has {} characters (at most {SAYS_MAX})", at(), c.says.chars().count());
         }
-        let rollup = match c.rollup.as_deref().unwrap_or("all") {
-            "all" => Rollup::All,
-            "any" => Rollup::Any,
-            r => bail!("{}: rollup '{r}' (expected all or any)", at()),
+        if c.paper_figure.chars().count() > SAYS_MAX {
+            bail!("{}: 'paper_figure' has {} characters (at most {SAYS_MAX})", at(), c.paper_figure.chars().count());
+        }
+        let Some(kind) = Kind::parse(&c.kind) else {
+            bail!("{}: kind '{}' (expected identity, measured, example or anchor)", at(), c.kind)
         };
+        check_fixed(&c.fixed).with_context(at)?;
+        if c.differs.trim().is_empty() {
+            bail!("{}: 'differs' is empty: say why our figure and the paper's may differ", at());
+        }
         if c.check.is_empty() {
-            bail!("{}: no [[claim.check]]: a claim is judged by at least one check", at());
+            bail!("{}: no [[claim.check]]: a claim is judged by its primary check", at());
         }
         let checks = c.check.into_iter().map(|k| k.validate(&id, &f.map_sets)).collect::<Result<Vec<_>>>();
         let checks = checks.with_context(at)?;
-        if checks.iter().all(|k| k.anchor) {
-            bail!("{}: every check is an anchor; at least one must be required", at());
-        }
+        check_primary(kind, &checks).with_context(at)?;
         claims.push(ClaimDecl {
             statement: c.statement.unwrap_or_else(|| c.says.clone()),
             id,
             says: c.says,
             paper_figure: c.paper_figure,
             criterion: c.criterion,
-            rollup,
+            kind,
+            fixed: c.fixed,
+            differs: c.differs,
             checks,
         });
     }
@@ -575,7 +739,7 @@ mod tests {
     fn paper(claim: &str) -> Result<Paper> {
         let text = format!(
             "title='T'\nauthors='A'\nvenue='V'\norder=1\n[map_sets]\npaper=['m1']\n[[claim]]\nid='X1'\nsays='s'\n\
-             paper_figure='p'\ncriterion='c'\n{claim}"
+             paper_figure='p'\ncriterion='c'\nkind='measured'\nfixed='before data'\ndiffers='d'\n{claim}"
         );
         parse("t", &text, Path::new("t.toml"))
     }
@@ -586,28 +750,35 @@ mod tests {
 
     #[test]
     fn a_valid_claim_parses_with_defaults() {
-        let p = paper("[[claim.check]]\nname='n'\ntable='exp'\nencoder='a'\nbaseline='b'\ntest='ratio_every'").unwrap();
+        let p = paper(
+            "[[claim.check]]\nname='n'\ntable='exp'\nencoder='a'\nbaseline='b'\ntest='ratio_every'\nrole='primary'",
+        )
+        .unwrap();
         let k = &p.claims[0].checks[0];
-        assert_eq!(k.test, Test::RatioEvery { below: 1.0 });
+        assert_eq!(k.test, Test::RatioEvery { below: 1.0, per_map: false });
+        assert!(k.primary && !k.beside);
+        assert_eq!(p.claims[0].kind, Kind::Measured);
+        assert_eq!(p.claims[0].primary().name, "n");
         assert_eq!(k.column, "rmse");
         assert_eq!(k.on, vec!["all".to_string()]);
         assert_eq!(k.source, Source::Experiment("exp".into()));
-        assert_eq!(p.claims[0].rollup, Rollup::All);
-        let m =
-            paper("[[claim.check]]\nname='n'\ntable='measure:z'\nencoder='a'\ntest='every_at_most'\nbound=1").unwrap();
+        let m = paper(
+            "[[claim.check]]\nname='n'\ntable='measure:z'\nencoder='a'\ntest='every_at_most'\nbound=1\nrole='primary'",
+        )
+        .unwrap();
         assert_eq!(m.claims[0].checks[0].source.path(), Path::new("claims/measures/z.csv"));
     }
 
     #[test]
     fn bad_declarations_name_the_claim_and_key() {
-        let base = "[[claim.check]]\nname='n'\ntable='exp'\nencoder='a'\n";
+        let base = "[[claim.check]]\nname='n'\ntable='exp'\nencoder='a'\nrole='primary'\n";
         assert!(err("").contains("no [[claim.check]]"));
         assert!(err(&format!("{base}test='ratio_every'")).contains("needs 'baseline'"));
         assert!(err(&format!("{base}baseline='b'\ntest='nope'")).contains("test 'nope'"));
         assert!(err(&format!("{base}baseline='b'\ntest='ratio_stat'\nmin=0.5")).contains("needs 'statistic'"));
-        assert!(err(&format!("{base}baseline='b'\ntest='ratio_stat'\nstatistic='mean'\nmin=1"))
-            .contains("statistic 'mean'"));
-        assert!(err(&format!("{base}baseline='b'\ntest='ratio_stat'\nstatistic='median_ratio'"))
+        assert!(err(&format!("{base}baseline='b'\ntest='ratio_stat'\nstatistic='ratio_of_means'\nmin=1"))
+            .contains("a ratio of pooled means is not offered"));
+        assert!(err(&format!("{base}baseline='b'\ntest='ratio_stat'\nstatistic='median'"))
             .contains("needs 'min' and/or 'max'"));
         assert!(err(&format!("{base}test='every_at_most'")).contains("needs 'bound'"));
         assert!(err(&format!("{base}test='every_at_most'\nbound=nan")).contains("finite"));
@@ -615,17 +786,48 @@ mod tests {
         assert!(
             err(&format!("{base}baseline='b'\ntest='ratio_every'\non=['elsewhere']")).contains("map set 'elsewhere'")
         );
-        assert!(err(&format!("{base}baseline='b'\ntest='ratio_every'\nrole='maybe'")).contains("role 'maybe'"));
+        let ctx = "[[claim.check]]\nname='n'\ntable='exp'\nencoder='a'\nbaseline='b'\n";
+        assert!(err(&format!("{ctx}test='ratio_every'\nrole='maybe'")).contains("role 'maybe'"));
+        assert!(err(&format!("{ctx}test='ratio_every'")).contains("0 checks have role = \"primary\""));
+        assert!(err(&format!("{base}baseline='b'\ntest='ratio_every'\n{base}baseline='b'\ntest='ratio_some'"))
+            .contains("2 checks have role = \"primary\""));
         assert!(
-            err(&format!("{base}baseline='b'\ntest='ratio_every'\nrole='anchor'")).contains("every check is an anchor")
+            err(&format!("{base}baseline='b'\ntest='ratio_every'\nbeside=true")).contains("'beside' is for a context")
         );
+        assert!(err(&format!("{base}test='every_at_most'\nbound=1\nper_map=true")).contains("'per_map' is not used"));
+        // The kind decides what the primary may be.
+        assert!(err(&format!("{base}baseline='b'\ntest='ratio_summary'")).contains("needs a criterion"));
+        let anchor = |check: &str| {
+            let text = format!(
+                "title='T'\nauthors='A'\nvenue='V'\norder=1\n[[claim]]\nid='X1'\nsays='s'\npaper_figure='p'\n\
+                 criterion='c'\nkind='anchor'\nfixed='after data: the band was set on our maps'\ndiffers='d'\n{check}"
+            );
+            parse("t", &text, Path::new("t.toml"))
+        };
+        assert!(anchor(&format!("{base}baseline='b'\ntest='ratio_summary'")).is_ok());
+        assert!(format!("{:#}", anchor(&format!("{base}baseline='b'\ntest='ratio_every'")).unwrap_err())
+            .contains("not comparable"));
+        for (key, bad, says) in [
+            ("kind", "kind='guess'", "kind 'guess'"),
+            ("fixed", "fixed='later'", "fixed 'later'"),
+            ("fixed", "fixed='after data: '", "fixed 'after data: '"),
+            ("differs", "differs=' '", "'differs' is empty"),
+        ] {
+            let text = format!(
+                "title='T'\nauthors='A'\nvenue='V'\norder=1\n[[claim]]\nid='X1'\nsays='s'\npaper_figure='p'\n\
+                 criterion='c'\nkind='measured'\nfixed='before data'\ndiffers='d'\n{base}test='every_at_most'\nbound=1"
+            );
+            let line = text.lines().find(|l| l.starts_with(&format!("{key}="))).unwrap().to_string();
+            let e = format!("{:#}", parse("t", &text.replace(&line, bad), Path::new("t.toml")).unwrap_err());
+            assert!(e.contains(says), "{e}");
+        }
         assert!(err(&format!("{base}baseline='b'\ntest='ratio_every'\nbogus=1")).contains("bogus"));
         assert!(err(&format!("{base}baseline='b'\ntest='ratio_every'\nfloor=-1")).contains("'floor' must be ≥ 0"));
         assert!(paper(&format!("says2='x'\n{base}")).is_err());
         let long = "x".repeat(SAYS_MAX + 1);
         let text = format!(
             "title='T'\nauthors='A'\nvenue='V'\norder=1\n[[claim]]\nid='X1'\nsays='{long}'\npaper_figure='p'\n\
-             criterion='c'\n{base}test='every_at_most'\nbound=1"
+             criterion='c'\nkind='measured'\nfixed='before data'\ndiffers='d'\n{base}test='every_at_most'\nbound=1"
         );
         assert!(format!("{:#}", parse("t", &text, Path::new("t.toml")).unwrap_err()).contains("'says' has"));
     }
@@ -635,16 +837,18 @@ mod tests {
         let with = |maps: &str| {
             let text = format!(
                 "title='T'\nauthors='A'\nvenue='V'\norder=1\n[measurements]\n{maps}\n[[claim]]\nid='X1'\nsays='s'\n\
-                 paper_figure='p'\ncriterion='c'\n[[claim.check]]\nname='n'\ntable='e'\nencoder='a'\n\
-                 test='every_at_most'\nbound=1"
+                 paper_figure='p'\ncriterion='c'\nkind='measured'\nfixed='before data'\ndiffers='d'\n\
+                 [[claim.check]]\nname='n'\ntable='e'\nencoder='a'\ntest='every_at_most'\nbound=1\nrole='primary'"
             );
             parse("t", &text, Path::new("t.toml"))
         };
         assert_eq!(with("maps = ['m2', 'm1', 'm3']").unwrap().measurement_maps, ["m2", "m1", "m3"]);
-        assert!(paper("[[claim.check]]\nname='n'\ntable='e'\nencoder='a'\ntest='every_at_most'\nbound=1")
-            .unwrap()
-            .measurement_maps
-            .is_empty());
+        assert!(paper(
+            "[[claim.check]]\nname='n'\ntable='e'\nencoder='a'\ntest='every_at_most'\nbound=1\nrole='primary'"
+        )
+        .unwrap()
+        .measurement_maps
+        .is_empty());
         assert!(format!("{:#}", with("maps = []").unwrap_err()).contains("names no map"));
         assert!(format!("{:#}", with("maps = ['m1', 'm2', 'm1']").unwrap_err()).contains("'m1' appears twice"));
         assert!(with("maps = ['m1']\nsets = 2").is_err());

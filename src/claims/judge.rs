@@ -1,17 +1,21 @@
 //! The one claims engine: judges each declared claim ([`crate::claims::declaration`]) on its
-//! evidence tables — experiment tables and claims measurements alike, read as CSV — and rolls
-//! its sub-checks up into exactly one verdict: `holds`, `partly` (saying which part),
-//! `fails`, or `untestable` (saying why). Nothing here knows a claim, an encoder or a paper:
-//! every criterion, threshold and roll-up rule comes from the declaration.
+//! evidence tables — experiment tables and claims measurements alike, read as CSV. Its one
+//! primary check decides its one verdict, in the words its evidence kind allows
+//! ([`crate::claims::declaration::Kind`]); its context checks are judged and shown, and never
+//! change the verdict. A claim whose primary lacks its data is `untestable` (saying why).
+//! Nothing here knows a claim, an encoder or a paper: every criterion and threshold comes from
+//! the declaration.
 //!
-//! Ratio statistics never divide by ~0: rows whose baseline value is at or below the check's
-//! `floor` are excluded and counted, and the statistics are the ratio of means (Σa/Σb) and the
-//! median of per-row ratios, never a mean of ratios.
+//! Ratios are taken per row (encoder / baseline, matched on the key columns), then per map —
+//! a map's ratio is the geometric mean of its rows' ratios (its orientations, say) — and
+//! summarised over maps by their median and geometric mean. Never a ratio of pooled means:
+//! one map with large errors would decide it. Rows whose baseline value is at or below the
+//! check's `floor` are excluded and counted, so no ratio divides by ~0.
 
-use crate::claims::declaration::{CheckDecl, ClaimDecl, Paper, Rollup, Statistic, Test};
+use crate::claims::declaration::{CheckDecl, ClaimDecl, Kind, Paper, Statistic, Test};
+use crate::claims::ratios;
 use anyhow::{bail, Context, Result};
 use std::collections::HashMap;
-use std::fmt::Write as _;
 
 /// The columns that identify a row besides its encoder (those present in a table are used).
 pub const KEY_COLUMNS: &[&str] = &["map", "domain", "effects", "metric", "case"];
@@ -26,12 +30,14 @@ pub enum Status {
     Pass,
     /// The criterion is not met.
     Fail,
+    /// A figure without a criterion (`ratio_summary`): shown, neither met nor missed.
+    Shown,
     /// The data to judge it is missing; the reason.
     Untestable(String),
 }
 
-/// One per-row value a check judged: the row's label (its key), the value (a ratio for ratio
-/// tests) and whether the row passes on its own.
+/// One value a check judged: the row's label (its key; the map for per-map ratios), the value
+/// (a ratio for ratio tests) and whether it passes on its own.
 #[derive(Clone, Debug)]
 pub struct RowValue {
     /// The row's key as text (map, domain, effects, metric, case: those the table has).
@@ -72,35 +78,46 @@ pub struct CheckOutcome {
     pub sets: Vec<SetOutcome>,
 }
 
-/// A claim's one verdict.
+/// A claim's one verdict, in the words its kind allows.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Verdict {
-    /// The claim's roll-up rule is met: every required check passes on every set (`all`), or
-    /// one check does (`any`).
+    /// `measured`: the primary check passes on every set it is judged on.
     Holds,
-    /// Some required checks pass and some fail; what held and what failed.
+    /// `identity`: the identity is met numerically, to rounding.
+    HoldsIdentity,
+    /// `measured`: the primary passes on some of its sets and not others; which.
     Partly(String),
-    /// No required check passes on any set; what failed.
+    /// `measured` or `identity`: the primary check fails; where.
     Fails(String),
-    /// A required check cannot be judged (its evidence is missing); why.
+    /// `example`: the paper's case (or the closest we have) shows what the paper says.
+    Reproduced,
+    /// `example`: it does not; where.
+    NotReproduced(String),
+    /// `anchor`: the paper's figure comes from a population we do not have.
+    NotComparable,
+    /// The primary check cannot be judged (its evidence is missing); why.
     Untestable(String),
 }
 
 impl Verdict {
-    /// `holds`, `partly`, `fails` or `untestable`.
+    /// The verdict word (one of its kind's [`Kind::verdict_words`], or `untestable`).
     pub fn word(&self) -> &'static str {
         match self {
             Verdict::Holds => "holds",
+            Verdict::HoldsIdentity => "holds (identity)",
             Verdict::Partly(_) => "partly",
             Verdict::Fails(_) => "fails",
-            Verdict::Untestable(_) => "untestable",
+            Verdict::Reproduced => "reproduced",
+            Verdict::NotReproduced(_) => "not reproduced",
+            Verdict::NotComparable => "not comparable",
+            Verdict::Untestable(_) => crate::claims::declaration::UNTESTABLE,
         }
     }
     /// What part held, what failed, or why it cannot be judged.
     pub fn why(&self) -> &str {
         match self {
-            Verdict::Holds => "",
-            Verdict::Partly(s) | Verdict::Fails(s) | Verdict::Untestable(s) => s,
+            Verdict::Holds | Verdict::HoldsIdentity | Verdict::Reproduced | Verdict::NotComparable => "",
+            Verdict::Partly(s) | Verdict::Fails(s) | Verdict::NotReproduced(s) | Verdict::Untestable(s) => s,
         }
     }
 }
@@ -110,32 +127,34 @@ impl Verdict {
 pub struct ClaimOutcome {
     /// The claim's id (`Z1`, `H3`, `D2`, …).
     pub id: String,
-    /// The one verdict, rolled up from the checks.
+    /// The claim's evidence kind.
+    pub kind: Kind,
+    /// The one verdict, decided by the primary check.
     pub verdict: Verdict,
-    /// Every check, judged.
+    /// Every check, judged (the primary among them).
     pub checks: Vec<CheckOutcome>,
 }
 
-impl ClaimOutcome {
-    /// The headline: the first required check that does not pass (named), or else the first
-    /// required check, as its phrase on each of its sets.
-    pub fn our_figure(&self) -> String {
-        let required = || self.checks.iter().filter(|c| !c.decl.anchor);
-        let failing = required().find(|c| c.sets.iter().any(|s| s.status != Status::Pass));
-        let Some(c) = failing.or_else(|| required().next()) else { return String::new() };
-        let parts: Vec<String> = c
-            .sets
-            .iter()
-            .map(|s| if c.sets.len() > 1 { format!("{}: {}", set_short(s), s.headline) } else { s.headline.clone() })
-            .collect();
-        let body = parts.join("; ");
-        if failing.is_some() {
-            format!("{} — {body}", c.decl.name)
-        } else {
-            body
-        }
-    }
+/// A check's headline on each of its sets (`paper 5: …; all 19: …`).
+fn headlines(c: &CheckOutcome) -> String {
+    let parts: Vec<String> = c
+        .sets
+        .iter()
+        .map(|s| if c.sets.len() > 1 { format!("{}: {}", set_short(s), s.headline) } else { s.headline.clone() })
+        .collect();
+    parts.join("; ")
+}
 
+impl ClaimOutcome {
+    /// Our figure: the primary check's headline on each of its sets, then the headline of
+    /// each context check declared `beside` (named).
+    pub fn our_figure(&self) -> String {
+        let mut parts: Vec<String> = self.checks.iter().filter(|c| c.decl.primary).map(headlines).collect();
+        for c in self.checks.iter().filter(|c| c.decl.beside) {
+            parts.push(format!("{}: {}", c.decl.name, headlines(c)));
+        }
+        parts.join(" · ")
+    }
     /// The map sets judged, with their map counts (e.g. `paper (5); all (19)`).
     pub fn maps(&self) -> String {
         let mut v: Vec<String> = Vec::new();
@@ -180,19 +199,6 @@ pub fn fmt3(x: f64) -> String {
     } else {
         let digits = (2 - x.abs().log10().floor() as i32).max(0) as usize;
         format!("{x:.digits$}")
-    }
-}
-
-fn median(v: &[f64]) -> f64 {
-    let mut s = v.to_vec();
-    s.sort_by(|a, b| a.total_cmp(b));
-    let n = s.len();
-    if n == 0 {
-        f64::NAN
-    } else if n % 2 == 1 {
-        s[n / 2]
-    } else {
-        0.5 * (s[n / 2 - 1] + s[n / 2])
     }
 }
 
@@ -379,7 +385,8 @@ fn missing_maps(k: &CheckDecl, set: &str, set_maps: &[String], picked: &[Picked]
     })
 }
 
-/// A bound on every row (`every_at_most`, `every_at_least`): each value against the bound.
+/// A bound on every row (`every_at_most`, `every_at_least`, `every_equal`): each value against
+/// the bound.
 fn judge_bound(k: &CheckDecl, set: &str, maps_judged: usize, picked: &[Picked], excluded: usize) -> SetOutcome {
     let col = &k.column;
     let vals: Vec<(&Picked, f64)> = picked.iter().filter_map(|p| p.value.map(|v| (p, v))).collect();
@@ -389,6 +396,7 @@ fn judge_bound(k: &CheckDecl, set: &str, maps_judged: usize, picked: &[Picked], 
     let (upper, bound) = match k.test {
         Test::EveryAtMost { bound } => (true, bound),
         Test::EveryAtLeast { bound } => (false, bound),
+        Test::EveryEqual { value } => return judge_exact(k, set, maps_judged, &vals, value, excluded),
         _ => unreachable!("needs_baseline covers the other tests"),
     };
     let ok = |v: f64| if upper { v <= bound } else { v >= bound };
@@ -418,6 +426,33 @@ fn judge_bound(k: &CheckDecl, set: &str, maps_judged: usize, picked: &[Picked], 
         worst.label,
         fmt3(bound),
         values.len(),
+        if excluded > 0 { format!(" ({excluded} row(s) without a value left out)") } else { String::new() }
+    );
+    let status = pass_if(passing == values.len());
+    SetOutcome { set: set.into(), maps: maps_judged, status, headline, figure, values, excluded }
+}
+
+/// `every_equal`: every value is exactly `value`.
+fn judge_exact(
+    k: &CheckDecl,
+    set: &str,
+    maps_judged: usize,
+    vals: &[(&Picked, f64)],
+    value: f64,
+    excluded: usize,
+) -> SetOutcome {
+    let col = &k.column;
+    let values: Vec<RowValue> = vals
+        .iter()
+        .map(|(p, v)| RowValue { label: p.label.clone(), map: p.map.clone(), value: *v, pass: *v == value })
+        .collect();
+    let passing = values.iter().filter(|v| v.pass).count();
+    let off: Vec<&str> = values.iter().filter(|v| !v.pass).map(|v| v.label.as_str()).collect();
+    let headline = format!("{col} = {} in {passing}/{}", fmt3(value), values.len());
+    let figure = format!(
+        "{col} of {}: {headline} rows{}{}",
+        k.encoder,
+        if off.is_empty() { String::new() } else { format!("; differs at {}", off.join(", ")) },
         if excluded > 0 { format!(" ({excluded} row(s) without a value left out)") } else { String::new() }
     );
     let status = pass_if(passing == values.len());
@@ -522,18 +557,28 @@ fn judge_equal(pairs: &Pairs, tolerance: f64, abs_tolerance: f64, left_out: &str
     (status, values, headline, figure)
 }
 
-/// Ratio tests (`ratio_every`, `ratio_some`, `ratio_stat`) on the per-row ratios to the
-/// baseline, with the ratio of means and the median ratio in the figure.
+/// How many maps (or, in a table without maps, cases) a summary holds, as a phrase (`19 maps`).
+fn n_maps(n: usize, noun: &str) -> String {
+    format!("{n} {noun}{}", if n == 1 { "" } else { "s" })
+}
+
+/// Ratio tests (`ratio_every`, `ratio_some`, `ratio_stat`, `ratio_summary`) on the ratios to
+/// the baseline: per row, then per map (the geometric mean of a map's rows), summarised over
+/// maps by median and geometric mean ([`crate::claims::ratios`]). Every figure names its
+/// aggregation.
 fn judge_ratio(k: &CheckDecl, base: &str, pairs: &Pairs, left_out: &str) -> Judged {
     let col = &k.column;
     let ratios: Vec<f64> = pairs.iter().map(|(_, a, b)| a / b).collect();
-    let sum_a: f64 = pairs.iter().map(|p| p.1).sum();
-    let sum_b: f64 = pairs.iter().map(|p| p.2).sum();
-    let rom = sum_a / sum_b;
-    let med = median(&ratios);
+    let group = |p: &Picked| if p.map.is_empty() { p.label.clone() } else { p.map.clone() };
+    let keyed: Vec<(String, f64)> = pairs.iter().zip(&ratios).map(|((p, _, _), &r)| (group(p), r)).collect();
+    let refs: Vec<(&str, f64)> = keyed.iter().map(|(m, r)| (m.as_str(), *r)).collect();
+    // Cannot fail: the caller returns untestable when there are no pairs.
+    let sum = ratios::per_map(&refs).expect("non-empty pairs");
     let (lo, hi) = ratios.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &x| (l.min(x), h.max(x)));
-    let name = format!("{}/{base} {col}", k.encoder);
     let n = ratios.len();
+    let m = sum.maps.len();
+    let (med, gm) = (fmt3(sum.median), fmt3(sum.geomean));
+    let noun = if pairs.iter().all(|(p, _, _)| p.map.is_empty()) { "case" } else { "map" };
     let row_values = |pass: &dyn Fn(f64) -> bool| -> Vec<RowValue> {
         pairs
             .iter()
@@ -541,42 +586,70 @@ fn judge_ratio(k: &CheckDecl, base: &str, pairs: &Pairs, left_out: &str) -> Judg
             .map(|((p, _, _), &r)| RowValue { label: p.label.clone(), map: p.map.clone(), value: r, pass: pass(r) })
             .collect()
     };
-    let (ok, values, headline) = match k.test {
-        Test::RatioEvery { below } | Test::RatioSome { below } => {
-            let values = row_values(&|r| r < below);
+    let map_values = |pass: &dyn Fn(f64) -> bool| -> Vec<RowValue> {
+        sum.maps
+            .iter()
+            .map(|g| RowValue {
+                label: format!("{} ({} row{})", g.map, g.rows, if g.rows == 1 { "" } else { "s" }),
+                map: g.map.clone(),
+                value: g.ratio,
+                pass: pass(g.ratio),
+            })
+            .collect()
+    };
+    let (status, values, headline) = match k.test {
+        Test::RatioEvery { below, per_map } | Test::RatioSome { below, per_map } => {
+            let values = if per_map { map_values(&|r| r < below) } else { row_values(&|r| r < below) };
             let passing = values.iter().filter(|v| v.pass).count();
             let every = matches!(k.test, Test::RatioEvery { .. });
-            let ok = if every { passing == n } else { passing > 0 };
+            let ok = if every { passing == values.len() } else { passing > 0 };
+            let unit = if per_map || n == m { format!("{noun}s") } else { "rows".to_string() };
             let headline =
-                format!("ratio median {} ({}–{}), {passing}/{n} < {}", fmt3(med), fmt3(lo), fmt3(hi), fmt3(below));
-            (ok, values, headline)
+                format!("{passing}/{} {unit} < {} (per-map median {med}, geomean {gm})", values.len(), fmt3(below));
+            (pass_if(ok), values, headline)
         }
         Test::RatioStat { statistic, min, max } => {
-            let (stat, sname) = match statistic {
-                Statistic::RatioOfMeans => (rom, "ratio of means"),
-                Statistic::MedianRatio => (med, "median ratio"),
+            let stat = match statistic {
+                Statistic::Median => sum.median,
+                Statistic::GeoMean => sum.geomean,
             };
             let ok = min.is_none_or(|m| stat >= m) && max.is_none_or(|m| stat <= m);
             let band = match (min, max) {
-                (Some(a), Some(b)) => format!("[{}, {}]", fmt3(a), fmt3(b)),
-                (Some(a), None) => format!("[{}, ∞)", fmt3(a)),
-                (None, Some(b)) => format!("[0, {}]", fmt3(b)),
+                (Some(a), Some(b)) => format!("in [{}, {}]", fmt3(a), fmt3(b)),
+                (Some(a), None) => format!("≥ {}", fmt3(a)),
+                (None, Some(b)) => format!("≤ {}", fmt3(b)),
                 (None, None) => unreachable!("validated: a band"),
             };
-            let values = row_values(&|_| ok);
-            let headline = format!("{sname} {}, {} {band}", fmt3(stat), if ok { "within" } else { "outside" });
-            (ok, values, headline)
+            let other = match statistic {
+                Statistic::Median => format!("geomean {gm}"),
+                Statistic::GeoMean => format!("median {med}"),
+            };
+            let headline = format!(
+                "per-map {} {}{} {band} ({other}, {})",
+                if statistic == Statistic::Median { "median" } else { "geomean" },
+                fmt3(stat),
+                if ok { "" } else { ", not" },
+                n_maps(m, noun)
+            );
+            (pass_if(ok), map_values(&|_| ok), headline)
+        }
+        Test::RatioSummary => {
+            let headline = format!("per-map median {med}, geomean {gm} ({})", n_maps(m, noun));
+            (Status::Shown, map_values(&|_| true), headline)
         }
         _ => unreachable!("the other tests returned above"),
     };
     let figure = format!(
-        "{name}: {headline}; ratio of means {}, median {}, range {}–{} over {n} rows{left_out}",
-        fmt3(rom),
-        fmt3(med),
+        "{}/{base} {col}: {headline}; per-map ratios (each the geometric mean of its rows' ratios) over {}: median \
+         {med}, geometric mean {gm}, range {}–{}; per-row ratios over {n} rows: range {}–{}{left_out}",
+        k.encoder,
+        n_maps(m, noun),
+        fmt3(sum.min),
+        fmt3(sum.max),
         fmt3(lo),
         fmt3(hi)
     );
-    (pass_if(ok), values, headline, figure)
+    (status, values, headline, figure)
 }
 
 /// Judges one check on every set it declares. `table` is its evidence, or why there is none.
@@ -603,164 +676,47 @@ pub fn judge_check(paper: &Paper, k: &CheckDecl, table: &std::result::Result<Evi
     CheckOutcome { decl: k.clone(), sets }
 }
 
-/// Rolls a claim's checks up into its verdict, by the claim's rule.
-pub fn roll_up(rule: Rollup, checks: &[CheckOutcome]) -> Verdict {
-    let required: Vec<&CheckOutcome> = checks.iter().filter(|c| !c.decl.anchor).collect();
-    let mut untestable = Vec::new();
-    let mut failing = Vec::new();
-    let mut passing = Vec::new();
-    for c in &required {
-        for s in &c.sets {
-            let what = format!("'{}' on {}", c.decl.name, set_label(s));
-            match &s.status {
-                Status::Untestable(why) => untestable.push(format!("{what}: {why}")),
-                Status::Fail => failing.push(what),
-                Status::Pass => passing.push(what),
-            }
+/// The verdict of a claim of `kind`, from its primary check alone: context checks are shown
+/// and never change it. A primary without its data makes the claim `untestable`; an anchor
+/// with its data is `not comparable`, whatever the figure.
+pub fn decide(kind: Kind, checks: &[CheckOutcome]) -> Verdict {
+    let Some(p) = checks.iter().find(|c| c.decl.primary) else {
+        return Verdict::Untestable("no primary check".into());
+    };
+    let (mut passing, mut failing, mut untestable) = (Vec::new(), Vec::new(), Vec::new());
+    for s in &p.sets {
+        match &s.status {
+            Status::Untestable(why) => untestable.push(format!("on {}: {why}", set_label(s))),
+            Status::Fail => failing.push(set_label(s)),
+            Status::Pass | Status::Shown => passing.push(set_label(s)),
         }
     }
     if !untestable.is_empty() {
-        return Verdict::Untestable(untestable.join("; "));
+        return Verdict::Untestable(format!("'{}' {}", p.decl.name, untestable.join("; ")));
     }
-    let check_holds = |c: &CheckOutcome| c.sets.iter().all(|s| s.status == Status::Pass);
-    match rule {
-        Rollup::All if failing.is_empty() => Verdict::Holds,
-        Rollup::Any if required.iter().any(|c| check_holds(c)) => Verdict::Holds,
-        _ if passing.is_empty() => Verdict::Fails(format!("fails: {}", failing.join("; "))),
-        _ => {
-            // Name the part that held on a narrower set only.
-            let mut s = format!("holds: {}; fails: {}", passing.join("; "), failing.join("; "));
-            let paper_only: Vec<&str> = required
-                .iter()
-                .filter(|c| {
-                    c.sets.iter().any(|s| s.set != "all" && s.status == Status::Pass)
-                        && c.sets.iter().any(|s| s.set == "all" && s.status == Status::Fail)
-                })
-                .map(|c| c.decl.name.as_str())
-                .collect();
-            if !paper_only.is_empty() {
-                s = format!("held only on the narrower map set for {}; {s}", paper_only.join(", "));
-            }
-            Verdict::Partly(s)
+    let on = |v: &[String]| v.join(" and ");
+    match kind {
+        Kind::Anchor => Verdict::NotComparable,
+        Kind::Identity if failing.is_empty() => Verdict::HoldsIdentity,
+        Kind::Example if failing.is_empty() => Verdict::Reproduced,
+        Kind::Measured if failing.is_empty() => Verdict::Holds,
+        Kind::Example => Verdict::NotReproduced(format!("'{}' not met on {}", p.decl.name, on(&failing))),
+        Kind::Measured if !passing.is_empty() => {
+            Verdict::Partly(format!("'{}' holds on {}, not on {}", p.decl.name, on(&passing), on(&failing)))
         }
+        Kind::Identity | Kind::Measured => Verdict::Fails(format!("'{}' fails on {}", p.decl.name, on(&failing))),
     }
 }
 
-/// Judges a claim: every check on its evidence, rolled up.
+/// Judges a claim: every check on its evidence; the primary decides.
 pub fn judge_claim(
     paper: &Paper,
     c: &ClaimDecl,
     evidence: &dyn Fn(&crate::claims::declaration::Source) -> std::result::Result<Evidence, String>,
 ) -> ClaimOutcome {
     let checks: Vec<CheckOutcome> = c.checks.iter().map(|k| judge_check(paper, k, &evidence(&k.source))).collect();
-    let verdict = roll_up(c.rollup, &checks);
-    ClaimOutcome { id: c.id.clone(), verdict, checks }
-}
-
-/// The detail of one claim, as Markdown (for the evidence pages).
-pub fn detail_md(c: &ClaimDecl, o: &ClaimOutcome) -> String {
-    let mut s = String::new();
-    let _ = writeln!(
-        s,
-        "**Verdict: {}**{}\n",
-        o.verdict.word(),
-        if o.verdict.why().is_empty() { String::new() } else { format!(" — {}", o.verdict.why()) }
-    );
-    let _ = writeln!(s, "- **Paper:** {}", c.statement);
-    let _ = writeln!(s, "- **Paper's figure:** {}", c.paper_figure);
-    let _ = writeln!(s, "- **Criterion:** {}", c.criterion);
-    let _ = writeln!(s, "- **Roll-up:** {}\n", match c.rollup {
-        Rollup::All => "holds if every required check passes on every set it is judged on; fails if none passes anywhere; otherwise partly",
-        Rollup::Any => "holds if some required check passes on every set it is judged on",
-    });
-    for k in &o.checks {
-        let d = &k.decl;
-        let _ = writeln!(
-            s,
-            "#### {} {}\n\nEvidence `{}`{}; test: {}\n",
-            if d.anchor { "Anchor (not counted):" } else { "Check:" },
-            d.name,
-            d.source.path().display(),
-            if d.filter.is_empty() {
-                String::new()
-            } else {
-                format!(
-                    ", rows with {}",
-                    d.filter.iter().map(|(k, v)| format!("{k} = {}", v.join("|"))).collect::<Vec<_>>().join(", ")
-                )
-            },
-            test_text(d)
-        );
-        for set in &k.sets {
-            let status = match &set.status {
-                Status::Pass => "passes".to_string(),
-                Status::Fail => "fails".to_string(),
-                Status::Untestable(w) => format!("untestable ({w})"),
-            };
-            let _ = writeln!(
-                s,
-                "- on {}: **{status}** — {}",
-                set_label(set),
-                if set.figure.is_empty() { &set.headline } else { &set.figure }
-            );
-        }
-        // The per-row values of the widest set.
-        if let Some(w) = k.sets.iter().max_by_key(|s| s.values.len()) {
-            if !w.values.is_empty() && w.values.len() <= 60 {
-                let what = if d.test.needs_baseline() {
-                    if matches!(d.test, Test::Equal { .. }) {
-                        "relative difference"
-                    } else {
-                        "ratio"
-                    }
-                } else {
-                    d.column.as_str()
-                };
-                let _ = writeln!(s, "\n| row | {what} | passes alone |\n|---|---|---|");
-                for v in &w.values {
-                    let _ = writeln!(s, "| {} | {} | {} |", v.label, fmt3(v.value), if v.pass { "yes" } else { "no" });
-                }
-            } else if w.values.len() > 60 {
-                let _ = writeln!(s, "\n({} rows; per-row values in the evidence table)", w.values.len());
-            }
-        }
-        let _ = writeln!(s);
-    }
-    s
-}
-
-/// A check's test in words.
-pub fn test_text(d: &CheckDecl) -> String {
-    let base = d.baseline.as_deref().unwrap_or("");
-    let col = &d.column;
-    let floor =
-        if d.floor > 0.0 { format!(" (rows with {base} {col} ≤ {} left out)", fmt3(d.floor)) } else { String::new() };
-    match &d.test {
-        Test::RatioEvery { below } => format!("every {} / {base} {col} ratio < {}{floor}", d.encoder, fmt3(*below)),
-        Test::RatioSome { below } => format!("some {} / {base} {col} ratio < {}{floor}", d.encoder, fmt3(*below)),
-        Test::RatioStat { statistic, min, max } => format!(
-            "{} of {} / {base} {col} {}{floor}",
-            match statistic {
-                Statistic::RatioOfMeans => "ratio of means",
-                Statistic::MedianRatio => "median ratio",
-            },
-            d.encoder,
-            match (min, max) {
-                (Some(a), Some(b)) => format!("in [{}, {}]", fmt3(*a), fmt3(*b)),
-                (Some(a), None) => format!("≥ {}", fmt3(*a)),
-                (None, Some(b)) => format!("≤ {}", fmt3(*b)),
-                (None, None) => String::new(),
-            }
-        ),
-        Test::EveryAtMost { bound } => format!("every {col} of {} ≤ {}", d.encoder, fmt3(*bound)),
-        Test::EveryAtLeast { bound } => format!("every {col} of {} ≥ {}", d.encoder, fmt3(*bound)),
-        Test::Equal { tolerance, abs_tolerance } => format!(
-            "{} and {base} {col} agree within {} relative (differences ≤ {} count as equal)",
-            d.encoder,
-            fmt3(*tolerance),
-            fmt3(*abs_tolerance)
-        ),
-    }
+    let verdict = decide(c.kind, &checks);
+    ClaimOutcome { id: c.id.clone(), kind: c.kind, verdict, checks }
 }
 
 #[cfg(test)]
@@ -769,12 +725,12 @@ mod tests {
     use crate::claims::declaration::parse;
     use std::path::Path;
 
-    /// A paper with one claim of the given checks, and a table with maps m1..m3 (m1, m2 the
-    /// "paper" set): encoder `a` against `b`.
-    fn paper(checks: &str, rollup: &str) -> Paper {
+    /// A paper with one claim of `kind` and the given checks; maps m1..m4 (m1, m2 the "paper"
+    /// set).
+    fn paper(checks: &str, kind: &str) -> Paper {
         let text = format!(
             "title='T'\nauthors='A'\nvenue='V'\norder=1\n[map_sets]\npaper=['m1','m2']\n[[claim]]\nid='X1'\nsays='s'\n\
-             paper_figure='p'\ncriterion='c'\nrollup='{rollup}'\n{checks}"
+             paper_figure='p'\ncriterion='c'\nkind='{kind}'\nfixed='before data'\ndiffers='d'\n{checks}"
         );
         parse("t", &text, Path::new("t.toml")).unwrap()
     }
@@ -786,86 +742,150 @@ mod tests {
         Evidence::parse(csv.as_bytes(), Path::new("t.csv")).unwrap()
     }
 
-    fn judge(checks: &str, rollup: &str) -> ClaimOutcome {
-        let p = paper(checks, rollup);
-        let t = table();
+    fn judge_on(checks: &str, kind: &str, t: &Evidence) -> ClaimOutcome {
+        let p = paper(checks, kind);
         judge_claim(&p, &p.claims[0], &|_| Ok(t.clone()))
     }
 
+    fn judge(checks: &str, kind: &str) -> ClaimOutcome {
+        judge_on(checks, kind, &table())
+    }
+
     const CHECK: &str = "[[claim.check]]\nname='n'\ntable='e'\nencoder='a'\nbaseline='b'\nwhere={metric='exact'}\n";
+    const PRIMARY: &str =
+        "[[claim.check]]\nname='n'\ntable='e'\nencoder='a'\nbaseline='b'\nwhere={metric='exact'}\nrole='primary'\n";
 
     #[test]
-    fn every_ratio_on_two_sets_gives_partly_when_only_the_paper_set_holds() {
-        let o = judge(&format!("{CHECK}test='ratio_every'\nfloor=1e-6\non=['paper','all']"), "all");
+    fn measured_is_partly_when_the_primary_holds_on_one_set_only() {
+        let o = judge(&format!("{PRIMARY}test='ratio_every'\nfloor=1e-6\non=['paper','all']"), "measured");
         assert_eq!(o.verdict.word(), "partly", "{:?}", o.verdict);
-        assert!(o.verdict.why().contains("held only on the narrower map set"), "{}", o.verdict.why());
+        assert!(o.verdict.why().contains("holds on paper (2 maps), not on all (4 maps)"), "{}", o.verdict.why());
         let all = &o.checks[0].sets[1];
         // m4 is left out by the floor and counted.
         assert_eq!(all.values.len(), 3);
         assert_eq!(all.excluded, 1);
         assert!(all.figure.contains("1 with b rmse ≤ floor"), "{}", all.figure);
-        assert_eq!(o.checks[0].sets[0].status, Status::Pass);
-    }
-
-    #[test]
-    fn a_claim_fails_on_a_constructed_table() {
-        let o = judge(&format!("{CHECK}test='ratio_every'\nbelow=0.4\nfloor=1e-6"), "all");
+        let o = judge(&format!("{PRIMARY}test='ratio_every'\nbelow=0.4\nfloor=1e-6"), "measured");
         assert_eq!(o.verdict.word(), "fails");
-        assert_eq!(o.checks[0].sets[0].values.iter().filter(|v| v.pass).count(), 0);
+        assert_eq!(judge(&format!("{PRIMARY}test='ratio_some'\nbelow=0.6"), "measured").verdict, Verdict::Holds);
     }
 
+    /// Each kind has its own words: the same passing and failing primaries give them.
     #[test]
-    fn ratio_statistics_are_never_a_mean_of_ratios() {
-        // Ratio of means over m1..m3: (0.5 + 0.8 + 3) / (1 + 1 + 2) = 1.075; median 0.8.
-        let rom = judge(
-            &format!("{CHECK}test='ratio_stat'\nstatistic='ratio_of_means'\nmin=1.07\nmax=1.08\nfloor=1e-6"),
-            "all",
-        );
-        assert_eq!(rom.verdict, Verdict::Holds, "{}", rom.checks[0].sets[0].figure);
-        let med = judge(&format!("{CHECK}test='ratio_stat'\nstatistic='median_ratio'\nmax=0.8\nfloor=1e-6"), "all");
-        assert_eq!(med.verdict, Verdict::Holds);
-        // Without the floor, m4 (1e6) joins: the median moves to (0.8 + 1.5)/2, the ratio of
-        // means stays ≈ 1.075 — a near-zero baseline cannot dominate it.
-        let nf = judge(&format!("{CHECK}test='ratio_stat'\nstatistic='ratio_of_means'\nmax=1.1"), "all");
-        assert_eq!(nf.verdict, Verdict::Holds, "{}", nf.checks[0].sets[0].figure);
-        let nm = judge(&format!("{CHECK}test='ratio_stat'\nstatistic='median_ratio'\nmax=0.8"), "all");
-        assert_eq!(nm.verdict.word(), "fails");
+    fn each_kind_gets_its_own_words() {
+        let pass = format!("{PRIMARY}test='ratio_some'\nbelow=0.6");
+        let fail = format!("{PRIMARY}test='ratio_every'\nbelow=0.4\nfloor=1e-6");
+        assert_eq!(judge(&pass, "identity").verdict, Verdict::HoldsIdentity);
+        assert_eq!(judge(&fail, "identity").verdict.word(), "fails");
+        assert_eq!(judge(&pass, "example").verdict, Verdict::Reproduced);
+        assert_eq!(judge(&fail, "example").verdict.word(), "not reproduced");
+        // An anchor's figure is shown (median of the per-map ratios 0.8 over m1..m3) and never
+        // holds or fails.
+        let o = judge(&format!("{PRIMARY}test='ratio_summary'\nfloor=1e-6"), "anchor");
+        assert_eq!(o.verdict, Verdict::NotComparable);
+        assert_eq!(o.checks[0].sets[0].status, Status::Shown);
+        assert!(o.our_figure().contains("per-map median 0.800"), "{}", o.our_figure());
+        for k in [Kind::Identity, Kind::Measured, Kind::Example] {
+            assert!(k.verdict_words().contains(&judge(&pass, k.as_str()).verdict.word()));
+            assert!(k.verdict_words().contains(&judge(&fail, k.as_str()).verdict.word()));
+        }
+        // Missing evidence is untestable for every kind, never passed.
+        for k in Kind::ALL {
+            let check = if k == Kind::Anchor { "test='ratio_summary'" } else { "test='ratio_every'" };
+            let p = paper(&format!("{PRIMARY}{check}"), k.as_str());
+            let o = judge_claim(&p, &p.claims[0], &|_| Err("results/e/table.csv: not found".into()));
+            assert_eq!(o.verdict.word(), "untestable");
+            assert!(o.verdict.why().contains("not found"));
+        }
     }
 
+    /// A context check is shown and judged, and never changes the verdict, whether it passes
+    /// or fails, however many there are.
     #[test]
-    fn bounds_some_equal_and_anchors() {
-        let at = "[[claim.check]]\nname='n'\ntable='e'\nencoder='a'\nwhere={metric='exact'}\n";
-        assert_eq!(judge(&format!("{at}test='every_at_most'\nbound=3"), "all").verdict, Verdict::Holds);
-        assert_eq!(judge(&format!("{at}test='every_at_most'\nbound=2"), "all").verdict.word(), "fails");
-        assert_eq!(judge(&format!("{at}test='every_at_least'\nbound=0.5"), "all").verdict.word(), "fails");
-        assert_eq!(judge(&format!("{CHECK}test='ratio_some'\nbelow=0.6"), "all").verdict, Verdict::Holds);
-        assert_eq!(judge(&format!("{CHECK}test='equal'\ntolerance=0.01"), "all").verdict.word(), "fails");
-        // An anchor that fails does not count; a required check that passes decides.
-        let o = judge(
-            &format!("{CHECK}test='ratio_some'\nbelow=0.6\n{CHECK}test='ratio_every'\nbelow=0.1\nrole='anchor'"),
-            "all",
-        );
+    fn context_checks_never_change_the_verdict() {
+        let primary = format!("{PRIMARY}test='ratio_some'\nbelow=0.6");
+        let failing_context = format!("{CHECK}test='ratio_every'\nbelow=0.1\n");
+        let passing_context = format!("{CHECK}test='ratio_some'\nbelow=2\n");
+        let alone = judge(&primary, "measured");
+        for extra in [&failing_context, &passing_context] {
+            for n in 1..4 {
+                let o = judge(&format!("{primary}\n{}", extra.repeat(n).replace("name='n'", "name='c'")), "measured");
+                assert_eq!(o.verdict, alone.verdict);
+                assert_eq!(o.checks.len(), n + 1);
+            }
+        }
+        // A context check declared `beside` stands beside the primary's figure.
+        let beside = format!("{primary}\n{}beside=true\n", failing_context.replace("name='n'", "name='cost'"));
+        let o = judge(&beside, "measured");
         assert_eq!(o.verdict, Verdict::Holds);
-        // Two required checks, one failing: partly under `all`, holds under `any`.
-        let two = format!("{CHECK}test='ratio_some'\nbelow=0.6\n{CHECK}test='ratio_every'\nbelow=0.1");
-        assert_eq!(judge(&two, "all").verdict.word(), "partly");
-        assert_eq!(judge(&two, "any").verdict, Verdict::Holds);
+        assert!(o.our_figure().contains(" · cost: 0/"), "{}", o.our_figure());
+    }
+
+    /// The aggregation rule: ratios per map (the geometric mean of a map's rows), summarised by
+    /// median and geometric mean; never a ratio of pooled means. On this table one map with
+    /// large errors (big) makes the pooled ratio Σa/Σb = (0.4 + 0.3 + 0.45 + 20 + 20) / (1 + 1 +
+    /// 1 + 10 + 40) = 0.776, while the per-map ratios are 0.4, 0.3, 0.45 and 1: median 0.425, geometric
+    /// mean (0.054)^(1/4) = 0.4821. "Below 0.5" holds by the median and the geometric mean,
+    /// and would fail by the pooled ratio.
+    #[test]
+    fn per_map_median_and_geomean_decide_where_the_pooled_ratio_disagrees() {
+        const PRIMARY: &str = "[[claim.check]]\nname='n'\ntable='e'\nencoder='a'\nbaseline='b'\nrole='primary'\n";
+        let t = Evidence::parse(
+            b"map,encoder,case,rmse\ns1,a,up,0.4\ns1,b,up,1\ns2,a,up,0.3\ns2,b,up,1\ns3,a,up,0.45\ns3,b,up,1\n\
+              big,a,up,20\nbig,b,up,10\nbig,a,down,20\nbig,b,down,40\n",
+            Path::new("t.csv"),
+        )
+        .unwrap();
+        // The pooled ratio, by hand from the table: 41.15 / 53 = 0.776 over rows, not below 0.5.
+        let (sa, sb) = (0.4 + 0.3 + 0.45 + 20.0 + 20.0, 1.0 + 1.0 + 1.0 + 10.0 + 40.0);
+        assert!(sa / sb > 0.5);
+        // big: rows 2 and 0.5, per-map ratio (2 · 0.5)^(1/2) = 1.
+        let med = judge_on(&format!("{PRIMARY}test='ratio_stat'\nstatistic='median'\nmax=0.5"), "measured", &t);
+        assert_eq!(med.verdict, Verdict::Holds, "{}", med.checks[0].sets[0].figure);
+        assert!(
+            med.our_figure().starts_with("per-map median 0.425 ≤ 0.500 (geomean 0.482, 4 maps)"),
+            "{}",
+            med.our_figure()
+        );
+        let gm = judge_on(&format!("{PRIMARY}test='ratio_stat'\nstatistic='geomean'\nmax=0.5"), "measured", &t);
+        assert_eq!(gm.verdict, Verdict::Holds);
+        let gm_tight = judge_on(&format!("{PRIMARY}test='ratio_stat'\nstatistic='geomean'\nmax=0.48"), "measured", &t);
+        assert_eq!(gm_tight.verdict.word(), "fails");
+        // The per-map values are what the page lists: one per map, big at 1.
+        let v = &med.checks[0].sets[0].values;
+        assert_eq!(v.len(), 4);
+        assert!(v[3].label.starts_with("big (2 rows)") && (v[3].value - 1.0).abs() < 1e-15, "{:?}", v[3]);
+        // Per map, 3 of 4 maps are below 0.5; per row, 3 of 5 rows.
+        let pm = judge_on(&format!("{PRIMARY}test='ratio_some'\nbelow=0.5\nper_map=true"), "measured", &t);
+        assert!(pm.our_figure().starts_with("3/4 maps < 0.500"), "{}", pm.our_figure());
+        let pr = judge_on(&format!("{PRIMARY}test='ratio_some'\nbelow=0.5"), "measured", &t);
+        assert!(pr.our_figure().starts_with("3/5 rows < 0.500"), "{}", pr.our_figure());
+        // No figure names a ratio of means.
+        for o in [&med, &gm, &pm, &pr] {
+            assert!(!o.checks[0].sets[0].figure.contains("of means"), "{}", o.checks[0].sets[0].figure);
+        }
     }
 
     #[test]
-    fn missing_data_is_untestable_never_passed() {
-        let p = paper(&format!("{CHECK}test='ratio_every'"), "all");
-        let o = judge_claim(&p, &p.claims[0], &|_| Err("results/e/table.csv: not found".into()));
-        assert_eq!(o.verdict.word(), "untestable");
-        assert!(o.verdict.why().contains("not found"));
-        // A set whose maps are absent from the table.
-        let p = paper(&format!("{CHECK}test='ratio_every'\non=['paper']\nmaps=['m1','m2']"), "all");
+    fn bounds_and_equality() {
+        let at = "[[claim.check]]\nname='n'\ntable='e'\nencoder='a'\nwhere={metric='exact'}\nrole='primary'\n";
+        assert_eq!(judge(&format!("{at}test='every_at_most'\nbound=3"), "measured").verdict, Verdict::Holds);
+        assert_eq!(judge(&format!("{at}test='every_at_most'\nbound=2"), "measured").verdict.word(), "fails");
+        assert_eq!(judge(&format!("{at}test='every_at_least'\nbound=0.5"), "measured").verdict.word(), "fails");
+        assert_eq!(judge(&format!("{PRIMARY}test='equal'\ntolerance=0.01"), "identity").verdict.word(), "fails");
+        let same = Evidence::parse(b"map,encoder,rmse\nm1,a,0.5\nm1,b,0.5000000000001\n", Path::new("t")).unwrap();
+        let p = "[[claim.check]]\nname='n'\ntable='e'\nencoder='a'\nbaseline='b'\nrole='primary'\ntest='equal'\n";
+        assert_eq!(judge_on(p, "identity", &same).verdict, Verdict::HoldsIdentity);
+    }
+
+    #[test]
+    fn missing_maps_and_columns_are_untestable() {
+        let p = paper(&format!("{PRIMARY}test='ratio_every'\non=['paper']\nmaps=['m1','m2']"), "measured");
         let t = Evidence::parse(b"map,encoder,metric,rmse\nm1,a,exact,1\nm1,b,exact,2\n", Path::new("t")).unwrap();
         let o = judge_claim(&p, &p.claims[0], &|_| Ok(t.clone()));
         assert_eq!(o.verdict.word(), "untestable");
         assert!(o.verdict.why().contains("m2"), "{}", o.verdict.why());
-        // A column the table does not have.
-        let o = judge(&format!("{CHECK}test='ratio_every'\ncolumn='speed'"), "all");
+        let o = judge(&format!("{PRIMARY}test='ratio_every'\ncolumn='speed'"), "measured");
         assert!(o.verdict.why().contains("no column 'speed'"), "{}", o.verdict.why());
     }
 }

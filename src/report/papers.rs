@@ -11,28 +11,22 @@
 //! pivoted over whatever encoders they hold.
 //!
 //! `CLAIMS.csv` (written by the claims engine, `claims::verdicts`): columns
-//! `id,verdict,paper_figure,our_figure,criterion,maps,detail`, `verdict` one of
-//! `holds|partly|fails|untestable`, `detail` a link relative to `results/`.
+//! `id,kind,verdict,paper_figure,our_figure,criterion,maps,detail`, `kind` one of
+//! `identity|measured|example|anchor`, `verdict` one of the words its kind allows (or
+//! `untestable`), `detail` a link relative to `results/`.
 
 use super::csvfile::CsvTable;
 use super::markdown::{href, table_with, text_cell};
 use super::number::sig;
-use crate::claims::declaration::Paper;
+use crate::claims::declaration::{Kind, Paper, UNTESTABLE};
 use anyhow::{bail, Context, Result};
 use serde::Deserialize;
 use std::fmt::Write as _;
 use std::path::Path;
 
-/// The longest cell of the at-a-glance table, in characters (longer text is cut at a word
-/// and ends in "…"; the full text is one click away in the claim's detail).
-pub const CELL_MAX: usize = 150;
-
 /// The columns `CLAIMS.csv` must have.
-pub const CLAIMS_CSV_COLUMNS: [&str; 7] =
-    ["id", "verdict", "paper_figure", "our_figure", "criterion", "maps", "detail"];
-
-/// The verdicts a claim can get.
-pub const VERDICTS: [&str; 4] = ["holds", "partly", "fails", "untestable"];
+pub const CLAIMS_CSV_COLUMNS: [&str; 8] =
+    ["id", "kind", "verdict", "paper_figure", "our_figure", "criterion", "maps", "detail"];
 
 /// Where the paper sections' plans are declared, relative to `experiments/` (a subfolder, so
 /// that no experiment listing takes it for an experiment).
@@ -149,17 +143,6 @@ pub fn section_titles<'a>(papers: &[Paper], plans: &'a [PaperPlan]) -> Vec<(Stri
     out
 }
 
-/// `s` cut to at most `max` characters, at a word boundary where there is one, ending in "…".
-pub fn shorten(s: &str, max: usize) -> String {
-    let s = s.trim();
-    if s.chars().count() <= max {
-        return s.to_string();
-    }
-    let cut: String = s.chars().take(max.saturating_sub(1)).collect();
-    let at = cut.rfind(' ').filter(|&i| i > max / 2).unwrap_or(cut.len());
-    format!("{}…", cut[..at].trim_end_matches([' ', ',', ';', ':']))
-}
-
 /// A link target that stays inside `results/`: relative, no scheme, no `..`, no backslash.
 fn relative_link(l: &str) -> Option<&str> {
     let l = l.trim();
@@ -172,8 +155,43 @@ fn relative_link(l: &str) -> Option<&str> {
     (!outside).then_some(l)
 }
 
+/// Refuses a row of `CLAIMS.csv` with an unknown kind, a verdict word its kind does not allow,
+/// or an id seen twice (`id`, `kind`, `verdict`: the column indices).
+fn check_rows(t: &CsvTable, id: usize, kind: usize, verdict: usize) -> Result<()> {
+    let mut seen: Vec<&str> = Vec::new();
+    for r in &t.rows {
+        let Some(k) = Kind::parse(r[kind].trim()) else {
+            bail!(
+                "{}: claim {}: kind '{}' is not one of {}",
+                t.path.display(),
+                r[id],
+                r[kind],
+                Kind::ALL.map(|k| k.as_str()).join(", ")
+            );
+        };
+        let v = r[verdict].trim();
+        if v != UNTESTABLE && !k.verdict_words().contains(&v) {
+            bail!(
+                "{}: claim {}: verdict '{}' is not one a{} {} claim may get ({} or {UNTESTABLE})",
+                t.path.display(),
+                r[id],
+                r[verdict],
+                if k == Kind::Measured { "" } else { "n" },
+                k.as_str(),
+                k.verdict_words().join(", ")
+            );
+        }
+        if seen.contains(&r[id].as_str()) {
+            bail!("{}: claim {} has two rows (one verdict per claim)", t.path.display(), r[id]);
+        }
+        seen.push(&r[id]);
+    }
+    Ok(())
+}
+
 /// The at-a-glance table: one row per claim, in paper order (declarations), then claims of
-/// the CSV that no declaration lists. Cells are at most [`CELL_MAX`] characters. `claims` is
+/// the CSV that no declaration lists. No cell is ever cut: short text is written at the source
+/// (the declarations' `says` and `paper_figure`, the engine's headlines). `claims` is
 /// `None` when `results/CLAIMS.csv` does not exist: one line says so.
 pub fn at_a_glance(papers: &[Paper], claims: Option<&CsvTable>) -> Result<String> {
     let mut md = String::from("## Reproduction at a glance\n\n");
@@ -185,35 +203,34 @@ pub fn at_a_glance(papers: &[Paper], claims: Option<&CsvTable>) -> Result<String
         return Ok(md);
     };
     let c = t.require(&CLAIMS_CSV_COLUMNS)?;
-    let (id, verdict, paper_fig, ours, detail) = (c[0], c[1], c[2], c[3], c[6]);
-    let mut seen: Vec<&str> = Vec::new();
-    for r in &t.rows {
-        if !VERDICTS.contains(&r[verdict].trim()) {
-            bail!(
-                "{}: claim {}: verdict '{}' is not one of {}",
-                t.path.display(),
-                r[id],
-                r[verdict],
-                VERDICTS.join(", ")
-            );
-        }
-        if seen.contains(&r[id].as_str()) {
-            bail!("{}: claim {} has two rows (one verdict per claim)", t.path.display(), r[id]);
-        }
-        seen.push(&r[id]);
-    }
+    let (id, kind, verdict, paper_fig, ours, detail) = (c[0], c[1], c[2], c[3], c[4], c[7]);
+    check_rows(t, id, kind, verdict)?;
     let row_of = |cid: &str| t.rows.iter().find(|r| r[id] == cid);
-    let cell = |s: &str| shorten(s, CELL_MAX);
+    let cell = |s: &str| s.trim().to_string();
     let line = |cid: &str, says: &str, r: Option<&Vec<String>>| -> Vec<String> {
         let id_cell = match r.and_then(|r| relative_link(&r[detail])) {
             Some(l) => format!("[{cid}]({})", href(l)),
             None => cid.to_string(),
         };
         match r {
-            Some(r) => {
-                vec![id_cell, cell(says), cell(&r[paper_fig]), cell(&r[ours]), format!("**{}**", r[verdict].trim())]
+            Some(r) => vec![
+                id_cell,
+                r[kind].trim().to_string(),
+                cell(says),
+                cell(&r[paper_fig]),
+                cell(&r[ours]),
+                format!("**{}**", r[verdict].trim()),
+            ],
+            None => {
+                vec![
+                    id_cell,
+                    "-".into(),
+                    cell(says),
+                    "-".into(),
+                    "-".into(),
+                    "not judged (no row in CLAIMS.csv)".into(),
+                ]
             }
-            None => vec![id_cell, cell(says), "-".into(), "-".into(), "not judged (no row in CLAIMS.csv)".into()],
         }
     };
     let mut rows = Vec::new();
@@ -229,19 +246,31 @@ pub fn at_a_glance(papers: &[Paper], claims: Option<&CsvTable>) -> Result<String
             rows.push(line(&r[id], "(no declaration)", Some(r)));
         }
     }
-    let count = |v: &str| t.rows.iter().filter(|r| r[verdict].trim() == v).count();
+    let mut words: Vec<&str> = Vec::new();
+    for w in Kind::ALL.iter().flat_map(|k| k.verdict_words().iter().copied()).chain([UNTESTABLE]) {
+        if !words.contains(&w) {
+            words.push(w);
+        }
+    }
+    let counts: Vec<String> = words
+        .iter()
+        .map(|w| (w, t.rows.iter().filter(|r| r[verdict].trim() == *w).count()))
+        .filter(|(_, n)| *n > 0)
+        .map(|(w, n)| format!("{n} {w}"))
+        .collect();
     let _ = writeln!(
         md,
-        "{} claims judged: {} hold, {} partly, {} fail, {} untestable. Each id links to its evidence; \
-         [CLAIMS.csv](CLAIMS.csv) has the criterion and maps of each.\n",
+        "{} claims judged: {}. The kind of evidence decides the words a verdict may use: `identity` (true by \
+         derivation, checked to rounding: holds (identity) or fails), `measured` (a general statement: holds, \
+         partly or fails), `example` (one case, as the paper showed it: reproduced or not reproduced), `anchor` \
+         (the paper's figure comes from a population we do not have: not comparable). One primary check decides \
+         each verdict; ratios are summarised per map by median and geometric mean, as each figure says. Each id \
+         links to its evidence; [CLAIMS.csv](CLAIMS.csv) has the criterion and maps of each.\n",
         t.rows.len(),
-        count("holds"),
-        count("partly"),
-        count("fails"),
-        count("untestable")
+        counts.join(", ")
     );
     let headers: Vec<String> =
-        ["id", "the paper says", "paper's figure", "ours", "verdict"].iter().map(|s| s.to_string()).collect();
+        ["id", "kind", "the paper says", "paper's figure", "ours", "verdict"].iter().map(|s| s.to_string()).collect();
     md.push_str(&table_with(&headers, &rows, text_cell));
     md.push('\n');
     Ok(md)
@@ -372,16 +401,6 @@ mod tests {
         .contains("p.toml"));
         assert!(err("[[section]]\nkey = 'a'\ntitle = 'A'\n[[section.figure]]\nkind = 'chart'\nfolder = 'x'\n")
             .contains("p.toml"));
-    }
-
-    #[test]
-    fn shorten_cuts_at_a_word() {
-        assert_eq!(shorten("short", 150), "short");
-        let s = shorten("alpha beta gamma delta", 12);
-        assert_eq!(s, "alpha beta…");
-        assert!(s.chars().count() <= 12);
-        let long = "x".repeat(400);
-        assert_eq!(shorten(&long, 150).chars().count(), 150);
     }
 
     #[test]

@@ -317,6 +317,9 @@ pub struct BlendSummary {
     pub method: String,
     /// The mean of the RMSE (E/π) over t = 0, 0.1, …, 1.
     pub mean_rmse: f64,
+    /// The mean of the RMSE (E/π) over the interior t = 0.1, …, 0.9 only: at t = 0 and 1 every
+    /// method reconstructs one bake alone, so the endpoints say nothing about blending.
+    pub mean_rmse_interior: f64,
     /// The largest RMSE (E/π) over those t.
     pub max_rmse: f64,
     /// The RMSE (E/π) at t = 0 (bake a alone).
@@ -375,6 +378,7 @@ pub fn study(pair: &Pair, blend: &Blend, normals: &[DVec3], weights: &[f64]) -> 
             pair: pair.id.into(),
             method: method.into(),
             mean_rmse: rmse.iter().sum::<f64>() / rmse.len() as f64,
+            mean_rmse_interior: rmse[1..10].iter().sum::<f64>() / 9.0,
             max_rmse: rmse.iter().copied().fold(0.0, f64::max),
             rmse_t0: rmse[0],
             rmse_half: rmse[5],

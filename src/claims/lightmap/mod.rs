@@ -253,7 +253,7 @@ fn blend_summary(pairs: &[blend::Pair], sums: &[blend::BlendSummary]) -> Measure
         &format!(
             "claims H5 and H7 (real pairs), blending two bakes of one lightmap texel along t = 0, 0.1, ..., 1 \
              (src/claims/lightmap/blend.rs; case = the pair, encoder = the method: {BLEND_METHODS}). mean_rmse, \
-             max_rmse, rmse_t0, rmse_half, rmse_t1: E/pi RMSE against the blended exact reference over t, hemisphere \
+             mean_rmse_interior (t = 0.1, ..., 0.9 only), max_rmse, rmse_t0, rmse_half, rmse_t1: E/pi RMSE against the blended exact reference over t, hemisphere \
              about N (domain), solid-angle weighted, 128x32 normals; overshoot_rel / undershoot_rel: the largest \
              Rec.709 luminance of I(N) over t (101 steps) above the larger endpoint / below the smaller, relative to \
              the larger endpoint"
@@ -263,6 +263,7 @@ fn blend_summary(pairs: &[blend::Pair], sums: &[blend::BlendSummary]) -> Measure
             "encoder",
             "description",
             "mean_rmse",
+            "mean_rmse_interior",
             "max_rmse",
             "rmse_t0",
             "rmse_half",
@@ -284,6 +285,7 @@ fn blend_summary(pairs: &[blend::Pair], sums: &[blend::BlendSummary]) -> Measure
             s.method.as_str().into(),
             format!("{} (N = {})", p.description, p.normal_label).into(),
             s.mean_rmse.into(),
+            s.mean_rmse_interior.into(),
             s.max_rmse.into(),
             s.rmse_t0.into(),
             s.rmse_half.into(),

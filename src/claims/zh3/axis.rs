@@ -98,6 +98,45 @@ fn chroma_error_lit(test: &[Rgb], reference: &[Rgb], w: &[f64]) -> f64 {
     chroma_error(test, reference, &lw)
 }
 
+/// CIE 1931 xy chromaticity of a displayed linear Rec.709 colour (clamped at 0, as displayed),
+/// through the standard Rec.709/sRGB (D65) RGB → XYZ matrix; black is the D65 white point.
+pub fn cie_xy(e: Rgb) -> (f64, f64) {
+    let c = e.max(Rgb::ZERO);
+    let x = 0.4124564 * c.x + 0.3575761 * c.y + 0.1804375 * c.z;
+    let y = 0.2126729 * c.x + 0.7151522 * c.y + 0.0721750 * c.z;
+    let z = 0.0193339 * c.x + 0.1191920 * c.y + 0.9503041 * c.z;
+    let s = x + y + z;
+    if s > 0.0 {
+        (x / s, y / s)
+    } else {
+        (0.3127, 0.3290)
+    }
+}
+
+/// The luminance Y of a linear Rec.709 colour (Rec.709 weights), clamped at 0.
+fn luminance(e: Rgb) -> f64 {
+    (0.2126729 * e.x + 0.7151522 * e.y + 0.0721750 * e.z).max(0.0)
+}
+
+/// The chroma error of claim Z2, a documented standard metric: the RMS of the CIE 1931 xy
+/// distance between test and reference chromaticities ([`cie_xy`]), each normal weighted by
+/// its solid angle times the reference luminance Y, so that what is lit counts and dark
+/// regions (whose chromaticity is noise) do not.
+pub fn xy_error(test: &[Rgb], reference: &[Rgb], w: &[f64]) -> f64 {
+    let (mut s, mut ws) = (0.0, 0.0);
+    for ((t, r), &wi) in test.iter().zip(reference).zip(w) {
+        let ((tx, ty), (rx, ry)) = (cie_xy(*t), cie_xy(*r));
+        let wl = wi * luminance(*r);
+        s += wl * ((tx - rx).powi(2) + (ty - ry).powi(2));
+        ws += wl;
+    }
+    if ws > 0.0 {
+        (s / ws).sqrt()
+    } else {
+        0.0
+    }
+}
+
 /// A scene with two coloured lights 90° apart, whose channels have different L1 axes.
 fn two_colour_scene() -> Scene {
     scene(
@@ -130,8 +169,10 @@ pub(super) fn z2(grid: &OutputGrid, cases: &[Case]) -> Result<Measure> {
         "Z2: chroma error = solid-angle RMS over the sphere of |χ(test) − χ(ref)|, χ = max(E,0)/Σ max(E,0) (black \
          = grey); lit_chroma_err weights each normal by solid angle × reference luminance; rmse under both \
          metrics (exact: solid-angle, unclamped; probulator: per-pixel, clamped), 256x128 normals, exact \
-         reference; maps plus a constructed two-colour scene (warm light +x, blue light +y)",
-        &["map", "encoder", "metric", "chroma_err", "lit_chroma_err", "rmse"],
+         reference; maps plus a constructed two-colour scene (warm light +x, blue light +y). xy_err (the one Z2 \
+         judges): RMS of the CIE 1931 xy distance (Rec.709 primaries, D65; clamped at 0 as displayed) weighted \
+         by solid angle × reference luminance Y",
+        &["map", "encoder", "metric", "chroma_err", "lit_chroma_err", "xy_err", "rmse"],
     );
     for case in cases.iter().chain(std::iter::once(&constructed)) {
         for id in ids {
@@ -139,11 +180,13 @@ pub(super) fn z2(grid: &OutputGrid, cases: &[Case]) -> Result<Measure> {
             let v = values(fit(e.as_ref(), &case.sh).as_ref(), grid);
             let ce = chroma_error(&v, &case.reference, &grid.weights);
             let cl = chroma_error_lit(&v, &case.reference, &grid.weights);
+            let xy = xy_error(&v, &case.reference, &grid.weights);
             for (metric, f) in
                 [("exact", exact as fn(&dyn Encoder, &Case, &OutputGrid) -> _), ("probulator", probulator)]
             {
                 let r = f(e.as_ref(), case, grid).rmse;
-                m.row(vec![case.name.clone().into(), id.into(), metric.into(), ce.into(), cl.into(), r.into()]);
+                let row = vec![case.name.clone().into(), id.into(), metric.into(), ce.into(), cl.into(), xy.into()];
+                m.row(row.into_iter().chain([r.into()]).collect());
             }
         }
     }
@@ -255,5 +298,30 @@ mod tests {
         assert_eq!(chroma(Rgb::new(-1.0, 1.0, 0.0)), Rgb::new(0.0, 1.0, 0.0));
         let e = chroma_error(&[Rgb::new(1.0, 0.0, 0.0)], &[Rgb::new(0.0, 1.0, 0.0)], &[1.0]);
         assert!((e - 2f64.sqrt()).abs() < 1e-15);
+    }
+
+    /// The Rec.709 primaries and white have their standard CIE 1931 xy chromaticities (ITU-R
+    /// BT.709: red (0.64, 0.33), green (0.30, 0.60), blue (0.15, 0.06), D65 (0.3127, 0.3290)),
+    /// to the 4 digits the standard gives.
+    #[test]
+    fn cie_xy_of_the_rec709_primaries() {
+        let near = |(x, y): (f64, f64), (ex, ey): (f64, f64)| (x - ex).abs() < 1e-4 && (y - ey).abs() < 1e-4;
+        assert!(near(cie_xy(Rgb::new(1.0, 0.0, 0.0)), (0.64, 0.33)));
+        assert!(near(cie_xy(Rgb::new(0.0, 2.0, 0.0)), (0.30, 0.60)));
+        assert!(near(cie_xy(Rgb::new(0.0, 0.0, 0.5)), (0.15, 0.06)));
+        assert!(near(cie_xy(Rgb::splat(3.0)), (0.3127, 0.3290)));
+        assert_eq!(cie_xy(Rgb::ZERO), (0.3127, 0.3290));
+    }
+
+    /// xy_error weights by the reference's luminance: a wrong colour where the reference is
+    /// black counts for nothing; red shown where green is lit counts the red–green distance
+    /// √(0.34² + 0.27²) = 0.4342 in full.
+    #[test]
+    fn xy_error_counts_what_is_lit() {
+        let (r, g) = (Rgb::new(1.0, 0.0, 0.0), Rgb::new(0.0, 1.0, 0.0));
+        let e = xy_error(&[r, r], &[g, Rgb::ZERO], &[1.0, 1.0]);
+        assert!((e - (0.34f64.powi(2) + 0.27f64.powi(2)).sqrt()).abs() < 2e-4, "{e}");
+        assert_eq!(xy_error(&[r], &[Rgb::ZERO], &[1.0]), 0.0);
+        assert_eq!(xy_error(&[g * 5.0], &[g], &[1.0]), 0.0);
     }
 }
