@@ -25,7 +25,7 @@ use sha2::{Digest, Sha256};
 use std::any::Any;
 use std::cell::Cell;
 use std::fs::{self, File};
-use std::io::{self, BufReader, BufWriter, Cursor, Read, Seek, SeekFrom};
+use std::io::{self, BufReader, BufWriter, Read, Seek, SeekFrom};
 use std::panic::{self, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -269,19 +269,30 @@ pub fn load(path: &Path) -> Result<EnvMap, LoadError> {
     if meta.len() == 0 {
         return Err(LoadError::Empty { path: path.to_path_buf() });
     }
-    // One read: the bytes are decoded from memory and hashed (the map's identity in provenance).
-    let bytes = fs::read(path).map_err(|e| io_err("read file", e))?;
-    let mut file = Cursor::new(bytes.as_slice());
-    let format = detect(path, &bytes[..bytes.len().min(4)])?;
-    let (width, height, texels) = match format {
-        Format::Exr => read_exr(path, &mut file, meta.len())?,
-        Format::Hdr => read_hdr(path, &mut file, meta.len())?,
-    };
+    // The file is decoded as it is read, never held whole (a 16k map's file can be as large as
+    // the map itself), while a second reader hashes it on another thread (the map's identity in
+    // provenance).
+    let open = || File::open(path).map_err(|e| io_err("open file", e));
+    let mut file = open()?;
+    let mut head = Vec::with_capacity(4);
+    (&mut file).take(4).read_to_end(&mut head).map_err(|e| io_err("read file", e))?;
+    let format = detect(path, &head)?;
+    let hashed = open()?;
+    let (decoded, digest) = std::thread::scope(|s| {
+        let hasher = s.spawn(move || sha256_hex_of(hashed));
+        let decoded = match format {
+            Format::Exr => read_exr(path, &mut file, meta.len()),
+            Format::Hdr => read_hdr(path, &mut file, meta.len()),
+        };
+        (decoded, hasher.join().unwrap_or_else(|_| Err(io::Error::other("the hashing thread failed"))))
+    });
+    let (width, height, texels) = decoded?;
+    let digest = digest.map_err(|e| io_err("read file", e))?;
     let name = path.file_stem().unwrap_or(path.as_os_str()).to_string_lossy().into_owned();
     let mut map =
         EnvMap::new(name, width, height, texels).map_err(|cause| LoadError::Map { path: path.to_path_buf(), cause })?;
     map.path = Some(path.to_path_buf());
-    map.sha256 = Some(sha256_hex(&bytes));
+    map.sha256 = Some(digest);
     Ok(map)
 }
 
@@ -548,6 +559,8 @@ fn read_exr(path: &Path, file: &mut (impl Read + Seek), len: u64) -> Result<(usi
             .map_err(|e| exr_error(path, len, hit_eof.load(Ordering::Relaxed), e))
     })?;
     let (width, height, [r, g, b]) = check_exr_header(path, &meta)?;
+    let progress = (width >= super::PROGRESS_WIDTH)
+        .then(|| Arc::new(crate::io::progress::Progress::new(height as u64, &format!("decoding {}", path.display()))));
 
     let (reader, hit_eof) = watched(path, file)?;
     let image = guarded(path, FORMAT, || {
@@ -562,7 +575,12 @@ fn read_exr(path: &Path, file: &mut (impl Read + Seek), len: u64) -> Result<(usi
                 |size: Vec2<usize>, _: &(ChannelDescription, ChannelDescription, ChannelDescription)| {
                     Coverage::new(size.width(), size.height())
                 },
-                |c: &mut Coverage, pos: Vec2<usize>, (r, g, b): (f32, f32, f32)| c.set(pos.x(), pos.y(), [r, g, b]),
+                move |c: &mut Coverage, pos: Vec2<usize>, (r, g, b): (f32, f32, f32)| {
+                    if let (0, Some(p)) = (pos.x(), &progress) {
+                        p.inc();
+                    }
+                    c.set(pos.x(), pos.y(), [r, g, b])
+                },
             )
             .first_valid_layer()
             .all_attributes()

@@ -16,6 +16,10 @@ pub mod moments;
 pub mod resample;
 pub mod search;
 
+/// Maps at least this many texels wide show progress while they are decoded and while the
+/// exact reference runs over them.
+pub const PROGRESS_WIDTH: usize = 4096;
+
 use crate::math::convention::direction;
 use glam::DVec3;
 use std::f64::consts::PI;

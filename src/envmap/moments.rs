@@ -50,20 +50,55 @@ impl std::ops::Mul<f64> for Moments {
     }
 }
 
-/// Prefix sums of the azimuthal moments of every row of a map.
-pub struct RowMoments {
+/// The azimuthal moments of every row of a map, for prefix sums built a row at a time.
+///
+/// What is kept for the whole map is O(W + H): each row's total moments and, per column, the
+/// exact moments of a texel of unit radiance. A row's W+1 cumulative moments ([`RowPrefix`])
+/// are rebuilt from the map's own f32 texels when a row is needed (O(W), the same sums in the
+/// same order, so the same bits as keeping them): holding them for every row would cost 120
+/// bytes per texel, ten times the map.
+pub struct RowMoments<'m> {
+    map: &'m EnvMap,
     width: usize,
     height: usize,
     dtheta: f64,
-    /// Per row, W+1 cumulative moments at the texel edges (index k = left edge of texel k).
-    cum: Vec<Vec<Moments>>,
-    /// Texel radiance as f64, row-major.
-    texels: Vec<Rgb>,
-    /// (cos, sin) of mθ at the left edge of each column, m = 1, 2.
+    /// (cos, sin) of mθ at the left edge of each column, m = 1, 2 (W+1 edges).
     edge_cis: Vec<[(f64, f64); 2]>,
-    /// Per row, W+1 cells with what [`Self::cumulative01`] reads, packed together (the
-    /// reference's hot path: one cache line pair per lookup instead of three arrays).
-    cum01: Vec<Vec<Cell01>>,
+    /// ∫ e^{−imθ} dθ over each column, m = 1, 2, as (real, imaginary) parts.
+    weights: Vec<[(f64, f64); 2]>,
+    /// Each row's total moments.
+    totals: Vec<Moments>,
+}
+
+/// One row's cumulative moments at its W+1 texel edges (index k = left edge of texel k) and its
+/// texels as f64: what [`RowMoments::cumulative`] and the other lookups read. Built by
+/// [`RowMoments::fill`]; reused from row to row to keep allocations out of loops.
+#[derive(Clone, Debug, Default)]
+pub struct RowPrefix {
+    j: usize,
+    cum: Vec<Moments>,
+    texels: Vec<Rgb>,
+}
+
+impl RowPrefix {
+    /// An empty prefix, to be filled by [`RowMoments::fill`].
+    pub fn new() -> Self {
+        Self::default()
+    }
+    /// The row it holds.
+    pub fn row(&self) -> usize {
+        self.j
+    }
+    /// The W+1 cumulative moments at the texel edges.
+    #[inline]
+    pub fn cum(&self) -> &[Moments] {
+        &self.cum
+    }
+    /// Texel k's radiance.
+    #[inline]
+    pub fn texel(&self, k: usize) -> Rgb {
+        self.texels[k]
+    }
 }
 
 /// Moments m0 and m1 only (what the clamped-cosine kernel needs): m0 = ∫L, m1 = ∫L e^{−iθ} as
@@ -103,18 +138,9 @@ impl std::ops::AddAssign for Moments01 {
     }
 }
 
-/// One texel edge k of a row for [`RowMoments::cumulative01`]: the cumulative m0/m1 at the
-/// edge, the texel's radiance (zero at k = W) and (cos, sin) θ of the edge.
-#[derive(Clone, Copy, Debug, Default)]
-struct Cell01 {
-    cum: Moments01,
-    texel: Rgb,
-    edge_cis1: (f64, f64),
-}
-
-impl RowMoments {
-    /// Builds the prefix sums of every row of `map` (rows in parallel).
-    pub fn new(map: &EnvMap) -> Self {
+impl<'m> RowMoments<'m> {
+    /// The per-column weights and every row's total moments of `map` (rows in parallel).
+    pub fn new(map: &'m EnvMap) -> Self {
         let (w, h) = (map.width(), map.height());
         let grid = map.grid();
         let dtheta = grid.dtheta();
@@ -124,7 +150,6 @@ impl RowMoments {
                 [t.cos_sin(), (2.0 * t).cos_sin()]
             })
             .collect();
-        let texels: Vec<Rgb> = map.texels().iter().map(|t| Rgb::new(t[0] as f64, t[1] as f64, t[2] as f64)).collect();
         // ∫_{θk}^{θk+1} e^{−imθ} dθ = (e^{−imθk} − e^{−imθk+1})/(im)
         let texel_integral = |k: usize, m: usize| -> (f64, f64) {
             let (c0, s0) = edge_cis[k][m - 1];
@@ -135,38 +160,47 @@ impl RowMoments {
             (im / m as f64, -re / m as f64)
         };
         let weights: Vec<[(f64, f64); 2]> = (0..w).map(|k| [texel_integral(k, 1), texel_integral(k, 2)]).collect();
-        let cum: Vec<Vec<Moments>> = (0..h)
-            .into_par_iter()
-            .map(|j| {
-                let mut row = Vec::with_capacity(w + 1);
-                let mut acc = Moments::default();
-                row.push(acc);
-                for k in 0..w {
-                    let l = texels[j * w + k];
-                    acc.m0 += l * dtheta;
-                    let [(r1, i1), (r2, i2)] = weights[k];
-                    acc.m1[0] += l * r1;
-                    acc.m1[1] += l * i1;
-                    acc.m2[0] += l * r2;
-                    acc.m2[1] += l * i2;
-                    row.push(acc);
-                }
-                row
-            })
-            .collect();
-        let cum01 = (0..h)
-            .map(|j| {
-                let row: &Vec<Moments> = &cum[j];
-                (0..=w)
-                    .map(|k| Cell01 {
-                        cum: Moments01 { m0: row[k].m0, m1: row[k].m1 },
-                        texel: if k < w { texels[j * w + k] } else { Rgb::ZERO },
-                        edge_cis1: edge_cis[k][0],
-                    })
-                    .collect()
-            })
-            .collect();
-        Self { width: w, height: h, dtheta, cum, texels, edge_cis, cum01 }
+        let mut rm = Self { map, width: w, height: h, dtheta, edge_cis, weights, totals: Vec::new() };
+        rm.totals = (0..h).into_par_iter().map(|j| rm.accumulate(j, |_, _| {})).collect();
+        rm
+    }
+
+    /// Runs the prefix sums of row j from the left edge, handing `at(k, F(edge k + 1))` the
+    /// cumulative moments after each texel; returns the row total. The one place the sums are
+    /// formed, so totals and prefixes agree bit for bit.
+    #[inline]
+    fn accumulate(&self, j: usize, mut at: impl FnMut(usize, &Moments)) -> Moments {
+        let mut acc = Moments::default();
+        for (k, (t, &[(r1, i1), (r2, i2)])) in self.map.row(j).iter().zip(&self.weights).enumerate() {
+            let l = Rgb::new(t[0] as f64, t[1] as f64, t[2] as f64);
+            acc.m0 += l * self.dtheta;
+            acc.m1[0] += l * r1;
+            acc.m1[1] += l * i1;
+            acc.m2[0] += l * r2;
+            acc.m2[1] += l * i2;
+            at(k, &acc);
+        }
+        acc
+    }
+
+    /// Fills `row` with row j's cumulative moments and texels (O(W)).
+    pub fn fill(&self, j: usize, row: &mut RowPrefix) {
+        row.j = j;
+        row.cum.clear();
+        row.cum.reserve(self.width + 1);
+        row.cum.push(Moments::default());
+        let mut cum = std::mem::take(&mut row.cum);
+        self.accumulate(j, |_, acc| cum.push(*acc));
+        row.cum = cum;
+        row.texels.clear();
+        row.texels.extend(self.map.row(j).iter().map(|t| Rgb::new(t[0] as f64, t[1] as f64, t[2] as f64)));
+    }
+
+    /// Row j's prefix, newly allocated (see [`Self::fill`] to reuse one).
+    pub fn prefix(&self, j: usize) -> RowPrefix {
+        let mut row = RowPrefix::new();
+        self.fill(j, &mut row);
+        row
     }
 
     /// Width of the map in texels.
@@ -181,33 +215,39 @@ impl RowMoments {
     /// Moments of the whole row j.
     #[inline]
     pub fn row_total(&self, j: usize) -> Moments {
-        self.cum[j][self.width]
+        self.totals[j]
     }
 
-    /// The cumulative moments ∫_{−π}^{θ} on row j, for any real θ (periodic extension).
+    /// (cos θ, sin θ) of the left edge of column k (k ≤ W).
     #[inline]
-    pub fn cumulative(&self, j: usize, theta: f64) -> Moments {
-        self.cumulative_to(j, theta, 2)
+    pub fn edge_cis1(&self, k: usize) -> (f64, f64) {
+        self.edge_cis[k][0]
+    }
+
+    /// The cumulative moments ∫_{−π}^{θ} on the prefix's row, for any real θ (periodic
+    /// extension).
+    #[inline]
+    pub fn cumulative(&self, row: &RowPrefix, theta: f64) -> Moments {
+        self.cumulative_to(row, theta, 2)
     }
 
     /// As [`Self::cumulative`], computing the partial texel only for m ≤ `max_m` (m2 is then
     /// left at the prefix value and must not be used).
     #[inline]
-    fn cumulative_to(&self, j: usize, theta: f64, max_m: usize) -> Moments {
+    fn cumulative_to(&self, row: &RowPrefix, theta: f64, max_m: usize) -> Moments {
         let w = self.width as f64;
         let u = (theta + PI) / self.dtheta;
         let wraps = (u / w).floor();
         let u_in = u - wraps * w;
         let k = (u_in.floor().max(0.0) as usize).min(self.width - 1);
-        let row = &self.cum[j];
-        let mut out = row[k];
+        let mut out = row.cum[k];
         if wraps != 0.0 {
-            out += row[self.width] * wraps;
+            out += row.cum[self.width] * wraps;
         }
         // Partial texel k from its left edge to θ.
         let delta = (u_in - k as f64) * self.dtheta;
         if delta != 0.0 {
-            let l = self.texels[j * self.width + k];
+            let l = row.texels[k];
             out.m0 += l * delta;
             for m in 1..=max_m {
                 let x = m as f64 * delta;
@@ -230,10 +270,9 @@ impl RowMoments {
     /// (non-negative) texel index, no m = 2 terms, and the partial texel's sin x and 1 − cos x
     /// by `sin_versin` (the same values to an ulp or two).
     #[inline]
-    pub fn cumulative01(&self, j: usize, theta: f64) -> Moments01 {
+    pub fn cumulative01(&self, row: &RowPrefix, theta: f64) -> Moments01 {
         let w = self.width as f64;
         let u = (theta + PI) / self.dtheta;
-        let row = &self.cum01[j];
         // (u / w).floor() is 0 exactly when 0 <= u < w (the quotient then rounds below 1).
         let (u_in, wrap) = if (0.0..w).contains(&u) {
             (u, None)
@@ -244,18 +283,19 @@ impl RowMoments {
         // `as usize` truncates, which is floor for u_in >= 0 and saturates to 0 below it, as
         // floor().max(0.0) does.
         let k = (u_in as usize).min(self.width - 1);
-        let cell = &row[k];
-        let mut out = cell.cum;
+        let cell = &row.cum[k];
+        let mut out = Moments01 { m0: cell.m0, m1: cell.m1 };
         if let Some(wraps) = wrap {
-            out.add_scaled(&row[self.width].cum, wraps);
+            let t = &row.cum[self.width];
+            out.add_scaled(&Moments01 { m0: t.m0, m1: t.m1 }, wraps);
         }
         let delta = (u_in - k as f64) * self.dtheta;
         if delta != 0.0 {
-            let l = cell.texel;
+            let l = row.texels[k];
             out.m0 += l * delta;
             let (sx, versin) = sin_versin(delta);
             let (fr, fi) = (sx, -versin);
-            let (c, s) = cell.edge_cis1;
+            let (c, s) = self.edge_cis[k][0];
             let (re, im) = (c * fr + s * fi, c * fi - s * fr);
             out.m1[0] += l * re;
             out.m1[1] += l * im;
@@ -266,19 +306,8 @@ impl RowMoments {
     /// m0 and m1 of the whole row j.
     #[inline]
     pub fn row_total01(&self, j: usize) -> Moments01 {
-        self.cum01[j][self.width].cum
-    }
-
-    /// The W+1 cumulative moments of row j at the texel edges.
-    #[inline]
-    pub fn cum_row(&self, j: usize) -> &[Moments] {
-        &self.cum[j]
-    }
-
-    /// Texel radiance of row j, column k.
-    #[inline]
-    pub fn texel(&self, j: usize, k: usize) -> Rgb {
-        self.texels[j * self.width + k]
+        let t = &self.totals[j];
+        Moments01 { m0: t.m0, m1: t.m1 }
     }
 
     /// Azimuth width of a texel.
@@ -286,13 +315,13 @@ impl RowMoments {
         self.dtheta
     }
 
-    /// Moments of row j over an arc.
+    /// Moments of the prefix's row over an arc.
     #[inline]
-    pub fn arc(&self, j: usize, arc: Arc) -> Moments {
+    pub fn arc(&self, row: &RowPrefix, arc: Arc) -> Moments {
         if arc.len >= TAU {
-            return self.row_total(j);
+            return self.row_total(row.j);
         }
-        self.cumulative(j, arc.hi()) - self.cumulative(j, arc.lo)
+        self.cumulative(row, arc.hi()) - self.cumulative(row, arc.lo)
     }
 }
 
@@ -305,7 +334,7 @@ const SERIES_MAX: f64 = 0.1;
 /// of the result, so this is exact to rounding, and cancellation-free like 2 sin²(x/2));
 /// otherwise by libm as `cumulative_to` does.
 #[inline]
-fn sin_versin(x: f64) -> (f64, f64) {
+pub(crate) fn sin_versin(x: f64) -> (f64, f64) {
     if x.abs() <= SERIES_MAX {
         let z = x * x;
         let s = x * (1.0 + z * (-1.0 / 6.0 + z * (1.0 / 120.0 + z * (-1.0 / 5040.0 + z * (1.0 / 362_880.0)))));
@@ -383,14 +412,43 @@ mod tests {
         for w in [16, 64, 256] {
             let map = EnvMap::from_fn("t", w, w / 2, |i, j| [(i * 3 % 7) as f32 + 0.5, j as f32, 1.0]).unwrap();
             let rm = RowMoments::new(&map);
+            let row = rm.prefix(3);
             let h = TAU / w as f64;
             for &(lo, len) in
                 &[(-1.0, 0.5), (2.9, 1.0), (-4.0, 3.0), (0.123, 6.0), (-PI, 3.0 * h), (7.0, 2.0), (-9.5, 6.2)]
             {
-                let (a, b) = (rm.arc(3, Arc { lo, len }), rm.cumulative01(3, lo + len) - rm.cumulative01(3, lo));
+                let (a, b) =
+                    (rm.arc(&row, Arc { lo, len }), rm.cumulative01(&row, lo + len) - rm.cumulative01(&row, lo));
                 let scale = a.m0.max_element();
                 let d = [a.m0 - b.m0, a.m1[0] - b.m1[0], a.m1[1] - b.m1[1]];
                 assert!(d.iter().all(|v| v.abs().max_element() <= 1e-14 * scale), "w {w} arc ({lo},{len}): {d:?}");
+            }
+        }
+    }
+
+    /// A row's prefix, rebuilt on demand, ends at the row total kept for the whole map, bit for
+    /// bit, and its steps are the texels' exact moments: m0 steps by L·Δθ, and m1 over a texel
+    /// is L·(e^{−iθk} − e^{−iθk+1})/i, checked here against that closed form directly.
+    #[test]
+    fn prefix_rebuilds_agree_with_the_totals() {
+        let map = test_map();
+        let rm = RowMoments::new(&map);
+        let mut row = RowPrefix::new();
+        for j in 0..map.height() {
+            rm.fill(j, &mut row);
+            assert_eq!(row.row(), j);
+            assert_eq!(row.cum().len(), map.width() + 1);
+            assert_eq!(row.cum()[map.width()], rm.row_total(j));
+            let h = TAU / map.width() as f64;
+            for k in 0..map.width() {
+                let step = row.cum()[k + 1] - row.cum()[k];
+                let l = row.texel(k);
+                let (a, b) = (-PI + k as f64 * h, -PI + (k + 1) as f64 * h);
+                // (e^{−ia} − e^{−ib})/i = (sin b − sin a) + i(cos b − cos a)
+                let (re, im) = (b.sin() - a.sin(), b.cos() - a.cos());
+                assert!((step.m0 - l * h).abs().max_element() <= 1e-12);
+                assert!((step.m1[0] - l * re).abs().max_element() <= 1e-12, "row {j} texel {k}");
+                assert!((step.m1[1] - l * im).abs().max_element() <= 1e-12, "row {j} texel {k}");
             }
         }
     }
@@ -400,7 +458,7 @@ mod tests {
         let map = test_map();
         let rm = RowMoments::new(&map);
         for &(lo, len) in &[(-1.0, 0.5), (2.9, 1.0), (-4.0, 3.0), (0.123, 6.0), (-PI, TAU)] {
-            let got = rm.arc(3, Arc { lo, len });
+            let got = rm.arc(&rm.prefix(3), Arc { lo, len });
             let want = brute(&map, 3, lo, lo + len);
             let d = got - want;
             let err =

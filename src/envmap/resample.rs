@@ -1,4 +1,4 @@
-//! Lat-long downsampling as the shared `_256x128` maps were made (`SOURCES.md`, "Conventions":
+//! Lat-long resampling. Downsampling as the shared `_256x128` maps were made (`SOURCES.md`, "Conventions":
 //! "a solid-angle-weighted area average ... separable box filter with fractional overlaps; each
 //! source row weighted by its solid angle cos(φ0) − cos(φ1)").
 //!
@@ -87,6 +87,36 @@ pub fn downsample(map: &EnvMap, width: usize, height: usize) -> Result<EnvMap, S
     Ok(out)
 }
 
+/// `map` at `width`×`height` by nearest texel: each target texel takes the source texel that
+/// holds its centre. For whole-number factors this is the same piecewise-constant radiance on
+/// a finer grid (so the same exact reference); it makes large maps from small committed ones
+/// for the size benchmarks. Name, path and file sha256 are kept. Fails when the target is not
+/// 2:1.
+pub fn nearest(map: &EnvMap, width: usize, height: usize) -> Result<EnvMap, String> {
+    if height == 0 || width != 2 * height {
+        return Err(format!("target {width}x{height} is not a 2:1 lat-long size"));
+    }
+    let (sw, sh) = (map.width(), map.height());
+    let cols: Vec<usize> = (0..width).map(|i| ((2 * i + 1) * sw / (2 * width)).min(sw - 1)).collect();
+    let mut out = EnvMap::from_fn(map.name.clone(), width, height, |i, j| {
+        map.texel(cols[i], ((2 * j + 1) * sh / (2 * height)).min(sh - 1))
+    })
+    .map_err(|e| e.to_string())?;
+    out.path = map.path.clone();
+    out.sha256 = map.sha256.clone();
+    Ok(out)
+}
+
+/// `map` at `width`×`height`: averaged down by [`downsample`] when the target is no larger in
+/// either direction, otherwise by [`nearest`].
+pub fn resized(map: &EnvMap, width: usize, height: usize) -> Result<EnvMap, String> {
+    if width <= map.width() && height <= map.height() {
+        downsample(map, width, height)
+    } else {
+        nearest(map, width, height)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -154,5 +184,26 @@ mod tests {
         assert!(downsample(&m, 16, 8).unwrap_err().contains("never up"));
         assert!(downsample(&m, 6, 2).unwrap_err().contains("2:1"));
         assert_eq!(downsample(&m, 8, 4).unwrap().texels(), m.texels());
+    }
+
+    /// Nearest-texel upsampling by a whole factor repeats each texel factor×factor times; a
+    /// fractional factor picks the texel under each centre (1000 columns from 256: target
+    /// column 999's centre 999.5·256/1000 = 255.87 lies in source column 255).
+    #[test]
+    fn nearest_repeats_texels() {
+        let src = EnvMap::from_fn("s", 8, 4, |i, j| [(i + 10 * j) as f32, 0.0, 1.0]).unwrap();
+        let up = nearest(&src, 32, 16).unwrap();
+        for j in 0..16 {
+            for i in 0..32 {
+                assert_eq!(up.texel(i, j), src.texel(i / 4, j / 4));
+            }
+        }
+        let wide = EnvMap::from_fn("w", 256, 128, |i, j| [i as f32, j as f32, 0.0]).unwrap();
+        let odd = nearest(&wide, 1000, 500).unwrap();
+        assert_eq!(odd.texel(999, 499), [255.0, 127.0, 0.0]);
+        assert_eq!(odd.texel(0, 0), [0.0, 0.0, 0.0]);
+        assert_eq!(odd.texel(4, 2), [1.0, 0.0, 0.0]);
+        assert!(nearest(&src, 6, 2).unwrap_err().contains("2:1"));
+        assert_eq!(resized(&wide, 32, 16).unwrap().width(), 32);
     }
 }

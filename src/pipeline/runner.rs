@@ -241,7 +241,7 @@ pub struct MapData<'m> {
     /// The map.
     pub map: &'m EnvMap,
     /// Prefix sums of the map's row moments.
-    pub moments: RowMoments,
+    pub moments: RowMoments<'m>,
     /// The map's L2 radiance SH (the probe).
     pub probe_sh: Sh9,
 }

@@ -11,14 +11,15 @@
 //! to the parallel (the only places the integrand is not smooth in φ). Cost per normal:
 //! O(H · nodes). `polar_nodes` is the one accuracy knob; see the convergence test.
 
-use crate::envmap::moments::{Moments01, RowMoments};
+use crate::envmap::moments::{Moments01, RowMoments, RowPrefix};
 use crate::envmap::LatLong;
 use crate::math::cap::{Arcs, Cap};
 use crate::math::colour::Rgb;
 use crate::math::quadrature::{for_each_polar_node, gauss_legendre};
+use crate::reference::row_convolution;
 use glam::DVec3;
 use rayon::prelude::*;
-use std::f64::consts::{FRAC_1_PI, PI, TAU};
+use std::f64::consts::{FRAC_1_PI, TAU};
 
 /// Default Gauss–Legendre nodes per row piece. Chosen from the convergence study in the tests
 /// and `probelab reference-convergence`: 2 nodes agree with 8 to better than 1e-7 relative on
@@ -36,7 +37,7 @@ pub fn capped_reference_count() -> usize {
 
 /// The exact irradiance of one map under a fixed set of visibility caps.
 pub struct Reference<'a> {
-    moments: &'a RowMoments,
+    moments: &'a RowMoments<'a>,
     masks: Vec<Cap>,
     rule: Vec<(f64, f64)>,
     grid: LatLong,
@@ -82,8 +83,9 @@ struct Piece {
 }
 
 impl Visible {
-    /// The masks' intersection on the parallel (s, c) of row j, with F at every piece end.
-    fn new(moments: &RowMoments, j: usize, masks: &[Cap], s: f64, c: f64) -> Self {
+    /// The masks' intersection on the parallel (s, c) of row j, with F at every piece end
+    /// (`row`, row j's prefix, is read only when a mask cuts the parallel).
+    fn new(moments: &RowMoments, j: usize, row: &RowPrefix, masks: &[Cap], s: f64, c: f64) -> Self {
         let mut arcs = Arcs::full();
         for m in masks {
             if arcs.is_empty() {
@@ -99,7 +101,7 @@ impl Visible {
             }
             pieces => {
                 for a in pieces {
-                    let (f_lo, f_hi) = (moments.cumulative01(j, a.lo), moments.cumulative01(j, a.hi()));
+                    let (f_lo, f_hi) = (moments.cumulative01(row, a.lo), moments.cumulative01(row, a.hi()));
                     v.total += f_hi - f_lo;
                     v.pieces[v.n] = Piece { lo: a.lo, len: a.len, f_lo, f_hi };
                     v.n += 1;
@@ -124,15 +126,16 @@ struct Kernel {
     cos_t: f64,
 }
 
-/// Normals per batch of [`Reference::irradiance_many`]: each batch streams the map's rows once,
-/// so a row's moments stay in cache while every normal of the batch uses them.
+/// Fewest normals per batch of [`Reference::irradiance_many`]: each batch builds every row's
+/// prefix sums once (O(W)) and streams them past all its normals, so a batch is made large
+/// enough (two per thread) that the rebuilding costs little next to the normals' work.
 const BATCH: usize = 256;
 
 impl<'a> Reference<'a> {
     /// A reference for the map whose moments are given, with light visible only inside every
     /// cap of `masks` (empty: the whole sphere), integrating each row piece with `polar_nodes`
     /// Gauss–Legendre nodes.
-    pub fn new(moments: &'a RowMoments, masks: Vec<Cap>, polar_nodes: usize) -> Self {
+    pub fn new(moments: &'a RowMoments<'a>, masks: Vec<Cap>, polar_nodes: usize) -> Self {
         if !masks.is_empty() {
             CAPPED_REFERENCES.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
         }
@@ -150,8 +153,13 @@ impl<'a> Reference<'a> {
             }
         }
         let mask_breaks = &mask_breaks[..nm];
+        let mut prefix = RowPrefix::new();
         let rows = (0..grid.height)
             .map(|j| {
+                // Only the masks' pieces read the row's prefix sums.
+                if !masks.is_empty() {
+                    moments.fill(j, &mut prefix);
+                }
                 let (p0, p1) = (grid.phi_edge(j), grid.phi_edge(j + 1));
                 let split = mask_breaks.iter().any(|&b| b > p0 && b < p1);
                 let mut nodes = Vec::with_capacity(rule.len());
@@ -163,7 +171,7 @@ impl<'a> Reference<'a> {
                     for (miss, m) in missed.iter_mut().zip(&masks) {
                         *miss &= m.arc(s, c).is_none();
                     }
-                    visible.push(Visible::new(moments, j, &masks, s, c));
+                    visible.push(Visible::new(moments, j, &prefix, &masks, s, c));
                 });
                 let dark = !split && missed.iter().any(|&m| m);
                 RowCache { nodes, split, visible, dark }
@@ -215,7 +223,7 @@ impl<'a> Reference<'a> {
     /// the cache plus multiples of T). A piece inside K adds its cached moments; a kernel
     /// covering the whole parallel adds the cached total.
     #[inline]
-    fn add_node(&self, j: usize, k: &Kernel, (s, c, ws): (f64, f64, f64), vis: &Visible, acc: &mut Rgb) {
+    fn add_node(&self, row: &RowPrefix, k: &Kernel, (s, c, ws): (f64, f64, f64), vis: &Visible, acc: &mut Rgb) {
         if vis.is_empty() {
             return;
         }
@@ -223,13 +231,13 @@ impl<'a> Reference<'a> {
         let m = if ka.len >= TAU {
             vis.total
         } else if vis.full {
-            self.moments.cumulative01(j, ka.hi()) - self.moments.cumulative01(j, ka.lo)
+            self.moments.cumulative01(row, ka.hi()) - self.moments.cumulative01(row, ka.lo)
         } else {
             let (k0, kl) = (ka.lo, ka.len);
             let (mut f0, mut f1) = (None, None);
-            let mut fk0 = || *f0.get_or_insert_with(|| self.moments.cumulative01(j, k0));
-            let mut fk1 = || *f1.get_or_insert_with(|| self.moments.cumulative01(j, k0 + kl));
-            let total = self.moments.row_total01(j);
+            let mut fk0 = || *f0.get_or_insert_with(|| self.moments.cumulative01(row, k0));
+            let mut fk1 = || *f1.get_or_insert_with(|| self.moments.cumulative01(row, k0 + kl));
+            let total = self.moments.row_total01(row.row());
             let mut m = Moments01::default();
             for p in &vis.pieces[..vis.n] {
                 // The piece's start in K's frame: d = p0 − k0 + 2π·turns, in [0, 2π).
@@ -273,9 +281,10 @@ impl<'a> Reference<'a> {
         *acc += (m.m0 * b + (m.m1[0] * k.cos_t - m.m1[1] * k.sin_t) * a) * ws;
     }
 
-    /// Adds row j's polar integral for kernel `k` to `acc` (before the 1/π).
+    /// Adds the polar integral of the prefix's row for kernel `k` to `acc` (before the 1/π).
     #[inline]
-    fn add_row(&self, j: usize, k: &Kernel, acc: &mut Rgb) {
+    fn add_row(&self, prefix: &RowPrefix, k: &Kernel, acc: &mut Rgb) {
+        let j = prefix.row();
         let (p0, p1) = (self.grid.phi_edge(j), self.grid.phi_edge(j + 1));
         let row = &self.rows[j];
         if row.dark {
@@ -286,12 +295,12 @@ impl<'a> Reference<'a> {
             // nodes and mask arcs computed here.
             for_each_polar_node(p0, p1, &k.breaks[..k.nb], &self.rule, |phi, w| {
                 let (s, c) = phi.sin_cos();
-                let vis = Visible::new(self.moments, j, &self.masks, s, c);
-                self.add_node(j, k, (s, c, w * s), &vis, acc);
+                let vis = Visible::new(self.moments, j, prefix, &self.masks, s, c);
+                self.add_node(prefix, k, (s, c, w * s), &vis, acc);
             });
         } else if row.split {
             for (&node, vis) in row.nodes.iter().zip(&row.visible) {
-                self.add_node(j, k, node, vis, acc);
+                self.add_node(prefix, k, node, vis, acc);
             }
         } else {
             // No cap boundary is tangent inside the row: its arcs keep their shape, so a row
@@ -301,7 +310,7 @@ impl<'a> Reference<'a> {
                 return;
             }
             for (&node, vis) in row.nodes.iter().zip(&row.visible) {
-                self.add_node(j, k, node, vis, acc);
+                self.add_node(prefix, k, node, vis, acc);
             }
         }
     }
@@ -310,8 +319,10 @@ impl<'a> Reference<'a> {
     pub fn irradiance(&self, n: DVec3) -> Rgb {
         let k = self.kernel(n);
         let mut acc = Rgb::ZERO;
+        let mut prefix = RowPrefix::new();
         for j in 0..self.grid.height {
-            self.add_row(j, &k, &mut acc);
+            self.moments.fill(j, &mut prefix);
+            self.add_row(&prefix, &k, &mut acc);
         }
         acc * FRAC_1_PI
     }
@@ -322,11 +333,14 @@ impl<'a> Reference<'a> {
     /// depend on the thread count.
     pub fn irradiance_many(&self, normals: &[DVec3]) -> Vec<Rgb> {
         let mut out = vec![Rgb::ZERO; normals.len()];
-        out.par_chunks_mut(BATCH).zip(normals.par_chunks(BATCH)).for_each(|(acc, ns)| {
+        let batch = BATCH.max(normals.len().div_ceil(2 * rayon::current_num_threads()));
+        out.par_chunks_mut(batch).zip(normals.par_chunks(batch)).for_each(|(acc, ns)| {
             let kernels: Vec<Kernel> = ns.iter().map(|&n| self.kernel(n)).collect();
+            let mut prefix = RowPrefix::new();
             for j in 0..self.grid.height {
+                self.moments.fill(j, &mut prefix);
                 for (k, a) in kernels.iter().zip(acc.iter_mut()) {
-                    self.add_row(j, k, a);
+                    self.add_row(&prefix, k, a);
                 }
             }
             for a in acc.iter_mut() {
@@ -336,146 +350,19 @@ impl<'a> Reference<'a> {
         out
     }
 
-    /// E/π at the centres of a lat-long grid of normals (world orientation, row-major). When
-    /// there are no caps and the map's width is a whole multiple r of the grid's, every output
-    /// row shares one convolution kernel per input row and the arc ends fall at the same texel
-    /// offsets (stride r) in every column, which the fast path exploits; otherwise this is
+    /// E/π at the centres of a lat-long grid of normals (world orientation, row-major). With
+    /// no caps every output row is a circular convolution of each input row
+    /// ([`crate::reference::row_convolution`], any map and grid widths); with caps this is
     /// [`Self::irradiance_many`].
     pub fn irradiance_latlong(&self, out: LatLong) -> Vec<Rgb> {
-        let stride = self.grid.width / out.width.max(1);
-        if !self.masks.is_empty() || stride == 0 || out.width * stride != self.grid.width {
+        if !self.masks.is_empty() || out.width == 0 || out.height == 0 {
             let normals: Vec<DVec3> = (0..out.height)
                 .flat_map(|j| (0..out.width).map(move |i| (i, j)))
                 .map(|(i, j)| out.direction(i, j))
                 .collect();
             return self.irradiance_many(&normals);
         }
-        // Input rows are split into a fixed number of chunks whose partial sums are added in
-        // chunk order: the result does not depend on the thread count.
-        let chunks = 8.min(self.grid.height);
-        let per = self.grid.height.div_ceil(chunks);
-        let partials: Vec<Vec<f64>> = (0..chunks)
-            .into_par_iter()
-            .map(|c| {
-                let mut acc = vec![0.0f64; out.height * out.width * 3];
-                let mut ext = RowExt::new(self.grid.width);
-                for j in (c * per)..((c + 1) * per).min(self.grid.height) {
-                    ext.fill(self.moments, &self.grid, j);
-                    for jo in 0..out.height {
-                        self.latlong_row(
-                            &ext,
-                            out,
-                            stride,
-                            jo,
-                            j,
-                            &mut acc[jo * out.width * 3..(jo + 1) * out.width * 3],
-                        );
-                    }
-                }
-                acc
-            })
-            .collect();
-        let mut total = vec![0.0f64; out.height * out.width * 3];
-        for p in &partials {
-            for (t, v) in total.iter_mut().zip(p) {
-                *t += v;
-            }
-        }
-        total.chunks_exact(3).map(|c| Rgb::new(c[0], c[1], c[2]) * FRAC_1_PI).collect()
-    }
-
-    /// Adds input row j's contribution to output row jo of the fast path (no caps, map width
-    /// = stride × output width). `acc` holds the row's RGB values, channel-interleaved.
-    ///
-    /// Output column i is centred at θ_edge(r·i) + (r/2)·h, and its kernel arc is
-    /// [θi − Δ, θi + Δ]; both ends lie at the same texel offset k and fraction from input column
-    /// r·i for every i. With C0, C1 the cumulative moments and C1''[m] = C1[m]·e^{iθ_edge(m)},
-    /// each end adds b·C0 + a·Re(C1''·e^{i(r/2 − k)h}) plus a partial-texel term proportional
-    /// to L: four multiply-adds per channel, no trigonometry per column.
-    fn latlong_row(&self, ext: &RowExt, out: LatLong, stride: usize, jo: usize, j: usize, acc: &mut [f64]) {
-        let w = self.grid.width;
-        let h = self.grid.dtheta();
-        let half_r = 0.5 * stride as f64;
-        let phi_o = out.phi_centre(jo);
-        let (sin_o, cos_o) = phi_o.sin_cos();
-        let half_pi = 0.5 * PI;
-        let breaks = [(phi_o - half_pi).abs(), PI - (half_pi - phi_o).abs()];
-        let (p0, p1) = (self.grid.phi_edge(j), self.grid.phi_edge(j + 1));
-        for_each_polar_node(p0, p1, &breaks, &self.rule, |phi, wt| {
-            let (s, c) = phi.sin_cos();
-            let (a, b) = (sin_o * s, cos_o * c);
-            let ws = wt * s;
-            let t = if a > 1e-300 {
-                -b / a
-            } else if b > 0.0 {
-                -2.0
-            } else {
-                2.0
-            };
-            if t >= 1.0 {
-                return;
-            }
-            // Arc ends in input texels from the left edge of input column r·i: u = r/2 ± Δ/h
-            // (the full circle when t ≤ −1: ends at r/2 ± W/2).
-            let delta = if t <= -1.0 { 0.5 * w as f64 } else { t.acos() / h };
-            for (sign, u) in [(ws, half_r + delta), (-ws, half_r - delta)] {
-                let k = u.floor();
-                let f = (u - k) * h;
-                // e^{iθi} = e^{iθ_edge(ri+k)}·e^{i(r/2 − k)h}
-                let (zs, zc) = ((half_r - k) * h).sin_cos();
-                // Partial texel ri+k over [θ_edge, θ_edge + f]: e^{iθi}·L·e^{−iθ_edge}(sin f −
-                // i·2sin²(f/2)) = L·z·(fr + i·fi).
-                let (fr, fi) = (f.sin(), -2.0 * (0.5 * f).sin().powi(2));
-                let kappa = zc * fr - zs * fi;
-                let (ca, cb, cc, cl) = (sign * b, sign * a * zc, -sign * a * zs, sign * (b * f + a * kappa));
-                let off = (k as i64 + w as i64) as usize;
-                for ch in 0..3 {
-                    let (c0, c1r, c1i, l) = (&ext.c0[ch], &ext.c1r[ch], &ext.c1i[ch], &ext.l[ch]);
-                    for (i, o) in acc.chunks_exact_mut(3).enumerate() {
-                        let m = off + stride * i;
-                        o[ch] += ca * c0[m] + cb * c1r[m] + cc * c1i[m] + cl * l[m];
-                    }
-                }
-            }
-        });
-    }
-}
-
-/// One input row's cumulative moments over three periods (texel index −W..2W), with the
-/// wrap-around totals already added, as separate arrays per channel for the fast path.
-struct RowExt {
-    c0: [Vec<f64>; 3],
-    c1r: [Vec<f64>; 3],
-    c1i: [Vec<f64>; 3],
-    l: [Vec<f64>; 3],
-}
-
-impl RowExt {
-    fn new(w: usize) -> Self {
-        let v = || std::array::from_fn(|_| vec![0.0; 3 * w + 1]);
-        RowExt { c0: v(), c1r: v(), c1i: v(), l: v() }
-    }
-
-    fn fill(&mut self, moments: &RowMoments, grid: &LatLong, j: usize) {
-        let w = grid.width;
-        let cum = moments.cum_row(j);
-        let total = cum[w];
-        for e in 0..=3 * w {
-            let k = e as i64 - w as i64;
-            let wraps = k.div_euclid(w as i64) as f64;
-            let kk = k.rem_euclid(w as i64) as usize;
-            let m = cum[kk];
-            // e^{iθ_edge(k)}
-            let (st, ct) = grid.theta_edge(kk).sin_cos();
-            let l = moments.texel(j, kk);
-            for ch in 0..3 {
-                let (r, i) = (m.m1[0][ch] + wraps * total.m1[0][ch], m.m1[1][ch] + wraps * total.m1[1][ch]);
-                self.c0[ch][e] = m.m0[ch] + wraps * total.m0[ch];
-                self.c1r[ch][e] = r * ct - i * st;
-                self.c1i[ch][e] = r * st + i * ct;
-                self.l[ch][e] = l[ch];
-            }
-        }
+        row_convolution::irradiance_latlong(self.moments, &self.rule, out)
     }
 }
 
@@ -483,6 +370,7 @@ impl RowExt {
 mod tests {
     use super::*;
     use crate::envmap::EnvMap;
+    use std::f64::consts::PI;
 
     fn test_map(w: usize) -> EnvMap {
         EnvMap::from_fn("t", w, w / 2, |i, j| {
@@ -615,12 +503,13 @@ mod tests {
             let (st, ct) = k.theta().sin_cos();
             let mut acc = Rgb::ZERO;
             for j in 0..grid.height {
+                let row = rm.prefix(j);
                 for_each_polar_node(grid.phi_edge(j), grid.phi_edge(j + 1), &breaks, &rule, |phi, w| {
                     let (s, c) = phi.sin_cos();
                     let arcs = masks.iter().fold(Arcs::full().intersect(k.arc(s, c)), |a, m| a.intersect(m.arc(s, c)));
                     let (a, b) = k.dot_coefficients(s, c);
                     for arc in arcs.as_slice() {
-                        let m = rm.arc(j, *arc);
+                        let m = rm.arc(&row, *arc);
                         acc += (m.m0 * b + (m.m1[0] * ct - m.m1[1] * st) * a) * (w * s);
                     }
                 });

@@ -15,5 +15,6 @@ pub mod lighting;
 pub mod metrics;
 pub mod projection;
 pub mod radiance;
+pub mod row_convolution;
 pub mod scenes;
 pub mod view;

@@ -6,7 +6,7 @@
 //! by a cap boundary are integrated with Gauss–Legendre nodes in φ between the cap's
 //! breakpoints, using exact arc moments in azimuth.
 
-use crate::envmap::moments::{Moments, RowMoments};
+use crate::envmap::moments::{Moments, RowMoments, RowPrefix};
 use crate::envmap::EnvMap;
 use crate::math::cap::{Arcs, Cap};
 use crate::math::colour::Rgb;
@@ -150,7 +150,9 @@ pub fn project_visible(moments: &RowMoments, masks: &[Cap], polar_nodes: usize) 
     let breaks: Vec<f64> = masks.iter().flat_map(|c| c.breakpoints()).collect();
     let rows: Vec<Sh9> = (0..grid.height)
         .into_par_iter()
-        .map(|j| {
+        .map_init(RowPrefix::new, |row, j| {
+            moments.fill(j, row);
+            let row = &*row;
             let (p0, p1) = (grid.phi_edge(j), grid.phi_edge(j + 1));
             let mut out = Sh9::ZERO;
             let cut = breaks.iter().any(|&b| b > p0 && b < p1);
@@ -171,7 +173,7 @@ pub fn project_visible(moments: &RowMoments, masks: &[Cap], polar_nodes: usize) 
                 let arcs = arcs_at(mid);
                 let mut az = Moments::default();
                 for a in arcs.as_slice() {
-                    az += moments.arc(j, *a);
+                    az += moments.arc(row, *a);
                 }
                 if !arcs.is_empty() {
                     accumulate(&mut out, &Polar::exact(p0, p1), &az.into());
@@ -181,7 +183,7 @@ pub fn project_visible(moments: &RowMoments, masks: &[Cap], polar_nodes: usize) 
                     let arcs = arcs_at(phi);
                     let mut az = Moments::default();
                     for a in arcs.as_slice() {
-                        az += moments.arc(j, *a);
+                        az += moments.arc(row, *a);
                     }
                     accumulate(&mut out, &Polar::node(phi, w), &az.into());
                 });

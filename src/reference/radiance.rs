@@ -119,7 +119,7 @@ pub fn latlong_normals(width: usize, height: usize) -> Vec<DVec3> {
 /// A map's visible light under a set of caps (none: the whole map).
 pub struct MapLight<'a> {
     map: &'a EnvMap,
-    moments: &'a RowMoments,
+    moments: &'a RowMoments<'a>,
     masks: Vec<Cap>,
     polar_nodes: usize,
     sh4: OnceLock<Sh25>,
@@ -139,7 +139,7 @@ impl<'a> MapLight<'a> {
     /// The light of `map` inside every cap of `masks`; `moments` are the map's row moments and
     /// `polar_nodes` the exact reference's accuracy knob (its irradiance equals the case's
     /// [`Reference`] built from the same arguments, bit for bit). Nothing is computed yet.
-    pub fn new(map: &'a EnvMap, moments: &'a RowMoments, masks: Vec<Cap>, polar_nodes: usize) -> Self {
+    pub fn new(map: &'a EnvMap, moments: &'a RowMoments<'a>, masks: Vec<Cap>, polar_nodes: usize) -> Self {
         MapLight {
             map,
             moments,

@@ -1,0 +1,255 @@
+//! The exact reference on a lat-long grid of normals with no caps: each input row's part is a
+//! circular convolution, for any map width and any grid width (FORMULAS §1; `exact.rs`).
+//!
+//! On the parallel φ of an input row, the clamped cosine about the normal of output row φₒ and
+//! azimuth θᵢ is a·cos(θ − θᵢ) + b on the arc [θᵢ − Δ, θᵢ + Δ] (a = sin φₒ sin φ,
+//! b = cos φₒ cos φ, cos Δ = −b/a): one kernel for every column of the output row, shifted. Its
+//! integral against the row is b·(C0(θᵢ+Δ) − C0(θᵢ−Δ)) + a·Re(e^{iθᵢ}(C1(θᵢ+Δ) − C1(θᵢ−Δ))), with
+//! C0, C1 the row's cumulative moments (`envmap::moments`), exact for the piecewise-constant row.
+//!
+//! Grouped fractional shifts: with g = gcd(W, w) (map width W, grid width w), p = W/g and
+//! q = w/g, columns i and i + q are exactly p texels apart. So the columns of each of the q
+//! classes i mod q find their arc ends at one texel offset and one fraction: the coefficients
+//! are formed once per class and end, without trigonometry (e^{∓iΔ} = t ∓ i√(1 − t²) with
+//! t = cos Δ, and the partial texel's sine and versine by short series), and the class's g
+//! columns are then four multiply-adds per channel over contiguous arrays (the row's moments
+//! stored by phase mod p). The cost per input row is the grid's size times the polar nodes
+//! whatever the two widths (a W that is a multiple of w is the case q = 1), and a grid finer
+//! than the map works the same way.
+
+use crate::envmap::moments::{sin_versin, RowMoments, RowPrefix};
+use crate::envmap::{LatLong, PROGRESS_WIDTH};
+use crate::io::progress::Progress;
+use crate::math::colour::Rgb;
+use crate::math::quadrature::for_each_polar_node;
+use rayon::prelude::*;
+use std::f64::consts::{FRAC_1_PI, PI};
+
+/// Input rows are cut into this many chunks whose partial sums are added in chunk order, so
+/// the result does not depend on the thread count.
+const CHUNKS: usize = 8;
+
+/// E/π at the centres of the lat-long grid `out` (row-major), for the map whose moments are
+/// given, with no caps, integrating each row piece with the Gauss–Legendre `rule`.
+pub(crate) fn irradiance_latlong(moments: &RowMoments, rule: &[(f64, f64)], out: LatLong) -> Vec<Rgb> {
+    let plan = Plan::new(moments.width(), moments.dtheta(), out.width);
+    let rows = moments.height();
+    let chunks = CHUNKS.min(rows);
+    let per = rows.div_ceil(chunks);
+    let progress = (moments.width() >= PROGRESS_WIDTH).then(|| Progress::new(rows as u64, "exact reference"));
+    let partials: Vec<Vec<f64>> = (0..chunks)
+        .into_par_iter()
+        .map(|c| {
+            let mut acc = vec![0.0f64; out.height * out.width * 3];
+            let mut prefix = RowPrefix::new();
+            let mut phased = Phased::new(&plan);
+            for j in (c * per)..((c + 1) * per).min(rows) {
+                moments.fill(j, &mut prefix);
+                phased.fill(moments, &prefix, &plan);
+                let (p0, p1) = (PI * j as f64 / rows as f64, PI * (j + 1) as f64 / rows as f64);
+                for (jo, acc) in acc.chunks_exact_mut(out.width * 3).enumerate() {
+                    plan.add_row(&phased, rule, out.phi_centre(jo), (p0, p1), acc);
+                }
+                if let Some(p) = &progress {
+                    p.inc();
+                }
+            }
+            acc
+        })
+        .collect();
+    let mut total = vec![0.0f64; out.height * out.width * 3];
+    for p in &partials {
+        for (t, v) in total.iter_mut().zip(p) {
+            *t += v;
+        }
+    }
+    // From class-major order (class c, member t, channel) to row-major columns i = c + q·t.
+    let mut values = vec![Rgb::ZERO; out.height * out.width];
+    for (row, classes) in values.chunks_exact_mut(out.width).zip(total.chunks_exact(out.width * 3)) {
+        for (k, v) in classes.chunks_exact(3).enumerate() {
+            let (c, t) = (k / plan.g, k % plan.g);
+            row[c + plan.q * t] = Rgb::new(v[0], v[1], v[2]) * FRAC_1_PI;
+        }
+    }
+    values
+}
+
+/// Greatest common divisor.
+fn gcd(a: usize, b: usize) -> usize {
+    if b == 0 {
+        a
+    } else {
+        gcd(b, a % b)
+    }
+}
+
+/// The column classes of one map width against one grid width.
+struct Plan {
+    /// Map width W.
+    width: usize,
+    /// Azimuth width of a map texel, 2π/W.
+    h: f64,
+    /// Columns per class, gcd(W, w).
+    g: usize,
+    /// Texels between consecutive columns of a class, W/g.
+    p: usize,
+    /// Classes, w/g.
+    q: usize,
+    /// Per class c, the centre of its first column in texels from θ = −π: (c + ½)·p/q.
+    centre: Vec<f64>,
+    /// Per edge e = 0..=3W of [`Phased`], where its three channels start: phase e mod p, then
+    /// e / p within the phase (a table: no division in the inner loops).
+    at: Vec<usize>,
+}
+
+impl Plan {
+    fn new(width: usize, h: f64, out_width: usize) -> Self {
+        let g = gcd(width, out_width);
+        let (p, q) = (width / g, out_width / g);
+        let centre = (0..q).map(|c| ((2 * c + 1) * p) as f64 / (2 * q) as f64).collect();
+        let len = 3 * g + 1;
+        let at = (0..=3 * width).map(|e| ((e % p) * len + e / p) * 3).collect();
+        Plan { width, h, g, p, q, centre, at }
+    }
+
+    /// Adds one input row's part (its polar range `(p0, p1)`) to the output row at polar angle
+    /// `phi_o`; `acc` holds that output row class by class, channels interleaved.
+    fn add_row(&self, row: &Phased, rule: &[(f64, f64)], phi_o: f64, (p0, p1): (f64, f64), acc: &mut [f64]) {
+        let (sin_o, cos_o) = phi_o.sin_cos();
+        let half_pi = 0.5 * PI;
+        // Where the kernel's boundary is tangent to a parallel: the rows are split there.
+        let breaks = [(phi_o - half_pi).abs(), PI - (half_pi - phi_o).abs()];
+        for_each_polar_node(p0, p1, &breaks, rule, |phi, wt| {
+            let (s, c) = phi.sin_cos();
+            let (a, b) = (sin_o * s, cos_o * c);
+            let t = if a > 1e-300 {
+                -b / a
+            } else if b > 0.0 {
+                -2.0
+            } else {
+                2.0
+            };
+            if t >= 1.0 {
+                return;
+            }
+            // Δ in texels, cos Δ and sin Δ (the whole circle when t ≤ −1).
+            let arc = if t <= -1.0 {
+                Arc { delta: 0.5 * self.width as f64, cos: -1.0, sin: 0.0 }
+            } else {
+                Arc { delta: t.acos() / self.h, cos: t, sin: ((1.0 - t) * (1.0 + t)).sqrt() }
+            };
+            self.add_node(row, (a, b, wt * s), &arc, acc);
+        });
+    }
+
+    /// One arc end of a class: where its three channels start in [`Phased`], and the factors
+    /// of C0, Re C1″, Im C1″ and L there. `e` is +1 for the upper end, −1 for the lower, and
+    /// `ws` carries the end's sign.
+    #[inline]
+    fn end(&self, centre: f64, arc: &Arc, e: f64, (a, b, ws): (f64, f64, f64)) -> (usize, [f64; 4]) {
+        // The end at u = centre ± Δ texels lies in texel k, a fraction f·h into it.
+        let u = centre + e * arc.delta;
+        let k = u.floor();
+        let f = (u - k) * self.h;
+        let (sf, vf) = sin_versin(f);
+        // z = e^{i(u_centre − k)h} = e^{i(f ∓ Δ)}, the column centre seen from the edge.
+        let cf = 1.0 - vf;
+        let (zc, zs) = (arc.cos * cf + e * arc.sin * sf, arc.cos * sf - e * arc.sin * cf);
+        // The partial texel: L·z·(sin f − i(1 − cos f)); κ is its real part over L.
+        let kappa = zc * sf + zs * vf;
+        let off = (k as i64 + self.width as i64) as usize;
+        (self.at[off], [ws * b, ws * a * zc, -ws * a * zs, ws * (b * f + a * kappa)])
+    }
+
+    /// One polar node: the kernel a·cos + b with weight `ws` over the arc ±Δ.
+    #[inline]
+    fn add_node(&self, row: &Phased, kernel: (f64, f64, f64), arc: &Arc, acc: &mut [f64]) {
+        let n = 3 * self.g;
+        let (a, b, ws) = kernel;
+        for (c, &centre) in self.centre.iter().enumerate() {
+            let (hi, [h0, h1, h2, h3]) = self.end(centre, arc, 1.0, kernel);
+            let (lo, [l0, l1, l2, l3]) = self.end(centre, arc, -1.0, (a, b, -ws));
+            let o = &mut acc[c * n..][..n];
+            let (a0, a1, a2, a3) = (&row.c0[hi..][..n], &row.c1r[hi..][..n], &row.c1i[hi..][..n], &row.l[hi..][..n]);
+            let (b0, b1, b2, b3) = (&row.c0[lo..][..n], &row.c1r[lo..][..n], &row.c1i[lo..][..n], &row.l[lo..][..n]);
+            // Nine slices of one length, indexed together (the bounds checks are hoisted).
+            #[allow(clippy::needless_range_loop)]
+            for x in 0..n {
+                o[x] += (h0 * a0[x] + h1 * a1[x] + h2 * a2[x] + h3 * a3[x])
+                    + (l0 * b0[x] + l1 * b1[x] + l2 * b2[x] + l3 * b3[x]);
+            }
+        }
+    }
+}
+
+/// The kernel's half-arc on one parallel: Δ in texels, cos Δ and sin Δ.
+struct Arc {
+    delta: f64,
+    cos: f64,
+    sin: f64,
+}
+
+/// One input row's cumulative moments at its texel edges over three turns (edges −W..2W, the
+/// whole turns' totals added), with C1 rotated by e^{iθ_edge}, and the texel right of each
+/// edge; stored phase by phase (edge e at [`Plan::at`]: phase e mod p, then e / p) so a class's
+/// columns read consecutive values, the three channels of an edge side by side.
+struct Phased {
+    c0: Vec<f64>,
+    c1r: Vec<f64>,
+    c1i: Vec<f64>,
+    l: Vec<f64>,
+}
+
+impl Phased {
+    fn new(plan: &Plan) -> Self {
+        let n = plan.p * (3 * plan.g + 1) * 3;
+        Phased { c0: vec![0.0; n], c1r: vec![0.0; n], c1i: vec![0.0; n], l: vec![0.0; n] }
+    }
+
+    fn fill(&mut self, moments: &RowMoments, row: &RowPrefix, plan: &Plan) {
+        let w = plan.width;
+        let cum = row.cum();
+        let total = cum[w];
+        for e in 0..=3 * w {
+            let k = e as i64 - w as i64;
+            let wraps = k.div_euclid(w as i64) as f64;
+            let kk = k.rem_euclid(w as i64) as usize;
+            let m = cum[kk];
+            // e^{iθ_edge(k)}
+            let (ct, st) = moments.edge_cis1(kk);
+            let l = row.texel(kk);
+            let at = plan.at[e];
+            for ch in 0..3 {
+                let (r, i) = (m.m1[0][ch] + wraps * total.m1[0][ch], m.m1[1][ch] + wraps * total.m1[1][ch]);
+                self.c0[at + ch] = m.m0[ch] + wraps * total.m0[ch];
+                self.c1r[at + ch] = r * ct - i * st;
+                self.c1i[at + ch] = r * st + i * ct;
+                self.l[at + ch] = l[ch];
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn classes_cover_every_column_once() {
+        for (w, out) in [(1000, 256), (1024, 256), (256, 256), (2, 256), (64, 20), (6, 4)] {
+            let plan = Plan::new(w, std::f64::consts::TAU / w as f64, out);
+            assert_eq!(plan.q * plan.g, out);
+            let mut seen = vec![0; out];
+            for c in 0..plan.q {
+                for t in 0..plan.g {
+                    seen[c + plan.q * t] += 1;
+                    // Column i's centre (i + ½)·W/w texels from −π is its class's plus t·p.
+                    let i = c + plan.q * t;
+                    let want = (i as f64 + 0.5) * w as f64 / out as f64;
+                    assert!((plan.centre[c] + (plan.p * t) as f64 - want).abs() < 1e-9 * want.max(1.0));
+                }
+            }
+            assert!(seen.iter().all(|&n| n == 1), "{w} onto {out}");
+        }
+    }
+}
