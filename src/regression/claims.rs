@@ -23,7 +23,11 @@ use std::path::Path;
 
 /// The fresh measurements and the blending strips (as data), or why they were not taken (a
 /// map is missing, or the declarations `papers` name none for the ZH3 measurements).
-pub fn measure(search: &SearchPath, papers: &[Paper]) -> std::result::Result<(Vec<Measure>, Vec<BlendStrip>), String> {
+pub fn measure(
+    search: &SearchPath,
+    experiments: &Path,
+    papers: &[Paper],
+) -> std::result::Result<(Vec<Measure>, Vec<BlendStrip>), String> {
     let maps = crate::claims::zh3::maps(papers).map_err(|e| format!("{e:#}"))?;
     let missing: Vec<&str> = maps
         .iter()
@@ -34,7 +38,7 @@ pub fn measure(search: &SearchPath, papers: &[Paper]) -> std::result::Result<(Ve
         return Err(format!("map(s) not on the search path: {}", missing.join(", ")));
     }
     let (mut all, _) = crate::claims::zh3::measure(search, maps).map_err(|e| format!("{e:#}"))?;
-    let study = crate::claims::lightmap::measure(search).map_err(|e| format!("{e:#}"))?;
+    let study = crate::claims::lightmap::measure(search, experiments).map_err(|e| format!("{e:#}"))?;
     all.extend(study.measures);
     Ok((all, study.strips))
 }
@@ -88,7 +92,7 @@ pub fn run(root: &Path, search: &SearchPath, results: &Path, bless: bool, write_
         return Ok(run);
     }
     let tolerances = Tolerances::load(root)?;
-    match measure(search, &papers) {
+    match measure(search, &root.join("experiments"), &papers) {
         Err(why) => run.skipped = Some(why),
         Ok((ms, strips)) => {
             run.strips = strips;

@@ -7,9 +7,13 @@
 //! - **H5** and the real pairs of **H7**, the blending study (`blend.rs`): `blend` (per pair and
 //!   method, RMSE against the blended reference and the overshoot at N) and `blend_curve` (the
 //!   same along t, the blending charts' data);
-//! - **H6**, the HHD ↔ linear-SH round trip: `hhd_roundtrip`.
+//! - **H6**, the HHD ↔ linear-SH round trip: `hhd_roundtrip`;
+//! - **H8**, the light the probe occlusion operators let through from occluded directions
+//!   (`leak.rs`): `probe_leak`, on the cases of `experiments/probe_occlusion.toml`;
+//! - **H10**, the self-bounce term against a quadrature of the map's texels (`bounce.rs`):
+//!   `self_bounce_quadrature`, on the cases of `experiments/lightmap_self_bounce.toml`.
 //!
-//! H1, H2, H4, H10, D1 and D2 are judged on experiment tables (`lightmap_claims`,
+//! H1, H2, H4, H10, D1 and D2 are judged on experiment tables too (`lightmap_claims`,
 //! `lightmap_table`, `lightmap_self_bounce`). The blending strips (`strip.rs`), lit hemispheres
 //! along t per method, are measured here as data and drawn by the report layer.
 //!
@@ -19,21 +23,26 @@
 //! (`blend.rs`). The timing pass is switched off: the tables are deterministic.
 
 pub mod blend;
+pub mod bounce;
 pub mod fig2;
+pub mod leak;
 pub mod strip;
 
 use crate::claims::measure::Measure;
 use crate::encoders::lightmap::{hhd_from_linear_sh, linear_sh_of, Basis, Model};
 use crate::envmap::search::SearchPath;
 use crate::math::colour::Rgb;
+use crate::pipeline::experiment::Experiment;
 use crate::reference::domain::Domain;
 use anyhow::Result;
 use glam::DVec3;
+use std::path::Path;
 
 /// What [`measure`] returns: the measurement tables, and the blending strips for the report
 /// layer to draw (one per pair, in `blend::pairs` order).
 pub struct Study {
-    /// The measurement tables: `fig2`, `fig2_curve`, `blend`, `blend_curve`, `hhd_roundtrip`.
+    /// The measurement tables: `fig2`, `fig2_curve`, `blend`, `blend_curve`, `hhd_roundtrip`,
+    /// `probe_leak`, `self_bounce_quadrature`.
     pub measures: Vec<Measure>,
     /// The blending strips, one per pair in `blend::pairs` order.
     pub strips: Vec<strip::BlendStrip>,
@@ -343,13 +352,23 @@ fn blend_curve(pairs: &[blend::Pair], rows: &[blend::BlendRow]) -> Measure {
     curve
 }
 
-/// Measures every table of the module (the paper probes of `blend::pairs` must be on the
-/// search path): `fig2`, `fig2_curve`, `blend`, `blend_curve`, `hhd_roundtrip`, and the strips.
-pub fn measure(search: &SearchPath) -> Result<Study> {
+/// The experiment whose maps, orientations, encoders and grid the probe leaks are measured on.
+pub const LEAK_EXPERIMENT: &str = "probe_occlusion";
+
+/// The experiment whose maps, cases, encoders and grid the self-bounce is checked on.
+pub const BOUNCE_EXPERIMENT: &str = "lightmap_self_bounce";
+
+/// Measures every table of the module (the paper probes of `blend::pairs` and the maps of the
+/// [`LEAK_EXPERIMENT`] and [`BOUNCE_EXPERIMENT`] in `experiments` must be on the search path):
+/// `fig2`, `fig2_curve`, `blend`, `blend_curve`, `hhd_roundtrip`, `probe_leak`,
+/// `self_bounce_quadrature`, and the strips.
+pub fn measure(search: &SearchPath, experiments: &Path) -> Result<Study> {
     crate::pipeline::timing::set_enabled(false);
     let (fig2, fig2_curve) = fig2_measures();
     let (blend, blend_curve, strips) = blend_measures(search)?;
-    Ok(Study { measures: vec![fig2, fig2_curve, blend, blend_curve, hhd_roundtrip()], strips })
+    let leaks = leak::measure(search, &Experiment::load(&experiments.join(format!("{LEAK_EXPERIMENT}.toml")))?)?;
+    let bounce = bounce::measure(search, &Experiment::load(&experiments.join(format!("{BOUNCE_EXPERIMENT}.toml")))?)?;
+    Ok(Study { measures: vec![fig2, fig2_curve, blend, blend_curve, hhd_roundtrip(), leaks, bounce], strips })
 }
 
 #[cfg(test)]
