@@ -82,7 +82,7 @@ pub fn measure(search: &SearchPath, exp: &Experiment) -> Result<Measure> {
                 r.bounce_max_rel_err.into(),
                 format!("I_z by texel quadrature ({NODES}x{NODES} GL per texel)").into(),
                 format!("{w}x{}", h / 2).into(),
-                "relative".into(),
+                "E/pi (iz_quadrature, iz_used); relative (iz_rel_err, bounce_max_rel_err)".into(),
             ]);
         }
     }
