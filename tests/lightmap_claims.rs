@@ -3,7 +3,7 @@
 //!   bound of `scenes::TiltedLight` against quadrature of the closed forms, and the bound the H2
 //!   declaration uses.
 //! - The claims measurements end to end: from the shared maps, `probelab claims` writes the
-//!   measurement tables (H5–H7, Z9, Z10 checked here) under `claims/measures/` and the blending
+//!   measurement tables (H5–H8, H10, Z9, Z10 checked here) under `claims/measures/` and the blending
 //!   strips under `claims/`, each value checked against what it must be independently of the
 //!   program. Without the maps it takes no measurement.
 
@@ -129,6 +129,24 @@ fn claims_write_the_measurement_tables_and_strips() {
             e => panic!("unexpected encoder {e}"),
         };
         assert_eq!((r["bytes"].as_str(), r["roundtrip_max_abs"].as_str()), (want, "0"), "{r:?}");
+    }
+    // H8: an encoder fitted from the visible light alone (sh2_of_visible) lets nothing through
+    // from occluded directions, by construction; a row per map, orientation (up and the +y of
+    // axes6 once: 38) and encoder of probe_occlusion (8).
+    let leak = table(dir.path(), "probe_leak");
+    assert_eq!(leak.len(), maps.len() * 38 * 8);
+    for r in leak.iter().filter(|r| r["encoder"] == "sh2_of_visible") {
+        assert_eq!((num(r, "leak"), num(r, "leak_rms")), (0.0, 0.0), "{r:?}");
+    }
+    // H10: the reference's bounce and HHD's term agree with the texel quadrature of I_z to the
+    // reference's polar quadrature (1e-6 where a horizon cuts the rows), on 19 maps × 6 axes × 3
+    // albedos.
+    let bounce = table(dir.path(), "self_bounce_quadrature");
+    let exact: Vec<_> =
+        bounce.iter().filter(|r| r["encoder"] == "reference" || r["encoder"] == "hhd_search_hemi+bounce").collect();
+    assert_eq!(exact.len(), 2 * maps.len() * 6 * 3);
+    for r in exact {
+        assert!(num(r, "bounce_max_rel_err") < 1e-6 && num(r, "iz_rel_err") < 1e-6, "{r:?}");
     }
     // Z9: the blend's own zonal coefficient is ¼ of an endpoint's (P₂(cos 45°)).
     let blend = table(dir.path(), "zh3_blend");
