@@ -53,10 +53,15 @@ pub(super) fn fitted(values: impl Iterator<Item = f64>) -> Option<(f64, f64)> {
 }
 
 /// Tick values of a log axis from `lo` to `hi`: the sparsest of the steps 1, then 1-2-5, then
-/// 1-2-3-4-5-6-7-8-9 per decade that gives at least `min` ticks inside the bounds (the last
+/// 1-2-3-4-5-6-7-8-9, then with 1.2, 1.5 and 2.5 added, per decade that gives at least `min` ticks inside the bounds (the last
 /// when none does).
 pub(super) fn log_ticks(lo: f64, hi: f64, min: usize) -> Vec<f64> {
-    let sets: [&[f64]; 3] = [&[1.0], &[1.0, 2.0, 5.0], &[1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0]];
+    let sets: [&[f64]; 4] = [
+        &[1.0],
+        &[1.0, 2.0, 5.0],
+        &[1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0],
+        &[1.0, 1.2, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0],
+    ];
     let mut out = Vec::new();
     for set in sets {
         out.clear();

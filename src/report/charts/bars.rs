@@ -111,7 +111,7 @@ pub fn rmse_bars(t: &CsvTable, title: &str, family: &dyn Fn(&str) -> Family) -> 
     if t.col("map").is_none() || t.col("encoder").is_none() || t.col("rmse").is_none() {
         return Ok(Outcome::Skipped("the table has no map, encoder and rmse columns".into()));
     }
-    let (rows, metric) = metric_rows(t);
+    let (rows, _) = metric_rows(t);
     let (maps, encs, mean, k) = mean_rmse(t, &rows)?;
     let Some((lo, hi)) = decades(mean.iter().flatten().flatten().copied()) else {
         return Ok(Outcome::Skipped("no positive rmse to draw on a log scale".into()));
@@ -137,10 +137,9 @@ pub fn rmse_bars(t: &CsvTable, title: &str, family: &dyn Fn(&str) -> Family) -> 
         Ok(())
     })?;
     let mut caption = format!(
-        "{} per encoder per map, log scale{}; a hue per encoder family, a lightness and marker per member; \
+        "{}; per encoder per map, log scale; a hue per encoder family, a lightness and marker per member; \
          {} panel(s) of at most {PANEL} encoders, all on one scale",
         measure.caption(),
-        metric.map(|m| format!(", metric `{m}`")).unwrap_or_default(),
         groups.len()
     );
     if k > 1 {

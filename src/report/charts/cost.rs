@@ -183,7 +183,7 @@ pub fn error_vs_cost(t: &CsvTable, cost: Cost, title: &str) -> Result<Outcome> {
     if t.col("encoder").is_none() || t.col("rmse").is_none() {
         return Ok(Outcome::Skipped("not drawn: the table has no encoder and rmse columns".into()));
     }
-    let (pts, names, metric) = cost_points(t, cost)?;
+    let (pts, names, _) = cost_points(t, cost)?;
     if pts.is_empty() {
         return Ok(Outcome::Skipped(cost.missing(t)));
     }
@@ -259,12 +259,11 @@ pub fn error_vs_cost(t: &CsvTable, cost: Cost, title: &str) -> Result<Outcome> {
         image,
         svg,
         caption: format!(
-            "error against {} per encoder: x = {} over the table's rows, y = the mean over them of the {}{}; Pareto \
+            "error against {} per encoder: x = {} over the table's rows, y = the mean over them of the {}; Pareto \
              front (lower cost and lower error both better): {}{}",
             cost.what(),
             cost.source(),
             measure.caption(),
-            metric.map(|m| format!(" (metric `{m}`)")).unwrap_or_default(),
             on.join(", "),
             if left_out > 0 { format!("; {left_out} encoder(s) without this cost not drawn") } else { String::new() }
         ),

@@ -84,8 +84,8 @@ impl Measure {
     pub fn caption(&self) -> String {
         let mut s = format!("RMSE of {}", self.unit);
         match (&self.metric, &self.reference) {
-            (Some(m), Some(r)) => s.push_str(&format!(" against the {m} reference ({r})")),
-            (Some(m), None) => s.push_str(&format!(" against the {m} reference")),
+            (Some(m), Some(r)) => s.push_str(&format!(" against the `{m}` reference, {r}")),
+            (Some(m), None) => s.push_str(&format!(" against the `{m}` reference")),
             (None, Some(r)) => s.push_str(&format!(" against {r}")),
             (None, None) => {}
         }

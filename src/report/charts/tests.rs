@@ -474,3 +474,16 @@ fn assert_layout(what: &str, (w, h): (u32, u32), text: &[TextBox], marks: &[(i32
         }
     }
 }
+
+/// Log axes fitted to the data: the ZH3 table's 12 to 27 stored scalars get at least five
+/// ticks inside the bounds (12, 15, 20, 25, 30 from the finest step set), the landscape's 3 to
+/// 110 the 1-2-5 steps, and the bounds hug the data (no decade of empty axis).
+#[test]
+fn log_axes_fit_the_data_with_enough_ticks() {
+    let (lo, hi) = fitted([12.0, 16.0, 27.0].into_iter()).unwrap();
+    assert!(lo > 10.0 && lo < 12.0 && hi > 27.0 && hi < 32.0, "{lo}..{hi}");
+    assert_eq!(log_ticks(lo, hi, 5), vec![12.0, 15.0, 20.0, 25.0, 30.0]);
+    let (lo, hi) = fitted([3.0, 110.0].into_iter()).unwrap();
+    assert!(lo > 2.0 && hi < 200.0, "{lo}..{hi}");
+    assert_eq!(log_ticks(lo, hi, 5), vec![5.0, 10.0, 20.0, 50.0, 100.0]);
+}
