@@ -26,7 +26,7 @@
 //!
 //! TOML keys: `weights` (`ambient_cube` only: `solid_angle`, default, or `pixel`).
 
-use crate::encoders::encoder::{Encoder, FitInput, Fitted, Params};
+use crate::encoders::encoder::{Encoder, Family, FitInput, Fitted, Params};
 use crate::encoders::stored::{Stored, Unit};
 use crate::math::colour::Rgb;
 use crate::reference::radiance::latlong_normals;
@@ -145,6 +145,9 @@ impl Encoder for AmbientCubeEncoder {
         } else {
             "ambient_cube"
         }
+    }
+    fn family(&self) -> Family {
+        Family::AmbientCube
     }
     fn stored_scalars(&self) -> usize {
         18

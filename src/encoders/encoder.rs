@@ -104,10 +104,79 @@ pub fn surface_normal_refusal(name: &str) -> String {
     )
 }
 
+/// The family an encoding belongs to: what its basis is, so that figures can give a family one
+/// hue and tell its members apart within it. Every registered encoder declares its own
+/// ([`Encoder::family`]); nothing downstream infers it from a name.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum Family {
+    /// Spherical harmonics irradiance, any band count, windowed or quantised.
+    Sh,
+    /// Zonal harmonics ZH3 (hallucinated, stored or solved axes).
+    Zh3,
+    /// Geomerics' L1 reconstruction.
+    Geomerics,
+    /// SH probes under occlusion (hemisphere and cone multiplies, HLSH, AO, bent normal).
+    ProbeOcclusion,
+    /// Lightmap encodings: AHD and HHD (IrradZ).
+    Lightmap,
+    /// The ambient cube.
+    AmbientCube,
+    /// The ambient dice.
+    AmbientDice,
+    /// Spherical Gaussians.
+    SphericalGaussians,
+    /// The H-basis.
+    HBasis,
+    /// Anything that declares no family (encoders outside the registry).
+    Other,
+}
+
+impl Family {
+    /// Every family, in the order legends list them.
+    pub const ALL: [Family; 10] = [
+        Family::Sh,
+        Family::Zh3,
+        Family::Geomerics,
+        Family::ProbeOcclusion,
+        Family::Lightmap,
+        Family::AmbientCube,
+        Family::AmbientDice,
+        Family::SphericalGaussians,
+        Family::HBasis,
+        Family::Other,
+    ];
+
+    /// The family's name in a legend.
+    pub fn label(self) -> &'static str {
+        match self {
+            Family::Sh => "SH",
+            Family::Zh3 => "ZH3",
+            Family::Geomerics => "Geomerics L1",
+            Family::ProbeOcclusion => "probe occlusion",
+            Family::Lightmap => "AHD / HHD",
+            Family::AmbientCube => "ambient cube",
+            Family::AmbientDice => "ambient dice",
+            Family::SphericalGaussians => "spherical Gaussians",
+            Family::HBasis => "H-basis",
+            Family::Other => "other",
+        }
+    }
+
+    /// The family's place in [`Family::ALL`].
+    pub fn index(self) -> usize {
+        Family::ALL.iter().position(|f| *f == self).unwrap_or(Family::ALL.len() - 1)
+    }
+}
+
 /// An encoding method with its settings.
 pub trait Encoder: Send + Sync {
     /// The stable short id used in tables, on the command line and in file names.
     fn id(&self) -> &str;
+    /// The family of the encoding ([`Family`]), for figures. Every registered encoder declares
+    /// its own (a test checks that none is [`Family::Other`]).
+    fn family(&self) -> Family {
+        Family::Other
+    }
     /// Scalars stored per probe or texel (RGB counts 3).
     fn stored_scalars(&self) -> usize;
     /// What the encoding stores for the fit of `input`, in words for a figure's label: by

@@ -17,7 +17,7 @@
 //!
 //! TOML keys: none. Degenerate inputs: R0 ≤ 0 gives 0; R1 = 0 gives the constant R0.
 
-use crate::encoders::encoder::{Encoder, FitInput, Fitted, Params};
+use crate::encoders::encoder::{Encoder, Family, FitInput, Fitted, Params};
 use crate::encoders::stored::{Role, Stored, Unit, Value};
 use crate::math::colour::Rgb;
 use crate::math::sh::{basis, Sh9, N_SH};
@@ -156,6 +156,9 @@ impl Encoder for Geomerics {
         } else {
             "geomerics"
         }
+    }
+    fn family(&self) -> Family {
+        Family::Geomerics
     }
     fn stored_scalars(&self) -> usize {
         12

@@ -44,7 +44,7 @@
 //!
 //! TOML keys: none.
 
-use crate::encoders::encoder::{Encoder, FitInput, Fitted, Params};
+use crate::encoders::encoder::{Encoder, Family, FitInput, Fitted, Params};
 use crate::encoders::sh::ShIrradiance;
 use crate::encoders::stored::{Role, Stored, Unit, Value};
 use crate::math::colour::Rgb;
@@ -182,6 +182,9 @@ impl Encoder for HBasisEncoder {
         } else {
             "hbasis6"
         }
+    }
+    fn family(&self) -> Family {
+        Family::HBasis
     }
     fn stored_scalars(&self) -> usize {
         3 * self.count

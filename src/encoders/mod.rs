@@ -219,6 +219,12 @@ pub fn known_ids() -> String {
     REGISTRY.iter().map(|k| k.id).collect::<Vec<_>>().join(", ")
 }
 
+/// The family of the registered kind `id` built with its default settings; None for an id
+/// the registry does not have (or whose defaults do not build).
+pub fn family_of(id: &str) -> Option<encoder::Family> {
+    build(id, None, toml::Table::new()).ok().map(|n| n.encoder.family())
+}
+
 /// A configured encoder with the name it appears under in tables.
 pub struct NamedEncoder {
     /// Name shown in tables (the kind, unless the experiment renames it).
@@ -254,6 +260,20 @@ pub fn build_list(list: &str) -> Result<Vec<NamedEncoder>> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Every registered encoder declares its family: none falls back to `Other`, and the
+    /// wrapper takes its inner encoder's.
+    #[test]
+    fn every_registered_encoder_declares_a_family() {
+        use crate::encoders::encoder::Family;
+        for k in REGISTRY {
+            let e = build(k.id, None, toml::Table::new()).unwrap();
+            assert_ne!(e.encoder.family(), Family::Other, "{} declares no family", k.id);
+        }
+        let mut inner = toml::Table::new();
+        inner.insert("inner".into(), toml::Value::String("zh3_hallucinate".into()));
+        assert_eq!(build("with_self_bounce", None, inner).unwrap().encoder.family(), Family::Zh3);
+    }
 
     #[test]
     fn ids_are_unique_and_match_the_built_encoder() {

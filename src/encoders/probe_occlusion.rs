@@ -47,7 +47,7 @@
 //! operator is `probe_unoccluded` and reports `no_normal=1`; with no declared cone the cone
 //! operators use the hemisphere about N (cos α = 0, C = N, visibility 1).
 
-use crate::encoders::encoder::{named_weights, Encoder, FitInput, Fitted, Params};
+use crate::encoders::encoder::{named_weights, Encoder, Family, FitInput, Fitted, Params};
 use crate::encoders::lightmap::from_sh1::solve_channel;
 use crate::encoders::sh::ShIrradiance;
 use crate::encoders::stored::{Role, Stored, Unit, Value};
@@ -99,6 +99,9 @@ fn visibility(n: DVec3, input: &FitInput, use_cone: bool) -> (DVec3, f64) {
 impl Encoder for ProbeOp {
     fn id(&self) -> &str {
         self.id
+    }
+    fn family(&self) -> Family {
+        Family::ProbeOcclusion
     }
     fn stored_scalars(&self) -> usize {
         27

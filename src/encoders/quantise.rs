@@ -23,7 +23,7 @@
 //!
 //! TOML keys: none. ZH3 encoders take `quantise = "ratio8"` (see `zh3.rs`).
 
-use crate::encoders::encoder::{Encoder, FitInput, Fitted, Params};
+use crate::encoders::encoder::{Encoder, Family, FitInput, Fitted, Params};
 use crate::encoders::sh::ShIrradiance;
 use crate::math::colour::Rgb;
 use crate::math::sh::Sh9;
@@ -167,6 +167,9 @@ pub struct ShQuantised {
 impl Encoder for ShQuantised {
     fn id(&self) -> &str {
         self.id
+    }
+    fn family(&self) -> Family {
+        Family::Sh
     }
     /// Ratio quantisation loses precision by design (and cannot hold 1e-300 lights).
     fn degrades_input(&self) -> bool {

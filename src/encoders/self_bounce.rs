@@ -15,7 +15,7 @@
 //! added only when the input has both N and an albedo; otherwise the wrapper is exactly its
 //! inner encoder. It stores nothing extra (ρ is the material's albedo, I_z is the inner's).
 
-use crate::encoders::encoder::{Encoder, FitInput, Fitted, Params};
+use crate::encoders::encoder::{Encoder, Family, FitInput, Fitted, Params};
 use crate::encoders::stored::{Role, Stored, Unit, Value};
 use crate::math::colour::Rgb;
 use anyhow::{bail, Result};
@@ -87,6 +87,9 @@ impl Fitted for Fit {
 impl Encoder for WithSelfBounce {
     fn id(&self) -> &str {
         "with_self_bounce"
+    }
+    fn family(&self) -> Family {
+        self.inner.family()
     }
     fn stored_scalars(&self) -> usize {
         self.inner.stored_scalars()

@@ -13,7 +13,7 @@
 //! Degenerate inputs need no fallback: the fit is a linear map of the coefficients (black in,
 //! black out; a 1e-300 L1 band stays 1e-300), so every finite input gives a finite output.
 
-use crate::encoders::encoder::{Encoder, FitInput, Fitted, Params};
+use crate::encoders::encoder::{Encoder, Family, FitInput, Fitted, Params};
 use crate::encoders::stored::{Role, Stored, Unit, SH_IRRADIANCE};
 use crate::math::colour::Rgb;
 use crate::math::sh::Sh9;
@@ -61,6 +61,9 @@ impl Fitted for ShIrradiance {
 impl Encoder for ShEncoder {
     fn id(&self) -> &str {
         self.id
+    }
+    fn family(&self) -> Family {
+        Family::Sh
     }
     fn stored_scalars(&self) -> usize {
         3 * (self.max_band + 1) * (self.max_band + 1)

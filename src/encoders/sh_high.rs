@@ -25,7 +25,7 @@
 //!
 //! TOML keys: `target_laplacian` (windowed only; default 10, > 0).
 
-use crate::encoders::encoder::{Encoder, FitInput, Fitted, Params};
+use crate::encoders::encoder::{Encoder, Family, FitInput, Fitted, Params};
 use crate::encoders::sh::stored_sh;
 use crate::encoders::stored::{Role, Stored, Unit, Value, SH_IRRADIANCE};
 use crate::math::colour::{luminance, Rgb};
@@ -90,6 +90,9 @@ impl Encoder for Sh3Encoder {
     fn id(&self) -> &str {
         "sh3"
     }
+    fn family(&self) -> Family {
+        Family::Sh
+    }
     fn stored_scalars(&self) -> usize {
         48
     }
@@ -114,6 +117,9 @@ impl Encoder for Sh4Encoder {
 
     fn id(&self) -> &str {
         "sh4"
+    }
+    fn family(&self) -> Family {
+        Family::Sh
     }
     fn stored_scalars(&self) -> usize {
         75
@@ -225,6 +231,9 @@ impl Encoder for WindowedSh {
         } else {
             "sh2_windowed"
         }
+    }
+    fn family(&self) -> Family {
+        Family::Sh
     }
     fn stored_scalars(&self) -> usize {
         27

@@ -29,6 +29,7 @@ pub mod canvas;
 pub mod charts;
 pub mod csvfile;
 mod front;
+pub mod glyphs;
 pub mod markdown;
 pub mod number;
 pub mod papers;
@@ -38,6 +39,7 @@ pub mod strip;
 pub mod text;
 pub mod tone;
 
+use crate::encoders::encoder::Family;
 use crate::envmap::search::SearchPath;
 use crate::io::progress::Progress;
 use crate::pipeline::experiment::{list_experiments, Experiment};
@@ -396,7 +398,7 @@ impl ChartsOut<'_> {
     /// skipped one is stated as `skip_label: why`, or left out when `skip_label` is None.
     fn put(&mut self, file: String, o: Outcome, alt: &str, from: Option<&str>, skip_label: Option<&str>) -> Result<()> {
         match o {
-            Outcome::Drawn { image, svg, caption } => {
+            Outcome::Drawn { image, svg, caption, .. } => {
                 png::write_png(&self.dir.join(&file), &image)?;
                 let svg_file = svg_name(&file);
                 crate::io::atomic::write(&self.dir.join(&svg_file), svg.as_bytes())?;
@@ -501,7 +503,7 @@ fn table_part(md: &mut String, drawn: &mut ChartsOut, s: &Section, dir: &Path, a
         );
         drawn.put(
             "chart_rmse.png".into(),
-            charts::rmse_bars(&t, &format!("{}: rmse per encoder and map", s.name))?,
+            charts::rmse_bars(&t, &format!("{}: RMSE per encoder and map", s.name), &|name| encoder_family(s, name))?,
             "rmse bars",
             None,
             Some("rmse bars"),
@@ -527,6 +529,13 @@ fn table_part(md: &mut String, drawn: &mut ChartsOut, s: &Section, dir: &Path, a
         let _ = writeln!(md, "No `table.csv` here yet (run `probelab run experiments/{}.toml`).\n", s.name);
     }
     Ok(())
+}
+
+/// The family an encoder of a section's table declares: the experiment's encoder of that name,
+/// else the registered kind of that id, else [`Family::Other`].
+fn encoder_family(s: &Section, name: &str) -> Family {
+    let named = s.exp.as_ref().and_then(|e| e.encoders.iter().find(|n| n.name == name));
+    named.map(|n| n.encoder.family()).or_else(|| crate::encoders::family_of(name)).unwrap_or(Family::Other)
 }
 
 /// The charts of the folder's sweep and blending CSVs.

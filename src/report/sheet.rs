@@ -17,8 +17,8 @@
 use super::canvas::{fill, paint_disc, CELL, PAPER};
 use super::csvfile::CsvTable;
 use super::number::{percent, sig};
-use super::text::{draw_labels, even_px, fit_text, text_width, Label};
-use super::tone::{diverging, nice_ceil, ErrorScale, Tone};
+use super::text::{draw_labels, even_px, fit_text, text_width, wrap, Label, BODY, HEADING, TITLE};
+use super::tone::{diverging, experiment_error_range, nice_ceil, ErrorScale, ErrorScope, Tone};
 use crate::encoders::encoder::Fitted;
 use crate::envmap::EnvMap;
 use crate::math::colour::luminance;
@@ -41,28 +41,28 @@ pub const CELL_W: u32 = DISC + 12;
 /// A sphere's cell height: the disc and 8 px.
 pub const CELL_H: u32 = DISC + 8;
 /// Two text lines under each row of spheres.
-pub const ROW_H: u32 = CELL_H + 34;
+pub const ROW_H: u32 = CELL_H + 42;
 /// The narrowest label column; wider when a name or storage note needs it ([`label_width`]).
 pub const LABEL_W: u32 = 128;
 /// Sizes of a row's name (bold) and storage note.
-const NAME_PX: f64 = 14.0;
-const NOTE_PX: f64 = 12.0;
+const NAME_PX: f64 = HEADING;
+const NOTE_PX: f64 = BODY;
 /// The margin around the sheet.
 pub const MARGIN: u32 = 12;
 /// The gap between two views' groups of three cells.
 pub const VIEW_GAP: u32 = 16;
-/// The most header lines drawn under the title.
-pub const HEADER_LINES: u32 = 7;
+/// The most header lines drawn under the title (a line too wide for the sheet wraps).
+pub const HEADER_LINES: u32 = 9;
 /// The height of one header line.
-pub const LINE_H: u32 = 15;
+pub const LINE_H: u32 = 18;
 /// The map thumbnail's width (lat-long, so twice its height).
 pub const THUMB_W: u32 = 256;
 /// The map thumbnail's height.
 pub const THUMB_H: u32 = 128;
 /// Title, header lines, then the thumbnail with the colour bar beside it.
-pub const HEADER_H: u32 = MARGIN + 24 + HEADER_LINES * LINE_H + 8 + THUMB_H + 18;
+pub const HEADER_H: u32 = MARGIN + 26 + HEADER_LINES * LINE_H + 8 + THUMB_H + 22;
 /// The view captions and column names above the rows.
-pub const COLHEAD_H: u32 = 36;
+pub const COLHEAD_H: u32 = 42;
 /// The narrowest sheet: a narrower grid of cells is widened to this.
 pub const MIN_W: u32 = 640;
 /// The error colour bar's width.
@@ -113,7 +113,7 @@ impl SheetLayout {
     }
     /// Top-left pixel of the colour bar.
     pub fn colour_bar(&self) -> (u32, u32) {
-        (self.scale * (MARGIN + THUMB_W + 28), self.scale * (MARGIN + 24 + HEADER_LINES * LINE_H + 8 + 30))
+        (self.scale * (MARGIN + THUMB_W + 28), self.scale * (MARGIN + 26 + HEADER_LINES * LINE_H + 8 + 44))
     }
 }
 
@@ -167,25 +167,30 @@ fn text_px(size: f64, s: u32) -> f64 {
     even_px(size) * s as f64
 }
 
-/// Draws the horizontal colour bar of an error scale at (x0, y0), with its labels, at sheet
-/// scale `s` ([`BAR_W`]·s columns, each coloured at its own centre).
+/// Draws the horizontal colour bar of an error scale at (x0, y0), with its title, its meaning
+/// and labelled values (−R, −R/2, 0, +R/2, +R in percent of the reference; the ends saturate),
+/// at sheet scale `s` ([`BAR_W`]·s columns, each coloured at its own centre).
 fn colour_bar(img: &mut RgbImage, labels: &mut Vec<Label>, x0: u32, y0: u32, scale: &ErrorScale, s: u32) {
     let (bar_w, bar_h) = (s * BAR_W, s * BAR_H);
     for x in 0..bar_w {
         let v = ((x as f64 + 0.5) / bar_w as f64) * 2.0 - 1.0;
         fill(img, x0 + x, y0, 1, bar_h, diverging(v));
     }
-    labels
-        .push(Label::new("relative error of luminance (Y - Y_ref) / Y_ref", x0, y0 - s * 30, text_px(12.0, s)).bold());
     labels.push(
-        Label::new("darker than reference  <-   0   ->  brighter", x0 + bar_w / 2, y0 - s * 15, text_px(11.0, s))
-            .centre(),
+        Label::new("relative error of luminance, % (saturates beyond)", x0, y0 - s * 40, text_px(BODY, s)).bold(),
     );
-    let r = percent(scale.range);
-    for (frac, text) in [(0.0, format!("-{r} or less")), (0.5, "0".to_string()), (1.0, format!("+{r} or more"))] {
+    labels.push(Label::new("(Y - Y_ref) / Y_ref: blue darker, red brighter", x0, y0 - s * 21, text_px(BODY, s)));
+    let r = scale.range;
+    for (frac, text) in [
+        (0.0, format!("-{}", percent(r))),
+        (0.25, format!("-{}", percent(r / 2.0))),
+        (0.5, "0".to_string()),
+        (0.75, format!("+{}", percent(r / 2.0))),
+        (1.0, format!("+{}", percent(r))),
+    ] {
         let x = x0 + (frac * bar_w as f64) as u32;
         fill(img, x.min(x0 + bar_w - s), y0 + bar_h, s, s * 4, [0, 0, 0]);
-        let l = Label::new(text, x, y0 + bar_h + s * 5, text_px(11.0, s));
+        let l = Label::new(text, x, y0 + bar_h + s * 5, text_px(BODY, s));
         labels.push(if frac == 0.0 {
             l
         } else if frac == 1.0 {
@@ -207,6 +212,11 @@ impl Sheet {
     /// Draws the sheet at its scale: positions, lengths and text sizes are the scale-1 ones
     /// times [`Sheet::scale`]; the discs' pixels are the ones evaluated at [`Sheet::discs`].
     pub fn draw(&self) -> Result<RgbImage> {
+        Ok(self.draw_with_labels()?.0)
+    }
+
+    /// [`Sheet::draw`], and the text labels it drew (for the layout checks).
+    pub fn draw_with_labels(&self) -> Result<(RgbImage, Vec<Label>)> {
         let s = self.scale;
         ensure!((1..=MAX_SCALE).contains(&s), "sheet scale {s}: must be 1 to {MAX_SCALE}");
         for d in &self.discs {
@@ -217,20 +227,21 @@ impl Sheet {
         let (margin, cell_w, cell_h) = (s * MARGIN, s * CELL_W, s * CELL_H);
         let mut img = RgbImage::from_pixel(w, h, image::Rgb(PAPER));
         let mut labels = Vec::new();
-        labels.push(Label::new(&self.title, margin, margin, text_px(17.0, s)).bold());
-        for (i, line) in self.lines.iter().take(HEADER_LINES as usize).enumerate() {
+        labels.push(Label::new(&self.title, margin, margin, text_px(TITLE, s)).bold());
+        let wrapped: Vec<String> = self.lines.iter().flat_map(|l| wrap(l, w - 2 * margin, text_px(BODY, s))).collect();
+        for (i, line) in wrapped.iter().take(HEADER_LINES as usize).enumerate() {
             labels.push(Label::new(
-                fit_text(line, w - 2 * margin, text_px(11.5, s)),
+                fit_text(line, w - 2 * margin, text_px(BODY, s)),
                 margin,
-                s * (MARGIN + 24 + i as u32 * LINE_H),
-                text_px(11.5, s),
+                s * (MARGIN + 26 + i as u32 * LINE_H),
+                text_px(BODY, s),
             ));
         }
-        let thumb_y = s * (MARGIN + 24 + HEADER_LINES * LINE_H + 8);
+        let thumb_y = s * (MARGIN + 26 + HEADER_LINES * LINE_H + 8);
         if let Some(t) = &self.thumbnail {
             image::imageops::replace(&mut img, t, margin as i64, thumb_y as i64);
             labels.push(
-                Label::new(&self.thumbnail_caption, margin, thumb_y + s * (THUMB_H + 1), text_px(10.0, s)).grey(),
+                Label::new(&self.thumbnail_caption, margin, thumb_y + s * (THUMB_H + 3), text_px(BODY, s)).grey(),
             );
         }
         let (bx, by) = lay.colour_bar();
@@ -239,10 +250,10 @@ impl Sheet {
         let head_y = s * HEADER_H;
         for (v, view) in self.views.iter().enumerate() {
             let (x, _) = lay.cell(0, v as u32, 0);
-            labels.push(Label::new(&view.caption, x, head_y, text_px(11.0, s)).bold());
+            labels.push(Label::new(&view.caption, x, head_y, text_px(BODY, s)).bold());
             for (c, name) in ["reference", "encoder", "rel. error"].iter().enumerate() {
                 let cx = x + c as u32 * cell_w + cell_w / 2;
-                labels.push(Label::new(*name, cx, head_y + s * 17, text_px(11.0, s)).centre().grey());
+                labels.push(Label::new(*name, cx, head_y + s * 20, text_px(BODY, s)).centre().grey());
             }
         }
         for (r, row) in self.rows.iter().enumerate() {
@@ -268,18 +279,20 @@ impl Sheet {
                 if v > 0 {
                     continue;
                 }
-                let (x1, y1) = lay.cell(r as u32, v as u32, 1);
-                let (x2, _) = lay.cell(r as u32, v as u32, 2);
-                let (line1, line2) = (y1 + cell_h + s * 3, y1 + cell_h + s * 17);
-                if !row.under_lit.is_empty() {
-                    labels.push(Label::new(&row.under_lit, x1 + cell_w / 2, line1, text_px(11.0, s)).centre());
-                }
-                labels.push(Label::new(&row.under_err[0], x2 + cell_w / 2, line1, text_px(11.0, s)).centre());
-                labels.push(Label::new(&row.under_err[1], x2 + cell_w / 2, line2, text_px(11.0, s)).centre());
+                let (x0, y0) = lay.cell(r as u32, v as u32, 0);
+                let (line1, line2) = (y0 + cell_h + s * 4, y0 + cell_h + s * 22);
+                let x = x0 + s * 2;
+                labels.push(Label::new(&row.under_err[0], x, line1, text_px(BODY, s)));
+                let second = if row.under_lit.is_empty() {
+                    row.under_err[1].clone()
+                } else {
+                    format!("{}; {}", row.under_err[1], row.under_lit)
+                };
+                labels.push(Label::new(second, x, line2, text_px(BODY, s)));
             }
         }
         draw_labels(&mut img, &labels)?;
-        Ok(img)
+        Ok((img, labels))
     }
 }
 
@@ -424,7 +437,7 @@ pub fn experiment_sheet(
         let _s = crate::io::profile::span("report: encoder eval (sheets)");
         fitted.iter().map(|f| discs.iter().map(|d| evaluate(f.as_ref(), &d.normals)).collect()).collect()
     };
-    let (tone, error) = sheet_scales(&reference, &figures);
+    let (tone, error) = sheet_scales(&reference, &figures, table.and_then(experiment_error_range));
 
     let rows: Vec<SheetRow> = exp
         .encoders
@@ -486,18 +499,22 @@ fn case_views(case: &Case) -> Vec<View> {
 }
 
 /// The sheet's tone (from the mean luminance and the brightest channel of the reference drawn)
-/// and its error scale: the floor at 1% of that mean, the range the median of the rows'
-/// finite rel_rmse rounded up to a 1-2-5 step.
-fn sheet_scales(reference: &[Vec<Rgb>], figures: &[RowFigures]) -> (Tone, ErrorScale) {
+/// and its error scale: the floor at 1% of that mean, the range the experiment's
+/// (`experiment_range`, from its table) or else the median of this sheet's rows' finite
+/// rel_rmse, rounded up to a 1-2-5 step.
+fn sheet_scales(reference: &[Vec<Rgb>], figures: &[RowFigures], experiment_range: Option<f64>) -> (Tone, ErrorScale) {
     let drawn: Vec<Rgb> = reference.iter().flatten().copied().collect();
     let mean_lum = drawn.iter().map(|c| luminance(*c)).sum::<f64>() / drawn.len().max(1) as f64;
     let max_val = drawn.iter().map(|c| c.max_element()).fold(0.0, f64::max);
     let tone = Tone::from_reference(mean_lum, max_val);
     let floor = 0.01 * mean_lum.max(0.0);
+    if let Some(range) = experiment_range {
+        return (tone, ErrorScale { floor, range, scope: ErrorScope::Experiment });
+    }
     let mut rel: Vec<f64> = figures.iter().map(|f| f.rel_rmse).filter(|v| v.is_finite()).collect();
     rel.sort_by(f64::total_cmp);
     let median = if rel.is_empty() { 0.0 } else { rel[(rel.len() - 1) / 2] };
-    (tone, ErrorScale { floor, range: nice_ceil(median) })
+    (tone, ErrorScale { floor, range: nice_ceil(median), scope: ErrorScope::Sheet })
 }
 
 /// An encoder's row: its name, storage note, values at the discs and the figures printed under
@@ -508,7 +525,10 @@ fn sheet_row(name: String, note: String, values: Vec<Vec<Rgb>>, f: &RowFigures) 
         note,
         values,
         under_lit: if f.neg_frac > 0.0 { format!("negative on {}", percent(f.neg_frac)) } else { String::new() },
-        under_err: [format!("rmse {}", sig(f.rmse, 4)), format!("rel_rmse {}", percent(f.rel_rmse))],
+        under_err: [
+            format!("RMSE {} E/π (exact, solid-angle)", sig(f.rmse, 3)),
+            format!("relative RMSE {}", percent(f.rel_rmse)),
+        ],
     }
 }
 
@@ -541,7 +561,7 @@ fn header_lines(
             String::new()
         }
     ));
-    lines.push(format!("E/pi; reference: {reference}, at every pixel's normal"));
+    lines.push(format!("E/π; reference: {reference}, at every pixel's normal"));
     lines.push(format!(
         "figures: exact metric, solid-angle weighted over {} at {}x{} ({})",
         if matches!(case.domain, Domain::Sphere) { "the sphere" } else { "the hemisphere about N" },
@@ -550,10 +570,18 @@ fn header_lines(
         if source == "table.csv" { "from table.csv" } else { "computed as the runner does" }
     ));
     lines.push(format!("every sphere: {}", tone.describe()));
-    lines.push(format!(
-        "error scale +-{}: the median of the rows' rel_rmse, rounded up to a 1-2-5 step; beyond it saturates",
-        percent(error.range)
-    ));
+    lines.push(match error.scope {
+        ErrorScope::Experiment => format!(
+            "error scale ±{}, the same on every sheet of this experiment: median rel_rmse of table.csv",
+            percent(error.range)
+        ),
+        ErrorScope::Sheet => {
+            format!(
+                "error scale ±{}, this sheet's own (no table.csv): median rel_rmse of its rows",
+                percent(error.range)
+            )
+        }
+    });
     lines.push("(Y = Rec.709 luminance; the denominator is held at >= 1% of the reference's mean Y)".into());
     lines
 }
@@ -814,6 +842,36 @@ mod tests {
         for x in 0..2 * BAR_W {
             let v = ((x as f64 + 0.5) / (2 * BAR_W) as f64) * 2.0 - 1.0;
             assert_eq!(i2.get_pixel(bx + x, by + BAR_H).0, diverging(v), "bar pixel {x}");
+        }
+    }
+
+    /// Every label of a sheet — sphere and hemisphere, a long name, figures under each row —
+    /// is inside the canvas, overlaps no other label and is drawn in full (no header line
+    /// shortened), at scales 1 and 2.
+    #[test]
+    fn sheet_labels_stay_apart_and_on_the_canvas() {
+        let long = "sh2_with_a_very_long_descriptive_name";
+        let sphere = format!(
+            "maps = ['m']\nencoders = ['sh0', 'sh1', {{ kind = 'sh2', name = '{long}' }}]\nresolution = [16, 8]"
+        );
+        let hemi = "maps = ['m']\nencoders = ['sh0','sh2','zh3_hallucinate']\nresolution = [16, 8]\n\
+                    domain = 'hemisphere'\norientations = ['up']\neffects = ['hemisphere']";
+        for toml in [sphere.as_str(), hemi] {
+            for s in [1, 2] {
+                let exp = experiment(toml);
+                let (sheet, _) = experiment_sheet(&exp, &scene_map("gen_sun_sky", 32), None, s).unwrap();
+                let (img, labels) = sheet.draw_with_labels().unwrap();
+                let (w, h) = (img.width() as i32, img.height() as i32);
+                let boxes: Vec<_> = labels.iter().map(|l| (l.text.clone(), l.bounds())).collect();
+                for (i, (t, b)) in boxes.iter().enumerate() {
+                    assert!(!t.ends_with("..."), "shortened: {t}");
+                    assert!(b.0 >= 0 && b.1 >= 0 && b.2 <= w && b.3 <= h, "'{t}' {b:?} leaves the {w}x{h} sheet");
+                    for (u, c) in &boxes[i + 1..] {
+                        let overlap = b.0 < c.2 && c.0 < b.2 && b.1 < c.3 && c.1 < b.3;
+                        assert!(!overlap, "'{t}' {b:?} overlaps '{u}' {c:?}");
+                    }
+                }
+            }
         }
     }
 

@@ -8,7 +8,7 @@ use super::canvas::{fill, paint_disc, CELL, PAPER};
 use super::number::sig;
 use super::png::png_bytes;
 use super::sheet::{LINE_H, MARGIN};
-use super::text::{draw_labels, Label};
+use super::text::{draw_labels, text_width, Label, BODY, TITLE};
 use super::tone::Tone;
 use crate::claims::lightmap::strip::BlendStrip;
 use crate::math::colour::luminance;
@@ -16,7 +16,7 @@ use crate::math::colour::Rgb;
 use anyhow::Result;
 use image::RgbImage;
 
-/// Width of the method names' column, in pixels.
+/// Width of the method names' column, in pixels: at least this, wider when a name needs it.
 const LABEL_W: u32 = 150;
 
 /// Draws a blending strip (see the module doc); an error if a row lacks a reconstruction for
@@ -36,29 +36,30 @@ pub fn draw(strip: &BlendStrip) -> Result<RgbImage> {
     let max = first.iter().map(|c| c.max_element()).fold(0.0, f64::max);
     let tone = Tone::from_reference(mean, max);
     let cell = disc.d as u32 + 8;
-    let head = MARGIN + 24 + 2 * LINE_H + 18;
-    let w = 2 * MARGIN + LABEL_W + ts.len() as u32 * cell;
+    let head = MARGIN + 26 + 2 * LINE_H + 22;
+    let label_w = rows.iter().map(|r| text_width(&r.method, BODY, true) + 14).fold(LABEL_W, u32::max);
+    let w = 2 * MARGIN + label_w + ts.len() as u32 * cell;
     let h = head + rows.len() as u32 * (cell + 4) + MARGIN;
     let mut img = RgbImage::from_pixel(w, h, image::Rgb(PAPER));
     let mut labels = vec![
-        Label::new(title, MARGIN, MARGIN, 16.0).bold(),
-        Label::new(format!("E/pi, {}", strip.view.caption), MARGIN, MARGIN + 24, 11.0),
+        Label::new(title, MARGIN, MARGIN, TITLE).bold(),
+        Label::new(format!("E/π, {}", strip.view.caption), MARGIN, MARGIN + 26, BODY),
         Label::new(
             format!("{}; exposure from the first row's mean", tone.describe()),
             MARGIN,
-            MARGIN + 24 + LINE_H,
-            11.0,
+            MARGIN + 26 + LINE_H,
+            BODY,
         ),
     ];
     for (k, t) in ts.iter().enumerate() {
-        let x = MARGIN + LABEL_W + k as u32 * cell + cell / 2;
-        labels.push(Label::new(format!("t = {}", sig(*t, 2)), x, head - 16, 11.0).centre());
+        let x = MARGIN + label_w + k as u32 * cell + cell / 2;
+        labels.push(Label::new(format!("t = {}", sig(*t, 2)), x, head - 20, BODY).centre());
     }
     for (r, row) in rows.iter().enumerate() {
         let y = head + r as u32 * (cell + 4);
-        labels.push(Label::new(&row.method, MARGIN, y + cell / 2 - 8, 12.0).bold());
+        labels.push(Label::new(&row.method, MARGIN, y + cell / 2 - 8, BODY).bold());
         for (k, vals) in row.values.iter().enumerate() {
-            let x = MARGIN + LABEL_W + k as u32 * cell;
+            let x = MARGIN + label_w + k as u32 * cell;
             fill(&mut img, x + 1, y, cell - 2, cell, CELL);
             paint_disc(&mut img, x + 4, y + 4, disc, CELL, |i| tone.map(vals[i]));
         }
@@ -106,7 +107,7 @@ mod tests {
         let img = draw(&strip(vec![StripRow { method: "sh1 of blended SH".into(), values }])).unwrap();
         let (d, cell) = (STRIP_DISC as u32, STRIP_DISC as u32 + 8);
         assert_eq!(img.width(), 2 * MARGIN + LABEL_W + 3 * cell);
-        let head = MARGIN + 24 + 2 * LINE_H + 18;
+        let head = MARGIN + 26 + 2 * LINE_H + 22;
         assert_eq!(img.height(), head + (cell + 4) + MARGIN);
         let centre = |k: u32| img.get_pixel(MARGIN + LABEL_W + k * cell + 4 + d / 2, head + 4 + d / 2).0;
         assert_ne!(centre(0), centre(2), "the two ends differ");

@@ -12,6 +12,7 @@
 //! 1-2-5 step ([`nice_ceil`]). Dark regions, where a small absolute error is a large relative
 //! one, may saturate.
 
+use super::csvfile::CsvTable;
 use super::number::sig;
 use crate::math::colour::luminance;
 use crate::math::colour::Rgb;
@@ -60,7 +61,7 @@ impl Tone {
     /// A one-line statement of the curve for sheet headers.
     pub fn describe(&self) -> String {
         format!(
-            "exposure x{} (reference mean luminance -> 0.5), Reinhard (white {}), sRGB; negative E/pi black",
+            "exposure x{} (reference mean Y -> 0.5), Reinhard white {}, sRGB; E/π < 0 black",
             sig(self.exposure, 3),
             sig(self.white, 3)
         )
@@ -74,6 +75,17 @@ pub struct ErrorScale {
     pub floor: f64,
     /// R: the error shown at the ends of the colour bar.
     pub range: f64,
+    /// Which sheets share R.
+    pub scope: ErrorScope,
+}
+
+/// Which sheets share an error scale's range.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ErrorScope {
+    /// Every sheet of the experiment (the range from its table).
+    Experiment,
+    /// This sheet alone (no table to take it from).
+    Sheet,
 }
 
 impl ErrorScale {
@@ -141,6 +153,24 @@ pub fn nice_ceil(x: f64) -> f64 {
         }
     }
     5.0
+}
+
+/// The error range every sheet of an experiment shares: the median `rel_rmse` of the table's
+/// rows (metric `exact` where the table has a `metric` column; every map and case), rounded up
+/// to a 1-2-5 step; None when the table has no finite `rel_rmse`.
+pub fn experiment_error_range(t: &CsvTable) -> Option<f64> {
+    let rc = t.col("rel_rmse")?;
+    let mc = t.col("metric");
+    let mut rel: Vec<f64> = (0..t.rows.len())
+        .filter(|&i| mc.is_none_or(|c| t.rows[i][c] == "exact"))
+        .filter_map(|i| t.num(i, rc).ok().flatten())
+        .filter(|v| v.is_finite())
+        .collect();
+    if rel.is_empty() {
+        return None;
+    }
+    rel.sort_by(f64::total_cmp);
+    Some(nice_ceil(rel[(rel.len() - 1) / 2]))
 }
 
 #[cfg(test)]

@@ -5,7 +5,7 @@
 use super::design::{Design, FIT_GRID};
 use super::geometry::{bezier_weights, geometry};
 use super::variant::Variant;
-use crate::encoders::encoder::{Encoder, FitInput, Fitted, Params};
+use crate::encoders::encoder::{Encoder, Family, FitInput, Fitted, Params};
 use crate::encoders::stored::{Role, Stored, Unit, Value};
 use crate::math::colour::Rgb;
 use crate::math::sh::Sh9;
@@ -210,6 +210,9 @@ impl AmbientDiceEncoder {
 impl Encoder for AmbientDiceEncoder {
     fn id(&self) -> &str {
         self.variant.id()
+    }
+    fn family(&self) -> Family {
+        Family::AmbientDice
     }
     fn stored_scalars(&self) -> usize {
         match self.variant {

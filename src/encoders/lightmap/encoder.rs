@@ -19,7 +19,7 @@
 //! Diagnostics: `theta_deg` (tilt of d from N), and for searched encoders `iters`, `evals`;
 //! `fallback` = 1 when the pure-ambient fallback was used (see `lightmap::fit`).
 
-use crate::encoders::encoder::{named_weights, Encoder, FitInput, Fitted, Params};
+use crate::encoders::encoder::{named_weights, Encoder, Family, FitInput, Fitted, Params};
 use crate::encoders::lightmap::fit::{fit, Colours, Direction, FitSpec, Gram, MAX_GOLDEN_STEPS};
 use crate::encoders::lightmap::{Basis, Model, Storage, Texel};
 use crate::encoders::stored::{Role, Stored, Unit, Value};
@@ -202,6 +202,9 @@ pub fn build(id: &'static str, def: Defaults, p: &mut Params) -> Result<Box<dyn 
 impl Encoder for LightmapEncoder {
     fn id(&self) -> &str {
         self.id
+    }
+    fn family(&self) -> Family {
+        Family::Lightmap
     }
     fn stored_scalars(&self) -> usize {
         self.storage.scalars()

@@ -17,7 +17,7 @@
 //! is pure ambient (the band-0 irradiance), as for the fitted encoders (`lightmap::fit`).
 
 use super::encoder::{build, Defaults, LightmapFit, TexelSource};
-use crate::encoders::encoder::{Encoder, FitInput, Fitted, Params};
+use crate::encoders::encoder::{Encoder, Family, FitInput, Fitted, Params};
 use crate::encoders::lightmap::fit::{Colours, Gram};
 use crate::encoders::lightmap::{hhd_from_linear_sh, Basis, Model, Storage, Texel};
 use crate::math::colour::Rgb;
@@ -69,6 +69,9 @@ pub fn build_from_sh1(p: &mut Params) -> Result<Box<dyn Encoder>> {
 impl Encoder for HhdFromSh1 {
     fn id(&self) -> &str {
         "hhd_from_sh1"
+    }
+    fn family(&self) -> Family {
+        Family::Lightmap
     }
     fn stored_scalars(&self) -> usize {
         self.storage.map_or(12, Storage::scalars)

@@ -41,7 +41,7 @@
 pub mod fit;
 pub mod lobes;
 
-use crate::encoders::encoder::{Encoder, FitInput, Fitted, Params};
+use crate::encoders::encoder::{Encoder, Family, FitInput, Fitted, Params};
 use crate::encoders::stored::{Role, Stored, Unit, Value};
 use crate::math::colour::Rgb;
 use crate::math::halton::{peer_sphere_directions, PEER_SAMPLE_COUNT};
@@ -228,6 +228,9 @@ impl Encoder for SphericalGaussians {
 
     fn id(&self) -> &str {
         self.variant.id()
+    }
+    fn family(&self) -> Family {
+        Family::SphericalGaussians
     }
     fn stored_scalars(&self) -> usize {
         3 * peer_lobes(self.variant.ambient()).len()

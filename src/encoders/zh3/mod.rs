@@ -43,7 +43,7 @@
 
 pub mod solve;
 
-use crate::encoders::encoder::{named_weights, Encoder, FitInput, Fitted, Params};
+use crate::encoders::encoder::{named_weights, Encoder, Family, FitInput, Fitted, Params};
 use crate::encoders::quantise;
 use crate::encoders::stored::{sh_name, Role, Stored, Unit, Value};
 use crate::encoders::zh3::solve::{
@@ -397,6 +397,9 @@ impl Zh3Encoder {
 impl Encoder for Zh3Encoder {
     fn id(&self) -> &str {
         self.id
+    }
+    fn family(&self) -> Family {
+        Family::Zh3
     }
     fn stored_scalars(&self) -> usize {
         match self.method {

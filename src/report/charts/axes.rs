@@ -36,3 +36,49 @@ pub(super) fn tick(v: f64) -> String {
         s
     }
 }
+
+/// Bounds of a log axis fitted to positive values: the data's span widened by 8% of its
+/// decades on each side (at least 0.06 decade), so that no point sits on the frame.
+pub(super) fn fitted(values: impl Iterator<Item = f64>) -> Option<(f64, f64)> {
+    let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
+    for v in values.filter(|v| *v > 0.0 && v.is_finite()) {
+        lo = lo.min(v);
+        hi = hi.max(v);
+    }
+    if hi <= 0.0 {
+        return None;
+    }
+    let pad = ((hi / lo).log10() * 0.08).max(0.06);
+    Some((lo / 10f64.powf(pad), hi * 10f64.powf(pad)))
+}
+
+/// Tick values of a log axis from `lo` to `hi`: the sparsest of the steps 1, then 1-2-5, then
+/// 1-2-3-4-5-6-7-8-9, then with 1.2, 1.5 and 2.5 added, per decade that gives at least `min` ticks inside the bounds (the last
+/// when none does).
+pub(super) fn log_ticks(lo: f64, hi: f64, min: usize) -> Vec<f64> {
+    let sets: [&[f64]; 4] = [
+        &[1.0],
+        &[1.0, 2.0, 5.0],
+        &[1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0],
+        &[1.0, 1.2, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0],
+    ];
+    let mut out = Vec::new();
+    for set in sets {
+        out.clear();
+        let (e0, e1) = (lo.log10().floor() as i32, hi.log10().ceil() as i32);
+        for e in e0..=e1 {
+            for m in set {
+                let v = m * 10f64.powi(e);
+                // Rounded to its own decimal digits, so that 0.3 is 0.3 and not 0.30000000000000004.
+                let v = format!("{v:e}").parse::<f64>().unwrap_or(v);
+                if v >= lo * (1.0 - 1e-12) && v <= hi * (1.0 + 1e-12) {
+                    out.push(v);
+                }
+            }
+        }
+        if out.len() >= min {
+            break;
+        }
+    }
+    out
+}

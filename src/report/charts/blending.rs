@@ -89,7 +89,7 @@ pub fn blend_charts(t: &CsvTable) -> Result<Vec<(String, Outcome)>> {
         let two = !err.is_empty();
         let title = if set.is_empty() { String::new() } else { format!(" ({set})") };
         let w = if two { 1200 } else { 640 };
-        let (image, svg) = canvas!(w + legend_width(&irr), legend_height(&irr), |root| {
+        let (image, svg, text) = canvas!(w + legend_width(&irr), legend_height(&irr), |root| {
             root.fill(&WHITE).map_err(pe)?;
             draw_legend(root, &irr, w as i32)?;
             let root = &root.split_horizontally(w).0;
@@ -98,22 +98,23 @@ pub fn blend_charts(t: &CsvTable) -> Result<Vec<(String, Outcome)>> {
                 &a,
                 &format!("irradiance at N along t{title}"),
                 "t",
-                "E/pi at N (Rec.709 luminance)",
+                "E/π at N (Rec.709 luminance)",
                 &irr,
                 true,
             )?;
             if two {
-                line_panel(&b, &format!("rmse along t{title}"), "t", "rmse of E/pi", &err, true)?;
+                let y = "RMSE of E/π (hemisphere about N)";
+                line_panel(&b, &format!("RMSE along t{title}"), "t", y, &err, true)?;
             }
             Ok(())
         })?;
         let caption = format!(
-            "blending{title}: E/pi at N (luminance) along t per method{}; overshoot = largest excursion beyond both \
+            "blending{title}: E/π at N (luminance) along t per method{}; overshoot = largest excursion beyond both \
              endpoints' values: {}",
-            if two { ", and rmse along t" } else { "" },
+            if two { ", and the RMSE of E/π over the hemisphere about N along t" } else { "" },
             notes.join("; ")
         );
-        out.push((set, Outcome::Drawn { image, svg, caption }));
+        out.push((set, Outcome::Drawn { image, svg, caption, text, marks: vec![] }));
     }
     Ok(out)
 }

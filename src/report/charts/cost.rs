@@ -2,12 +2,13 @@
 //! the Pareto front drawn as a staircase, and the labels placed so none overlaps another.
 
 use super::super::csvfile::CsvTable;
-use super::super::text::{text_width, FONT};
-use super::axes::{decades, tick};
+use super::super::text::{text_width, BODY, FONT, TITLE};
+use super::axes::{fitted, log_ticks, tick};
 use super::draw::{canvas, pe, Outcome};
-use super::rows::{distinct, metric_rows};
+use super::rows::{distinct, metric_rows, Measure};
 use anyhow::Result;
 use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 /// Indices of the Pareto-optimal points of (cost, error), sorted by cost: lower cost and lower
 /// error are both better, and a point is on the front when no other point is at least as cheap
@@ -68,8 +69,8 @@ impl Cost {
 
     fn axis(self) -> &'static str {
         match self {
-            Cost::FitNs => "fit time per probe or texel, ns (median; log scale)",
-            Cost::EvalNs => "evaluation time per shaded normal, ns (median; log scale)",
+            Cost::FitNs => "fit time per probe or texel, ns (median over the rows; log scale)",
+            Cost::EvalNs => "evaluation time per shaded normal, ns (median over the rows; log scale)",
             Cost::StoredScalars => "stored scalars per probe or texel (log scale)",
             Cost::Bytes => "bytes per probe (quantised; log scale)",
         }
@@ -167,91 +168,90 @@ pub fn error_vs_time(t: &CsvTable, title: &str) -> Result<Outcome> {
     error_vs_cost(t, Cost::FitNs, title)
 }
 
-/// Error against a cost per encoder (x = the cost, y = mean rmse), log–log, with the Pareto
-/// front (lower cost and lower error both better) drawn as a staircase and named in the caption.
+/// The chart's size.
+const W: u32 = 820;
+const H: u32 = 580;
+/// A point's marker radius, and the line height labels are placed on.
+const DOT: i32 = 5;
+const LINE: i32 = 15;
+
+/// Error against a cost per encoder (x = the cost, y = mean rmse), log–log on axes fitted to
+/// the points, with the Pareto front (lower cost and lower error both better) drawn as a
+/// staircase and named in the caption; every point labelled, no label over another or over a
+/// point ([`place_labels`]).
 pub fn error_vs_cost(t: &CsvTable, cost: Cost, title: &str) -> Result<Outcome> {
     if t.col("encoder").is_none() || t.col("rmse").is_none() {
         return Ok(Outcome::Skipped("not drawn: the table has no encoder and rmse columns".into()));
     }
-    let (pts, names, metric) = cost_points(t, cost)?;
+    let (pts, names, _) = cost_points(t, cost)?;
     if pts.is_empty() {
         return Ok(Outcome::Skipped(cost.missing(t)));
     }
     let front = pareto_front(&pts);
+    let (rows, _) = metric_rows(t);
+    let measure = Measure::of(t, &rows);
     // Cannot fail: `cost_points` keeps only finite costs > 0, and `pts` is not empty.
-    let (xlo, xhi) = decades(pts.iter().map(|p| p.0)).expect("positive costs");
-    let (ylo, yhi) = decades(pts.iter().map(|p| p.1)).unwrap_or((1e-3, 1.0));
-    let h = 560u32;
-    let (image, svg) = canvas!(820, h, |root| {
+    let (xlo, xhi) = fitted(pts.iter().map(|p| p.0)).expect("positive costs");
+    let (ylo, yhi) = fitted(pts.iter().map(|p| p.1)).unwrap_or((1e-3, 1.0));
+    let marks = std::cell::RefCell::new(Vec::new());
+    let (image, svg, text) = canvas!(W, H, |root| {
         root.fill(&WHITE).map_err(pe)?;
-        let mut chart = ChartBuilder::on(root)
-            .caption(title, (FONT, 16).into_font().style(FontStyle::Bold))
+        let red = RGBColor(200, 30, 30);
+        let centre =
+            TextStyle::from((FONT, TITLE).into_font().style(FontStyle::Bold)).pos(Pos::new(HPos::Center, VPos::Top));
+        root.draw_text(title, &centre, (W as i32 / 2, 8)).map_err(pe)?;
+        let key = "Pareto front (none is both cheaper and more accurate)";
+        let kx = W as i32 - 14 - text_width(key, BODY, false) as i32;
+        root.draw(&PathElement::new([(kx - 30, 42), (kx - 6, 42)], red.stroke_width(2))).map_err(pe)?;
+        root.draw_text(key, &TextStyle::from((FONT, BODY)).pos(Pos::new(HPos::Left, VPos::Center)), (kx, 42))
+            .map_err(pe)?;
+        let body = root.split_vertically(56).1;
+        let mut chart = ChartBuilder::on(&body)
             .margin(14)
-            .x_label_area_size(44)
-            .y_label_area_size(64)
+            .margin_top(6)
+            .x_label_area_size(50)
+            .y_label_area_size(76)
             .build_cartesian_2d((xlo..xhi).log_scale(), (ylo..yhi).log_scale())
             .map_err(pe)?;
         chart
             .configure_mesh()
+            .disable_mesh()
+            .x_labels(0)
+            .y_labels(0)
+            .x_label_formatter(&|_| String::new())
+            .y_label_formatter(&|_| String::new())
             .x_desc(cost.axis())
-            .y_desc("rmse of E/pi (mean over the table's rows; log scale)")
-            .x_label_formatter(&|v| tick(*v))
-            .y_label_formatter(&|v| tick(*v))
-            .label_style((FONT, 12))
-            .axis_desc_style((FONT, 12))
-            .light_line_style(RGBColor(238, 238, 238))
+            .y_desc(format!("mean {}", measure.axis()))
+            .label_style((FONT, BODY))
+            .axis_desc_style((FONT, BODY))
             .draw()
             .map_err(pe)?;
-        let red = RGBColor(200, 30, 30);
+        let (xr, yr) = chart.plotting_area().get_pixel_range();
+        let plot = (xr.start, yr.start, xr.end, yr.end);
+        grid(root, plot, &log_ticks(xlo, xhi, 5), |v| chart.backend_coord(&(v, ylo)).0, true)?;
+        grid(root, plot, &log_ticks(ylo, yhi, 5), |v| chart.backend_coord(&(xlo, v)).1, false)?;
         // The front as a staircase: the best error reachable at a cost of at most x.
         let mut line: Vec<(f64, f64)> = Vec::new();
         for &i in &front {
-            let p = (pts[i].0, pts[i].1.max(ylo));
             if let Some(&last) = line.last() {
-                line.push((p.0, last.1));
+                line.push((pts[i].0, last.1));
             }
-            line.push(p);
+            line.push(pts[i]);
         }
-        chart
-            .draw_series(LineSeries::new(line, red.stroke_width(2)))
-            .map_err(pe)?
-            .label("Pareto front (none is both cheaper and more accurate)")
-            .legend(move |(x, y)| PathElement::new([(x, y), (x + 18, y)], red.stroke_width(2)));
-        // Labels from measured widths ([`place_labels`]): right of the point, or left of it
-        // where the right would leave the plot, moved up or down past labels already placed,
-        // with a leader line when moved off the point; never shortened.
-        let grey = RGBColor(90, 90, 90);
-        let (xr, yr) = chart.plotting_area().get_pixel_range();
-        let plot = (xr.start, yr.start, xr.end, yr.end);
-        let at: Vec<(f64, f64)> = pts.iter().map(|p| (p.0, p.1.max(ylo))).collect();
-        let px: Vec<(i32, i32)> = at.iter().map(|a| chart.backend_coord(a)).collect();
-        let widths: Vec<u32> = names.iter().map(|n| text_width(n, 12.0, false)).collect();
-        let boxes = place_labels(&px, &widths, 14, plot);
-        for (i, name) in names.iter().enumerate() {
-            let c = if front.contains(&i) { red } else { grey };
-            chart.draw_series(std::iter::once(Circle::new(at[i], 5, c.filled()))).map_err(pe)?;
-            let (bx0, by0, bx1, by1) = boxes[i];
-            let (x, y) = px[i];
-            let cy = (by0 + by1) / 2;
-            if (cy - y).abs() > 7 {
-                let ex = if bx0 >= x { bx0 - 2 } else { bx1 + 2 };
-                root.draw(&PathElement::new([(x, y), (ex, cy)], grey.mix(0.6).stroke_width(1))).map_err(pe)?;
-            }
-            root.draw_text(name, &TextStyle::from((FONT, 12).into_font()).color(&c), (bx0, by0 + 1)).map_err(pe)?;
-        }
-        chart
-            .configure_series_labels()
-            .background_style(WHITE.mix(0.9))
-            .border_style(BLACK)
-            .label_font((FONT, 12))
-            .position(SeriesLabelPosition::UpperRight)
-            .draw()
-            .map_err(pe)?;
+        // The staircase's segments, for labels to keep off.
+        let steps: Vec<(i32, i32)> = line.iter().map(|p| chart.backend_coord(p)).collect();
+        let segments: Vec<(i32, i32, i32, i32)> = steps
+            .windows(2)
+            .map(|w| (w[0].0.min(w[1].0) - 2, w[0].1.min(w[1].1) - 2, w[0].0.max(w[1].0) + 2, w[0].1.max(w[1].1) + 2))
+            .collect();
+        chart.draw_series(LineSeries::new(line, red.stroke_width(2))).map_err(pe)?;
+        let px: Vec<(i32, i32)> = pts.iter().map(|a| chart.backend_coord(a)).collect();
+        let dots = draw_points(root, &px, &names, &front, plot, &segments)?;
+        *marks.borrow_mut() = dots;
         Ok(())
     })?;
     let on: Vec<&str> = front.iter().map(|&i| names[i].as_str()).collect();
     let left_out = {
-        let (rows, _) = metric_rows(t);
         let ec = t.col("encoder").expect("checked"); // cannot fail: checked on entry
         distinct(t, &rows, ec).len() - names.len()
     };
@@ -259,26 +259,102 @@ pub fn error_vs_cost(t: &CsvTable, cost: Cost, title: &str) -> Result<Outcome> {
         image,
         svg,
         caption: format!(
-            "error against {} per encoder: x = {} over the table's rows, y = mean rmse{}; Pareto front (lower cost \
-             and lower error both better): {}{}",
+            "error against {} per encoder: x = {} over the table's rows, y = the mean over them of the {}; Pareto \
+             front (lower cost and lower error both better): {}{}",
             cost.what(),
             cost.source(),
-            metric.map(|m| format!(" (metric `{m}`)")).unwrap_or_default(),
+            measure.caption(),
             on.join(", "),
             if left_out > 0 { format!("; {left_out} encoder(s) without this cost not drawn") } else { String::new() }
         ),
+        text,
+        marks: marks.into_inner(),
     })
 }
 
-/// Places one label per point: boxes (x0, y0, x1, y1) of width `widths[i]` and height
-/// `line`, inside `plot`, none overlapping another. Each label goes right of its point (12 px
-/// gap) or, when that leaves the plot, left of it; then at the point's height or the nearest
-/// free height, trying steps of a line up and down. Points are placed in order of x, then y.
+/// Draws the points (red on the front, grey off it) and their labels, placed by
+/// [`place_labels`] off every point and off the front's `segments`, with a leader line when a
+/// label moved off its point's height; returns the points' marker boxes.
+fn draw_points<DB: DrawingBackend>(
+    root: &DrawingArea<DB, plotters::coord::Shift>,
+    px: &[(i32, i32)],
+    names: &[String],
+    front: &[usize],
+    plot: (i32, i32, i32, i32),
+    segments: &[(i32, i32, i32, i32)],
+) -> Result<Vec<(i32, i32, i32, i32)>> {
+    let (red, grey) = (RGBColor(200, 30, 30), RGBColor(90, 90, 90));
+    let dots: Vec<_> = px.iter().map(|&(x, y)| (x - DOT - 1, y - DOT - 1, x + DOT + 1, y + DOT + 1)).collect();
+    let widths: Vec<u32> = names.iter().map(|n| text_width(n, BODY, false)).collect();
+    let avoid: Vec<_> = dots.iter().chain(segments).copied().collect();
+    let boxes = place_labels(px, &widths, LINE, plot, &avoid);
+    for (i, name) in names.iter().enumerate() {
+        let c = if front.contains(&i) { red } else { grey };
+        root.draw(&Circle::new(px[i], DOT as u32, c.filled())).map_err(pe)?;
+        let (bx0, by0, bx1, by1) = boxes[i];
+        let (x, y) = px[i];
+        let cy = (by0 + by1) / 2;
+        if (cy - y).abs() > DOT {
+            let ex = if bx0 >= x { bx0 - 2 } else { bx1 + 2 };
+            root.draw(&PathElement::new([(x, y), (ex, cy)], grey.mix(0.6).stroke_width(1))).map_err(pe)?;
+        }
+        let style = TextStyle::from((FONT, BODY).into_font()).color(&c).pos(Pos::new(HPos::Left, VPos::Center));
+        root.draw_text(name, &style, (bx0, cy)).map_err(pe)?;
+    }
+    Ok(dots)
+}
+
+/// Grid lines and labelled ticks at `ticks` along x (`vertical`: lines across the plot, labels
+/// under it) or y (labels left of it), `at` giving a value's pixel; a label that would touch
+/// the one before it is left out (its grid line stays).
+fn grid<DB: DrawingBackend>(
+    root: &DrawingArea<DB, plotters::coord::Shift>,
+    plot: (i32, i32, i32, i32),
+    ticks: &[f64],
+    at: impl Fn(f64) -> i32,
+    vertical: bool,
+) -> Result<()> {
+    let (x0, y0, x1, y1) = plot;
+    let light = RGBColor(225, 225, 225);
+    let mut last: Option<i32> = None;
+    for &v in ticks {
+        let p = at(v);
+        let label = tick(v);
+        let (line, mark, pos, anchor) = if vertical {
+            ([(p, y0), (p, y1)], [(p, y1), (p, y1 + 5)], (p, y1 + 8), Pos::new(HPos::Center, VPos::Top))
+        } else {
+            ([(x0, p), (x1, p)], [(x0 - 5, p), (x0, p)], (x0 - 8, p), Pos::new(HPos::Right, VPos::Center))
+        };
+        root.draw(&PathElement::new(line, light.stroke_width(1))).map_err(pe)?;
+        root.draw(&PathElement::new(mark, BLACK.stroke_width(1))).map_err(pe)?;
+        let w = text_width(&label, BODY, false) as i32;
+        // The label's extent along the axis, and whether it clears the previous one by 6 px.
+        let (from, to) = if vertical { (p - w / 2, p + w / 2) } else { (p - LINE / 2, p + LINE / 2) };
+        let clear = match last {
+            Some(l) if vertical => from >= l + 6,
+            Some(l) => to <= l - 2,
+            None => true,
+        };
+        if clear {
+            root.draw_text(&label, &TextStyle::from((FONT, BODY)).pos(anchor), pos).map_err(pe)?;
+            last = Some(if vertical { to } else { from });
+        }
+    }
+    Ok(())
+}
+
+/// Places one label per point: boxes (x0, y0, x1, y1) of width `widths[i]` and height `line`,
+/// inside `plot`, none overlapping another label or any box of `avoid` (the points' markers).
+/// Each label goes right of its point (10 px gap) or left of it, at the point's height or the
+/// nearest free height in steps of a line up and down (nearest first, right before left);
+/// points are placed in order of x, then y. When no free place exists the label stays at its
+/// point's height, right or left, inside the plot.
 pub fn place_labels(
     points: &[(i32, i32)],
     widths: &[u32],
     line: i32,
     plot: (i32, i32, i32, i32),
+    avoid: &[(i32, i32, i32, i32)],
 ) -> Vec<(i32, i32, i32, i32)> {
     let (px0, py0, px1, py1) = plot;
     let mut order: Vec<usize> = (0..points.len()).collect();
@@ -289,26 +365,21 @@ pub fn place_labels(
     for i in order {
         let (x, y) = points[i];
         let w = widths[i] as i32;
-        let x0 = if x + 12 + w <= px1 { x + 12 } else { (x - 12 - w).max(px0) };
-        let mut best = None;
-        for k in 0..200 {
+        let sides = [x + 10, x - 10 - w];
+        let inside = |b: (i32, i32, i32, i32)| b.0 >= px0 && b.2 <= px1 && b.1 >= py0 && b.3 <= py1;
+        let free = |b: (i32, i32, i32, i32)| {
+            inside(b) && done.iter().all(|&j| !overlaps(b, placed[j])) && avoid.iter().all(|&a| !overlaps(b, a))
+        };
+        let candidate = (0..120).flat_map(|k: i32| {
             let step = if k % 2 == 0 { k / 2 } else { -(k / 2 + 1) };
-            let y0 = y - line / 2 + step * line;
-            let b = (x0, y0, x0 + w, y0 + line);
-            if y0 < py0 || y0 + line > py1 {
-                continue;
-            }
-            if done.iter().all(|&j| !overlaps(b, placed[j])) {
-                best = Some(b);
-                break;
-            }
-        }
-        placed[i] = best.unwrap_or((
-            x0,
-            (y - line / 2).clamp(py0, py1 - line),
-            x0 + w,
-            (y - line / 2).clamp(py0, py1 - line) + line,
-        ));
+            sides.map(|x0| (x0, y - line / 2 + step * line, x0 + w, y - line / 2 + step * line + line))
+        });
+        let fallback = {
+            let x0 = if sides[0] + w <= px1 { sides[0] } else { sides[1].max(px0) };
+            let y0 = (y - line / 2).clamp(py0, py1 - line);
+            (x0, y0, x0 + w, y0 + line)
+        };
+        placed[i] = candidate.into_iter().find(|&b| free(b)).unwrap_or(fallback);
         done.push(i);
     }
     placed

@@ -1,6 +1,7 @@
 //! What a chart is and how it is drawn: the [`Outcome`] (pixels and SVG, or why not), the
 //! Tableau 20 palette, and `canvas!`, which runs one drawing body on both backends.
 
+pub use super::backend::TextBox;
 use anyhow::anyhow;
 use image::RgbImage;
 use plotters::prelude::*;
@@ -17,6 +18,10 @@ pub enum Outcome {
         svg: String,
         /// The caption the report prints under it.
         caption: String,
+        /// Every text the PNG drew, with its box (for the layout checks).
+        text: Vec<TextBox>,
+        /// The boxes of the data marks labels must not cover (the cost charts' points).
+        marks: Vec<(i32, i32, i32, i32)>,
     },
     /// Not drawn: why (no data, a single point, …).
     Skipped(String),
@@ -57,33 +62,39 @@ pub(super) fn colour(i: usize) -> RGBColor {
 }
 
 /// Draws a w×h chart twice with the same body, once on each backend: into a fresh bitmap
-/// buffer (the PNG's pixels) and into an SVG string (`SVGBackend::with_string`). The body
-/// sees `$root: &DrawingArea<DB, Shift>` for either backend, so every helper it calls is
-/// generic over `DB: DrawingBackend`; it returns `Result<()>`. Evaluates to
-/// `Result<(RgbImage, String)>`. (A macro, because a closure cannot be generic over the
-/// backend.)
+/// buffer (the PNG's pixels) and into an SVG string (`SVGBackend::with_string`), each wrapped
+/// in [`super::backend::Typeset`] (text set by `report::glyphs`). The body sees
+/// `$root: &DrawingArea<DB, Shift>` for either backend, so every helper it calls is generic
+/// over `DB: DrawingBackend`; it returns `Result<()>`. Evaluates to
+/// `Result<(RgbImage, String, Vec<TextBox>)>`, the texts as the bitmap pass placed them. (A
+/// macro, because a closure cannot be generic over the backend.)
 macro_rules! canvas {
     ($w:expr, $h:expr, |$root:ident| $body:block) => {{
         let (w, h): (u32, u32) = ($w, $h);
         use ::plotters::prelude::{BitMapBackend, IntoDrawingArea, SVGBackend};
         $crate::report::text::ensure_font();
-        (|| -> ::anyhow::Result<(::image::RgbImage, String)> {
+        (|| -> ::anyhow::Result<(::image::RgbImage, String, Vec<$crate::report::charts::draw::TextBox>)> {
+            use $crate::report::charts::backend::Typeset;
+            let placed = ::std::rc::Rc::new(::std::cell::RefCell::new(Vec::new()));
             let mut buf = vec![255u8; (w * h * 3) as usize];
             {
-                let area = BitMapBackend::with_buffer(&mut buf, (w, h)).into_drawing_area();
+                let bitmap = BitMapBackend::with_buffer(&mut buf, (w, h));
+                let area = Typeset::new(bitmap, true, placed.clone()).into_drawing_area();
                 let $root = &area;
                 (|| -> ::anyhow::Result<()> { $body })()?;
                 area.present().map_err($crate::report::charts::draw::pe)?;
             }
             let image = ::image::RgbImage::from_raw(w, h, buf).ok_or_else(|| ::anyhow::anyhow!("chart buffer size"))?;
+            let text = placed.borrow().clone();
             let mut svg = String::new();
             {
-                let area = SVGBackend::with_string(&mut svg, (w, h)).into_drawing_area();
+                let vector = SVGBackend::with_string(&mut svg, (w, h));
+                let area = Typeset::new(vector, false, Default::default()).into_drawing_area();
                 let $root = &area;
                 (|| -> ::anyhow::Result<()> { $body })()?;
                 area.present().map_err($crate::report::charts::draw::pe)?;
             }
-            Ok((image, svg))
+            Ok((image, svg, text))
         })()
     }};
 }

@@ -1,20 +1,21 @@
 //! Line charts: one panel of series (log axes where the range allows) and the legend column
 //! beside the panels, so a legend never covers data.
 
-use super::super::text::{text_width, FONT};
+use super::super::text::{text_width, BODY, FONT, HEADING};
 use super::axes::tick;
 use super::draw::{colour, pe};
 use anyhow::Result;
 use plotters::coord::Shift;
 use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 /// Height of one legend entry, px.
-pub(super) const LEGEND_LINE: i32 = 16;
+pub(super) const LEGEND_LINE: i32 = 20;
 
 /// Width of the legend column for these series: the widest measured label, the 24 px line
 /// sample before it and 12 px of margin on each side.
 pub(super) fn legend_width(series: &[Series]) -> u32 {
-    series.iter().map(|s| text_width(&s.label, 12.0, false)).max().unwrap_or(0) + 24 + 24
+    series.iter().map(|s| text_width(&s.label, BODY, false)).max().unwrap_or(0) + 24 + 24
 }
 
 /// Boxes (x0, y0, x1, y1) of the legend entries in a column starting at `x0`, one line each
@@ -25,7 +26,7 @@ pub(super) fn legend_boxes(series: &[Series], x0: i32) -> Vec<(i32, i32, i32, i3
         .enumerate()
         .map(|(i, s)| {
             let y0 = 40 + i as i32 * LEGEND_LINE;
-            (x0 + 12, y0, x0 + 12 + 24 + text_width(&s.label, 12.0, false) as i32, y0 + LEGEND_LINE)
+            (x0 + 12, y0, x0 + 12 + 24 + text_width(&s.label, BODY, false) as i32, y0 + LEGEND_LINE)
         })
         .collect()
 }
@@ -43,8 +44,8 @@ pub(super) fn draw_legend<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, ser
         let y = (b.1 + b.3) / 2;
         root.draw(&PathElement::new([(b.0, y), (b.0 + 18, y)], c.stroke_width(2))).map_err(pe)?;
         root.draw(&Circle::new((b.0 + 9, y), 3, c.filled())).map_err(pe)?;
-        root.draw_text(&s.label, &TextStyle::from((FONT, 12).into_font()).color(&BLACK), (b.0 + 24, b.1 + 1))
-            .map_err(pe)?;
+        let style = TextStyle::from((FONT, BODY).into_font()).color(&BLACK).pos(Pos::new(HPos::Left, VPos::Center));
+        root.draw_text(&s.label, &style, (b.0 + 24, y)).map_err(pe)?;
     }
     Ok(())
 }
@@ -91,10 +92,10 @@ pub(super) fn line_panel<DB: DrawingBackend>(
     macro_rules! draw {
         ($x:expr, $y:expr) => {{
             let mut chart = ChartBuilder::on(area)
-                .caption(title, (FONT, 14).into_font().style(FontStyle::Bold))
+                .caption(title, (FONT, HEADING).into_font().style(FontStyle::Bold))
                 .margin(12)
-                .x_label_area_size(40)
-                .y_label_area_size(62)
+                .x_label_area_size(46)
+                .y_label_area_size(72)
                 .build_cartesian_2d($x, $y)
                 .map_err(pe)?;
             chart
@@ -103,8 +104,8 @@ pub(super) fn line_panel<DB: DrawingBackend>(
                 .y_desc(ydesc)
                 .x_label_formatter(&|v| tick(*v))
                 .y_label_formatter(&|v| tick(*v))
-                .label_style((FONT, 12))
-                .axis_desc_style((FONT, 12))
+                .label_style((FONT, BODY))
+                .axis_desc_style((FONT, BODY))
                 .light_line_style(RGBColor(238, 238, 238))
                 .draw()
                 .map_err(pe)?;

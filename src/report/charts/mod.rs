@@ -19,6 +19,7 @@
 //! `lines.rs` (line panels and their legend column), `sweeps.rs` and `blending.rs`.
 
 mod axes;
+mod backend;
 mod bars;
 mod blending;
 mod cost;

@@ -3,7 +3,7 @@
 use super::super::csvfile::CsvTable;
 use super::draw::{canvas, pe, Outcome};
 use super::lines::{draw_legend, legend_height, legend_width, line_panel, Series};
-use super::rows::distinct;
+use super::rows::{distinct, Measure};
 use anyhow::Result;
 use plotters::prelude::*;
 
@@ -63,15 +63,16 @@ pub fn sweep_charts(t: &CsvTable) -> Result<Vec<(String, Outcome)>> {
             continue;
         }
         let two = !by_time.is_empty();
+        let quantity = Measure::of(t, &rows).quantity();
         let w = if two { 1200 } else { 640 };
-        let (image, svg) = canvas!(w + legend_width(&by_value), legend_height(&by_value), |root| {
+        let (image, svg, text) = canvas!(w + legend_width(&by_value), legend_height(&by_value), |root| {
             root.fill(&WHITE).map_err(pe)?;
             draw_legend(root, &by_value, w as i32)?;
             let root = &root.split_horizontally(w).0;
             let (a, b) = if two { root.split_horizontally(600) } else { (root.clone(), root.clone()) };
-            line_panel(&a, &format!("{knob}: rmse against value"), &knob, "rmse of E/pi", &by_value, zero > 0)?;
+            line_panel(&a, &format!("{knob}: RMSE against value"), &knob, &quantity, &by_value, zero > 0)?;
             if two {
-                line_panel(&b, &format!("{knob}: rmse against time"), "time, ns", "rmse of E/pi", &by_time, zero > 0)?;
+                line_panel(&b, &format!("{knob}: RMSE against time"), "time, ns", &quantity, &by_time, zero > 0)?;
             }
             Ok(())
         })?;
@@ -89,7 +90,7 @@ pub fn sweep_charts(t: &CsvTable) -> Result<Vec<(String, Outcome)>> {
                 String::new()
             }
         );
-        out.push((knob, Outcome::Drawn { image, svg, caption }));
+        out.push((knob, Outcome::Drawn { image, svg, caption, text, marks: vec![] }));
     }
     Ok(out)
 }

@@ -110,7 +110,7 @@ fn time_chart_skips_without_fit_ns_and_draws_with_it() {
     match error_vs_time(&t, "x").unwrap() {
         Outcome::Drawn { caption, image, .. } => {
             assert!(caption.contains("both better): sh1, sh2"), "{caption}");
-            assert_eq!(image.dimensions(), (820, 560));
+            assert_eq!(image.dimensions(), (820, 580));
         }
         Outcome::Skipped(s) => panic!("{s}"),
     }
@@ -139,13 +139,18 @@ fn labels_never_overlap_or_leave_the_plot() {
         (200, 195),
     ];
     let widths: Vec<u32> = (0..pts.len()).map(|i| 100 + 10 * i as u32).collect();
-    let boxes = place_labels(&pts, &widths, 14, plot);
+    let dots: Vec<_> = pts.iter().map(|&(x, y)| (x - 6, y - 6, x + 6, y + 6)).collect();
+    let boxes = place_labels(&pts, &widths, 14, plot, &dots);
     for (i, b) in boxes.iter().enumerate() {
         assert!(b.0 >= plot.0 && b.1 >= plot.1 && b.2 <= plot.2 && b.3 <= plot.3, "label {i} {b:?} leaves the plot");
         assert_eq!((b.2 - b.0) as u32, widths[i], "label {i} shortened");
         for (j, c) in boxes.iter().enumerate().skip(i + 1) {
             let overlap = b.0 < c.2 && c.0 < b.2 && b.1 < c.3 && c.1 < b.3;
             assert!(!overlap, "labels {i} {b:?} and {j} {c:?} overlap");
+        }
+        for (j, d) in dots.iter().enumerate() {
+            let over = b.0 < d.2 && d.0 < b.2 && b.1 < d.3 && d.1 < b.3;
+            assert!(!over, "label {i} {b:?} covers point {j} {d:?}");
         }
     }
     assert!(boxes[8].2 <= pts[8].0, "the label of the right-edge point is left of it: {:?}", boxes[8]);
@@ -161,7 +166,7 @@ fn bars_average_cases_and_read_columns_by_name() {
     assert_eq!(mean[0][0], Some(0.375));
     assert_eq!(k, 2);
     assert!(
-        matches!(rmse_bars(&t, "x").unwrap(), Outcome::Drawn { caption, .. } if caption.contains("mean over the 2"))
+        matches!(rmse_bars(&t, "x", &|_| crate::encoders::encoder::Family::Other).unwrap(), Outcome::Drawn { caption, .. } if caption.contains("mean over the 2"))
     );
 }
 
@@ -361,7 +366,11 @@ fn every_chart_is_also_an_svg_with_the_full_names() {
         table += &format!("m2,{n},exact,{},{},{},{}\n", 0.2 / (k + 1) as f64, 9 * (k + 1), 10 * (k + 1), 3 + k);
     }
     let t = csv(&table);
-    let mut drawn = vec![("bars".to_string(), rmse_bars(&t, "bars").unwrap())];
+    let mut drawn = vec![(
+        "bars".to_string(),
+        rmse_bars(&t, "bars", &|n| crate::encoders::family_of(n).unwrap_or(crate::encoders::encoder::Family::Other))
+            .unwrap(),
+    )];
     for c in [Cost::StoredScalars, Cost::EvalNs, Cost::FitNs] {
         drawn.push((format!("{c:?}"), error_vs_cost(&t, c, "cost").unwrap()));
     }
@@ -391,7 +400,7 @@ fn sweep_and_blend_formats() {
     let charts = sweep_charts(&s).unwrap();
     assert_eq!(charts.len(), 2);
     // The panels (1200 px for two, 640 for one) plus the legend column for "grace" / "hhd".
-    let lw = |l: &str| text_width(l, 12.0, false) + 48;
+    let lw = |l: &str| text_width(l, super::super::text::BODY, false) + 48;
     assert!(matches!(&charts[0].1, Outcome::Drawn { image, .. } if image.width() == 1200 + lw("grace")));
     assert!(matches!(&charts[1].1, Outcome::Drawn { image, .. } if image.width() == 640 + lw("hhd")));
     assert!(sweep_charts(&csv("knob,value\na,1\n")).unwrap_err().to_string().contains("missing column"));
@@ -406,4 +415,75 @@ fn sweep_and_blend_formats() {
         }
         Outcome::Skipped(s) => panic!("{s}"),
     }
+}
+
+/// Every chart the report draws from the committed results — the rmse bars and the four cost
+/// charts of every `table.csv`, the charts of every sweep and blending CSV — keeps every text
+/// inside its canvas, no text over another, and no label over a data point.
+#[test]
+fn committed_charts_keep_labels_apart_and_on_the_canvas() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("results");
+    let mut checked = 0;
+    let mut dirs: Vec<_> = std::fs::read_dir(&root).unwrap().filter_map(|e| e.ok()).map(|e| e.path()).collect();
+    dirs.push(root.join("claims").join("measures"));
+    dirs.sort();
+    for dir in dirs.iter().filter(|d| d.is_dir()) {
+        let mut files: Vec<_> = std::fs::read_dir(dir).unwrap().filter_map(|e| e.ok()).map(|e| e.path()).collect();
+        files.sort();
+        for f in files.iter().filter(|f| f.extension().is_some_and(|x| x == "csv")) {
+            let t = CsvTable::read(f).unwrap();
+            let what = f.display().to_string();
+            let mut drawn: Vec<(String, Outcome)> = Vec::new();
+            if f.file_name().is_some_and(|n| n == "table.csv") {
+                let family = |n: &str| crate::encoders::family_of(n).unwrap_or(crate::encoders::encoder::Family::Other);
+                drawn.push(("bars".into(), rmse_bars(&t, "a title: RMSE per encoder and map", &family).unwrap()));
+                for c in Cost::ALL {
+                    drawn.push((format!("{c:?}"), error_vs_cost(&t, c, "a title: error against a cost").unwrap()));
+                }
+            } else if is_sweep(&t) {
+                drawn.extend(sweep_charts(&t).unwrap());
+            } else if is_blend(&t) {
+                drawn.extend(blend_charts(&t).unwrap());
+            }
+            for (name, o) in drawn {
+                let Outcome::Drawn { image, text, marks, .. } = o else { continue };
+                assert_layout(&format!("{what} {name}"), image.dimensions(), &text, &marks);
+                checked += 1;
+            }
+        }
+    }
+    assert!(checked >= 20, "only {checked} charts checked");
+}
+
+/// No text box leaves the canvas, overlaps another or covers a mark.
+fn assert_layout(what: &str, (w, h): (u32, u32), text: &[TextBox], marks: &[(i32, i32, i32, i32)]) {
+    let text: Vec<&TextBox> = text.iter().filter(|t| !t.text.trim().is_empty()).collect();
+    let hit = |a: (i32, i32, i32, i32), b: (i32, i32, i32, i32)| a.0 < b.2 && b.0 < a.2 && a.1 < b.3 && b.1 < a.3;
+    for (i, t) in text.iter().enumerate() {
+        let r = t.rect;
+        assert!(
+            r.0 >= 0 && r.1 >= 0 && r.2 <= w as i32 && r.3 <= h as i32,
+            "{what}: '{}' {r:?} leaves {w}x{h}",
+            t.text
+        );
+        for u in &text[i + 1..] {
+            assert!(!hit(r, u.rect), "{what}: '{}' {r:?} overlaps '{}' {:?}", t.text, u.text, u.rect);
+        }
+        for m in marks {
+            assert!(!hit(r, *m), "{what}: '{}' {r:?} covers the point {m:?}", t.text);
+        }
+    }
+}
+
+/// Log axes fitted to the data: the ZH3 table's 12 to 27 stored scalars get at least five
+/// ticks inside the bounds (12, 15, 20, 25, 30 from the finest step set), the landscape's 3 to
+/// 110 the 1-2-5 steps, and the bounds hug the data (no decade of empty axis).
+#[test]
+fn log_axes_fit_the_data_with_enough_ticks() {
+    let (lo, hi) = fitted([12.0, 16.0, 27.0].into_iter()).unwrap();
+    assert!(lo > 10.0 && lo < 12.0 && hi > 27.0 && hi < 32.0, "{lo}..{hi}");
+    assert_eq!(log_ticks(lo, hi, 5), vec![12.0, 15.0, 20.0, 25.0, 30.0]);
+    let (lo, hi) = fitted([3.0, 110.0].into_iter()).unwrap();
+    assert!(lo > 2.0 && hi < 200.0, "{lo}..{hi}");
+    assert_eq!(log_ticks(lo, hi, 5), vec![5.0, 10.0, 20.0, 50.0, 100.0]);
 }
