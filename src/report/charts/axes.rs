@@ -2,16 +2,19 @@
 
 use super::super::number::sig;
 
-/// Decade bounds around positive values (at least one decade).
-pub(super) fn decades(values: impl Iterator<Item = f64>) -> Option<(f64, f64)> {
+/// The smallest and largest finite positive values, if there is one.
+fn positive_span(values: impl Iterator<Item = f64>) -> Option<(f64, f64)> {
     let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
     for v in values.filter(|v| *v > 0.0 && v.is_finite()) {
         lo = lo.min(v);
         hi = hi.max(v);
     }
-    if hi <= 0.0 {
-        return None;
-    }
+    (hi > 0.0).then_some((lo, hi))
+}
+
+/// Decade bounds around positive values (at least one decade).
+pub(super) fn decades(values: impl Iterator<Item = f64>) -> Option<(f64, f64)> {
+    let (lo, hi) = positive_span(values)?;
     let lo = 10f64.powf(lo.log10().floor());
     let mut hi = 10f64.powf(hi.log10().ceil());
     if hi <= lo {
@@ -40,14 +43,7 @@ pub(super) fn tick(v: f64) -> String {
 /// Bounds of a log axis fitted to positive values: the data's span widened by 8% of its
 /// decades on each side (at least 0.06 decade), so that no point sits on the frame.
 pub(super) fn fitted(values: impl Iterator<Item = f64>) -> Option<(f64, f64)> {
-    let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
-    for v in values.filter(|v| *v > 0.0 && v.is_finite()) {
-        lo = lo.min(v);
-        hi = hi.max(v);
-    }
-    if hi <= 0.0 {
-        return None;
-    }
+    let (lo, hi) = positive_span(values)?;
     let pad = ((hi / lo).log10() * 0.08).max(0.06);
     Some((lo / 10f64.powf(pad), hi * 10f64.powf(pad)))
 }
