@@ -46,8 +46,12 @@ fn write_with_texel(path: &Path, v: f32) {
 
 /// Rewrites the dataWindow (xmin, ymin, xmax, ymax) of an EXR file.
 fn patch_data_window(path: &Path, window: [i32; 4]) {
+    patch_window(path, b"dataWindow\0box2i\0", window)
+}
+
+/// Rewrites the window attribute `key` (name, type and their nulls) of an EXR file.
+fn patch_window(path: &Path, key: &[u8], window: [i32; 4]) {
     let mut bytes = fs::read(path).unwrap();
-    let key = b"dataWindow\0box2i\0";
     let at = bytes.windows(key.len()).position(|w| w == key).expect("dataWindow") + key.len() + 4;
     for (k, v) in window.iter().enumerate() {
         bytes[at + 4 * k..at + 4 * k + 4].copy_from_slice(&v.to_le_bytes());
@@ -112,6 +116,7 @@ fn kinds() -> Vec<Kind> {
         channel_kinds(),
         exr_feature_kinds(),
         huge_header_kinds(),
+        header_rule_kinds(),
         radiance_header_kinds(),
         chunk_layout_kinds(),
         not_a_map_kinds(),
@@ -148,15 +153,15 @@ fn truncated_exr_kinds() -> Vec<Kind> {
 /// Sizes that are not a 2:1 lat-long map: zero width, one texel, other aspects.
 fn size_kinds() -> Vec<Kind> {
     vec![
-        // A data window with x_max = x_min − 1 (zero width). The exr crate reads the box with
-        // its corners ordered, so this arrives as 2×4; the Radiance file below has a true 0.
+        // A data window with x_max = x_min − 1 (zero width). The exr crate would read the box
+        // with its corners ordered (as 2×4); the header is read first and refuses it.
         Kind {
             file: "zero_width_window.exr",
             make: |p| {
                 write_exr(p, &good_map(8)).unwrap();
                 patch_data_window(p, [0, 0, -1, 3]);
             },
-            fault: &["size 2x4 is not a 2:1"],
+            fault: &["data window (0,0)-(-1,3) is inverted (x max < x min): it holds no pixel"],
         },
         Kind {
             file: "zero_width.hdr",
@@ -327,6 +332,63 @@ fn radiance_header_kinds() -> Vec<Kind> {
             file: "header_only.hdr",
             make: |p| fs::write(p, b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n").unwrap(),
             fault: &["radiance hdr"],
+        },
+    ]
+}
+
+/// Headers that break a rule the header pre-read holds them to (`envmap::header`): windows,
+/// attribute sizes, the offset table against the file's length, EXPOSURE values.
+fn header_rule_kinds() -> Vec<Kind> {
+    vec![
+        Kind {
+            file: "window_mismatch.exr",
+            make: |p| {
+                write_exr(p, &good_map(8)).unwrap();
+                patch_window(p, b"displayWindow\0box2i\0", [0, 0, 15, 7]);
+            },
+            fault: &["data window (0,0)-(7,3) differs from display window (0,0)-(15,7)"],
+        },
+        Kind {
+            file: "display_window_inverted.exr",
+            make: |p| {
+                write_exr(p, &good_map(8)).unwrap();
+                patch_window(p, b"displayWindow\0box2i\0", [0, 3, 7, 0]);
+            },
+            fault: &["display window (0,3)-(7,0) is inverted (y max < y min): it holds no pixel"],
+        },
+        Kind {
+            file: "attribute_negative_size.exr",
+            make: |p| {
+                write_ones(p);
+                patch(p, |b| {
+                    let key = b"compression\0compression\0";
+                    let at = b.windows(key.len()).position(|w| w == key).unwrap() + key.len();
+                    b[at..at + 4].copy_from_slice(&(-5i32).to_le_bytes());
+                });
+            },
+            fault: &["attribute 'compression'", "declares -5 bytes, a negative size"],
+        },
+        Kind {
+            file: "offset_table_cut.exr",
+            make: |p| {
+                write_ones(p);
+                patch(p, |b| {
+                    let (table, _) = offset_table(b);
+                    b.truncate(table + 16);
+                });
+            },
+            fault: &["truncated", "offset table (4 entries"],
+        },
+        Kind {
+            file: "exposure_zero.hdr",
+            make: |p| {
+                write_hdr(p, 8, 4);
+                patch(p, |b| {
+                    let at = b.iter().position(|&c| c == b'\n').unwrap() + 1;
+                    b.splice(at..at, b"EXPOSURE=0\n".iter().copied());
+                });
+            },
+            fault: &["line 2: exposure=0: expected a positive finite number"],
         },
     ]
 }

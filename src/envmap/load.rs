@@ -14,6 +14,7 @@
 //! [`write_exr_half`] the same with half channels (the format of the shared maps), each
 //! atomically (temporary file in the same directory, then rename).
 
+use super::header::{self, HeaderError};
 use super::{EnvMap, MapError, Texel};
 use exr::prelude::{
     read, Blocks, ChannelDescription, Compression, Encoding, Image, Layer, LayerAttributes, LineOrder, MetaData,
@@ -31,11 +32,7 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Once};
 
-/// Largest accepted map width in pixels. A header claiming more is refused before any
-/// pixel memory is allocated.
-pub const MAX_WIDTH: usize = 16384;
-/// Largest accepted map height in pixels (with [`MAX_WIDTH`], at most 2^27 texels).
-pub const MAX_HEIGHT: usize = 8192;
+pub use super::header::{MAX_HEIGHT, MAX_WIDTH};
 
 /// The four bytes every OpenEXR file starts with.
 const EXR_MAGIC: [u8; 4] = [0x76, 0x2f, 0x31, 0x01];
@@ -109,6 +106,14 @@ pub enum LoadError {
         width: usize,
         /// Height the header claims, in pixels.
         height: usize,
+    },
+    /// The header breaks a limit or rule checked before decoding ([`super::header`]).
+    #[error("{}: {cause}", .path.display())]
+    Header {
+        /// The map file being loaded.
+        path: PathBuf,
+        /// The limit or rule, and how the header breaks it.
+        cause: HeaderError,
     },
     /// The header claims a zero width or height.
     #[error("{}: image has zero size ({width}x{height})", .path.display())]
@@ -281,18 +286,19 @@ pub fn load(path: &Path) -> Result<EnvMap, LoadError> {
     let (decoded, digest) = std::thread::scope(|s| {
         let hasher = s.spawn(move || sha256_hex_of(hashed));
         let decoded = match format {
-            Format::Exr => read_exr(path, &mut file, meta.len()),
+            Format::Exr => read_exr(path, &mut file, meta.len()).map(|d| (d, 1.0)),
             Format::Hdr => read_hdr(path, &mut file, meta.len()),
         };
         (decoded, hasher.join().unwrap_or_else(|_| Err(io::Error::other("the hashing thread failed"))))
     });
-    let (width, height, texels) = decoded?;
+    let ((width, height, texels), exposure) = decoded?;
     let digest = digest.map_err(|e| io_err("read file", e))?;
     let name = path.file_stem().unwrap_or(path.as_os_str()).to_string_lossy().into_owned();
     let mut map =
         EnvMap::new(name, width, height, texels).map_err(|cause| LoadError::Map { path: path.to_path_buf(), cause })?;
     map.path = Some(path.to_path_buf());
     map.sha256 = Some(digest);
+    map.exposure = exposure;
     Ok(map)
 }
 
@@ -553,6 +559,8 @@ fn hdr_error(path: &Path, len: u64, hit_eof: bool, e: ImageError) -> LoadError {
 /// texels (row 0 at the top of the data window).
 fn read_exr(path: &Path, file: &mut (impl Read + Seek), len: u64) -> Result<(usize, usize, Vec<Texel>), LoadError> {
     const FORMAT: &str = "OpenEXR";
+    let (mut reader, _) = watched(path, file)?;
+    header::exr(&mut reader, len).map_err(|cause| LoadError::Header { path: path.to_path_buf(), cause })?;
     let (reader, hit_eof) = watched(path, file)?;
     let meta = guarded(path, FORMAT, || {
         MetaData::read_from_buffered(reader, false)
@@ -773,12 +781,20 @@ fn select_rgb(path: &Path, list: &[ChannelDescription]) -> Result<[usize; 3], Lo
     Err(LoadError::MissingChannel { path: path.to_path_buf(), missing, present })
 }
 
-/// Reads a Radiance RGBE file with the `image` crate. The header (and so the size) is
-/// parsed and checked before the pixel buffer is allocated. Returns width, height and
-/// row-major texels (row 0 at the top).
-fn read_hdr(path: &Path, file: &mut (impl Read + Seek), len: u64) -> Result<(usize, usize, Vec<Texel>), LoadError> {
+/// Reads a Radiance RGBE file: its header first ([`header::hdr`]: size limits, `EXPOSURE=`),
+/// then the pixels with the `image` crate, whose buffer is allocated only after the size was
+/// checked. Returns width, height, row-major texels (row 0 at the top) divided by the product
+/// of the `EXPOSURE=` values as Radiance defines them, and that product.
+fn read_hdr(
+    path: &Path,
+    file: &mut (impl Read + Seek),
+    len: u64,
+) -> Result<((usize, usize, Vec<Texel>), f64), LoadError> {
+    let (mut reader, _) = watched(path, file)?;
+    let head = header::hdr(&mut reader).map_err(|cause| LoadError::Header { path: path.to_path_buf(), cause })?;
     let (reader, hit_eof) = watched(path, file)?;
     let eof = || hit_eof.load(Ordering::Relaxed);
+    let exposure = head.exposure;
     guarded(path, "Radiance HDR", || {
         // Non-strict: `detect` has already seen the "#?" signature, and this also accepts
         // "#?RGBE" files, which the strict mode (requiring "#?RADIANCE") refuses.
@@ -793,14 +809,15 @@ fn read_hdr(path: &Path, file: &mut (impl Read + Seek), len: u64) -> Result<(usi
         })?;
         let mut buf = vec![0u8; bytes];
         decoder.read_image(&mut buf).map_err(|e| hdr_error(path, len, eof(), e))?;
+        let scale = |v: f32| if exposure == 1.0 { v } else { (f64::from(v) / exposure) as f32 };
         let texels = buf
             .chunks_exact(12)
             .map(|px| {
-                let f = |k: usize| f32::from_ne_bytes([px[k], px[k + 1], px[k + 2], px[k + 3]]);
+                let f = |k: usize| scale(f32::from_ne_bytes([px[k], px[k + 1], px[k + 2], px[k + 3]]));
                 [f(0), f(4), f(8)]
             })
             .collect();
-        Ok((width, height, texels))
+        Ok(((width, height, texels), exposure))
     })
 }
 

@@ -8,6 +8,7 @@
 //! integrates a map (the SH projection, the exact reference) integrates those cells, not
 //! point samples at their centres.
 
+pub mod header;
 pub mod identity;
 pub mod import;
 pub mod known;
@@ -39,6 +40,10 @@ pub struct EnvMap {
     pub sha256: Option<String>,
     /// Its pixel sha256 (`identity`), when opened through the search path.
     pub pixel_sha256: Option<String>,
+    /// The product of the `EXPOSURE=` values of the Radiance file it was read from, which the
+    /// file's pixel values were divided by to give radiance (Radiance's rule); 1 for any other
+    /// map.
+    pub exposure: f64,
     width: usize,
     height: usize,
     texels: Vec<Texel>,
@@ -117,7 +122,16 @@ impl EnvMap {
                 });
             }
         }
-        Ok(Self { name: name.into(), path: None, sha256: None, pixel_sha256: None, width, height, texels })
+        Ok(Self {
+            name: name.into(),
+            path: None,
+            sha256: None,
+            pixel_sha256: None,
+            exposure: 1.0,
+            width,
+            height,
+            texels,
+        })
     }
 
     /// Builds a map by evaluating `f(i, j)` for every texel (row j, column i).

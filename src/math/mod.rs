@@ -3,7 +3,8 @@
 //! sphere samples (`halton`), SH rotation (`sh_rotation`), Gram matrices over
 //! hemispheres and cones (`gram`), Gauss–Legendre quadrature (`quadrature`), spherical caps
 //! and their arcs on a parallel (`cap`), linear RGB and Rec.709 luminance (`colour`), the direction convention (`convention`), and exact
-//! mergeable statistics (`stats`).
+//! mergeable statistics (`stats`), and the one rule for echoing a user's value or line in an
+//! error (`echo`).
 //!
 //! What this layer may use: the layer table of ARCHITECTURE.md (checked by
 //! `tests/architecture.rs`).
@@ -11,6 +12,7 @@
 pub mod cap;
 pub mod colour;
 pub mod convention;
+pub mod echo;
 pub mod gram;
 pub mod halton;
 pub mod quadrature;
