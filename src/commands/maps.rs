@@ -48,8 +48,8 @@ fn list(env: &Env) -> Result<i32> {
         };
         let mut names: Vec<String> = entries
             .filter_map(|e| e.ok())
+            .filter(|e| is_map_file(&e.path()))
             .map(|e| e.file_name().to_string_lossy().into_owned())
-            .filter(|n| n.ends_with(".exr") || n.ends_with(".hdr"))
             .collect();
         names.sort();
         text += &format!("{}:\n", d.display());
@@ -59,6 +59,14 @@ fn list(env: &Env) -> Result<i32> {
     }
     output::write(text.as_bytes())?;
     Ok(0)
+}
+
+/// Whether `path` is a map file to list or import from a folder: a regular file (after
+/// symbolic links; not a FIFO, socket or a folder named `NAME.exr`) whose extension is `exr` or
+/// `hdr` in any case (`X.EXR`).
+fn is_map_file(path: &Path) -> bool {
+    let ext = path.extension().map(|x| x.to_string_lossy().to_ascii_lowercase());
+    matches!(ext.as_deref(), Some("exr" | "hdr")) && std::fs::metadata(path).is_ok_and(|m| m.is_file())
 }
 
 /// `probelab maps import` (`envmap::import`): every input is read and derived before anything
@@ -105,10 +113,8 @@ fn input_files(inputs: &[PathBuf]) -> Result<Vec<PathBuf>> {
             continue;
         }
         let entries = std::fs::read_dir(p).with_context(|| format!("{}: cannot list the folder", p.display()))?;
-        let mut found: Vec<PathBuf> = entries
-            .filter_map(|e| e.ok().map(|e| e.path()))
-            .filter(|f| f.is_file() && f.extension().is_some_and(|x| x == "exr" || x == "hdr"))
-            .collect();
+        let mut found: Vec<PathBuf> =
+            entries.filter_map(|e| e.ok().map(|e| e.path())).filter(|f| is_map_file(f)).collect();
         if found.is_empty() {
             bail!("{}: no .exr or .hdr file in this folder", p.display());
         }
