@@ -83,15 +83,13 @@ impl Map {
     }
 
     /// The light as seen from `surface`: the whole map for [`Surface::Sphere`], the
-    /// hemisphere about N for [`Surface::Normal`]. A normal that is zero or not finite is an
-    /// error; any other is normalised.
+    /// hemisphere about N for [`Surface::Normal`]. N is checked and normalised by
+    /// [`unit_normal`].
     pub fn lighting(&self, surface: Surface) -> Result<Lighting<'_>> {
         let case = match surface {
             Surface::Sphere => Case::sphere(),
             Surface::Normal(n) => {
-                let Some(n) = n.try_normalize().filter(|n| n.is_finite()) else {
-                    bail!("surface normal ({}, {}, {}): expected a finite, non-zero vector", n.x, n.y, n.z);
-                };
+                let n = unit_normal(n).context("surface normal")?;
                 Case {
                     domain: Domain::Hemisphere { normal: n },
                     domain_label: format!("hemisphere:({}, {}, {})", n.x, n.y, n.z),
@@ -106,6 +104,33 @@ impl Map {
         };
         Ok(Lighting { data: MapData::new(&self.map), case, name: self.map.name.clone() })
     }
+}
+
+/// The shortest length a normal may have before it is normalised: below it, its direction is
+/// mostly rounding.
+pub const MIN_NORMAL_LENGTH: f64 = 1e-6;
+
+/// `n` normalised: every component finite and |n| ≥ [`MIN_NORMAL_LENGTH`], else an error that
+/// shows `n` and says what a normal must be. The one check of every normal a user gives
+/// (`fit --normal`, [`Surface::Normal`], the Python package).
+pub fn unit_normal(n: DVec3) -> Result<DVec3> {
+    let shown = |v: f64| crate::math::echo::value(&v.to_string());
+    // Scaled by its largest component first, so that neither a huge nor a tiny normal
+    // overflows or underflows on the way to its length.
+    let largest = n.abs().max_element();
+    let scaled = if largest > 0.0 { n / largest } else { n };
+    let length = largest * scaled.length();
+    if !n.is_finite() || length.is_nan() || length < MIN_NORMAL_LENGTH {
+        bail!(
+            "({}, {}, {}): a normal must be three finite numbers of length at least {MIN_NORMAL_LENGTH:e} (its \
+             length is {}); e.g. 0,1,0",
+            shown(n.x),
+            shown(n.y),
+            shown(n.z),
+            shown(length)
+        );
+    }
+    Ok(scaled.normalize())
 }
 
 /// Where the light is seen from.

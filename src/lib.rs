@@ -44,7 +44,8 @@
 
 pub mod api;
 pub use api::{
-    encoder_ids, needs_surface_normal, Entry, Fit, Lighting, Map, Rgb, Role, Score, Stored, Surface, Unit, Value,
+    encoder_ids, needs_surface_normal, unit_normal, Entry, Fit, Lighting, Map, Rgb, Role, Score, Stored, Surface, Unit,
+    Value,
 };
 pub use glam::DVec3;
 

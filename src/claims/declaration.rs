@@ -365,7 +365,7 @@ struct CheckFile {
 /// A finite number, or the key's error.
 fn finite(id: &str, key: &str, v: f64) -> Result<f64> {
     if !v.is_finite() {
-        bail!("claim {id}: '{key}' must be a finite number, got {v}");
+        bail!("claim {id}: '{key}' must be a finite number, got {v}", v = crate::math::echo::value(&v.to_string()));
     }
     Ok(v)
 }
@@ -374,7 +374,7 @@ fn finite(id: &str, key: &str, v: f64) -> Result<f64> {
 fn non_negative(at: &str, key: &str, v: f64) -> Result<f64> {
     let v = finite(at, key, v)?;
     if v < 0.0 {
-        bail!("claim {at}: '{key}' must be ≥ 0, got {v}");
+        bail!("claim {at}: '{key}' must be ≥ 0, got {v}", v = crate::math::echo::value(&v.to_string()));
     }
     Ok(v)
 }
@@ -384,7 +384,7 @@ impl CheckFile {
     /// checked in a fixed order (table, test and its keys, baseline, where, on, maps, role,
     /// floor), so the first error is the one reported.
     fn validate(self, id: &str, sets: &BTreeMap<String, Vec<String>>) -> Result<CheckDecl> {
-        let at = format!("{id}, check '{}'", self.name);
+        let at = format!("{}, check '{}'", crate::math::echo::value(id), crate::math::echo::value(&self.name));
         let source = self.source(&at)?;
         let test = self.parse_test(&at)?;
         if test.needs_baseline() && self.baseline.is_none() {
@@ -399,7 +399,10 @@ impl CheckFile {
         let primary = match self.role.as_deref().unwrap_or("context") {
             "primary" => true,
             "context" => false,
-            r => bail!("claim {at}: role '{r}' (expected primary or context)"),
+            r => bail!(
+                "claim {at}: role '{r}' (expected primary or context)",
+                r = crate::math::echo::value(&r.to_string())
+            ),
         };
         let beside = self.beside.unwrap_or(false);
         if beside && primary {
@@ -441,7 +444,11 @@ impl CheckFile {
     fn unused(&self, at: &str, keys: &[(&str, bool)]) -> Result<()> {
         for (k, present) in keys {
             if *present {
-                bail!("claim {at}: '{k}' is not used by test = \"{}\"", self.test);
+                bail!(
+                    "claim {at}: '{k}' is not used by test = \"{}\"",
+                    self.test,
+                    k = crate::math::echo::value(&k.to_string())
+                );
             }
         }
         Ok(())
@@ -486,7 +493,8 @@ impl CheckFile {
                 })
             }
             t => bail!(
-                "claim {at}: test '{t}' (expected ratio_every, ratio_some, ratio_stat, ratio_summary, every_at_most, every_at_least, every_equal or equal)"
+                "claim {at}: test '{t}' (expected ratio_every, ratio_some, ratio_stat, ratio_summary, every_at_most, every_at_least, every_equal or equal)",
+                t = crate::math::echo::value(t)
             ),
         }
     }
@@ -529,7 +537,8 @@ impl CheckFile {
             Some("geomean") => Statistic::GeoMean,
             Some(s) => bail!(
                 "claim {at}: statistic '{s}' (expected median or geomean of the per-map ratios; a ratio of pooled \
-                 means is not offered: one map with large errors dominates it)"
+                 means is not offered: one map with large errors dominates it)",
+                s = crate::math::echo::value(s)
             ),
             None => bail!("claim {at}: test = \"ratio_stat\" needs 'statistic'"),
         };
@@ -598,7 +607,10 @@ fn check_on(on: &[String], sets: &BTreeMap<String, Vec<String>>, at: &str) -> Re
     }
     for s in on {
         if s != "all" && !sets.contains_key(s) {
-            bail!("claim {at}: on names map set '{s}', which [map_sets] does not declare");
+            bail!(
+                "claim {at}: on names map set '{s}', which [map_sets] does not declare",
+                s = crate::math::echo::value(&s.to_string())
+            );
         }
     }
     Ok(())
@@ -609,7 +621,10 @@ fn check_fixed(fixed: &str) -> Result<()> {
     match fixed.strip_prefix("after data:") {
         _ if fixed == "before data" => Ok(()),
         Some(reason) if !reason.trim().is_empty() => Ok(()),
-        _ => bail!("fixed '{fixed}' (expected \"before data\" or \"after data: <reason>\")"),
+        _ => bail!(
+            "fixed '{fixed}' (expected \"before data\" or \"after data: <reason>\")",
+            fixed = crate::math::echo::value(&fixed.to_string())
+        ),
     }
 }
 
@@ -639,22 +654,23 @@ fn check_primary(kind: Kind, checks: &[CheckDecl]) -> Result<()> {
 
 /// Parses one declaration file's text; `key` is its stem, `origin` names it in errors.
 pub fn parse(key: &str, text: &str, origin: &Path) -> Result<Paper> {
-    let f: PaperFile =
-        toml::from_str(text).with_context(|| format!("{}: not a claims declaration", origin.display()))?;
+    let f: PaperFile = crate::pipeline::experiment::parse_toml(text, origin)
+        .map_err(|e| anyhow::anyhow!("{e:#} (not a claims declaration)"))?;
     let declared = f.measurements.is_some();
     let measurement_maps = f.measurements.map(|m| m.maps).unwrap_or_default();
     if declared && measurement_maps.is_empty() {
         bail!("{}: [measurements] maps = [] names no map", origin.display());
     }
     if let Some(m) = measurement_maps.iter().enumerate().find(|(i, m)| measurement_maps[..*i].contains(m)) {
-        bail!("{}: [measurements] maps: '{}' appears twice", origin.display(), m.1);
+        bail!("{}: [measurements] maps: '{}' appears twice", origin.display(), crate::math::echo::value(m.1));
     }
     let mut claims = Vec::new();
     for c in f.claim {
         let id = c.id.clone();
-        let at = || format!("{}: claim {id}", origin.display());
+        let shown = crate::math::echo::value(&id);
+        let at = || format!("{}: claim {shown}", origin.display());
         if id.is_empty() || claims.iter().any(|d: &ClaimDecl| d.id == id) {
-            bail!("{}: claim id '{id}' is empty or declared twice", origin.display());
+            bail!("{}: claim id '{shown}' is empty or declared twice", origin.display());
         }
         if c.says.chars().count() > SAYS_MAX {
             bail!("{}: 'says' has {} characters (at most {SAYS_MAX})", at(), c.says.chars().count());
@@ -663,7 +679,11 @@ pub fn parse(key: &str, text: &str, origin: &Path) -> Result<Paper> {
             bail!("{}: 'paper_figure' has {} characters (at most {SAYS_MAX})", at(), c.paper_figure.chars().count());
         }
         let Some(kind) = Kind::parse(&c.kind) else {
-            bail!("{}: kind '{}' (expected identity, measured, example or anchor)", at(), c.kind)
+            bail!(
+                "{}: kind '{}' (expected identity, measured, example or anchor)",
+                at(),
+                crate::math::echo::value(&c.kind)
+            )
         };
         check_fixed(&c.fixed).with_context(at)?;
         if c.differs.trim().is_empty() {

@@ -75,16 +75,13 @@ fn to_csv(map: &Map, light: &Lighting, fits: &[(Fit, Stored)]) -> Result<String>
     Ok(String::from_utf8(w.into_inner().context("writing CSV")?)?)
 }
 
-/// A surface normal `x,y,z`: three finite numbers, not all zero.
+/// A surface normal `x,y,z`: three numbers, checked by `api::unit_normal`.
 fn parse_normal(text: &str) -> Result<glam::DVec3> {
-    let bad = || anyhow::anyhow!("--normal '{text}': expected x,y,z, three finite numbers not all zero (e.g. 0,1,0)");
+    let shown = probelab::math::echo::value(text);
+    let bad = || anyhow::anyhow!("--normal '{shown}': expected x,y,z, three finite numbers (e.g. 0,1,0)");
     let v: Vec<f64> = text.split(',').map(|p| p.trim().parse::<f64>()).collect::<Result<_, _>>().map_err(|_| bad())?;
     let [x, y, z] = v[..] else {
         return Err(bad());
     };
-    let n = glam::DVec3::new(x, y, z);
-    if !n.is_finite() || n.length_squared() == 0.0 {
-        return Err(bad());
-    }
-    Ok(n)
+    probelab::api::unit_normal(glam::DVec3::new(x, y, z)).with_context(|| format!("--normal '{shown}'"))
 }

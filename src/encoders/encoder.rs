@@ -312,7 +312,7 @@ impl Params {
             None => return Ok(default),
             Some(toml::Value::Float(f)) => *f,
             Some(toml::Value::Integer(i)) => *i as f64,
-            Some(v) => bail!("key '{key}': expected a number in {}, got {v}", interval(&range)),
+            Some(v) => bail!("key '{key}': expected a number in {}, got {}", interval(&range), echo(v)),
         };
         if !v.is_finite() || !range.contains(&v) {
             bail!("key '{key}': expected a number in {}, got {}", interval(&range), short(v));
@@ -326,7 +326,7 @@ impl Params {
         debug_assert!(range.contains(&default), "key '{key}': the default {default} is outside its range");
         self.used.push(key.into());
         let bad = |v: &dyn std::fmt::Display| {
-            anyhow::anyhow!("key '{key}': expected an integer in [{}, {}], got {v}", range.start(), range.end())
+            anyhow::anyhow!("key '{key}': expected an integer in [{}, {}], got {}", range.start(), range.end(), echo(v))
         };
         match self.table.get(key) {
             None => Ok(default),
@@ -344,7 +344,7 @@ impl Params {
         match self.table.get(key) {
             None => Ok(default.to_string()),
             Some(toml::Value::String(s)) => Ok(s.clone()),
-            Some(v) => bail!("key '{key}': expected a string, got {v}"),
+            Some(v) => bail!("key '{key}': expected a string, got {}", echo(v)),
         }
     }
 
@@ -363,7 +363,7 @@ impl Params {
                     *o = match x {
                         toml::Value::Float(f) => *f,
                         toml::Value::Integer(i) => *i as f64,
-                        _ => bail!("key '{key}': expected {range}, got {x}"),
+                        _ => bail!("key '{key}': expected {range}, got {}", echo(x)),
                     };
                 }
                 if v.iter().any(|w| !(0.0..=MAX_WEIGHT).contains(w)) || v.iter().all(|w| *w == 0.0) {
@@ -371,7 +371,7 @@ impl Params {
                 }
                 Ok(Rgb::from_array(v))
             }
-            Some(v) => bail!("key '{key}': expected {range}, got {v}"),
+            Some(v) => bail!("key '{key}': expected {range}, got {}", echo(v)),
         }
     }
 
@@ -389,7 +389,7 @@ impl Params {
             let known: Vec<&str> = self.used.iter().map(|s| s.as_str()).collect();
             bail!(
                 "encoder '{kind}': unknown key(s) {}; it accepts: {}",
-                unused.iter().map(|s| format!("'{s}'")).collect::<Vec<_>>().join(", "),
+                unused.iter().map(|s| format!("'{}'", echo(s))).collect::<Vec<_>>().join(", "),
                 if known.is_empty() { "no keys".to_string() } else { known.join(", ") }
             );
         }
@@ -421,12 +421,17 @@ fn interval(r: &impl RangeBounds<f64>) -> String {
     format!("{lo}, {hi}")
 }
 
+/// A value from a settings table as an error echoes it (`math::echo`).
+fn echo(v: &dyn std::fmt::Display) -> String {
+    crate::math::echo::value(&v.to_string())
+}
+
 /// Channel weightings by name: `rec709` (0.2126, 0.7152, 0.0722) or `equal` (⅓ each).
 pub fn named_weights(s: &str) -> Result<Rgb> {
     match s {
         "rec709" => Ok(crate::math::colour::REC709),
         "equal" => Ok(Rgb::splat(1.0 / 3.0)),
-        _ => bail!("unknown weighting '{s}' (expected rec709, equal or [r, g, b])"),
+        _ => bail!("unknown weighting '{}' (expected rec709, equal or [r, g, b])", echo(&s)),
     }
 }
 

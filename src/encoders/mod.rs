@@ -236,7 +236,7 @@ pub struct NamedEncoder {
 /// Builds an encoder of `kind` with settings `params`, shown as `name` (default: the kind).
 pub fn build(kind: &str, name: Option<&str>, params: toml::Table) -> Result<NamedEncoder> {
     let Some(k) = REGISTRY.iter().find(|k| k.id == kind) else {
-        bail!("unknown encoder '{kind}'; valid encoders: {}", known_ids());
+        bail!("unknown encoder '{}'; valid encoders: {}", crate::math::echo::value(kind), known_ids());
     };
     let mut p = Params::new(params);
     let encoder = (k.build)(&mut p).with_context(|| format!("configuring encoder '{kind}'"))?;
@@ -247,12 +247,13 @@ pub fn build(kind: &str, name: Option<&str>, params: toml::Table) -> Result<Name
 /// An empty list, or a kind listed twice, is an error (as in experiment files).
 pub fn build_list(list: &str) -> Result<Vec<NamedEncoder>> {
     let kinds: Vec<&str> = list.split(',').map(str::trim).filter(|s| !s.is_empty()).collect();
+    let list = crate::math::echo::value(list);
     if kinds.is_empty() {
         bail!("--encoders '{list}': list at least one encoder (valid: {})", known_ids());
     }
     let mut seen = std::collections::HashSet::new();
     if let Some(k) = kinds.iter().find(|k| !seen.insert(**k)) {
-        bail!("--encoders '{list}': '{k}' appears twice");
+        bail!("--encoders '{list}': '{}' appears twice", crate::math::echo::value(k));
     }
     kinds.into_iter().map(|k| build(k, None, toml::Table::new())).collect()
 }

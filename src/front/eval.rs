@@ -106,8 +106,11 @@ fn domain(domain: &str) -> Result<(DomainKind, Vec<Orientation>, Vec<Effect>)> {
         return Ok((DomainKind::Sphere, vec![], vec![]));
     }
     let Some(axis) = domain.strip_prefix("hemisphere:") else {
-        bail!("--domain '{domain}': expected sphere or hemisphere:AXIS (AXIS one of +x, -x, +y, -y, +z, -z)");
+        bail!(
+            "--domain '{}': expected sphere or hemisphere:AXIS (AXIS one of +x, -x, +y, -y, +z, -z)",
+            crate::math::echo::value(domain)
+        );
     };
-    parse_axis(axis).with_context(|| format!("--domain {domain}"))?;
+    parse_axis(axis).with_context(|| format!("--domain {}", crate::math::echo::value(domain)))?;
     Ok((DomainKind::Hemisphere, expand_orientations(axis)?, vec![Effect::Hemisphere]))
 }

@@ -29,6 +29,24 @@ pub fn line(text: &str) -> String {
     cut(text, MAX_LINE_CHARS)
 }
 
+/// `message` with every span between double quotes or backquotes cut like a [`value`]: for a
+/// parser's message (TOML, serde) that quotes what it read.
+pub fn quoted_values(message: &str) -> String {
+    let mut out = String::with_capacity(message.len().min(1024));
+    let mut rest = message;
+    while let Some(open) = rest.find(['"', '`']) {
+        let q = rest[open..].chars().next().unwrap_or('"');
+        let inner = &rest[open + 1..];
+        let Some(close) = inner.find(q) else { break };
+        out.push_str(&rest[..=open]);
+        out.push_str(&value(&inner[..close]));
+        out.push(q);
+        rest = &inner[close + 1..];
+    }
+    out.push_str(rest);
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -44,5 +62,14 @@ mod tests {
         let l = line(&"é".repeat(500));
         assert_eq!(l.chars().count(), 120);
         assert!(l.ends_with("é…"));
+    }
+
+    #[test]
+    fn quoted_spans_of_a_message_are_cut_and_the_rest_kept() {
+        let long = "7".repeat(300);
+        let m = quoted_values(&format!("invalid type: string \"{long}\", expected `u32`, got `{long}`"));
+        let cut = format!("{}…", "7".repeat(39));
+        assert_eq!(m, format!("invalid type: string \"{cut}\", expected `u32`, got `{cut}`"));
+        assert_eq!(quoted_values("an \"unclosed quote"), "an \"unclosed quote");
     }
 }

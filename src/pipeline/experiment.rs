@@ -177,16 +177,7 @@ impl Experiment {
     /// offending value or key is written ([`find_line`]); the line itself is quoted after the
     /// message. Never panics, whatever the text.
     pub fn parse(text: &str, path: &Path) -> Result<Self> {
-        let file: ExperimentFile = toml::from_str(text).map_err(|e| {
-            let at = e.span().map(|s| line_col(text, s.start));
-            let msg = e.message().trim_end();
-            match at {
-                Some((line, col)) => {
-                    anyhow::anyhow!("{}:{line}:{col}: {msg}{}", path.display(), quote_line(text, line))
-                }
-                None => anyhow::anyhow!("{}: {msg}", path.display()),
-            }
-        })?;
+        let file: ExperimentFile = parse_toml(text, path)?;
         let stem = path.file_stem().and_then(|s| s.to_str()).unwrap_or("experiment").to_string();
         let mut exp = Self::from_file(file, &stem).map_err(|e| match find_line(text, &e) {
             Some(l) => anyhow::anyhow!("{}:{l}: {:#}{}", path.display(), e, quote_line(text, l)),
@@ -222,7 +213,7 @@ impl Experiment {
         let domain = match f.domain.as_deref().unwrap_or("sphere") {
             "sphere" => DomainKind::Sphere,
             "hemisphere" => DomainKind::Hemisphere,
-            d => bail!("domain '{d}': expected sphere or hemisphere"),
+            d => bail!("domain '{d}': expected sphere or hemisphere", d = crate::math::echo::value(&d.to_string())),
         };
         check_surface_encoders(domain, &built)?;
         let mut orientations = Vec::new();
@@ -270,7 +261,10 @@ impl Experiment {
 /// The experiment's name, if it can name a folder under `results/`.
 fn check_name(name: String) -> Result<String> {
     if name.is_empty() || !name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-') {
-        bail!("name '{name}': use letters, digits, '_' or '-' (it names a folder under results/)");
+        bail!(
+            "name '{name}': use letters, digits, '_' or '-' (it names a folder under results/)",
+            name = crate::math::echo::value(&name.to_string())
+        );
     }
     Ok(name)
 }
@@ -282,7 +276,7 @@ fn check_maps(maps: &[String]) -> Result<()> {
     }
     let mut seen = std::collections::HashSet::new();
     if let Some(m) = maps.iter().find(|m| !seen.insert(m.as_str())) {
-        bail!("maps: '{m}' appears twice");
+        bail!("maps: '{m}' appears twice", m = crate::math::echo::value(&m.to_string()));
     }
     Ok(())
 }
@@ -375,11 +369,11 @@ fn check_normals(
 /// Refuses a `sheets` entry that is not one of the experiment's maps, or listed twice.
 fn check_sheets(sheets: &[String], maps: &[String]) -> Result<()> {
     if let Some(m) = sheets.iter().find(|m| !maps.contains(m)) {
-        bail!("sheets: '{m}' is not one of the experiment's maps");
+        bail!("sheets: '{m}' is not one of the experiment's maps", m = crate::math::echo::value(&m.to_string()));
     }
     let mut seen = std::collections::HashSet::new();
     if let Some(m) = sheets.iter().find(|m| !seen.insert(m.as_str())) {
-        bail!("sheets: '{m}' appears twice");
+        bail!("sheets: '{m}' appears twice", m = crate::math::echo::value(&m.to_string()));
     }
     Ok(())
 }
@@ -416,7 +410,10 @@ fn parse_effect(e: EffectEntry) -> Result<Effect> {
                     _ => bail!("effects: '{key}' must hold numbers"),
                 })
                 .collect(),
-            Some(v) => bail!("effects: '{key}' must be a number or a list, got {v}"),
+            Some(v) => bail!(
+                "effects: '{key}' must be a number or a list, got {v}",
+                v = crate::math::echo::value(&v.to_string())
+            ),
         }
     };
     match e {
@@ -424,12 +421,18 @@ fn parse_effect(e: EffectEntry) -> Result<Effect> {
         EffectEntry::Name(n) if n == "self_bounce" => {
             bail!("effects: 'self_bounce' needs an albedo: {{ kind = \"self_bounce\", albedo = [0.2, 0.5, 0.8] }}")
         }
-        EffectEntry::Name(n) => bail!("effects: unknown effect '{n}' (valid: hemisphere, cone, self_bounce)"),
+        EffectEntry::Name(n) => bail!(
+            "effects: unknown effect '{n}' (valid: hemisphere, cone, self_bounce)",
+            n = crate::math::echo::value(&n.to_string())
+        ),
         EffectEntry::Table(t) => match t.get("kind").and_then(|v| v.as_str()) {
             Some("hemisphere") if t.len() == 1 => Ok(Effect::Hemisphere),
             Some("cone") => {
                 if let Some(k) = t.keys().find(|k| !["kind", "cos_alpha", "tilt_deg"].contains(&k.as_str())) {
-                    bail!("effects: cone has unknown key '{k}' (valid: cos_alpha, tilt_deg)");
+                    bail!(
+                        "effects: cone has unknown key '{k}' (valid: cos_alpha, tilt_deg)",
+                        k = crate::math::echo::value(&k.to_string())
+                    );
                 }
                 let cos_alpha = floats(&t, "cos_alpha")?;
                 if cos_alpha.iter().any(|c| !(-1.0..1.0).contains(c)) {
@@ -446,7 +449,10 @@ fn parse_effect(e: EffectEntry) -> Result<Effect> {
             }
             Some("self_bounce") => {
                 if let Some(k) = t.keys().find(|k| !["kind", "albedo"].contains(&k.as_str())) {
-                    bail!("effects: self_bounce has unknown key '{k}' (valid: albedo)");
+                    bail!(
+                        "effects: self_bounce has unknown key '{k}' (valid: albedo)",
+                        k = crate::math::echo::value(&k.to_string())
+                    );
                 }
                 if !t.contains_key("albedo") {
                     bail!("effects: 'self_bounce' needs 'albedo' (a number or a list, each in [0, 1])");
@@ -460,7 +466,10 @@ fn parse_effect(e: EffectEntry) -> Result<Effect> {
                 }
                 Ok(Effect::SelfBounce { albedo })
             }
-            Some(k) => bail!("effects: unknown effect kind '{k}' (valid: hemisphere, cone, self_bounce)"),
+            Some(k) => bail!(
+                "effects: unknown effect kind '{k}' (valid: hemisphere, cone, self_bounce)",
+                k = crate::math::echo::value(&k.to_string())
+            ),
             None => bail!("effects: a table entry needs kind = \"hemisphere\", \"cone\" or \"self_bounce\""),
         },
     }
@@ -485,6 +494,11 @@ pub fn find_line(text: &str, e: &anyhow::Error) -> Option<usize> {
 
 /// The first line holding `w` as a string literal, else as a key.
 fn find_value_or_key(text: &str, w: &str) -> Option<usize> {
+    // A value cut for the message (`math::echo`): its start, without the closing quote.
+    if let Some(start) = w.strip_suffix('…') {
+        let opened = [format!("\"{start}"), format!("'{start}")];
+        return text.lines().position(|l| opened.iter().any(|q| l.contains(q.as_str()))).map(|i| i + 1);
+    }
     let literal = [format!("\"{w}\""), format!("'{w}'")];
     text.lines()
         .position(|l| literal.iter().any(|q| l.contains(q.as_str())))
@@ -522,6 +536,103 @@ fn find_key(text: &str, key: &str) -> Option<usize> {
         .map(|i| i + 1)
 }
 
+/// The deepest nesting a TOML file may have: tables (headers and dotted keys), arrays and
+/// inline tables together. Deeper files are refused with their line before the parser sees them
+/// (whose own limit would end in "recursion limit", or a deep stack).
+pub const MAX_TOML_DEPTH: usize = 32;
+
+/// Parses the TOML `text` of the file at `path` (an experiment, sweep, claims or report-plan
+/// file): refused with `FILE:LINE:` when it nests deeper than [`MAX_TOML_DEPTH`]; a syntax or
+/// type error reads `FILE:LINE:COL: message` and quotes the line (cut to 120 characters).
+pub fn parse_toml<T: serde::de::DeserializeOwned>(text: &str, path: &Path) -> Result<T> {
+    if let Some(line) = too_deep(text) {
+        bail!(
+            "{}:{line}: nested deeper than {MAX_TOML_DEPTH} levels (tables, dotted keys, arrays and inline tables \
+             together); refusing to read it{}",
+            path.display(),
+            quote_line(text, line)
+        );
+    }
+    toml::from_str(text).map_err(|e| {
+        let at = e.span().map(|s| line_col(text, s.start));
+        let msg = crate::math::echo::quoted_values(e.message().trim_end());
+        match at {
+            Some((line, col)) => anyhow::anyhow!("{}:{line}:{col}: {msg}{}", path.display(), quote_line(text, line)),
+            None => anyhow::anyhow!("{}: {msg}", path.display()),
+        }
+    })
+}
+
+/// The first line where `text` nests deeper than [`MAX_TOML_DEPTH`], counting the current
+/// table's header segments, open arrays and inline tables, and a key's dotted segments. Strings
+/// and comments are skipped; a scan, never a parse, so it cannot itself recurse.
+fn too_deep(text: &str) -> Option<usize> {
+    let b = text.as_bytes();
+    let (mut line, mut i) = (1usize, 0usize);
+    let mut open: Vec<u8> = Vec::new(); // the open brackets: b'[' (array or header) or b'{'
+    let (mut table, mut dots, mut in_key, mut header) = (0usize, 0usize, true, false);
+    while i < b.len() {
+        let c = b[i];
+        match c {
+            b'\n' => {
+                line += 1;
+                if open.is_empty() {
+                    (dots, in_key) = (0, true);
+                }
+            }
+            b'#' => {
+                while i < b.len() && b[i] != b'\n' {
+                    i += 1;
+                }
+                continue;
+            }
+            b'"' | b'\'' => {
+                i = skip_string(b, i, &mut line);
+                continue;
+            }
+            b'[' if open.is_empty() && in_key => (header, dots, table) = (true, 0, 0),
+            b'[' | b'{' => (dots, in_key) = (0, c == b'{'),
+            b'.' if in_key || header => dots += 1,
+            b'=' => in_key = false,
+            b',' => in_key = open.last() == Some(&b'{'),
+            _ => {}
+        }
+        if c == b'[' || c == b'{' {
+            open.push(c);
+        } else if c == b']' || c == b'}' {
+            open.pop();
+            if header && open.is_empty() && b.get(i + 1) != Some(&b']') {
+                (header, table, in_key) = (false, dots + 1, true);
+            }
+        }
+        let key = if in_key || header { dots + 1 } else { 0 };
+        if table + open.len() + key > MAX_TOML_DEPTH {
+            return Some(line);
+        }
+        i += 1;
+    }
+    None
+}
+
+/// The index just past the string that starts at `b[i]` (basic or literal, one line or
+/// multi-line), counting the lines it spans into `line`.
+fn skip_string(b: &[u8], i: usize, line: &mut usize) -> usize {
+    let q = b[i];
+    let multi = b[i..].starts_with(&[q, q, q]);
+    let mut j = if multi { i + 3 } else { i + 1 };
+    while j < b.len() {
+        match b[j] {
+            b'\\' if q == b'"' => j += 1,
+            b'\n' if !multi => return j,
+            b'\n' => *line += 1,
+            c if c == q && (!multi || b[j..].starts_with(&[q, q, q])) => return j + if multi { 3 } else { 1 },
+            _ => {}
+        }
+        j += 1;
+    }
+    j
+}
+
 /// 1-based line and column of byte offset `at`.
 fn line_col(text: &str, at: usize) -> (usize, usize) {
     let mut at = at.min(text.len());
@@ -537,7 +648,7 @@ fn line_col(text: &str, at: usize) -> (usize, usize) {
 /// The source line `line` (1-based), quoted for an error message.
 fn quote_line(text: &str, line: usize) -> String {
     match text.lines().nth(line.wrapping_sub(1)) {
-        Some(l) if !l.trim().is_empty() => format!("\n  {line} | {}", l.trim_end()),
+        Some(l) if !l.trim().is_empty() => format!("\n  {line} | {}", crate::math::echo::line(l.trim_end())),
         _ => String::new(),
     }
 }
@@ -555,14 +666,19 @@ pub fn list_experiments(dir: &Path) -> Result<Vec<PathBuf>> {
 
 /// Parses "WxH" with W = 2H.
 pub fn parse_resolution(s: &str) -> Result<(usize, usize)> {
-    let expected = || format!("resolution '{s}': expected WxH with W = 2H, e.g. 256x128");
+    let expected = || {
+        format!(
+            "resolution '{s}': expected WxH with W = 2H, e.g. 256x128",
+            s = crate::math::echo::value(&s.to_string())
+        )
+    };
     let (w, h) = s.split_once('x').with_context(expected)?;
     let (w, h): (usize, usize) = match (w.parse(), h.parse()) {
         (Ok(w), Ok(h)) => (w, h),
         _ => bail!(expected()),
     };
     if w != 2 * h || !(2..=4096).contains(&h) {
-        bail!("resolution '{s}': expected W = 2H with 2 <= H <= 4096");
+        bail!("resolution '{s}': expected W = 2H with 2 <= H <= 4096", s = crate::math::echo::value(&s.to_string()));
     }
     Ok((w, h))
 }

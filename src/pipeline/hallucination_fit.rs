@@ -164,9 +164,9 @@ pub fn report(probes: &[Sh9], rule: AxisRule, axis_label: &str, cubic: bool) -> 
 pub fn parse_axis(s: &str) -> Result<AxisRule> {
     match s {
         "channel" => Ok(AxisRule::Channel),
-        _ => Ok(AxisRule::Shared(
-            named_weights(s).map_err(|_| anyhow::anyhow!("--axis '{s}': expected rec709, equal or channel"))?,
-        )),
+        _ => Ok(AxisRule::Shared(named_weights(s).map_err(|_| {
+            anyhow::anyhow!("--axis '{}': expected rec709, equal or channel", crate::math::echo::value(s))
+        })?)),
     }
 }
 

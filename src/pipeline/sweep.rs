@@ -65,7 +65,10 @@ impl Knob {
             "out_resolution" => Knob::OutResolution,
             _ => match s.strip_prefix("encoder.") {
                 Some(k) if !k.is_empty() => Knob::EncoderKey(k.to_string()),
-                _ => bail!("knob '{s}': expected ref_resolution, polar_nodes, out_resolution or encoder.KEY"),
+                _ => bail!(
+                    "knob '{s}': expected ref_resolution, polar_nodes, out_resolution or encoder.KEY",
+                    s = crate::math::echo::value(&s.to_string())
+                ),
             },
         })
     }
@@ -108,7 +111,11 @@ fn parse_res_value(v: &toml::Value, allow_full: bool) -> Result<Option<(usize, u
     match v {
         toml::Value::String(s) if allow_full && s == "full" => Ok(None),
         toml::Value::String(s) => crate::pipeline::experiment::parse_resolution(s).map(Some),
-        _ => bail!("value {v}: expected \"WxH\"{}", if allow_full { " or \"full\"" } else { "" }),
+        _ => bail!(
+            "value {v}: expected \"WxH\"{}",
+            if allow_full { " or \"full\"" } else { "" },
+            v = crate::math::echo::value(&v.to_string())
+        ),
     }
 }
 
@@ -117,8 +124,7 @@ impl Sweep {
     pub fn load(path: &Path) -> Result<Self> {
         let text =
             std::fs::read_to_string(path).with_context(|| format!("{}: cannot read sweep file", path.display()))?;
-        let table: toml::Table =
-            toml::from_str(&text).map_err(|e| anyhow::anyhow!("{}: {}", path.display(), e.to_string().trim_end()))?;
+        let table: toml::Table = crate::pipeline::experiment::parse_toml(&text, path)?;
         let stem = path.file_stem().and_then(|s| s.to_str()).unwrap_or("sweep").to_string();
         Self::from_table(table, &stem).with_context(|| format!("{}", path.display()))
     }
@@ -137,7 +143,9 @@ impl Sweep {
         let converged_polar_nodes = match t.remove("converged_polar_nodes") {
             None => 16,
             Some(toml::Value::Integer(i)) if (1..=16).contains(&i) => i as usize,
-            Some(v) => bail!("converged_polar_nodes {v}: expected 1..=16"),
+            Some(v) => {
+                bail!("converged_polar_nodes {v}: expected 1..=16", v = crate::math::echo::value(&v.to_string()))
+            }
         };
         if t.contains_key("metrics") {
             bail!("metrics: sweeps always score with the exact metric; remove the key");
@@ -155,7 +163,10 @@ impl Sweep {
                 }
                 Knob::PolarNodes => match v {
                     toml::Value::Integer(i) if (1..=16).contains(i) => {}
-                    _ => bail!("values: polar_nodes {v}: expected an integer 1..=16"),
+                    _ => bail!(
+                        "values: polar_nodes {v}: expected an integer 1..=16",
+                        v = crate::math::echo::value(&v.to_string())
+                    ),
                 },
                 Knob::EncoderKey(_) => {
                     sweep.experiment_at(v)?;

@@ -100,7 +100,7 @@ pub fn parse_axis(s: &str) -> Result<DVec3> {
         "-y" => DVec3::NEG_Y,
         "+z" | "z" => DVec3::Z,
         "-z" => DVec3::NEG_Z,
-        _ => bail!("unknown axis '{s}' (expected one of +x, -x, +y, -y, +z, -z)"),
+        _ => bail!("unknown axis '{}' (expected one of +x, -x, +y, -y, +z, -z)", crate::math::echo::value(s)),
     })
 }
 
@@ -120,6 +120,7 @@ pub fn fibonacci_sphere(n: usize) -> Vec<DVec3> {
 /// Expands an orientation name or set: an axis (+y …), `up` (= +y), `axes6`, or
 /// `fibonacciN` (e.g. fibonacci32).
 pub fn expand_orientations(name: &str) -> Result<Vec<Orientation>> {
+    let shown = crate::math::echo::value(name);
     let one = |label: &str, set: &str, normal| Orientation { label: label.into(), set: set.into(), normal };
     if name == "up" {
         return Ok(vec![one("+y", "up", DVec3::Y)]);
@@ -128,9 +129,9 @@ pub fn expand_orientations(name: &str) -> Result<Vec<Orientation>> {
         return ["+x", "-x", "+y", "-y", "+z", "-z"].iter().map(|a| Ok(one(a, "axes6", parse_axis(a)?))).collect();
     }
     if let Some(n) = name.strip_prefix("fibonacci") {
-        let n: usize = n.parse().map_err(|_| anyhow::anyhow!("'{name}': expected fibonacciN, e.g. fibonacci32"))?;
+        let n: usize = n.parse().map_err(|_| anyhow::anyhow!("'{shown}': expected fibonacciN, e.g. fibonacci32"))?;
         if n == 0 || n > 4096 {
-            bail!("'{name}': the Fibonacci set size must be 1..=4096");
+            bail!("'{shown}': the Fibonacci set size must be 1..=4096");
         }
         return Ok(fibonacci_sphere(n)
             .into_iter()
@@ -139,7 +140,7 @@ pub fn expand_orientations(name: &str) -> Result<Vec<Orientation>> {
             .collect());
     }
     parse_axis(name).map(|v| vec![one(name, name, v)]).map_err(|_| {
-        anyhow::anyhow!("unknown orientation '{name}' (expected +x, -x, +y, -y, +z, -z, up, axes6 or fibonacciN)")
+        anyhow::anyhow!("unknown orientation '{shown}' (expected +x, -x, +y, -y, +z, -z, up, axes6 or fibonacciN)")
     })
 }
 

@@ -19,7 +19,7 @@ use super::csvfile::CsvTable;
 use super::markdown::{href, table_with, text_cell};
 use super::number::sig;
 use crate::claims::declaration::{Kind, Paper, UNTESTABLE};
-use anyhow::{bail, Context, Result};
+use anyhow::{bail, Result};
 use serde::Deserialize;
 use std::fmt::Write as _;
 use std::path::Path;
@@ -108,7 +108,8 @@ struct PlanFile {
 /// the file's order: the report's order for sections that no declaration orders. Keys are
 /// unique and every folder and file stays inside `results/`.
 pub fn parse_plans(text: &str, origin: &Path) -> Result<Vec<PaperPlan>> {
-    let f: PlanFile = toml::from_str(text).with_context(|| format!("{}: not a report plan", origin.display()))?;
+    let f: PlanFile = crate::pipeline::experiment::parse_toml(text, origin)
+        .map_err(|e| anyhow::anyhow!("{e:#} (not a report plan)"))?;
     for (i, p) in f.section.iter().enumerate() {
         if p.key.is_empty() || f.section[..i].iter().any(|q| q.key == p.key) {
             bail!("{}: section key '{}' is empty or declared twice", origin.display(), p.key);

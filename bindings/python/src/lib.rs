@@ -11,7 +11,7 @@
 //! `error: `.
 
 use anyhow::Context;
-use probelab::api::{DVec3, Map, Surface, Value};
+use probelab::api::{unit_normal, DVec3, Map, Surface, Value};
 use probelab::envmap::search::SearchPath;
 use probelab::front::eval::{rows_by_name, rows_on_map, EvalOptions};
 use probelab::front::fit::{encoder_ids, fit_all, to_json};
@@ -245,13 +245,7 @@ fn unit_normals(bytes: &[u8]) -> PyResult<Vec<DVec3>> {
         .enumerate()
         .map(|(i, t)| {
             let c: [f64; 3] = std::array::from_fn(|k| f64::from_le_bytes(t[8 * k..8 * k + 8].try_into().unwrap()));
-            let n = DVec3::from_array(c);
-            n.try_normalize()
-                .filter(|u| n.is_finite() && u.is_finite())
-                .with_context(|| {
-                    format!("normals: row {i} is ({}, {}, {}): expected a finite, non-zero vector", c[0], c[1], c[2])
-                })
-                .map_err(py_err)
+            unit_normal(DVec3::from_array(c)).with_context(|| format!("normals: row {i}")).map_err(py_err)
         })
         .collect()
 }
