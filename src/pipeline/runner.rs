@@ -154,6 +154,9 @@ pub struct MapInfo {
     pub sha256: String,
     /// The pixel sha256 (`envmap::identity`): the map's identity whatever file holds it.
     pub pixel_sha256: String,
+    /// The product of the `.hdr` file's `EXPOSURE=` values its pixels were divided by (1 for
+    /// every other map; `EnvMap::exposure`).
+    pub exposure: f64,
 }
 
 /// What a run produced.
@@ -225,6 +228,7 @@ pub fn run(exp: &Experiment, search: &SearchPath) -> Result<RunReport> {
             height: map.height(),
             sha256: map.sha256.clone().unwrap_or_default(),
             pixel_sha256: map.pixel_sha256.clone().unwrap_or_default(),
+            exposure: map.exposure,
         });
         rows.extend(run_map(exp, &map));
         progress.inc();

@@ -95,8 +95,31 @@ pub struct MapRecord {
     pub width: usize,
     /// Height in texels.
     pub height: usize,
+    /// The product of the `.hdr` file's `EXPOSURE=` values its pixel values were divided by;
+    /// written only when it is not 1, so the provenance of every other map reads as before.
+    #[serde(default = "exposure_one", skip_serializing_if = "is_exposure_one")]
+    pub exposure: f64,
     /// The reference method the map was scored against.
     pub reference: String,
+}
+
+/// The exposure of a map whose provenance does not say one: 1.
+fn exposure_one() -> f64 {
+    1.0
+}
+
+/// Whether an exposure is 1 (and so left out of the file).
+fn is_exposure_one(e: &f64) -> bool {
+    *e == 1.0
+}
+
+/// A map's size as the provenance pages show it: `WxH`, and its exposure when it is not 1.
+pub fn size_and_exposure(width: usize, height: usize, exposure: f64) -> String {
+    if exposure == 1.0 {
+        format!("{width}x{height}")
+    } else {
+        format!("{width}x{height}, EXPOSURE={exposure} (the file's pixel values divided by it)")
+    }
 }
 
 impl Provenance {
@@ -156,6 +179,7 @@ impl Provenance {
                     pixel_sha256: Some(m.pixel_sha256.clone()).filter(|p| !p.is_empty()),
                     width: m.width,
                     height: m.height,
+                    exposure: m.exposure,
                     reference: report
                         .rows
                         .iter()
@@ -298,6 +322,7 @@ mod tests {
                 pixel_sha256: Some(sha256_hex(b"pixels")),
                 width: 4,
                 height: 2,
+                exposure: 1.0,
                 reference: "exact".into(),
             }],
         };
@@ -307,5 +332,15 @@ mod tests {
         assert_eq!(Provenance::read(&f).unwrap(), p);
         // The sha256 of the empty string (FIPS 180-2 test vector).
         assert_eq!(p.table_sha256, "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");
+        // An exposure of 1 is not written, so every committed provenance.toml reads as before;
+        // another is written, read back and shown beside the size.
+        let text = p.to_toml().unwrap();
+        assert!(!text.contains("exposure"), "{text}");
+        let mut q = p.clone();
+        q.maps[0].exposure = 4.0;
+        std::fs::write(&f, q.to_toml().unwrap()).unwrap();
+        assert_eq!(Provenance::read(&f).unwrap().maps[0].exposure, 4.0);
+        assert_eq!(size_and_exposure(4, 2, 1.0), "4x2");
+        assert_eq!(size_and_exposure(4, 2, 4.0), "4x2, EXPOSURE=4 (the file's pixel values divided by it)");
     }
 }

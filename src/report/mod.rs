@@ -363,7 +363,7 @@ fn map_use(root: &Path, search: &SearchPath, name: &str) -> Result<MapUse> {
     Ok(MapUse {
         file: path.file_name().map(|f| f.to_string_lossy().into_owned()).unwrap_or_default(),
         dir: path.parent().map(|p| shown_dir(root, p)).unwrap_or_default(),
-        size: format!("{}x{}", map.width(), map.height()),
+        size: crate::regression::provenance::size_and_exposure(map.width(), map.height(), map.exposure),
         sha256: map.sha256.clone().unwrap_or_default(),
         used_by: Vec::new(),
     })
@@ -779,9 +779,10 @@ fn maps_part(md: &mut String, maps: &BTreeMap<String, Option<MapUse>>, records: 
                     mismatches.push(format!("`{section}`: its table used a map `{}` with another checksum", r.name));
                 }
             }
-            let e = recorded
-                .entry(r.name.clone())
-                .or_insert_with(|| (r.file.clone(), format!("{}x{}", r.width, r.height), r.sha256.clone(), Vec::new()));
+            let e = recorded.entry(r.name.clone()).or_insert_with(|| {
+                let size = crate::regression::provenance::size_and_exposure(r.width, r.height, r.exposure);
+                (r.file.clone(), size, r.sha256.clone(), Vec::new())
+            });
             e.3.push(section.clone());
         }
     }
