@@ -399,10 +399,7 @@ impl CheckFile {
         let primary = match self.role.as_deref().unwrap_or("context") {
             "primary" => true,
             "context" => false,
-            r => bail!(
-                "claim {at}: role '{r}' (expected primary or context)",
-                r = crate::math::echo::value(&r.to_string())
-            ),
+            r => bail!("claim {at}: role '{r}' (expected primary or context)", r = crate::math::echo::value(r)),
         };
         let beside = self.beside.unwrap_or(false);
         if beside && primary {
@@ -444,11 +441,7 @@ impl CheckFile {
     fn unused(&self, at: &str, keys: &[(&str, bool)]) -> Result<()> {
         for (k, present) in keys {
             if *present {
-                bail!(
-                    "claim {at}: '{k}' is not used by test = \"{}\"",
-                    self.test,
-                    k = crate::math::echo::value(&k.to_string())
-                );
+                bail!("claim {at}: '{k}' is not used by test = \"{}\"", self.test, k = crate::math::echo::value(k));
             }
         }
         Ok(())
@@ -623,7 +616,7 @@ fn check_fixed(fixed: &str) -> Result<()> {
         Some(reason) if !reason.trim().is_empty() => Ok(()),
         _ => bail!(
             "fixed '{fixed}' (expected \"before data\" or \"after data: <reason>\")",
-            fixed = crate::math::echo::value(&fixed.to_string())
+            fixed = crate::math::echo::value(fixed)
         ),
     }
 }

@@ -248,6 +248,9 @@ pub enum WriteError {
     },
 }
 
+/// A decoded map: width, height and row-major texels.
+type Decoded = (usize, usize, Vec<Texel>);
+
 /// The file formats [`load`] understands.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Format {
@@ -557,7 +560,7 @@ fn hdr_error(path: &Path, len: u64, hit_eof: bool, e: ImageError) -> LoadError {
 /// Reads an OpenEXR file: header first (validated by [`check_exr_header`]), then the
 /// pixels of the selected R, G, B channels as f32. Returns width, height and row-major
 /// texels (row 0 at the top of the data window).
-fn read_exr(path: &Path, file: &mut (impl Read + Seek), len: u64) -> Result<(usize, usize, Vec<Texel>), LoadError> {
+fn read_exr(path: &Path, file: &mut (impl Read + Seek), len: u64) -> Result<Decoded, LoadError> {
     const FORMAT: &str = "OpenEXR";
     let (mut reader, _) = watched(path, file)?;
     header::exr(&mut reader, len).map_err(|cause| LoadError::Header { path: path.to_path_buf(), cause })?;
@@ -785,11 +788,7 @@ fn select_rgb(path: &Path, list: &[ChannelDescription]) -> Result<[usize; 3], Lo
 /// then the pixels with the `image` crate, whose buffer is allocated only after the size was
 /// checked. Returns width, height, row-major texels (row 0 at the top) divided by the product
 /// of the `EXPOSURE=` values as Radiance defines them, and that product.
-fn read_hdr(
-    path: &Path,
-    file: &mut (impl Read + Seek),
-    len: u64,
-) -> Result<((usize, usize, Vec<Texel>), f64), LoadError> {
+fn read_hdr(path: &Path, file: &mut (impl Read + Seek), len: u64) -> Result<(Decoded, f64), LoadError> {
     let (mut reader, _) = watched(path, file)?;
     let head = header::hdr(&mut reader).map_err(|cause| LoadError::Header { path: path.to_path_buf(), cause })?;
     let (reader, hit_eof) = watched(path, file)?;

@@ -213,7 +213,7 @@ impl Experiment {
         let domain = match f.domain.as_deref().unwrap_or("sphere") {
             "sphere" => DomainKind::Sphere,
             "hemisphere" => DomainKind::Hemisphere,
-            d => bail!("domain '{d}': expected sphere or hemisphere", d = crate::math::echo::value(&d.to_string())),
+            d => bail!("domain '{d}': expected sphere or hemisphere", d = crate::math::echo::value(d)),
         };
         check_surface_encoders(domain, &built)?;
         let mut orientations = Vec::new();
@@ -468,7 +468,7 @@ fn parse_effect(e: EffectEntry) -> Result<Effect> {
             }
             Some(k) => bail!(
                 "effects: unknown effect kind '{k}' (valid: hemisphere, cone, self_bounce)",
-                k = crate::math::echo::value(&k.to_string())
+                k = crate::math::echo::value(k)
             ),
             None => bail!("effects: a table entry needs kind = \"hemisphere\", \"cone\" or \"self_bounce\""),
         },
@@ -666,19 +666,15 @@ pub fn list_experiments(dir: &Path) -> Result<Vec<PathBuf>> {
 
 /// Parses "WxH" with W = 2H.
 pub fn parse_resolution(s: &str) -> Result<(usize, usize)> {
-    let expected = || {
-        format!(
-            "resolution '{s}': expected WxH with W = 2H, e.g. 256x128",
-            s = crate::math::echo::value(&s.to_string())
-        )
-    };
+    let expected =
+        || format!("resolution '{s}': expected WxH with W = 2H, e.g. 256x128", s = crate::math::echo::value(s));
     let (w, h) = s.split_once('x').with_context(expected)?;
     let (w, h): (usize, usize) = match (w.parse(), h.parse()) {
         (Ok(w), Ok(h)) => (w, h),
         _ => bail!(expected()),
     };
     if w != 2 * h || !(2..=4096).contains(&h) {
-        bail!("resolution '{s}': expected W = 2H with 2 <= H <= 4096", s = crate::math::echo::value(&s.to_string()));
+        bail!("resolution '{s}': expected W = 2H with 2 <= H <= 4096", s = crate::math::echo::value(s));
     }
     Ok((w, h))
 }

@@ -67,7 +67,7 @@ impl Knob {
                 Some(k) if !k.is_empty() => Knob::EncoderKey(k.to_string()),
                 _ => bail!(
                     "knob '{s}': expected ref_resolution, polar_nodes, out_resolution or encoder.KEY",
-                    s = crate::math::echo::value(&s.to_string())
+                    s = crate::math::echo::value(s)
                 ),
             },
         })
