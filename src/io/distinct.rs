@@ -119,7 +119,7 @@ mod tests {
     use super::*;
 
     fn named(role: &str, path: &Path) -> Named<'static> {
-        Named { role: role.to_string().leak(), path: path.to_path_buf().leak() }
+        Named { role: Box::<str>::leak(role.into()), path: Box::<Path>::leak(path.into()) }
     }
 
     /// The spellings of one file that must all be caught: itself, `./`, `..`, a symbolic link
