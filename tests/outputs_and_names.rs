@@ -168,7 +168,8 @@ fn corrupt_committed_tables_are_refused_at_their_cell() {
     // is a table's value, not a corruption.
     let s = Scratch::new();
     s.write("t.csv", table.replace("BAD", "0.25").replace(",0.1,0\nm,sh2", ",1.7976931348623157e308,0\nm,sh2"));
-    let t = probelab::pipeline::table::CsvText::parse(&std::fs::read(s.path().join("t.csv")).unwrap(), Path::new("t.csv"));
+    let t =
+        probelab::pipeline::table::CsvText::parse(&std::fs::read(s.path().join("t.csv")).unwrap(), Path::new("t.csv"));
     assert!(t.is_ok(), "{t:?}");
 }
 

@@ -54,7 +54,8 @@ pub struct Args {
 
 pub fn run(a: Args, env: &Env) -> Result<i32> {
     let outputs = [("--out", &a.out), ("--save", &a.save)];
-    let outputs: Vec<Named> = outputs.iter().filter_map(|(r, p)| Some(Named { role: r, path: p.as_deref()? })).collect();
+    let outputs: Vec<Named> =
+        outputs.iter().filter_map(|(r, p)| Some(Named { role: r, path: p.as_deref()? })).collect();
     let inputs: Vec<Named> = a.input.iter().map(|p| Named { role: "--input", path: p }).collect();
     refuse_overwrite(&outputs, &inputs)?;
     let input = match (&a.input, a.synth) {

@@ -12,10 +12,10 @@
 //! killed writer leaves is removed by the next writer of the same folder.
 
 use anyhow::{bail, Context, Result};
+use std::collections::HashSet;
 use std::fs::{File, OpenOptions};
 use std::io::Write;
 use std::path::{Path, PathBuf};
-use std::collections::HashSet;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Mutex;
 

@@ -119,7 +119,9 @@ mod tests {
 
     #[test]
     fn nan_is_refused() {
-        for (bytes, at) in [(&b"a,v\nx,1\nx,NaN\n"[..], "x.csv:3:2:"), (b"v\ninf\n", "x.csv:2:1:"), (b"v\n1e300\n", "x.csv:2:1:")] {
+        for (bytes, at) in
+            [(&b"a,v\nx,1\nx,NaN\n"[..], "x.csv:3:2:"), (b"v\ninf\n", "x.csv:2:1:"), (b"v\n1e300\n", "x.csv:2:1:")]
+        {
             let e = format!("{:#}", CsvTable::parse(Path::new("x.csv"), bytes).unwrap_err());
             assert!(e.starts_with(at), "{e}");
         }
