@@ -426,12 +426,13 @@ impl CheckFile {
 
     /// The evidence named by `table`: an experiment, or `measure:<name>`.
     fn source(&self, at: &str) -> Result<Source> {
+        let name = self.table.strip_prefix("measure:").unwrap_or(&self.table);
+        // The name is joined under results/ or results/claims/measures/: it must stay there.
+        if let Err(e) = crate::io::name::check(name) {
+            bail!("claim {at}: key 'table': {e} (an experiment name or measure:<name>)");
+        }
         Ok(match self.table.strip_prefix("measure:") {
-            Some(m) if !m.is_empty() => Source::Measure(m.to_string()),
-            Some(_) => bail!("claim {at}: table 'measure:' names no measurement"),
-            None if self.table.is_empty() || self.table.contains(['/', '\\']) => {
-                bail!("claim {at}: table '{}' must be an experiment name or measure:<name>", self.table)
-            }
+            Some(m) => Source::Measure(m.to_string()),
             None => Source::Experiment(self.table.clone()),
         })
     }
@@ -645,6 +646,26 @@ fn check_primary(kind: Kind, checks: &[CheckDecl]) -> Result<()> {
     Ok(())
 }
 
+/// Refuses a `table` whose name is not a plain identifier (`io::name`), as `FILE:LINE: key
+/// 'table': …` at the first line of `text` that sets `table` to it.
+fn table_name(table: &str, text: &str, origin: &Path) -> Result<()> {
+    let Err(e) = crate::io::name::check(table.strip_prefix("measure:").unwrap_or(table)) else {
+        return Ok(());
+    };
+    let line = text.lines().position(|l| {
+        let l = l.trim_start();
+        l.strip_prefix("table").is_some_and(|rest| {
+            rest.trim_start().starts_with('=')
+                && toml::from_str::<toml::Table>(l).ok().and_then(|t| t.get("table")?.as_str().map(|v| v == table))
+                    == Some(true)
+        })
+    });
+    match line {
+        Some(n) => bail!("{}:{}: key 'table': {e}", origin.display(), n + 1),
+        None => bail!("{}: key 'table': {e}", origin.display()),
+    }
+}
+
 /// Parses one declaration file's text; `key` is its stem, `origin` names it in errors.
 pub fn parse(key: &str, text: &str, origin: &Path) -> Result<Paper> {
     let f: PaperFile = crate::pipeline::experiment::parse_toml(text, origin)
@@ -684,6 +705,9 @@ pub fn parse(key: &str, text: &str, origin: &Path) -> Result<Paper> {
         }
         if c.check.is_empty() {
             bail!("{}: no [[claim.check]]: a claim is judged by its primary check", at());
+        }
+        for k in &c.check {
+            table_name(&k.table, text, origin)?;
         }
         let checks = c.check.into_iter().map(|k| k.validate(&id, &f.map_sets)).collect::<Result<Vec<_>>>();
         let checks = checks.with_context(at)?;
@@ -730,6 +754,10 @@ pub fn load_papers(experiments_dir: &Path) -> Result<Vec<Paper>> {
     for p in files {
         let text = std::fs::read_to_string(&p).with_context(|| format!("{}: cannot read", p.display()))?;
         let key = p.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+        // The stem names results/claims/<key>.md: a plain identifier.
+        if let Err(e) = crate::io::name::check(&key) {
+            bail!("{}: the claims file's name {e}", p.display());
+        }
         papers.push(parse(&key, &text, &p)?);
     }
     let mut seen: Vec<&str> = Vec::new();
@@ -759,6 +787,18 @@ mod tests {
 
     fn err(claim: &str) -> String {
         format!("{:#}", paper(claim).unwrap_err())
+    }
+
+    /// A table name leaves no folder: `measure:../../x`, `../x`, a hidden name are refused
+    /// with the file, the line and the key.
+    #[test]
+    fn table_names_stay_in_their_folder() {
+        for table in ["measure:../../x", "../x", "measure:.hidden", "a/b", "measure:"] {
+            let e = err(&format!(
+                "[[claim.check]]\nname='n'\ntable='{table}'\nencoder='a'\ntest='every_at_most'\nbound=1\nrole='primary'"
+            ));
+            assert!(e.starts_with("t.toml:17: key 'table':") && e.contains("not a plain name"), "{table}: {e}");
+        }
     }
 
     #[test]

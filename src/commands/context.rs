@@ -5,7 +5,9 @@
 use super::terminal::{note, noteln};
 use anyhow::Result;
 use probelab::envmap::search::SearchPath;
+use probelab::io::distinct::{refuse_overwrite, Named};
 use probelab::io::folder;
+use probelab::pipeline::experiment::Experiment;
 use std::path::{Path, PathBuf};
 
 /// What every command is given: the repository root and the map search path.
@@ -41,6 +43,19 @@ pub fn reading(out: &Path) -> Result<Option<folder::DirLock>> {
         return Ok(None);
     }
     Ok(Some(folder::lock(out, false, || waiting(out))?))
+}
+
+/// Refuses, before anything runs, experiments whose result files under `out`
+/// (`<name>/table.csv`, its provenance and summary) would overwrite one of their experiment
+/// files (`io::distinct`).
+pub fn experiment_outputs_distinct(out: &Path, exps: &[Experiment]) -> Result<()> {
+    use probelab::regression::{baseline::TABLE, provenance::FILE_NAME};
+    let targets: Vec<PathBuf> =
+        exps.iter().flat_map(|e| [TABLE, FILE_NAME, "summary.csv"].map(|f| out.join(&e.name).join(f))).collect();
+    let outputs: Vec<Named> = targets.iter().map(|p| Named { role: "a result file", path: p }).collect();
+    let inputs: Vec<Named> =
+        exps.iter().filter_map(|e| Some(Named { role: "an experiment file", path: e.source.as_deref()? })).collect();
+    refuse_overwrite(&outputs, &inputs)
 }
 
 fn waiting(out: &Path) {

@@ -6,6 +6,7 @@ use super::context::{describe_search, writing, Env};
 use anyhow::{bail, Context, Result};
 use probelab::envmap::import::Imported;
 use probelab::envmap::EnvMap;
+use probelab::io::distinct::{refuse_overwrite, Named};
 use probelab::io::output;
 use std::path::{Path, PathBuf};
 
@@ -73,7 +74,12 @@ fn is_map_file(path: &Path) -> bool {
 /// is written (a bad file writes nothing); a map whose file already exists in `out` with the
 /// same pixels is left as it is, one with other pixels is refused; each is written atomically.
 fn import_maps(inputs: &[PathBuf], out: &Path) -> Result<i32> {
-    let made = derive_all(&input_files(inputs)?)?;
+    let files = input_files(inputs)?;
+    // A target that is an input exists with that input's pixels (kept) or other pixels
+    // (refused by `already_there`); the folder itself must not be an input file.
+    let ins: Vec<Named> = files.iter().map(|p| Named { role: "an input map", path: p }).collect();
+    refuse_overwrite(&[Named { role: "--out", path: out }], &ins)?;
+    let made = derive_all(&files)?;
     let _lock = writing(out)?;
     let kept = already_there(&made, out)?;
     let mut lines = String::new();

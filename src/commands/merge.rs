@@ -3,6 +3,7 @@
 
 use super::terminal::{note, noteln};
 use anyhow::Result;
+use probelab::io::distinct::{refuse_overwrite, Named};
 use probelab::io::output;
 use std::path::PathBuf;
 
@@ -18,6 +19,9 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> Result<i32> {
+    let inputs: Vec<Named> = a.files.iter().map(|p| Named { role: "a shard file", path: p }).collect();
+    let outputs: Vec<Named> = a.out.iter().map(|p| Named { role: "--out", path: p }).collect();
+    refuse_overwrite(&outputs, &inputs)?;
     let (merged, warning) = probelab::pipeline::probeset::job::merge(&a.files)?;
     if let Some(w) = warning {
         note(&format!("{w}\n"));

@@ -115,7 +115,7 @@ pub fn main_with(cli: Cli) -> Result<i32> {
     terminal::install_progress();
     let _profile_report = terminal::ProfileReport(std::time::Instant::now());
     let env = Env { search: SearchPath::from_env(cli.root.join("envmaps")), root: cli.root };
-    match cli.command {
+    let done = match cli.command {
         Command::Run(a) => run::run(a, &env),
         Command::Reproduce(a) => reproduce::run(a, &env),
         Command::Report(a) => report::run(a, &env),
@@ -131,5 +131,10 @@ pub fn main_with(cli: Cli) -> Result<i32> {
         Command::Probes(a) => probes::run(a, &env),
         Command::Merge(a) => merge::run(a),
         Command::Sweep(a) => sweep::run(a, &env),
+    };
+    // What writes found beside their targets, left by writers no longer running.
+    for p in probelab::io::atomic::take_removed() {
+        terminal::noteln!("removed {} (left by a killed run whose process is gone)", p.display());
     }
+    done
 }

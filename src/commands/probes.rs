@@ -5,6 +5,7 @@
 use super::context::Env;
 use super::terminal::noteln;
 use anyhow::{bail, Result};
+use probelab::io::distinct::{refuse_overwrite, Named};
 use probelab::io::output;
 use probelab::pipeline::probeset::format::DEFAULT_CHUNK;
 use probelab::pipeline::probeset::job::{self, Input, Job};
@@ -52,6 +53,11 @@ pub struct Args {
 }
 
 pub fn run(a: Args, env: &Env) -> Result<i32> {
+    let outputs = [("--out", &a.out), ("--save", &a.save)];
+    let outputs: Vec<Named> =
+        outputs.iter().filter_map(|(r, p)| Some(Named { role: r, path: p.as_deref()? })).collect();
+    let inputs: Vec<Named> = a.input.iter().map(|p| Named { role: "--input", path: p }).collect();
+    refuse_overwrite(&outputs, &inputs)?;
     let input = match (&a.input, a.synth) {
         (Some(path), _) => Input::File(path, a.format.as_deref()),
         (None, Some(count)) => Input::Synth { count, seed: a.seed, palette: a.palette.as_deref() },

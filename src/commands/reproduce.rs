@@ -4,7 +4,7 @@
 //! is skipped and listed. Takes the results folder's exclusive lock; exit 1 when a baseline or
 //! a claims measurement moved.
 
-use super::context::{describe_search, refused_exit, writing, Env};
+use super::context::{describe_search, experiment_outputs_distinct, refused_exit, writing, Env};
 use super::terminal::{note, noteln, outln};
 use anyhow::Result;
 use probelab::io::output;
@@ -55,6 +55,7 @@ pub fn run(a: Args, env: &Env) -> Result<i32> {
     let _lock = writing(&out)?;
     let dir = env.root.join("experiments");
     let exps = list_experiments(&dir)?.iter().map(|p| Experiment::load(p)).collect::<Result<Vec<_>>>()?;
+    experiment_outputs_distinct(&out, &exps)?;
     let runs = run_all(&exps, env)?;
     let mut refused = Vec::new();
     let mut summary = Vec::new();

@@ -2,7 +2,7 @@
 //! exists; a table that exists is a baseline, left unchanged when nothing moved and refused
 //! (exit 1) when something did. Takes the results folder's exclusive lock.
 
-use super::context::{describe_search, refused_exit, writing, Env};
+use super::context::{describe_search, experiment_outputs_distinct, refused_exit, writing, Env};
 use super::terminal::{note, noteln};
 use anyhow::{bail, Result};
 use probelab::pipeline::experiment::Experiment;
@@ -28,6 +28,7 @@ pub fn run(a: Args, env: &Env) -> Result<i32> {
     let out = env.results(a.out);
     let _lock = writing(&out)?;
     let exps = a.experiments.iter().map(|p| Experiment::load(p)).collect::<Result<Vec<_>>>()?;
+    experiment_outputs_distinct(&out, &exps)?;
     let mut done = Vec::new();
     for exp in &exps {
         let report = runner::run(exp, &env.search)?;

@@ -5,6 +5,7 @@
 use super::context::{writing, Env};
 use super::terminal::noteln;
 use anyhow::{bail, Result};
+use probelab::io::distinct::{refuse_overwrite, Named};
 use probelab::pipeline::sweep::{self, Sweep};
 use std::path::PathBuf;
 
@@ -28,9 +29,14 @@ pub fn run(a: Args, env: &Env) -> Result<i32> {
     } else {
         a.files
     };
-    for path in files {
-        let sweep = Sweep::load(&path)?;
-        let (rows, missing) = sweep::run(&sweep, &env.search)?;
+    // Every sweep file read before any runs, and no table may overwrite one (`io::distinct`).
+    let sweeps = files.iter().map(|p| Sweep::load(p)).collect::<Result<Vec<_>>>()?;
+    let targets: Vec<PathBuf> = sweeps.iter().map(|s| out.join(format!("{}.csv", s.name))).collect();
+    let outputs: Vec<Named> = targets.iter().map(|p| Named { role: "a sweep table", path: p }).collect();
+    let inputs: Vec<Named> = files.iter().map(|p| Named { role: "a sweep file", path: p }).collect();
+    refuse_overwrite(&outputs, &inputs)?;
+    for ((path, sweep), file) in files.iter().zip(&sweeps).zip(&targets) {
+        let (rows, missing) = sweep::run(sweep, &env.search)?;
         if !missing.is_empty() {
             if all {
                 noteln!("skipped sweep {}: map(s) not found: {}", sweep.name, missing.join(", "));
@@ -38,8 +44,7 @@ pub fn run(a: Args, env: &Env) -> Result<i32> {
             }
             bail!("{}: map(s) not found: {}; nothing written", path.display(), missing.join(", "));
         }
-        let file = out.join(format!("{}.csv", sweep.name));
-        probelab::io::atomic::write(&file, &sweep::to_csv(&sweep, &rows)?)?;
+        probelab::io::atomic::write(file, &sweep::to_csv(sweep, &rows)?)?;
         noteln!("wrote {} ({} rows)", file.display(), rows.len());
     }
     Ok(0)

@@ -45,6 +45,8 @@ pub fn derive(source: &EnvMap) -> Result<Imported, String> {
         None => {
             let stem = &source.name;
             let name = if stem.ends_with("_256x128") { stem.clone() } else { format!("{stem}_256x128") };
+            // The name becomes `<out>/<name>.exr`: a plain identifier, so it stays in --out.
+            crate::io::name::check(&name).map_err(|e| format!("the map's name {e}; rename the file"))?;
             if let Some(k) = known::by_name(&name) {
                 return Err(format!(
                     "its 256x128 pixels (pixel sha256 {}) are not those of the known map {name} (pixel sha256 {}, \
@@ -83,6 +85,17 @@ mod tests {
         assert!(!derive(&already).unwrap().averaged);
         let small = EnvMap::from_fn("s", 128, 64, |_, _| [1.0; 3]).unwrap();
         assert!(derive(&small).err().unwrap().contains("never up"));
+    }
+
+    /// A map whose file stem is not a plain name (a leading dot, a space) is not written under
+    /// it: `<out>/<name>.exr` must stay in `--out` and be no hidden file.
+    #[test]
+    fn an_imported_name_is_a_plain_name() {
+        for stem in [".hidden", "a b"] {
+            let m = EnvMap::from_fn(stem, 256, 128, |i, _| [(i % 3) as f32, 0.5, 0.25]).unwrap();
+            let e = derive(&m).err().unwrap();
+            assert!(e.contains("not a plain name") && e.contains(stem), "{e}");
+        }
     }
 
     /// A file under a known map's stem with other pixels is not given that map's name.

@@ -162,6 +162,10 @@ impl SearchPath {
             }
         }
         let mut out = Vec::new();
+        // Only a plain name is looked up in the folders: `../x` must not leave them.
+        if !crate::io::name::is_plain(name) {
+            return out;
+        }
         let mut push = |stem: &str, alias: bool, with_name: bool| {
             for dir in &self.dirs {
                 let mut files = vec![dir.join(format!("{stem}.exr")), dir.join(format!("{stem}.hdr"))];

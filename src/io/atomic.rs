@@ -12,10 +12,12 @@
 //! killed writer leaves is removed by the next writer of the same folder.
 
 use anyhow::{bail, Context, Result};
+use std::collections::HashSet;
 use std::fs::{File, OpenOptions};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::Mutex;
 
 /// A new temporary file beside a target path, not yet in place. Dropping it without
 /// [`Staged::commit`] removes the temporary file.
@@ -32,6 +34,7 @@ impl Staged {
     pub fn beside(target: &Path) -> std::io::Result<Staged> {
         static COUNTER: AtomicU64 = AtomicU64::new(0);
         let dir = folder_of(target);
+        sweep_once(dir);
         let name = target.file_name().unwrap_or(target.as_os_str()).to_string_lossy();
         let mut last = None;
         for _ in 0..16 {
@@ -40,10 +43,11 @@ impl Staged {
             match OpenOptions::new().write(true).create_new(true).open(&tmp) {
                 Ok(file) => return Ok(Staged { target: target.to_path_buf(), tmp, file }),
                 Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => last = Some(e),
-                Err(e) => return Err(e),
+                Err(e) => return Err(named(target, "cannot create its temporary file", e)),
             }
         }
-        Err(last.unwrap_or_else(|| std::io::Error::other("no free temporary name")))
+        let e = last.unwrap_or_else(|| std::io::Error::other("no free temporary name"));
+        Err(named(target, "cannot create its temporary file", e))
     }
 
     /// The temporary file's path.
@@ -59,13 +63,45 @@ impl Staged {
 
     /// Syncs the temporary file and moves it over the target, then syncs the folder.
     pub fn commit(mut self) -> std::io::Result<()> {
-        self.file.sync_all()?;
-        std::fs::rename(&self.tmp, &self.target)?;
+        self.file.sync_all().map_err(|e| named(&self.target, "cannot sync its temporary file", e))?;
+        std::fs::rename(&self.tmp, &self.target).map_err(|e| named(&self.target, "cannot move into place", e))?;
         // Renamed: nothing left to remove on drop.
         self.tmp = PathBuf::new();
         sync_folder(folder_of(&self.target));
         Ok(())
     }
+
+    /// Writes all of `bytes` into the temporary file; the error names the target.
+    fn write_all(&mut self, bytes: &[u8]) -> std::io::Result<()> {
+        self.file.write_all(bytes).map_err(|e| named(&self.target, "cannot write", e))
+    }
+}
+
+/// An IO error whose message names the target file and the step that failed (the kind kept),
+/// so every caller's message says which file, however it wraps it.
+fn named(target: &Path, step: &str, e: std::io::Error) -> std::io::Error {
+    std::io::Error::new(e.kind(), format!("{}: {step}: {e}", target.display()))
+}
+
+/// Removes, once per folder and process, the temporary files writers that are gone left in
+/// `dir` (`io::folder::remove_stale_in`), and records them for [`take_removed`]. Best effort:
+/// a folder that cannot be listed is the write's own error to report.
+fn sweep_once(dir: &Path) {
+    static SWEPT: Mutex<Option<HashSet<PathBuf>>> = Mutex::new(None);
+    let key = std::path::absolute(dir).unwrap_or_else(|_| dir.to_path_buf());
+    if SWEPT.lock().unwrap_or_else(|p| p.into_inner()).get_or_insert_with(HashSet::new).insert(key) {
+        let gone = crate::io::folder::remove_stale_in(dir).unwrap_or_default();
+        REMOVED.lock().unwrap_or_else(|p| p.into_inner()).extend(gone);
+    }
+}
+
+/// The stale temporary files removed by writes since the last call.
+static REMOVED: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+/// The temporary files of writers no longer running that writes of this process removed
+/// (beside each target, before writing it), since the last call: for the binary to report.
+pub fn take_removed() -> Vec<PathBuf> {
+    std::mem::take(&mut *REMOVED.lock().unwrap_or_else(|p| p.into_inner()))
 }
 
 impl Drop for Staged {
@@ -93,15 +129,16 @@ fn sync_folder(dir: &Path) {
 /// Creates the folder of `path` and stages a temporary file beside it, errors naming the path.
 fn stage(path: &Path) -> Result<Staged> {
     let dir = folder_of(path);
-    std::fs::create_dir_all(dir).with_context(|| format!("{}: cannot create folder", dir.display()))?;
-    Staged::beside(path).with_context(|| format!("{}: cannot create a temporary file beside it", path.display()))
+    std::fs::create_dir_all(dir)
+        .with_context(|| format!("{}: cannot create its folder {}", path.display(), dir.display()))?;
+    Ok(Staged::beside(path)?)
 }
 
 /// Writes `bytes` to `path` atomically, creating parent folders.
 pub fn write(path: &Path, bytes: &[u8]) -> Result<()> {
     let mut staged = stage(path)?;
-    staged.file().write_all(bytes).with_context(|| format!("{}: cannot write", staged.tmp_path().display()))?;
-    staged.commit().with_context(|| format!("{}: cannot move into place", path.display()))
+    staged.write_all(bytes)?;
+    Ok(staged.commit()?)
 }
 
 /// Streams a file atomically: `f` writes into a buffered temporary file beside `path`, which
@@ -109,9 +146,9 @@ pub fn write(path: &Path, bytes: &[u8]) -> Result<()> {
 pub fn write_with<T>(path: &Path, f: impl FnOnce(&mut std::io::BufWriter<&mut File>) -> Result<T>) -> Result<T> {
     let mut staged = stage(path)?;
     let mut w = std::io::BufWriter::with_capacity(1 << 20, staged.file());
-    let out = f(&mut w)?;
+    let out = f(&mut w).with_context(|| format!("{}: not written", path.display()))?;
     w.into_inner().map_err(|e| anyhow::anyhow!("{}: cannot write: {}", path.display(), e.error()))?;
-    staged.commit().with_context(|| format!("{}: cannot move into place", path.display()))?;
+    staged.commit()?;
     Ok(out)
 }
 
@@ -131,10 +168,10 @@ fn write_set_failing_after(dir: &Path, files: &[(String, Vec<u8>)], fail_at: Opt
     let mut staged = Vec::new();
     for (name, bytes) in files {
         let target = dir.join(name);
-        let mut s = Staged::beside(&target).with_context(|| format!("{}: cannot create", target.display()))?;
-        s.file().write_all(bytes).with_context(|| format!("{}: cannot write", s.tmp_path().display()))?;
+        let mut s = Staged::beside(&target)?;
+        s.write_all(bytes)?;
         // Every file synced before the first rename (the commit's own sync is then free).
-        s.file().sync_all().with_context(|| format!("{}: cannot sync", s.tmp_path().display()))?;
+        s.file().sync_all().map_err(|e| named(&target, "cannot sync its temporary file", e))?;
         staged.push(s);
     }
     let backups = Backups::keep(dir, files)?;
@@ -145,7 +182,7 @@ fn write_set_failing_after(dir: &Path, files: &[(String, Vec<u8>)], fail_at: Opt
         if let Err(e) = result {
             backups.restore(&files[..i]);
             return Err(e).with_context(|| {
-                format!("{}: cannot move into place; the previous version was kept", target.display())
+                format!("{}: not written; the previous versions of the set were kept", target.display())
             });
         }
     }
@@ -257,6 +294,53 @@ mod tests {
         assert!(write(&q, b"new").is_err());
         assert_eq!(std::fs::read(&p).unwrap(), b"old");
         assert_eq!(std::fs::read_dir(d.path()).unwrap().count(), 2, "no temp file left");
+    }
+
+    /// Every step that can fail says which target: the folder cannot be made, the temporary
+    /// file cannot be created, the rename fails (a non-empty folder in the way), the set's
+    /// rename fails.
+    #[test]
+    fn writer_errors_name_their_target() {
+        let d = tempfile::tempdir().unwrap();
+        std::fs::write(d.path().join("file"), b"x").unwrap();
+        let under_a_file = d.path().join("file/t.csv");
+        let e = format!("{:#}", write(&under_a_file, b"x").unwrap_err());
+        assert!(e.starts_with(&format!("{}: cannot create its folder", under_a_file.display())), "{e}");
+        let e = Staged::beside(&under_a_file).unwrap_err().to_string();
+        assert!(e.starts_with(&format!("{}: cannot create its temporary file", under_a_file.display())), "{e}");
+        let busy = d.path().join("busy");
+        std::fs::create_dir_all(busy.join("inside")).unwrap();
+        let e = format!("{:#}", write(&busy, b"x").unwrap_err());
+        assert!(e.starts_with(&format!("{}: cannot move into place", busy.display())), "{e}");
+        let e = format!("{:#}", write_with(&busy, |w| Ok(w.write_all(b"x")?)).unwrap_err());
+        assert!(e.starts_with(&format!("{}: cannot move into place", busy.display())), "{e}");
+        let e = format!("{:#}", write_set(d.path(), &[("busy".into(), b"x".to_vec())]).unwrap_err());
+        assert!(e.contains(&busy.display().to_string()), "{e}");
+    }
+
+    /// A write removes the temporary files beside its target that writers no longer running
+    /// left, and hands them over once; a running process's temporary file stays.
+    #[test]
+    fn a_write_removes_the_stale_temporaries_beside_it() {
+        let d = tempfile::tempdir().unwrap();
+        let mut child = std::process::Command::new("true").spawn().unwrap();
+        let gone = child.id();
+        child.wait().unwrap();
+        let mut alive = std::process::Command::new("sleep").arg("30").spawn().unwrap();
+        let stale = [d.path().join(format!(".t.csv.tmp-{gone}")), d.path().join(format!(".u.csv.tmp-{gone}-7"))];
+        let live = d.path().join(format!(".t.csv.tmp-{}", alive.id()));
+        for f in stale.iter().chain([&live]) {
+            std::fs::write(f, b"x").unwrap();
+        }
+        write(&d.path().join("t.csv"), b"new").unwrap();
+        let removed = take_removed();
+        alive.kill().unwrap();
+        alive.wait().unwrap();
+        for f in &stale {
+            assert!(!f.exists() && removed.contains(f), "{} {removed:?}", f.display());
+        }
+        assert!(live.exists(), "a running writer's temporary file stays");
+        assert!(!removed.contains(&live));
     }
 
     #[test]

@@ -7,7 +7,7 @@
 //! [`remove_stale`] deletes those whose process is gone.
 
 use anyhow::{Context, Result};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// An advisory lock on an output folder, released when dropped (or when the process ends,
 /// however it ends).
@@ -70,31 +70,48 @@ fn process_alive(pid: u32) -> bool {
 pub fn remove_stale(dir: &Path) -> Result<Vec<std::path::PathBuf>> {
     let mut removed = Vec::new();
     let mut pending = vec![dir.to_path_buf()];
-    let own = std::process::id();
     while let Some(d) = pending.pop() {
-        let entries = match std::fs::read_dir(&d) {
-            Ok(e) => e,
-            Err(e) if e.kind() == std::io::ErrorKind::NotFound => continue,
-            Err(e) => return Err(e).with_context(|| format!("{}: cannot list", d.display())),
-        };
-        for e in entries.flatten() {
-            let Ok(kind) = e.file_type() else { continue };
-            let path = e.path();
-            if kind.is_dir() {
-                pending.push(path);
-            } else if kind.is_file() {
-                let name = e.file_name();
-                let Some(pid) = name.to_str().and_then(temp_file_pid) else { continue };
-                if pid != own && !process_alive(pid) {
-                    std::fs::remove_file(&path)
-                        .with_context(|| format!("{}: cannot remove a stale temporary file", path.display()))?;
-                    removed.push(path);
-                }
-            }
-        }
+        let (gone, subfolders) = remove_stale_here(&d)?;
+        removed.extend(gone);
+        pending.extend(subfolders);
     }
     removed.sort();
     Ok(removed)
+}
+
+/// [`remove_stale`] in `dir` alone (not its subfolders): what every atomic write does beside
+/// its target (`io::atomic`), so any folder written into is cleaned, not only `results/`.
+pub fn remove_stale_in(dir: &Path) -> Result<Vec<std::path::PathBuf>> {
+    let (mut removed, _) = remove_stale_here(dir)?;
+    removed.sort();
+    Ok(removed)
+}
+
+/// The stale temporary files removed from `dir`, and its subfolders (not followed).
+fn remove_stale_here(d: &Path) -> Result<(Vec<PathBuf>, Vec<PathBuf>)> {
+    let own = std::process::id();
+    let (mut removed, mut subfolders) = (Vec::new(), Vec::new());
+    let entries = match std::fs::read_dir(d) {
+        Ok(e) => e,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok((removed, subfolders)),
+        Err(e) => return Err(e).with_context(|| format!("{}: cannot list", d.display())),
+    };
+    for e in entries.flatten() {
+        let Ok(kind) = e.file_type() else { continue };
+        let path = e.path();
+        if kind.is_dir() {
+            subfolders.push(path);
+        } else if kind.is_file() {
+            let name = e.file_name();
+            let Some(pid) = name.to_str().and_then(temp_file_pid) else { continue };
+            if pid != own && !process_alive(pid) {
+                std::fs::remove_file(&path)
+                    .with_context(|| format!("{}: cannot remove a stale temporary file", path.display()))?;
+                removed.push(path);
+            }
+        }
+    }
+    Ok((removed, subfolders))
 }
 
 #[cfg(test)]

@@ -1,6 +1,7 @@
 //! The IO floor, below every other layer: the one atomic writer (`atomic`: temporary file,
 //! fsync, rename, folder fsync), the output folder's lock and the cleanup of what killed
-//! writers left (`folder`), the standard streams that never panic (`output`), progress
+//! writers left (`folder`), outputs that would overwrite inputs (`distinct`), names that stay
+//! in their folder (`name`), the standard streams that never panic (`output`), progress
 //! reporting (`progress`: a small trait the library reports through and the binary draws) and
 //! `--profile` spans (`profile`).
 //!
@@ -12,7 +13,9 @@
 //! `tests/architecture.rs`).
 
 pub mod atomic;
+pub mod distinct;
 pub mod folder;
+pub mod name;
 pub mod output;
 pub mod profile;
 pub mod progress;

@@ -14,4 +14,5 @@ pub mod runner;
 pub mod summary;
 pub mod sweep;
 pub mod table;
+pub mod table_cells;
 pub mod timing;

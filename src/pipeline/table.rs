@@ -221,8 +221,8 @@ pub struct CsvText {
 }
 
 impl CsvText {
-    /// Parses CSV with a header; `origin` names the source in errors. An empty header or a
-    /// column named twice is an error.
+    /// Parses CSV with a header; `origin` names the source in errors. An empty header, a
+    /// column named twice or a bad number (`pipeline::table_cells`) is an error.
     pub fn parse(bytes: &[u8], origin: &Path) -> Result<CsvText> {
         let mut r = csv::ReaderBuilder::new().has_headers(true).from_reader(bytes);
         let columns: Vec<String> = r
@@ -242,6 +242,8 @@ impl CsvText {
         let mut rows = Vec::new();
         for rec in r.records() {
             let rec = rec.with_context(|| format!("{}: malformed CSV", origin.display()))?;
+            let line = rec.position().map_or(0, |p| p.line());
+            crate::pipeline::table_cells::check_record(origin, line, &columns, rec.iter())?;
             rows.push(rec.iter().map(String::from).collect());
         }
         Ok(CsvText { columns, rows })

@@ -23,7 +23,8 @@ impl CsvTable {
         Self::parse(path, &bytes)
     }
 
-    /// Parses CSV bytes; `path` only names the source in errors.
+    /// Parses CSV bytes; `path` only names the source in errors. Every numeric cell is
+    /// checked (`pipeline::table_cells`): a bad one is refused as `FILE:LINE:COLUMN`.
     pub fn parse(path: &Path, bytes: &[u8]) -> Result<Self> {
         let mut r = csv::ReaderBuilder::new().has_headers(true).from_reader(bytes);
         let headers: Vec<String> = r
@@ -38,6 +39,8 @@ impl CsvTable {
         let mut rows = Vec::new();
         for (i, rec) in r.records().enumerate() {
             let rec = rec.with_context(|| format!("{}: CSV record {}", path.display(), i + 2))?;
+            let line = rec.position().map_or(i as u64 + 2, |p| p.line());
+            crate::pipeline::table_cells::check_record(path, line, &headers, rec.iter())?;
             rows.push(rec.iter().map(|s| s.to_string()).collect());
         }
         Ok(CsvTable { path: path.to_path_buf(), headers, rows })
@@ -116,7 +119,11 @@ mod tests {
 
     #[test]
     fn nan_is_refused() {
-        let t = CsvTable::parse(Path::new("x.csv"), b"v\nNaN\ninf\n").unwrap();
-        assert!(t.num(0, 0).is_err() && t.num(1, 0).is_err());
+        for (bytes, at) in
+            [(&b"a,v\nx,1\nx,NaN\n"[..], "x.csv:3:2:"), (b"v\ninf\n", "x.csv:2:1:"), (b"v\n1e300\n", "x.csv:2:1:")]
+        {
+            let e = format!("{:#}", CsvTable::parse(Path::new("x.csv"), bytes).unwrap_err());
+            assert!(e.starts_with(at), "{e}");
+        }
     }
 }

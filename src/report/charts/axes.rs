@@ -2,10 +2,15 @@
 
 use super::super::number::sig;
 
-/// The smallest and largest finite positive values, if there is one.
+/// The widest span a log axis is given: tables hold numbers within ±1e30
+/// (`pipeline::table_cells`); a wider axis once made plotters' log coordinates hang.
+const DRAWABLE: (f64, f64) = (1e-30, 1e30);
+
+/// The smallest and largest finite positive values, if there is one, each clipped to
+/// [`DRAWABLE`].
 fn positive_span(values: impl Iterator<Item = f64>) -> Option<(f64, f64)> {
     let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
-    for v in values.filter(|v| *v > 0.0 && v.is_finite()) {
+    for v in values.filter(|v| *v > 0.0 && v.is_finite()).map(|v| v.clamp(DRAWABLE.0, DRAWABLE.1)) {
         lo = lo.min(v);
         hi = hi.max(v);
     }

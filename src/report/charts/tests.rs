@@ -487,3 +487,14 @@ fn log_axes_fit_the_data_with_enough_ticks() {
     assert!(lo > 2.0 && hi < 200.0, "{lo}..{hi}");
     assert_eq!(log_ticks(lo, hi, 5), vec![5.0, 10.0, 20.0, 50.0, 100.0]);
 }
+
+/// A log axis never spans more than 1e-30 to 1e30, whatever it is handed (an rmse of 1e300
+/// once made a chart hang): values beyond are clipped to the bounds.
+#[test]
+fn log_axes_never_leave_the_drawable_range() {
+    for values in [vec![1.0, 1e300], vec![1e-300, 1.0], vec![f64::MAX, f64::MIN_POSITIVE]] {
+        for (lo, hi) in [fitted(values.iter().copied()).unwrap(), decades(values.iter().copied()).unwrap()] {
+            assert!(lo >= 1e-36 && hi <= 1e36 && lo < hi, "{values:?}: {lo}..{hi}");
+        }
+    }
+}
