@@ -55,6 +55,7 @@ pub fn run(a: Args, env: &Env) -> Result<i32> {
     let _lock = writing(&out)?;
     let dir = env.root.join("experiments");
     let exps = list_experiments(&dir)?.iter().map(|p| Experiment::load(p)).collect::<Result<Vec<_>>>()?;
+    env.refuse_long_experiments(&exps)?;
     let runs = run_all(&exps, env)?;
     let mut refused = Vec::new();
     let mut summary = Vec::new();

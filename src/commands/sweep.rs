@@ -30,6 +30,7 @@ pub fn run(a: Args, env: &Env) -> Result<i32> {
     };
     for path in files {
         let sweep = Sweep::load(&path)?;
+        env.refuse_long(&path.display().to_string(), &probelab::pipeline::estimate::sweep(&sweep, &env.search))?;
         let (rows, missing) = sweep::run(&sweep, &env.search)?;
         if !missing.is_empty() {
             if all {
