@@ -11,7 +11,8 @@
 //! - per case and output grid: the exact reference, whose cost is the grid's normals × the
 //!   map's row pieces (its rows, at least 128: coarser maps are cut into pieces of π/128) × the
 //!   polar nodes, [`CONV_NS`] each on the sphere without caps (the row convolution), and
-//!   [`CAPPED_NS`] each plus [`CAPPED_NORMAL_NS`] per normal with caps or on a hemisphere;
+//!   [`CAPPED_NS`] each plus [`CAPPED_NORMAL_NS`] per normal with caps or on a hemisphere; and
+//!   [`REF_NS_PER_TEXEL`] per map texel (each row's moments rebuilt);
 //! - per case: the visible light some encoders read, the capped reference on
 //!   [`CASE_NORMALS`] normals and [`CASE_NS_PER_TEXEL`] per map texel;
 //! - per case and encoder: a fit, [`FIT_NS`], and an evaluation per scored normal,
@@ -40,6 +41,9 @@ pub const BOUND_S: f64 = 30.0 * 60.0;
 pub const LOAD_NS_PER_TEXEL: f64 = 150.0;
 /// Core-ns per output normal × row piece × polar node: the row convolution (sphere, no caps).
 pub const CONV_NS: f64 = 8.0;
+/// Core-ns per map texel of each reference on an output grid: every input row's moments are
+/// rebuilt and regrouped (a 16384×8192 map: about 16 CPU s for 256×128 normals).
+pub const REF_NS_PER_TEXEL: f64 = 150.0;
 /// Core-ns per output normal × row piece × polar node: the capped reference (per normal).
 pub const CAPPED_NS: f64 = 10.0;
 /// Core-ns per output normal of the capped reference beyond its rows: the kernel, the caps'
@@ -190,7 +194,10 @@ fn map_work(exp: &Experiment, size: (usize, usize), resolution: (usize, usize), 
     let grids = grids(exp, resolution);
     let reference: f64 = grids
         .iter()
-        .map(|g| if g.convolution { g.normals * pieces * CONV_NS } else { capped(g.normals, pieces) })
+        .map(|g| {
+            let per_normal = if g.convolution { g.normals * pieces * CONV_NS } else { capped(g.normals, pieces) };
+            REF_NS_PER_TEXEL * texels + per_normal
+        })
         .sum();
     let largest = grids.iter().map(|g| g.normals).fold(0.0, f64::max);
     let scored = exp.metrics.len() as f64 * largest;
