@@ -1,12 +1,14 @@
 //! What every command shares: the repository root and the map search path ([`Env`]), the
 //! results folder, the output folder's locks (exclusive for a writer, shared for `check`),
-//! and the lines about the search path and refused baselines.
+//! the refusal of work estimated too long (`--allow-long`), and the lines about the search path
+//! and refused baselines.
 
 use super::terminal::{note, noteln};
 use anyhow::Result;
 use probelab::envmap::search::SearchPath;
 use probelab::io::distinct::{refuse_overwrite, Named};
 use probelab::io::folder;
+use probelab::pipeline::estimate::{self, Estimate};
 use probelab::pipeline::experiment::Experiment;
 use std::path::{Path, PathBuf};
 
@@ -16,6 +18,8 @@ pub struct Env {
     pub root: PathBuf,
     /// `<root>/envmaps`, then `PROBELAB_ENVMAPS`.
     pub search: SearchPath,
+    /// `--allow-long`: run work estimated above the bound (`pipeline::estimate::BOUND_S`).
+    pub allow_long: bool,
 }
 
 impl Env {
@@ -23,7 +27,34 @@ impl Env {
     pub fn results(&self, out: Option<PathBuf>) -> PathBuf {
         out.unwrap_or_else(|| self.root.join("results"))
     }
+
+    /// Refuses work estimated above the bound unless `--allow-long` was given, naming `what`
+    /// (the experiment file); announces a long wait that goes ahead (`pipeline::estimate`).
+    pub fn refuse_long(&self, what: &str, estimate: &Estimate) -> Result<()> {
+        estimate.refuse_if_long(what, self.allow_long)?;
+        if estimate.seconds >= ANNOUNCE_S {
+            noteln!("{what}: estimated {estimate}; progress shows the time left on a terminal");
+        }
+        Ok(())
+    }
+
+    /// [`Env::refuse_long`] for experiments run together, their estimates added up: a refusal
+    /// names the file of the longest.
+    pub fn refuse_long_experiments(&self, exps: &[Experiment]) -> Result<()> {
+        let parts: Vec<Estimate> = exps.iter().map(|e| estimate::experiment(e, &self.search)).collect();
+        let longest = parts.iter().enumerate().max_by(|a, b| a.1.seconds.total_cmp(&b.1.seconds)).map(|(i, _)| i);
+        let what = match longest.map(|i| &exps[i]) {
+            Some(e) => {
+                e.source.as_ref().map(|p| p.display().to_string()).unwrap_or_else(|| format!("probelab {}", e.name))
+            }
+            None => return Ok(()),
+        };
+        self.refuse_long(&what, &Estimate::total(&parts))
+    }
 }
+
+/// An estimate at least this long (seconds) is announced on stderr when the run goes ahead.
+const ANNOUNCE_S: f64 = 600.0;
 
 /// Takes the exclusive lock on an output folder for a writing command (waiting, with a note,
 /// while another probelab command holds it), then removes the temporary files that killed

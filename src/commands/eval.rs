@@ -45,6 +45,7 @@ pub fn run(a: Args, env: &Env) -> Result<i32> {
         resolution: a.resolution,
         polar_nodes: a.polar_nodes,
     };
+    env.refuse_long_experiments(&[eval::experiment(a.maps.clone(), &options)?])?;
     let rows = eval::rows_by_name(a.maps, &options, &env.search)?;
     output::write(&if json { table::to_json(&rows)? } else { table::to_csv(&rows)? })?;
     Ok(0)

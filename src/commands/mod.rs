@@ -49,6 +49,10 @@ pub struct Cli {
     /// Skip the timing pass: the fit_ns and eval_ns columns stay empty.
     #[arg(long, global = true)]
     pub no_timing: bool,
+    /// Run work estimated above 30 minutes on this machine (refused without it, with the
+    /// estimate and what drives it).
+    #[arg(long, global = true)]
+    pub allow_long: bool,
     /// The command to run.
     #[command(subcommand)]
     pub command: Command,
@@ -114,7 +118,8 @@ pub fn main_with(cli: Cli) -> Result<i32> {
     probelab::pipeline::timing::set_enabled(!cli.no_timing);
     terminal::install_progress();
     let _profile_report = terminal::ProfileReport(std::time::Instant::now());
-    let env = Env { search: SearchPath::from_env(cli.root.join("envmaps")), root: cli.root };
+    let env =
+        Env { search: SearchPath::from_env(cli.root.join("envmaps")), root: cli.root, allow_long: cli.allow_long };
     let done = match cli.command {
         Command::Run(a) => run::run(a, &env),
         Command::Reproduce(a) => reproduce::run(a, &env),

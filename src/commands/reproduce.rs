@@ -56,6 +56,7 @@ pub fn run(a: Args, env: &Env) -> Result<i32> {
     let dir = env.root.join("experiments");
     let exps = list_experiments(&dir)?.iter().map(|p| Experiment::load(p)).collect::<Result<Vec<_>>>()?;
     experiment_outputs_distinct(&out, &exps)?;
+    env.refuse_long_experiments(&exps)?;
     let runs = run_all(&exps, env)?;
     let mut refused = Vec::new();
     let mut summary = Vec::new();

@@ -29,6 +29,7 @@ pub fn run(a: Args, env: &Env) -> Result<i32> {
     let _lock = writing(&out)?;
     let exps = a.experiments.iter().map(|p| Experiment::load(p)).collect::<Result<Vec<_>>>()?;
     experiment_outputs_distinct(&out, &exps)?;
+    env.refuse_long_experiments(&exps)?;
     let mut done = Vec::new();
     for exp in &exps {
         let report = runner::run(exp, &env.search)?;

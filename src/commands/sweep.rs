@@ -35,6 +35,9 @@ pub fn run(a: Args, env: &Env) -> Result<i32> {
     let outputs: Vec<Named> = targets.iter().map(|p| Named { role: "a sweep table", path: p }).collect();
     let inputs: Vec<Named> = files.iter().map(|p| Named { role: "a sweep file", path: p }).collect();
     refuse_overwrite(&outputs, &inputs)?;
+    for (path, sweep) in files.iter().zip(&sweeps) {
+        env.refuse_long(&path.display().to_string(), &probelab::pipeline::estimate::sweep(sweep, &env.search))?;
+    }
     for ((path, sweep), file) in files.iter().zip(&sweeps).zip(&targets) {
         let (rows, missing) = sweep::run(sweep, &env.search)?;
         if !missing.is_empty() {

@@ -59,7 +59,8 @@ struct Bar {
 impl Sink for Bars {
     fn start(&self, len: Option<u64>, what: &str) -> Box<dyn Task> {
         let template = match len {
-            Some(_) => "{spinner} {prefix} [{bar:30}] {pos}/{len} {msg} ({elapsed})",
+            // The time left ({eta}) from the rate so far: long runs say when they will end.
+            Some(_) => "{spinner} {prefix} [{bar:30}] {pos}/{len} {msg} ({elapsed}, {eta} left)",
             // Work of unknown length: steps done, rate and time so far.
             None => "{spinner} {prefix} {human_pos} {msg} ({per_sec}, {elapsed})",
         };

@@ -305,6 +305,35 @@ pub fn load(path: &Path) -> Result<EnvMap, LoadError> {
     Ok(map)
 }
 
+/// A map file's width and height, from its header alone (no pixel is decoded; a 16k map's size
+/// is known in a millisecond), checked as [`load`] checks them. For run-time estimates
+/// (`pipeline::estimate`); [`load`] still validates everything else.
+pub fn dimensions(path: &Path) -> Result<(usize, usize), LoadError> {
+    let io_err = |action, cause| LoadError::Io { path: path.to_path_buf(), action, cause };
+    // Only a regular file is opened: opening a FIFO would block.
+    let meta = fs::metadata(path).map_err(|e| io_err("read file metadata", e))?;
+    if !meta.is_file() {
+        return Err(LoadError::NotAFile { path: path.to_path_buf() });
+    }
+    let (mut file, len) = (File::open(path).map_err(|e| io_err("open file", e))?, meta.len());
+    let mut head = Vec::with_capacity(4);
+    (&mut file).take(4).read_to_end(&mut head).map_err(|e| io_err("read file", e))?;
+    let (reader, hit_eof) = watched(path, &mut file)?;
+    match detect(path, &head)? {
+        Format::Exr => guarded(path, "OpenEXR", || {
+            let meta = MetaData::read_from_buffered(reader, false)
+                .map_err(|e| exr_error(path, len, hit_eof.load(Ordering::Relaxed), e))?;
+            check_exr_header(path, &meta).map(|(w, h, _)| (w, h))
+        }),
+        Format::Hdr => guarded(path, "Radiance HDR", || {
+            let decoder = HdrDecoder::new_nonstrict(reader)
+                .map_err(|e| hdr_error(path, len, hit_eof.load(Ordering::Relaxed), e))?;
+            let (w, h) = decoder.dimensions();
+            check_size(path, w as usize, h as usize).map(|_| (w as usize, h as usize))
+        }),
+    }
+}
+
 /// Lower-case hex sha256 of `bytes`: a map file's identity ([`EnvMap::sha256`]), and a result
 /// table's (`regression::provenance`).
 pub fn sha256_hex(bytes: &[u8]) -> String {

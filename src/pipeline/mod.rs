@@ -1,5 +1,5 @@
 //! The pipeline layer: the order of work from an experiment file to a table. Experiment
-//! files and their validation (`experiment`), the runner (`runner`: per map, per case, per
+//! files and their validation (`experiment`), the estimate of a run's time (`estimate`), the runner (`runner`: per map, per case, per
 //! encoder, scoring), the timing pass (`timing`), result rows and CSV (`table`), summaries
 //! (`summary`), one-knob sweeps (`sweep`), probe sets at scale (`probeset`) and the ZH3
 //! hallucination-curve fit (`hallucination_fit`).
@@ -7,6 +7,7 @@
 //! What this layer may use: the layer table of ARCHITECTURE.md (checked by
 //! `tests/architecture.rs`).
 
+pub mod estimate;
 pub mod experiment;
 pub mod hallucination_fit;
 pub mod probeset;

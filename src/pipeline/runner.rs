@@ -10,6 +10,7 @@ use crate::encoders::encoder::{Encoder, FitInput, Fitted};
 use crate::envmap::moments::RowMoments;
 use crate::envmap::search::{OpenError, SearchPath};
 use crate::envmap::EnvMap;
+use crate::io::progress::Progress;
 use crate::math::cap::Cap;
 use crate::math::colour::Rgb;
 use crate::math::sh::Sh9;
@@ -205,7 +206,7 @@ pub fn run(exp: &Experiment, search: &SearchPath) -> Result<RunReport> {
         }
         found.push((k, name));
     }
-    let progress = crate::io::progress::Progress::new(found.len() as u64, &format!("{}: maps", exp.name));
+    let progress = Progress::new(found.len() as u64, &format!("{}: maps", exp.name));
     for (k, name) in found {
         progress.message(name.clone());
         // Load first: the loader refuses what is not a regular file (reading a FIFO would block).
@@ -362,8 +363,17 @@ pub fn run_map(exp: &Experiment, map: &EnvMap) -> Vec<Row> {
         MapData::new(map)
     };
     let all = cases(exp);
-    let (mut per_case, inputs): (Vec<Vec<Row>>, Vec<(CaseInputs, MapLight)>) =
-        all.par_iter().map(|case| run_case(exp, &data, case)).unzip();
+    // Per case, so that a map of many cases shows its progress and the time left.
+    let progress = (all.len() > 1).then(|| Progress::new(all.len() as u64, &format!("{}: cases", map.name)));
+    let (mut per_case, inputs): (Vec<Vec<Row>>, Vec<(CaseInputs, MapLight)>) = all
+        .par_iter()
+        .map(|case| {
+            let done = run_case(exp, &data, case);
+            progress.iter().for_each(Progress::inc);
+            done
+        })
+        .unzip();
+    drop(progress);
     fill_timing(exp, &all, &inputs, &mut per_case);
     per_case.into_iter().flatten().collect()
 }
@@ -377,6 +387,7 @@ fn fill_timing(exp: &Experiment, cases: &[Case], inputs: &[(CaseInputs, MapLight
         return;
     }
     let _span = crate::io::profile::span("timing pass");
+    let progress = (cases.len() > 1).then(|| Progress::new(cases.len() as u64, "timing pass: cases"));
     for ((case, (inputs, light)), rows) in cases.iter().zip(inputs).zip(rows.iter_mut()) {
         let input = inputs.fit_input(case, Some(light));
         let normals = timing::subsample(&case.domain.output_grid(exp.resolution).normals, timing::EVAL_NORMALS);
@@ -387,6 +398,7 @@ fn fill_timing(exp: &Experiment, cases: &[Case], inputs: &[(CaseInputs, MapLight
                 r.eval_ns = Some(eval_ns);
             }
         }
+        progress.iter().for_each(Progress::inc);
     }
 }
 

@@ -72,7 +72,8 @@ impl Knob {
             },
         })
     }
-    fn name(&self) -> String {
+    /// The knob's name as a sweep file writes it.
+    pub fn name(&self) -> String {
         match self {
             Knob::RefResolution => "ref_resolution".into(),
             Knob::PolarNodes => "polar_nodes".into(),

@@ -1,0 +1,132 @@
+//! Long runs: work estimated above the bound (`pipeline::estimate::BOUND_S`, 30 minutes) is
+//! refused before any map is loaded, with the estimate and what drives it, unless
+//! `--allow-long` is given; everything committed (each experiment, each sweep, `reproduce` as a
+//! whole) stays under the bound, so nothing needs the flag. docs/robustness.md, "Long runs".
+
+mod common;
+
+use common::harness::{repo, Scratch};
+use probelab::envmap::search::SearchPath;
+use probelab::pipeline::estimate::{self, Estimate, BOUND_S};
+use probelab::pipeline::experiment::{list_experiments, Experiment};
+use probelab::pipeline::sweep::Sweep;
+use std::io::{BufRead, BufReader};
+use std::process::Stdio;
+use std::time::{Duration, Instant};
+
+/// The size assumed for a map the search path does not find here (the paper probes without
+/// `PROBELAB_ENVMAPS`): at least as large as any map the committed files name.
+const UNFOUND: (usize, usize) = (2048, 1024);
+
+/// The committed search path: the repository's maps, then `PROBELAB_ENVMAPS`.
+fn search() -> SearchPath {
+    SearchPath::from_env(repo().join("envmaps"))
+}
+
+/// Each map's size from its header, or [`UNFOUND`].
+fn sizes(maps: &[String], search: &SearchPath) -> Vec<(usize, usize)> {
+    maps.iter()
+        .map(|m| search.resolve(m).ok().and_then(|p| probelab::envmap::load::dimensions(&p).ok()).unwrap_or(UNFOUND))
+        .collect()
+}
+
+/// Every committed experiment, every sweep, and `reproduce` (all the experiments together) are
+/// estimated under the bound: none needs `--allow-long`.
+#[test]
+fn every_committed_run_is_estimated_under_the_bound() {
+    let search = search();
+    let mut parts = Vec::new();
+    for path in list_experiments(&repo().join("experiments")).unwrap() {
+        let exp = Experiment::load(&path).unwrap();
+        let e = estimate::experiment_on(&exp, &sizes(&exp.maps, &search));
+        println!("{}: {e}", path.display());
+        assert!(!e.is_long(), "{}: {e}", path.display());
+        parts.push(e);
+    }
+    let all = Estimate::total(&parts);
+    println!("reproduce: {all}");
+    assert!(all.seconds < BOUND_S, "reproduce: {all}");
+    for path in list_experiments(&repo().join("experiments").join("sweeps")).unwrap() {
+        let sweep = Sweep::load(&path).unwrap();
+        let e = estimate::sweep_on(&sweep, &sizes(&sweep.exp.maps, &search));
+        println!("{}: {e}", path.display());
+        assert!(!e.is_long(), "{}: {e}", path.display());
+    }
+}
+
+/// The repository's generated maps, six small ones.
+const MAPS: &str =
+    "maps = ['gen_constant', 'gen_hemisphere', 'gen_sun_sky', 'gen_two_lights', 'gen_cone', 'gen_sky_sun']\n\
+                    encoders = ['sh0', 'sh1', 'sh2']\ndomain = 'hemisphere'\neffects = ['hemisphere']\n";
+
+/// A scratch repository with the generated maps and one experiment file `long.toml`.
+fn scratch_with(experiment: &str) -> Scratch {
+    let s = Scratch::new();
+    for m in ["gen_constant", "gen_hemisphere", "gen_sun_sky", "gen_two_lights", "gen_cone", "gen_sky_sun"] {
+        s.copy_from_repo(&format!("envmaps/{m}.exr"));
+    }
+    s.write("long.toml", format!("{MAPS}{experiment}"));
+    s
+}
+
+/// `run` refuses at once (well within a few seconds, on a loaded machine), exit 2, naming the
+/// experiment file, the estimate and what drives it, writing nothing.
+fn refused(experiment: &str, driver: &str) -> Scratch {
+    let s = scratch_with(experiment);
+    let file = s.path().join("long.toml");
+    let t = Instant::now();
+    let out = s.probelab().args(["run", "--out"]).arg(s.path().join("results")).arg(&file).output().unwrap();
+    let took = t.elapsed();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(took < Duration::from_secs(5), "the refusal took {took:?}");
+    assert!(err.contains(&format!("{}: estimated ", file.display())), "{err}");
+    assert!(err.contains(driver) && err.contains("--allow-long"), "{err}");
+    assert!(!s.path().join("results").join("long").exists(), "nothing is written");
+    s
+}
+
+/// With `--allow-long` the same run goes ahead: it announces its estimate (and would run for
+/// hours, so it is stopped there; an interrupted run leaves nothing behind).
+fn accepted_with_allow_long(s: &Scratch) {
+    let mut child = s
+        .probelab()
+        .args(["--allow-long", "run", "--out"])
+        .arg(s.path().join("results"))
+        .arg(s.path().join("long.toml"))
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut lines = BufReader::new(child.stderr.take().unwrap()).lines();
+    let first = lines.next().and_then(|l| l.ok()).unwrap_or_default();
+    let still_running = child.try_wait().unwrap().is_none();
+    child.kill().unwrap();
+    child.wait().unwrap();
+    assert!(first.contains("long.toml: estimated ") && !first.contains("error"), "{first}");
+    assert!(still_running, "{first}");
+}
+
+#[test]
+fn the_largest_output_grid_is_refused_without_allow_long() {
+    let s = refused("orientations = ['axes6']\nresolution = [8192, 4096]\n", "8192×2048 output normals");
+    accepted_with_allow_long(&s);
+}
+
+#[test]
+fn thousands_of_orientations_are_refused_without_allow_long() {
+    let s = refused("orientations = ['fibonacci4096']\nresolution = [512, 256]\n", "4096 orientation(s)");
+    accepted_with_allow_long(&s);
+}
+
+/// A sweep is estimated before it starts too: every value's reference, timed over and over.
+#[test]
+fn a_long_sweep_is_refused_without_allow_long() {
+    let s = scratch_with("orientations = ['fibonacci4096']\nknob = 'polar_nodes'\nvalues = [1, 2, 4, 8, 16]\n");
+    let sweep = s.path().join("long.toml");
+    let out = s.probelab().args(["sweep", "--out"]).arg(s.path().join("results")).arg(&sweep).output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(err.contains("long.toml: estimated ") && err.contains("5 value(s) of polar_nodes"), "{err}");
+    assert!(!s.path().join("results").join("sweeps").exists(), "nothing is written");
+}
