@@ -435,6 +435,8 @@ pub struct PartialCheck {
     /// What the command shows as it goes: the comparison's report and what became of the
     /// baseline (empty or newline-terminated lines).
     pub notes: String,
+    /// The baseline's rows of the maps missing (not compared).
+    pub unchecked_rows: usize,
 }
 
 /// `reproduce` on an experiment some of whose maps are not on the search path: the rows of
@@ -452,6 +454,7 @@ pub fn check_partial(out: &Path, root: &Path, exp: &Experiment, report: &RunRepo
             passed: true,
             text: format!("{head}; no baseline to compare with, nothing written"),
             notes: format!("{}: no baseline, and a run missing maps writes none\n", dir.join(TABLE).display()),
+            unchecked_rows: 0,
         });
     }
     let c = compare_with_baseline(&dir, exp, report, &Tolerances::load(root)?, true)?;
@@ -461,12 +464,14 @@ pub fn check_partial(out: &Path, root: &Path, exp: &Experiment, report: &RunRepo
             passed: true,
             text: format!("{head}; {numbers} numbers compared, nothing moved; baseline left unchanged"),
             notes: c.report(),
+            unchecked_rows: c.unchecked_rows,
         }
     } else {
         PartialCheck {
             passed: false,
             text: format!("{head}; {numbers} numbers compared, FAILED ({} moved); baseline left unchanged", c.moved()),
             notes: format!("{}{}", c.report(), not_overwritten(&dir)),
+            unchecked_rows: c.unchecked_rows,
         }
     })
 }

@@ -117,6 +117,16 @@ impl MissingMaps {
     }
 }
 
+/// The rows of the baseline `<dir>/table.csv` whose map is one of `maps` (0 when there is no
+/// baseline): what an experiment skipped for want of maps leaves unchecked.
+pub fn baseline_rows(dir: &Path, maps: &[String]) -> anyhow::Result<usize> {
+    let path = dir.join(crate::regression::baseline::TABLE);
+    if !path.is_file() {
+        return Ok(0);
+    }
+    Ok(rows_of(&Table::read(&path)?, maps))
+}
+
 /// The rows of `table` whose map is one of `maps` (by name, or by the file stem a path entry
 /// gets in tables).
 pub fn rows_of(table: &Table, maps: &[String]) -> usize {
