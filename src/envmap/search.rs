@@ -38,7 +38,7 @@ pub enum SearchError {
         name: String,
         /// `" (no such file)"` when the name looked like a file path, else empty.
         as_path: String,
-        /// `"; did you mean 'x'?"` when a known map or a map file on the search path has a
+        /// `" (did you mean 'x'?)"` when a known map or a map file on the search path has a
         /// name close to this unknown one ([`crate::math::nearest`]), else empty.
         suggest: String,
         /// Every folder searched, in order, each marked `(missing)` if it does not exist.
@@ -207,6 +207,12 @@ impl SearchPath {
             crate::math::nearest::did_you_mean(name, &self.names())
         };
         SearchError::NotFound { name: name.to_string(), as_path, suggest, searched, rejected, get }
+    }
+
+    /// The known maps ([`crate::envmap::known`]) with no file on this search path under their
+    /// name or an alias, in the table's order (by name only: no file is read).
+    pub fn known_missing(&self) -> Vec<&'static KnownMap> {
+        known::all().iter().filter(|k| self.candidates(&k.name).is_empty()).collect()
     }
 
     /// Every map name this search path knows of: the known maps and their aliases, then the
@@ -408,8 +414,8 @@ mod tests {
         touch(&t.path().join("gen_sun_sky.exr"));
         let sp = SearchPath::new(vec![t.path().to_path_buf()]);
         let e = sp.resolve("gen_sky_su").unwrap_err();
-        assert!(e.to_string().starts_with("map 'gen_sky_su' not found; did you mean 'gen_sky_sun'?"), "{e}");
-        assert!(e.reason().ends_with("; did you mean 'gen_sky_sun'?"), "{}", e.reason());
+        assert!(e.to_string().starts_with("map 'gen_sky_su' not found (did you mean 'gen_sky_sun'?); searched"), "{e}");
+        assert!(e.reason().ends_with(" (did you mean 'gen_sky_sun'?)"), "{}", e.reason());
         // A known map that is not here is no typo, and a name near nothing gets no suggestion.
         assert!(!sp.resolve("ennis_256x128").unwrap_err().to_string().contains("did you mean"));
         assert!(!sp.resolve("landscape").unwrap_err().to_string().contains("did you mean"));

@@ -30,13 +30,13 @@ where
     best.map(|(_, k)| k.to_string())
 }
 
-/// `"; did you mean 'x'?"` for the nearest known name, or an empty string.
+/// `" (did you mean 'x'?)"` for the nearest known name, or an empty string.
 pub fn did_you_mean<'a, I, S>(name: &str, known: I) -> String
 where
     I: IntoIterator<Item = &'a S>,
     S: AsRef<str> + 'a + ?Sized,
 {
-    nearest(name, known).map(|k| format!("; did you mean '{k}'?")).unwrap_or_default()
+    nearest(name, known).map(|k| format!(" (did you mean '{k}'?)")).unwrap_or_default()
 }
 
 #[cfg(test)]
@@ -57,7 +57,7 @@ mod tests {
         assert_eq!(nearest("gen_cone", &maps), None);
         let ids = ["sh0", "sh1", "sh2", "zh3_hallucinated"];
         assert_eq!(nearest("sh22", &ids).as_deref(), Some("sh2"));
-        assert_eq!(did_you_mean("sh22", &ids), "; did you mean 'sh2'?");
+        assert_eq!(did_you_mean("sh22", &ids), " (did you mean 'sh2'?)");
         assert_eq!(did_you_mean("xyz", &ids), "");
     }
 }

@@ -590,7 +590,10 @@ pub fn resolve(root: &Path, name: &str) -> Result<PathBuf> {
     let known: Vec<String> =
         all.iter().filter_map(|f| f.file_stem().map(|s| s.to_string_lossy().into_owned())).collect();
     let stem = p.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| name.to_string());
-    let hint = crate::math::nearest::did_you_mean(&stem, known.iter().chain(&names));
+    let hint = match crate::math::nearest::nearest(&stem, known.iter().chain(&names)) {
+        Some(n) => format!("; did you mean '{n}'?"),
+        None => String::new(),
+    };
     bail!(
         "experiment '{name}': no such file, and no experiment of that name in {}{hint} (known: {})",
         dir.display(),
