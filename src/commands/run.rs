@@ -26,12 +26,13 @@ pub struct Args {
 /// file is then written atomically.
 pub fn run(a: Args, env: &Env) -> Result<i32> {
     let out = env.results(a.out);
-    let _lock = writing(&out)?;
+    // Found and read before the lock creates the output folder: a typo writes nothing.
     let exps = a
         .experiments
         .iter()
         .map(|e| Experiment::load(&experiment::resolve(&env.root, e)?))
         .collect::<Result<Vec<_>>>()?;
+    let _lock = writing(&out)?;
     let mut done = Vec::new();
     for exp in &exps {
         let report = runner::run(exp, &env.search)?;
