@@ -21,6 +21,10 @@ use super::EnvMap;
 use std::ffi::OsStr;
 use std::path::{Path, PathBuf, MAIN_SEPARATOR};
 
+/// Why a map is missing when no file has its name ([`SearchError::reason`], before any
+/// suggestion).
+pub const NO_FILE: &str = "no file of that name on the search path";
+
 /// The environment variable listing extra map folders.
 pub const ENV_VAR: &str = "PROBELAB_ENVMAPS";
 
@@ -73,7 +77,7 @@ impl SearchError {
             SearchError::NotFound { rejected, get, .. } if !rejected.is_empty() || get.is_some() => {
                 why_suffix(rejected, get).trim_start_matches("; ").to_string()
             }
-            SearchError::NotFound { suggest, .. } => format!("no file of that name on the search path{suggest}"),
+            SearchError::NotFound { suggest, .. } => format!("{NO_FILE}{suggest}"),
             SearchError::EmptyName => "empty map name".to_string(),
         }
     }

@@ -87,7 +87,11 @@ impl MissingMaps {
             let detail = match (crate::envmap::known::by_name(&m.name), search::passed_over_in(&m.why)) {
                 (_, Some(p)) => format!(": {p}"),
                 (Some(_), None) => String::new(),
-                (None, None) => format!(": {}", m.why),
+                // Not on the search path goes without saying: only a suggestion is left.
+                (None, None) => match m.why.strip_prefix(search::NO_FILE) {
+                    Some(rest) => rest.to_string(),
+                    None => format!(": {}", m.why),
+                },
             };
             s += &format!("  {} (read by {} experiment(s)){detail}\n", m.name, m.experiments);
         }
@@ -147,7 +151,7 @@ mod tests {
     #[test]
     fn each_missing_map_is_counted_once_across_experiments() {
         let mut m = MissingMaps::default();
-        let why = |n: usize| vec!["no file of that name on the search path".to_string(); n];
+        let why = |n: usize| vec![format!("{} (did you mean 'c'?)", search::NO_FILE); n];
         m.add(3, &["a".into(), "b".into()], &why(2), 10);
         m.add(2, &["a".into(), "b".into()], &why(2), 4);
         m.add(4, &[], &[], 0);
@@ -159,7 +163,7 @@ mod tests {
             "{line}"
         );
         let notes = m.notes(&SearchPath::new(vec![]));
-        assert_eq!(notes.matches("  a (read by 2 experiment(s))").count(), 1, "{notes}");
+        assert_eq!(notes.matches("  a (read by 2 experiment(s)) (did you mean 'c'?)\n").count(), 1, "{notes}");
         assert_eq!(notes.matches("PROBELAB_ENVMAPS").count(), 1, "{notes}");
         assert!(MissingMaps::default().line("checked").is_none());
     }
