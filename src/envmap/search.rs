@@ -25,6 +25,9 @@ use std::path::{Path, PathBuf, MAIN_SEPARATOR};
 /// suggestion).
 pub const NO_FILE: &str = "no file of that name on the search path";
 
+/// How a suggestion for a mistyped name starts ([`crate::math::nearest::did_you_mean`]).
+const SUGGESTION: &str = " (did you mean";
+
 /// The environment variable listing extra map folders.
 pub const ENV_VAR: &str = "PROBELAB_ENVMAPS";
 
@@ -33,18 +36,18 @@ pub const ENV_VAR: &str = "PROBELAB_ENVMAPS";
 pub enum SearchError {
     /// No candidate file exists in any folder, or none has the pixels of the known map named.
     #[error(
-        "map '{name}' not found{as_path}{suggest}; searched: {searched}{} (set PROBELAB_ENVMAPS to a \
+        "map '{name}' not found{after_name}; searched: {searched}{} (set PROBELAB_ENVMAPS to a \
          colon-separated list of folders; see docs/maps.md for where the paper probes come from)",
         why_suffix(.rejected, .get)
     )]
     NotFound {
         /// The name asked for.
         name: String,
-        /// `" (no such file)"` when the name looked like a file path, else empty.
-        as_path: String,
-        /// `" (did you mean 'x'?)"` when a known map or a map file on the search path has a
-        /// name close to this unknown one ([`crate::math::nearest`]), else empty.
-        suggest: String,
+        /// `" (no such file)"` when the name looked like a file path; `" (did you mean 'x'?)"`
+        /// when an unknown name is close to a known map's or a map file's on the search path
+        /// ([`crate::math::nearest`], [`SUGGESTION`]); else empty. One field for both, which never
+        /// meet, keeps the error small.
+        after_name: String,
         /// Every folder searched, in order, each marked `(missing)` if it does not exist.
         searched: String,
         /// Files found under the name or an alias of it but not taken, each with the reason.
@@ -77,7 +80,10 @@ impl SearchError {
             SearchError::NotFound { rejected, get, .. } if !rejected.is_empty() || get.is_some() => {
                 why_suffix(rejected, get).trim_start_matches("; ").to_string()
             }
-            SearchError::NotFound { suggest, .. } => format!("{NO_FILE}{suggest}"),
+            SearchError::NotFound { after_name, .. } if after_name.starts_with(SUGGESTION) => {
+                format!("{NO_FILE}{after_name}")
+            }
+            SearchError::NotFound { .. } => NO_FILE.to_string(),
             SearchError::EmptyName => "empty map name".to_string(),
         }
     }
@@ -203,14 +209,16 @@ impl SearchPath {
                 .collect::<Vec<_>>()
                 .join(", ")
         };
-        let as_path = if looks_like_path(name) { " (no such file)".to_string() } else { String::new() };
+        let path_like = looks_like_path(name);
         let get = known::by_name(name).map(|k| format!("{}x{}, {}; {}", k.width, k.height, k.source, k.get));
-        let suggest = if get.is_some() || looks_like_path(name) {
+        let after_name = if path_like {
+            " (no such file)".to_string()
+        } else if get.is_some() {
             String::new()
         } else {
             crate::math::nearest::did_you_mean(name, &self.names())
         };
-        SearchError::NotFound { name: name.to_string(), as_path, suggest, searched, rejected, get }
+        SearchError::NotFound { name: name.to_string(), after_name, searched, rejected, get }
     }
 
     /// The known maps ([`crate::envmap::known`]) with no file on this search path under their
