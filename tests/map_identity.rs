@@ -63,7 +63,7 @@ fn peer_hdr_files_have_the_pixels_of_our_exr_copies() {
 #[cfg_attr(not(shared_maps), ignore = "needs PROBELAB_ENVMAPS with the paper probes (Probulator's Data/Probes/*.hdr)")]
 fn check_passes_on_the_peer_hdr_files_alone() {
     let out = common::harness::probelab()
-        .args(["--no-timing", "check", "sh_baseline", "probulator_parity"])
+        .args(["--no-timing", "check", "--require-all-maps", "sh_baseline", "probulator_parity"])
         .env("PROBELAB_ENVMAPS", peer_dir())
         .run();
     let (so, se) = (String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
@@ -92,14 +92,15 @@ fn a_wrong_file_under_an_alias_is_passed_over_with_the_reason() {
     assert!(se.contains("wells_probulator"), "{se}");
     assert!(se.contains("not taken:") && se.contains("wells.exr"), "{se}");
     assert!(se.contains("its pixels are the known map blender_city_256x128, not wells_probulator"), "{se}");
-    // check names the map, why it is missing, and fails.
+    // check names the map, why it is missing (once, on stderr), and fails when every map is required.
     let out = common::harness::probelab()
-        .args(["--no-timing", "check", "sh_baseline"])
+        .args(["--no-timing", "check", "--require-all-maps", "sh_baseline"])
         .env("PROBELAB_ENVMAPS", t.path())
         .run();
-    let so = String::from_utf8_lossy(&out.stdout);
+    let (so, se) = (String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
     assert_eq!(out.status.code(), Some(1), "{so}");
-    assert!(so.contains("sh_baseline: map wells_probulator not found on this machine (not taken: "), "{so}");
+    assert!(so.contains("sh_baseline: map wells_probulator not found on this machine"), "{so}");
+    assert!(se.contains("  wells_probulator (read by 1 experiment(s)): not taken: "), "{se}");
 }
 
 /// `maps import` of a 1000x500 and a 1024x512 source remakes the shared 256x128 maps pixel for

@@ -52,7 +52,8 @@ fn ci_experiments() -> (Vec<NameAndMaps>, Vec<NameAndMaps>) {
 /// `probelab check` of the named experiments, with PROBELAB_ENVMAPS as given; it must pass.
 fn check_passes(names: &[String], envmaps: Option<&str>) {
     let mut c = probelab();
-    c.arg("check").args(names);
+    // These maps are all meant to be here: a missing one fails.
+    c.arg("check").arg("--require-all-maps").args(names);
     if let Some(e) = envmaps {
         c.env("PROBELAB_ENVMAPS", e);
     }
@@ -94,7 +95,8 @@ fn committed_baselines_on_shared_maps_pass_check() {
 
 /// The CI check on a fresh clone: every committed `ci = true` experiment that reads some of
 /// the repository's CC0 maps (`envmaps/`) as well as the shared ones re-runs on the CC0 maps
-/// alone and those rows match the baseline (`check --allow-missing`, `PROBELAB_ENVMAPS` unset).
+/// alone and those rows match the baseline (`check`, which allows missing maps by default,
+/// `PROBELAB_ENVMAPS` unset).
 /// The numbers compared are exactly the baseline's numbers on the maps found: its numeric
 /// cells of those rows, less the columns `tolerances.toml` ignores. With the shared maps the
 /// test above checks every row, these included.
@@ -110,9 +112,10 @@ fn committed_baselines_on_cc0_maps_pass_check() {
         shared.into_iter().filter(|(_, maps)| maps.iter().any(|m| here.resolve(m).is_ok())).collect();
     assert!(!partial.is_empty(), "no ci experiment reads the committed CC0 maps");
     let names: Vec<String> = partial.iter().map(|(n, _)| n.clone()).collect();
-    let out = probelab().arg("check").arg("--allow-missing").args(&names).run();
+    let out = probelab().arg("check").args(&names).run();
     let (stdout, stderr) = text(&out);
-    assert!(out.status.success(), "`probelab check --allow-missing {}` failed:\n{stdout}{stderr}", names.join(" "));
+    assert!(out.status.success(), "`probelab check {}` failed:\n{stdout}{stderr}", names.join(" "));
+    assert_eq!(stdout.lines().filter(|l| l.starts_with("not checked here: ")).count(), 1, "{stdout}");
     let tolerances = Tolerances::load(&repo()).unwrap();
     for (name, maps) in &partial {
         let found: Vec<&String> = maps.iter().filter(|m| here.resolve(m).is_ok()).collect();
@@ -141,7 +144,8 @@ fn committed_baselines_on_cc0_maps_pass_check() {
             .unwrap_or_else(|| panic!("{name}: no verdict line\n{stdout}"));
         assert!(line.contains(&format!(" {expected} numbers compared")), "{name}: expected {expected} numbers: {line}");
         let missing = maps.len() - found.len();
-        assert!(missing == 0 || line.contains(&format!("but {missing} map(s) were not on this machine")), "{line}");
+        let here = format!("ok on the maps here ({} of {}; ", found.len(), maps.len());
+        assert!(missing == 0 || line.contains(&here), "{line}");
     }
 }
 
@@ -339,7 +343,7 @@ fn run_check_bless_cycle() {
     an_interrupted_bless_keeps_the_old_baseline(&c, &perturbed, &prov_perturbed);
     bless_prints_what_check_printed_and_restores(&c, &lines, &table0);
     a_changed_map_is_reported(&c);
-    a_missing_map_fails_check_unless_allowed(&c);
+    a_missing_map_fails_check_only_when_every_map_is_required(&c);
 }
 
 /// The cycle's scratch: a small experiment `cyc` and its results folder, in a temporary folder.
@@ -540,8 +544,9 @@ fn a_changed_map_is_reported(c: &Cycle) {
     std::fs::write(c.base.join("provenance.toml"), good_prov).unwrap();
 }
 
-/// A map missing on this machine fails the check unless --allow-missing.
-fn a_missing_map_fails_check_unless_allowed(c: &Cycle) {
+/// A map missing on this machine leaves its rows unchecked, said in one line; it fails the
+/// check only under --require-all-maps (the old --allow-missing, now the default, is accepted).
+fn a_missing_map_fails_check_only_when_every_map_is_required(c: &Cycle) {
     let exp2 = c.dir.path().join("cyc2.toml");
     std::fs::write(
         &exp2,
@@ -551,11 +556,16 @@ fn a_missing_map_fails_check_unless_allowed(c: &Cycle) {
     .unwrap();
     let e2 = exp2.to_str().unwrap();
     let (code, so, _) = c.run(&["check", e2]);
+    assert_eq!(code, Some(0), "{so}");
+    assert!(
+        so.contains("\nnot checked here: 1 map(s) missing (no_such_map_xyz): 0 experiment(s) skipped, 1 run"),
+        "{so}"
+    );
+    let (code, so, _) = c.run(&["check", e2, "--require-all-maps"]);
     assert_eq!(code, Some(1), "{so}");
     assert!(so.contains("cyc: map no_such_map_xyz not found on this machine"), "{so}");
     let (code, so, _) = c.run(&["check", e2, "--allow-missing"]);
     assert_eq!(code, Some(0), "{so}");
-    assert!(so.contains("NOT checked"), "{so}");
 }
 
 /// A new provenance record is dirty only when a file that can change the numbers differs from

@@ -115,7 +115,13 @@ fn an_experiment_missing_some_maps_is_checked_on_the_others_and_never_rewritten(
     let (stdout, stderr) = text(&out);
     assert!(out.status.success(), "{stdout}{stderr}");
     assert_eq!(summary_line(&stdout), "x: skipped, 0 of 2 maps (missing: a, b)");
-    assert!(stderr.contains("skipped x: map(s) not found: a, b"), "{stderr}");
+    // Each missing map once, with the fix once; one closing line of what was not reproduced.
+    assert!(stderr.contains("  a (read by 1 experiment(s))\n  b (read by 1 experiment(s))\n"), "{stderr}");
+    assert_eq!(stderr.matches("PROBELAB_ENVMAPS").count(), 1, "{stderr}");
+    assert!(
+        stdout.contains("not reproduced here: 2 map(s) missing (a, b): 1 experiment(s) skipped, 0 run"),
+        "{stdout}"
+    );
     assert!(baseline(&root) == before);
 }
 

@@ -22,6 +22,7 @@ pub struct Args {
 }
 
 pub fn run(a: Args, env: &Env) -> Result<i32> {
+    super::context::checkout(env)?;
     let out = env.results(a.out);
     let _lock = writing(&out)?;
     let claims = a.experiments.is_empty() || a.experiments.iter().any(|e| e == "claims");

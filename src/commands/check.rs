@@ -1,10 +1,11 @@
 //! `probelab check`: re-runs experiments and compares every number with its baseline; exit 1
-//! when anything moved. Holds the results folder's shared lock, so no `bless` rewrites a
+//! when anything moved (a map not on this machine leaves its rows unchecked, said once at the
+//! end, unless `--require-all-maps`). Holds the results folder's shared lock, so no `bless` rewrites a
 //! baseline while it is read. Text prints each experiment's report as it comes, then the
 //! verdict; JSON prints one document at the end.
 
 use super::context::{reading, Env};
-use super::terminal::{noteln, outln};
+use super::terminal::{note, noteln, outln};
 use anyhow::Result;
 use probelab::io::output;
 use std::path::PathBuf;
@@ -17,8 +18,12 @@ pub struct Args {
     /// Also check the experiments marked `ci = false` (the full check).
     #[arg(long)]
     all: bool,
-    /// Do not fail when a map is not on this machine (its rows are reported, not compared).
+    /// Fail when a map is not on this machine (for CI that owns the maps). By default the
+    /// rows of a missing map are not compared, and the maps missing are listed in one line.
     #[arg(long)]
+    require_all_maps: bool,
+    /// The old name of the default (missing maps allowed); accepted, not shown.
+    #[arg(long, hide = true, conflicts_with = "require_all_maps")]
     allow_missing: bool,
     /// Baselines folder (default: <root>/results).
     #[arg(long)]
@@ -50,10 +55,11 @@ pub fn run(a: Args, env: &Env) -> Result<i32> {
             &env.search,
             &out,
             &names,
-            (a.all, a.allow_missing),
+            (a.all, !a.require_all_maps),
             &mut show,
         )?;
         code = c;
+        note(&summary.notes);
         if json {
             doc = summary.json;
         } else {

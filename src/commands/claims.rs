@@ -19,6 +19,7 @@ pub struct Args {
 }
 
 pub fn run(a: Args, env: &Env) -> Result<i32> {
+    super::context::checkout(env)?;
     let out = env.results(a.out);
     let _lock = writing(&out)?;
     let run = probelab::regression::claims::run(&env.root, &env.search, &out, false, true)?;

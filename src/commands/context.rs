@@ -56,6 +56,20 @@ impl Env {
 /// An estimate at least this long (seconds) is announced on stderr when the run goes ahead.
 const ANNOUNCE_S: f64 = 600.0;
 
+/// Refuses, before anything is written, a command that needs the experiments where there are
+/// none: `--root` (by default the current folder) is not a probelab checkout.
+pub fn checkout(env: &Env) -> Result<()> {
+    let dir = env.root.join("experiments");
+    if !dir.is_dir() {
+        anyhow::bail!(
+            "{}: no experiments folder here: {}",
+            dir.display(),
+            probelab::pipeline::experiment::NOT_A_CHECKOUT
+        );
+    }
+    Ok(())
+}
+
 /// Takes the exclusive lock on an output folder for a writing command (waiting, with a note,
 /// while another probelab command holds it), then removes the temporary files that killed
 /// runs left there, saying so (`io::folder`).

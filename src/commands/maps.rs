@@ -1,4 +1,5 @@
-//! `probelab maps`: shows the map search path and the maps it finds; `probelab maps import`
+//! `probelab maps`: shows the map search path, the maps it finds and the known maps it does not
+//! (with where to get them); `probelab maps import`
 //! makes the 256x128 maps of map files as the shared ones were made (`envmap::import`), named
 //! through the known maps, each written atomically under the output folder's exclusive lock.
 
@@ -58,6 +59,7 @@ fn list(env: &Env) -> Result<i32> {
             text += &format!("  {n}\n");
         }
     }
+    text += &known_missing(env);
     output::write(text.as_bytes())?;
     Ok(0)
 }
@@ -68,6 +70,23 @@ fn list(env: &Env) -> Result<i32> {
 fn is_map_file(path: &Path) -> bool {
     let ext = path.extension().map(|x| x.to_string_lossy().to_ascii_lowercase());
     matches!(ext.as_deref(), Some("exr" | "hdr")) && std::fs::metadata(path).is_ok_and(|m| m.is_file())
+}
+
+/// The known maps (envmaps/known.toml) not on the search path, each with where to get it.
+fn known_missing(env: &Env) -> String {
+    let missing = env.search.known_missing();
+    if missing.is_empty() {
+        return "every known map is on the search path\n".to_string();
+    }
+    let mut text = format!(
+        "known maps not found ({}; put them in a folder and set {}, docs/maps.md):\n",
+        missing.len(),
+        probelab::envmap::search::ENV_VAR
+    );
+    for k in missing {
+        text += &format!("  {} ({}x{}): {}\n", k.name, k.width, k.height, k.get);
+    }
+    text
 }
 
 /// `probelab maps import` (`envmap::import`): every input is read and derived before anything

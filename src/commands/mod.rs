@@ -90,7 +90,8 @@ pub enum Command {
     Claims(claims::Args),
     /// List the encoders.
     Encoders,
-    /// Show the map search path and which maps it finds; `maps import` makes 256x128 maps.
+    /// Show the map search path, the maps it finds and the known maps it lacks (with where to
+    /// get them); `maps import` makes 256x128 maps.
     Maps(maps::Args),
     /// Score encoders over a probe set (a file, or --synth N), in chunks and optionally sharded.
     Probes(probes::Args),

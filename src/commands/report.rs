@@ -21,6 +21,7 @@ pub struct Args {
 }
 
 pub fn run(a: Args, env: &Env) -> Result<i32> {
+    super::context::checkout(env)?;
     let out = env.results(a.out);
     let _lock = writing(&out)?;
     write_report(env, &out, a.scale)?;
@@ -34,7 +35,14 @@ pub fn write_report(env: &Env, out: &Path, sheet_scale: u32) -> Result<()> {
     let g = probelab::report::generate(&options)?;
     noteln!("wrote {} ({} picture(s) drawn)", g.report.display(), g.pictures);
     if !g.kept.is_empty() {
-        noteln!("sheets not redrawn (maps not on the search path): {}", g.kept.join(", "));
+        noteln!(
+            "sheets not redrawn, the committed ones kept ({} map(s) not on the search path): {}",
+            g.missing.len(),
+            g.kept.join(", ")
+        );
+    }
+    for m in &g.mismatches {
+        noteln!("warning: {m}");
     }
     Ok(())
 }

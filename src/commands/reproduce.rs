@@ -4,13 +4,14 @@
 //! is skipped and listed. Takes the results folder's exclusive lock; exit 1 when a baseline or
 //! a claims measurement moved.
 
-use super::context::{describe_search, experiment_outputs_distinct, refused_exit, writing, Env};
+use super::context::{experiment_outputs_distinct, refused_exit, writing, Env};
 use super::terminal::{note, noteln, outln};
 use anyhow::Result;
 use probelab::io::output;
 use probelab::io::progress::Progress;
 use probelab::pipeline::experiment::{list_experiments, Experiment};
 use probelab::pipeline::runner::{self, RunReport};
+use probelab::regression::missing::{self, MissingMaps};
 use std::path::PathBuf;
 
 /// `probelab reproduce`.
@@ -26,7 +27,7 @@ pub struct Args {
 struct Runs<'a> {
     done: Vec<(&'a Experiment, RunReport)>,
     partial: Vec<(&'a Experiment, RunReport)>,
-    skipped: Vec<&'a Experiment>,
+    skipped: Vec<(&'a Experiment, RunReport)>,
 }
 
 /// Runs every experiment before anything is written (a failing run writes nothing).
@@ -39,8 +40,7 @@ fn run_all<'a>(exps: &'a [Experiment], env: &Env) -> Result<Runs<'a>> {
         if report.missing.is_empty() {
             runs.done.push((exp, report));
         } else if report.missing.len() == exp.maps.len() {
-            noteln!("skipped {}: map(s) not found: {}", exp.name, report.missing.join(", "));
-            runs.skipped.push(exp);
+            runs.skipped.push((exp, report));
         } else {
             runs.partial.push((exp, report));
         }
@@ -51,6 +51,7 @@ fn run_all<'a>(exps: &'a [Experiment], env: &Env) -> Result<Runs<'a>> {
 }
 
 pub fn run(a: Args, env: &Env) -> Result<i32> {
+    super::context::checkout(env)?;
     let out = env.results(a.out);
     let _lock = writing(&out)?;
     let dir = env.root.join("experiments");
@@ -60,6 +61,7 @@ pub fn run(a: Args, env: &Env) -> Result<i32> {
     let runs = run_all(&exps, env)?;
     let mut refused = Vec::new();
     let mut summary = Vec::new();
+    let mut missing = MissingMaps::default();
     for (exp, report) in &runs.done {
         match super::run::store(&env.root, &out, exp, report)? {
             Some(told) => summary.push(format!("{}: {n} of {n} maps; {told}", exp.name, n = exp.maps.len())),
@@ -71,24 +73,17 @@ pub fn run(a: Args, env: &Env) -> Result<i32> {
     for (exp, report) in &runs.partial {
         let line = probelab::regression::check::check_partial(&out, &env.root, exp, report)?;
         note(&line.notes);
+        missing.add(exp.maps.len(), &report.missing, &report.missing_why, line.unchecked_rows);
         if !line.passed {
             refused.push(exp.name.clone());
         }
         summary.push(line.text);
     }
-    for exp in &runs.skipped {
+    for (exp, report) in &runs.skipped {
         let n = exp.maps.len();
+        let rows = missing::baseline_rows(&out.join(&exp.name), &report.missing)?;
+        missing.add(n, &report.missing, &report.missing_why, rows);
         summary.push(format!("{}: skipped, 0 of {n} maps (missing: {})", exp.name, exp.maps.join(", ")));
-    }
-    if !runs.skipped.is_empty() || !runs.partial.is_empty() {
-        noteln!(
-            "{} experiment(s) skipped and {} run on part of their maps, for missing maps; their \
-             baselines were left unchanged.\nSearched: {}\nSet PROBELAB_ENVMAPS to the folder of the \
-             paper probes (see envmaps/README.md).",
-            runs.skipped.len(),
-            runs.partial.len(),
-            describe_search(&env.search)
-        );
     }
     noteln!("sweeps (experiments/sweeps/) are not re-run by reproduce: `probelab sweep` runs them");
     // The claims, judged on the tables just written (and the measurements, when their maps are
@@ -101,9 +96,15 @@ pub fn run(a: Args, env: &Env) -> Result<i32> {
         refused.push("claims".into());
     }
     super::report::write_report(env, &out, 1)?;
+    // What this machine lacked: each missing map once, then one line in the summary (the
+    // committed pages never say it).
+    note(&missing.notes(&env.search));
     outln!("reproduce: {} experiment(s)", exps.len())?;
     for line in &summary {
         outln!("  {line}")?;
+    }
+    if let Some(line) = missing.line("reproduced") {
+        outln!("{line}; their baselines were left unchanged")?;
     }
     Ok(refused_exit(&refused))
 }

@@ -1,11 +1,11 @@
-//! `probelab run`: runs experiment files and writes each `results/<name>/table.csv` where none
+//! `probelab run`: runs experiment files (or experiments by name) and writes each `results/<name>/table.csv` where none
 //! exists; a table that exists is a baseline, left unchanged when nothing moved and refused
 //! (exit 1) when something did. Takes the results folder's exclusive lock.
 
 use super::context::{describe_search, experiment_outputs_distinct, refused_exit, writing, Env};
 use super::terminal::{note, noteln};
 use anyhow::{bail, Result};
-use probelab::pipeline::experiment::Experiment;
+use probelab::pipeline::experiment::{self, Experiment};
 use probelab::pipeline::runner::{self, RunReport};
 use probelab::regression::check::{self, Stored};
 use std::path::{Path, PathBuf};
@@ -13,9 +13,9 @@ use std::path::{Path, PathBuf};
 /// `probelab run`.
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// Experiment TOML files.
+    /// Experiment TOML files, or names of experiments in <root>/experiments/ (`sh_baseline`).
     #[arg(required = true)]
-    experiments: Vec<PathBuf>,
+    experiments: Vec<String>,
     /// Output folder (default: <root>/results).
     #[arg(long)]
     out: Option<PathBuf>,
@@ -26,8 +26,13 @@ pub struct Args {
 /// file is then written atomically.
 pub fn run(a: Args, env: &Env) -> Result<i32> {
     let out = env.results(a.out);
+    // Found and read before the lock creates the output folder: a typo writes nothing.
+    let exps = a
+        .experiments
+        .iter()
+        .map(|e| Experiment::load(&experiment::resolve(&env.root, e)?))
+        .collect::<Result<Vec<_>>>()?;
     let _lock = writing(&out)?;
-    let exps = a.experiments.iter().map(|p| Experiment::load(p)).collect::<Result<Vec<_>>>()?;
     experiment_outputs_distinct(&out, &exps)?;
     env.refuse_long_experiments(&exps)?;
     let mut done = Vec::new();
@@ -36,7 +41,7 @@ pub fn run(a: Args, env: &Env) -> Result<i32> {
         if !report.missing.is_empty() {
             bail!(
                 "{}\nnothing written. Searched: {}",
-                missing_maps(exp, &report.missing),
+                missing_maps(exp, &report.missing, &report.missing_why),
                 describe_search(&env.search)
             );
         }
@@ -53,14 +58,19 @@ pub fn run(a: Args, env: &Env) -> Result<i32> {
 
 /// "FILE:LINE: map 'x' not found" for each missing map (the line where the experiment file
 /// names it).
-fn missing_maps(exp: &Experiment, missing: &[String]) -> String {
+fn missing_maps(exp: &Experiment, missing: &[String], why: &[String]) -> String {
     let file = exp.source.as_ref().map(|p| p.display().to_string()).unwrap_or_else(|| exp.name.clone());
+    // A typo's suggestion (" (did you mean 'x'?)") is kept from the reason; the rest of it (how
+    // to get a known map) is what the search path line after says.
+    let hint =
+        |k: usize| why.get(k).and_then(|w| w.find(" (did you mean").map(|i| w[i..].to_string())).unwrap_or_default();
     missing
         .iter()
         .zip(exp.source_lines(missing))
-        .map(|(m, line)| match line {
-            Some(l) => format!("{file}:{l}: map '{m}' not found"),
-            None => format!("{file}: map '{m}' not found"),
+        .enumerate()
+        .map(|(k, (m, line))| match line {
+            Some(l) => format!("{file}:{l}: map '{m}' not found{}", hint(k)),
+            None => format!("{file}: map '{m}' not found{}", hint(k)),
         })
         .collect::<Vec<_>>()
         .join("\n")

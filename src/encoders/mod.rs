@@ -236,7 +236,9 @@ pub struct NamedEncoder {
 /// Builds an encoder of `kind` with settings `params`, shown as `name` (default: the kind).
 pub fn build(kind: &str, name: Option<&str>, params: toml::Table) -> Result<NamedEncoder> {
     let Some(k) = REGISTRY.iter().find(|k| k.id == kind) else {
-        bail!("unknown encoder '{}'; valid encoders: {}", crate::math::echo::value(kind), known_ids());
+        let ids: Vec<&str> = REGISTRY.iter().map(|k| k.id).collect();
+        let hint = crate::math::nearest::did_you_mean(kind, &ids);
+        bail!("unknown encoder '{}'{hint}; valid encoders: {}", crate::math::echo::value(kind), known_ids());
     };
     let mut p = Params::new(params);
     let encoder = (k.build)(&mut p).with_context(|| format!("configuring encoder '{kind}'"))?;
@@ -289,6 +291,8 @@ mod tests {
     fn unknown_encoder_lists_valid_ones() {
         let e = build("sh9", None, toml::Table::new()).err().unwrap().to_string();
         assert!(e.contains("unknown encoder 'sh9'") && e.contains("sh1"), "{e}");
+        let e = build_list("sh1,sh22").err().unwrap().to_string();
+        assert!(e.contains("unknown encoder 'sh22' (did you mean 'sh2'?); valid"), "{e}");
         let mut t = toml::Table::new();
         t.insert("bogus".into(), toml::Value::Integer(1));
         let e = format!("{:#}", build("sh1", None, t).err().unwrap());

@@ -21,6 +21,13 @@ use super::EnvMap;
 use std::ffi::OsStr;
 use std::path::{Path, PathBuf, MAIN_SEPARATOR};
 
+/// Why a map is missing when no file has its name ([`SearchError::reason`], before any
+/// suggestion).
+pub const NO_FILE: &str = "no file of that name on the search path";
+
+/// How a suggestion for a mistyped name starts ([`crate::math::nearest::did_you_mean`]).
+const SUGGESTION: &str = " (did you mean";
+
 /// The environment variable listing extra map folders.
 pub const ENV_VAR: &str = "PROBELAB_ENVMAPS";
 
@@ -29,15 +36,18 @@ pub const ENV_VAR: &str = "PROBELAB_ENVMAPS";
 pub enum SearchError {
     /// No candidate file exists in any folder, or none has the pixels of the known map named.
     #[error(
-        "map '{name}' not found{as_path}; searched: {searched}{} (set PROBELAB_ENVMAPS to a \
+        "map '{name}' not found{after_name}; searched: {searched}{} (set PROBELAB_ENVMAPS to a \
          colon-separated list of folders; see docs/maps.md for where the paper probes come from)",
         why_suffix(.rejected, .get)
     )]
     NotFound {
         /// The name asked for.
         name: String,
-        /// `" (no such file)"` when the name looked like a file path, else empty.
-        as_path: String,
+        /// `" (no such file)"` when the name looked like a file path; `" (did you mean 'x'?)"`
+        /// when an unknown name is close to a known map's or a map file's on the search path
+        /// ([`crate::math::nearest`], [`SUGGESTION`]); else empty. One field for both, which never
+        /// meet, keeps the error small.
+        after_name: String,
         /// Every folder searched, in order, each marked `(missing)` if it does not exist.
         searched: String,
         /// Files found under the name or an alias of it but not taken, each with the reason.
@@ -70,10 +80,20 @@ impl SearchError {
             SearchError::NotFound { rejected, get, .. } if !rejected.is_empty() || get.is_some() => {
                 why_suffix(rejected, get).trim_start_matches("; ").to_string()
             }
-            SearchError::NotFound { .. } => "no file of that name on the search path".to_string(),
+            SearchError::NotFound { after_name, .. } if after_name.starts_with(SUGGESTION) => {
+                format!("{NO_FILE}{after_name}")
+            }
+            SearchError::NotFound { .. } => NO_FILE.to_string(),
             SearchError::EmptyName => "empty map name".to_string(),
         }
     }
+}
+
+/// The files passed over in a [`SearchError::reason`] (`"not taken: …"`), without how to get
+/// the map: what a list that names each missing map once shows beside it.
+pub fn passed_over_in(reason: &str) -> Option<String> {
+    let rest = reason.strip_prefix("not taken: ")?;
+    Some(format!("not taken: {}", rest.split("; it is a known map").next().unwrap_or(rest)))
 }
 
 /// Why [`SearchPath::open`] failed: the map is not here, or a file found cannot be read.
@@ -193,9 +213,42 @@ impl SearchPath {
                 .collect::<Vec<_>>()
                 .join(", ")
         };
-        let as_path = if looks_like_path(name) { " (no such file)".to_string() } else { String::new() };
+        let path_like = looks_like_path(name);
         let get = known::by_name(name).map(|k| format!("{}x{}, {}; {}", k.width, k.height, k.source, k.get));
-        SearchError::NotFound { name: name.to_string(), as_path, searched, rejected, get }
+        let after_name = if path_like {
+            " (no such file)".to_string()
+        } else if get.is_some() {
+            String::new()
+        } else {
+            crate::math::nearest::did_you_mean(name, &self.names())
+        };
+        SearchError::NotFound { name: name.to_string(), after_name, searched, rejected, get }
+    }
+
+    /// The known maps ([`crate::envmap::known`]) with no file on this search path under their
+    /// name or an alias, in the table's order (by name only: no file is read).
+    pub fn known_missing(&self) -> Vec<&'static KnownMap> {
+        known::all().iter().filter(|k| self.candidates(&k.name).is_empty()).collect()
+    }
+
+    /// Every map name this search path knows of: the known maps and their aliases, then the
+    /// stem of every `.exr` and `.hdr` file in its folders (what a typo is compared with).
+    pub fn names(&self) -> Vec<String> {
+        let mut names: Vec<String> =
+            known::all().iter().flat_map(|k| std::iter::once(&k.name).chain(&k.aliases)).cloned().collect();
+        for dir in &self.dirs {
+            let Ok(entries) = std::fs::read_dir(dir) else { continue };
+            let mut stems: Vec<String> = entries
+                .filter_map(|e| e.ok().map(|e| e.path()))
+                .filter(|p| {
+                    p.extension().is_some_and(|x| x.eq_ignore_ascii_case("exr") || x.eq_ignore_ascii_case("hdr"))
+                })
+                .filter_map(|p| p.file_stem().map(|s| s.to_string_lossy().into_owned()))
+                .collect();
+            stems.sort();
+            names.extend(stems.into_iter().filter(|s| !names.contains(s)).collect::<Vec<_>>());
+        }
+        names
     }
 
     /// The file [`SearchPath::open`] would try first for `name` (see `candidates`),
@@ -368,6 +421,20 @@ mod tests {
         assert!(msg.contains("'sub/nope.exr' not found (no such file)"), "{msg}");
         assert!(msg.contains(&format!("{} (missing)", gone.display())), "{msg}");
         assert_eq!(sp.resolve(""), Err(SearchError::EmptyName));
+    }
+
+    #[test]
+    fn an_unknown_name_near_a_map_file_gets_a_suggestion() {
+        let t = tempfile::tempdir().unwrap();
+        touch(&t.path().join("gen_sky_sun.exr"));
+        touch(&t.path().join("gen_sun_sky.exr"));
+        let sp = SearchPath::new(vec![t.path().to_path_buf()]);
+        let e = sp.resolve("gen_sky_su").unwrap_err();
+        assert!(e.to_string().starts_with("map 'gen_sky_su' not found (did you mean 'gen_sky_sun'?); searched"), "{e}");
+        assert!(e.reason().ends_with(" (did you mean 'gen_sky_sun'?)"), "{}", e.reason());
+        // A known map that is not here is no typo, and a name near nothing gets no suggestion.
+        assert!(!sp.resolve("ennis_256x128").unwrap_err().to_string().contains("did you mean"));
+        assert!(!sp.resolve("landscape").unwrap_err().to_string().contains("did you mean"));
     }
 
     #[cfg(unix)]

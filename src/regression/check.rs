@@ -17,6 +17,7 @@ use crate::envmap::search::SearchPath;
 use crate::pipeline::experiment::{list_experiments, Experiment};
 use crate::pipeline::runner::{self, RunReport};
 use crate::regression::baseline::{self, Comparison, Table, TABLE};
+use crate::regression::missing::MissingMaps;
 use crate::regression::provenance::{self, MapRecord, Provenance};
 use crate::regression::tolerance::{EncoderClass, Tolerance, Tolerances};
 use anyhow::{bail, Result};
@@ -120,14 +121,13 @@ impl fmt::Display for Finding {
                 &recorded[..recorded.len().min(12)],
                 &actual[..actual.len().min(12)]
             ),
-            Finding::MapMissing { map, why, allowed: false } => {
-                write!(
-                    f,
-                    "map {map} not found on this machine ({why}): its rows were not checked (--allow-missing to accept)"
-                )
+            // Why it is missing, and how to get it, is said once for every experiment
+            // (`regression::missing`), not in each experiment's report.
+            Finding::MapMissing { map, allowed: false, .. } => {
+                write!(f, "map {map} not found on this machine: its rows were not checked (--require-all-maps)")
             }
-            Finding::MapMissing { map, why, allowed: true } => {
-                write!(f, "map {map} not found on this machine ({why}): its rows were not checked (allowed)")
+            Finding::MapMissing { map, allowed: true, .. } => {
+                write!(f, "map {map} not found on this machine: its rows were not checked")
             }
             Finding::MapSamePixels { map, file, pixel_sha256 } => write!(
                 f,
@@ -166,6 +166,8 @@ pub struct ExperimentCheck {
     pub baseline: Option<Provenance>,
     /// How many maps the experiment names.
     pub maps: usize,
+    /// The baseline's rows of maps missing here (not compared).
+    pub unchecked_rows: usize,
 }
 
 impl ExperimentCheck {
@@ -227,7 +229,8 @@ impl ExperimentCheck {
     /// verdict line. `check` and `bless` print exactly this.
     pub fn report(&self) -> String {
         let mut s = String::new();
-        for f in &self.findings {
+        // A map missing where that is allowed is in the verdict line, not a line of its own.
+        for f in self.findings.iter().filter(|f| !matches!(f, Finding::MapMissing { allowed: true, .. })) {
             s += &format!("{}: {f}\n", self.experiment);
         }
         let c = &self.comparison;
@@ -249,15 +252,15 @@ impl ExperimentCheck {
             c.ignored
         );
         let unchecked = self.unchecked_maps();
-        if self.passed() && unchecked > 0 {
-            let names = self.unchecked_map_names();
+        if self.passed() && unchecked >= self.maps {
+            s += &format!("{}: skipped: none of its {} map(s) is on this machine\n", self.experiment, self.maps);
+        } else if self.passed() && unchecked > 0 {
             s += &format!(
-                "{}: ok in the rows checked ({} of {} maps), but {unchecked} map(s) were not on this machine and \
-                 their rows were not checked: {} ({counts})\n",
+                "{}: ok on the maps here ({} of {}; {} row(s) of the {unchecked} missing not checked) ({counts})\n",
                 self.experiment,
-                self.maps.saturating_sub(unchecked),
+                self.maps - unchecked,
                 self.maps,
-                names.join(", ")
+                self.unchecked_rows
             );
         } else if self.passed() {
             s += &format!("{}: ok, nothing moved ({counts})\n", self.experiment);
@@ -334,11 +337,13 @@ pub fn compare_with_baseline(
             comparison: Comparison::default(),
             baseline: None,
             maps: exp.maps.len(),
+            unchecked_rows: 0,
         });
     }
     let old_bytes =
         std::fs::read(&table_path).map_err(|e| anyhow::anyhow!("{}: cannot read: {e}", table_path.display()))?;
     let old = Table::parse(&old_bytes, &table_path)?;
+    let unchecked_rows = crate::regression::missing::rows_of(&old, &report.missing);
     let prov_path = dir.join(provenance::FILE_NAME);
     let prov = if prov_path.exists() {
         match Provenance::read(&prov_path) {
@@ -401,6 +406,7 @@ pub fn compare_with_baseline(
         comparison,
         baseline: prov,
         maps: exp.maps.len(),
+        unchecked_rows,
     })
 }
 
@@ -429,6 +435,8 @@ pub struct PartialCheck {
     /// What the command shows as it goes: the comparison's report and what became of the
     /// baseline (empty or newline-terminated lines).
     pub notes: String,
+    /// The baseline's rows of the maps missing (not compared).
+    pub unchecked_rows: usize,
 }
 
 /// `reproduce` on an experiment some of whose maps are not on the search path: the rows of
@@ -446,6 +454,7 @@ pub fn check_partial(out: &Path, root: &Path, exp: &Experiment, report: &RunRepo
             passed: true,
             text: format!("{head}; no baseline to compare with, nothing written"),
             notes: format!("{}: no baseline, and a run missing maps writes none\n", dir.join(TABLE).display()),
+            unchecked_rows: 0,
         });
     }
     let c = compare_with_baseline(&dir, exp, report, &Tolerances::load(root)?, true)?;
@@ -455,12 +464,14 @@ pub fn check_partial(out: &Path, root: &Path, exp: &Experiment, report: &RunRepo
             passed: true,
             text: format!("{head}; {numbers} numbers compared, nothing moved; baseline left unchanged"),
             notes: c.report(),
+            unchecked_rows: c.unchecked_rows,
         }
     } else {
         PartialCheck {
             passed: false,
             text: format!("{head}; {numbers} numbers compared, FAILED ({} moved); baseline left unchanged", c.moved()),
             notes: format!("{}{}", c.report(), not_overwritten(&dir)),
+            unchecked_rows: c.unchecked_rows,
         }
     })
 }
@@ -589,37 +600,14 @@ pub fn refusal_advice(refused: &[String]) -> Option<String> {
     })
 }
 
-/// Finds an experiment file by path, by file stem in `<root>/experiments/`, or by its `name`.
-pub fn resolve_experiment(root: &Path, name: &str) -> Result<PathBuf> {
-    let p = Path::new(name);
-    if p.is_file() {
-        return Ok(p.to_path_buf());
-    }
-    let dir = root.join("experiments");
-    let by_stem = dir.join(format!("{name}.toml"));
-    if by_stem.is_file() {
-        return Ok(by_stem);
-    }
-    let all = list_experiments(&dir)?;
-    for f in &all {
-        if Experiment::load(f).is_ok_and(|e| e.name == name) {
-            return Ok(f.clone());
-        }
-    }
-    let known: Vec<String> =
-        all.iter().filter_map(|f| f.file_stem().map(|s| s.to_string_lossy().into_owned())).collect();
-    bail!(
-        "experiment '{name}': no such file, and no experiment of that name in {} (known: {})",
-        dir.display(),
-        known.join(", ")
-    )
-}
-
 /// The experiments named, or by default every experiment in `<root>/experiments/` (only those
 /// with `ci = true` when `ci_only`). Returns them and the names left out for `ci = false`.
 pub fn select(root: &Path, names: &[String], ci_only: bool) -> Result<(Vec<Experiment>, Vec<String>)> {
     if !names.is_empty() {
-        let exps = names.iter().map(|n| Experiment::load(&resolve_experiment(root, n)?)).collect::<Result<_>>()?;
+        let exps = names
+            .iter()
+            .map(|n| Experiment::load(&crate::pipeline::experiment::resolve(root, n)?))
+            .collect::<Result<_>>()?;
         return Ok((exps, vec![]));
     }
     let (mut chosen, mut left) = (Vec::new(), Vec::new());
@@ -636,18 +624,23 @@ pub fn select(root: &Path, names: &[String], ci_only: bool) -> Result<(Vec<Exper
 
 /// What [`check_experiments`] found: the closing lines `check` prints, and the whole as JSON.
 pub struct CheckSummary {
-    /// The closing lines: the experiments left out for `ci = false`, and the verdict line
-    /// (each experiment's own report went to the `checked` callback as it came).
+    /// The closing lines: the experiments left out for `ci = false`, the verdict line, and the
+    /// one line of what could not be checked for want of maps (each experiment's own report
+    /// went to the `checked` callback as it came).
     pub text: String,
+    /// For stderr: each missing map once, with the one fix ([`MissingMaps::notes`]).
+    pub notes: String,
     /// `{ "passed", "experiments": [ExperimentCheck::to_json…], "not_checked": […],
-    /// "numbers", "moved", "unchecked_maps", "seconds" }`.
+    /// "numbers", "moved", "unchecked_maps", "missing_maps": […], "skipped_experiments",
+    /// "unchecked_rows", "seconds" }`.
     pub json: serde_json::Value,
 }
 
 /// `probelab check`: checks the selected experiments against their baselines; the exit code
-/// is 0 when nothing moved in any of them, 1 otherwise. Each experiment's check is handed to
-/// `checked`, with the seconds it took, as soon as it is known (so a long check can show its
-/// progress); an error from `checked` stops the check.
+/// is 0 when nothing moved in any of them, 1 otherwise. A map not on this machine leaves its
+/// rows unchecked and is said once at the end, unless `!allow_missing` (then it fails the
+/// check). Each experiment's check is handed to `checked`, with the seconds it took, as soon as
+/// it is known (so a long check can show its progress); an error from `checked` stops the check.
 pub fn check_experiments(
     root: &Path,
     search: &SearchPath,
@@ -656,15 +649,16 @@ pub fn check_experiments(
     (all, allow_missing): (bool, bool),
     checked: &mut dyn FnMut(&ExperimentCheck, f64) -> Result<()>,
 ) -> Result<(i32, CheckSummary)> {
-    let tolerances = Tolerances::load(root)?;
     let (exps, left) = select(root, names, !all)?;
+    let tolerances = Tolerances::load(root)?;
     if exps.is_empty() {
         bail!("no experiments to check in {}", root.join("experiments").display());
     }
     let start = std::time::Instant::now();
     let mut failed = Vec::new();
     let mut checks = Vec::new();
-    let (mut numbers, mut moved, mut unchecked) = (0, 0, 0);
+    let mut missing = MissingMaps::default();
+    let (mut numbers, mut moved, mut unchecked, mut maps_only) = (0, 0, 0, true);
     for exp in &exps {
         let t = std::time::Instant::now();
         let report = runner::run(exp, search)?;
@@ -673,35 +667,22 @@ pub fn check_experiments(
         numbers += c.comparison.numbers;
         moved += c.moved();
         unchecked += c.unchecked_maps();
+        missing.add(exp.maps.len(), &report.missing, &report.missing_why, c.unchecked_rows);
         if !c.passed() {
             failed.push(exp.name.clone());
+            maps_only &= c.findings.iter().filter(|f| f.fails()).all(|f| matches!(f, Finding::MapMissing { .. }));
         }
         checks.push(c.to_json());
     }
+    let elapsed = start.elapsed().as_secs_f64();
     let mut text = String::new();
     if !left.is_empty() {
         text += &format!("not checked (ci = false): {}; `probelab check --all` includes them\n", left.join(", "));
     }
-    let elapsed = start.elapsed().as_secs_f64();
-    let code = if failed.is_empty() {
-        let note =
-            if unchecked > 0 { format!("; {unchecked} map(s) missing here were NOT checked") } else { String::new() };
-        text += &format!(
-            "check: ok: {} experiment(s), {numbers} numbers compared, nothing moved{note} ({elapsed:.1} s)\n",
-            exps.len()
-        );
-        0
-    } else {
-        text += &format!(
-            "check: FAILED: {} of {} experiment(s) differ from their baselines ({}); {moved} number(s) moved. \
-             If intended, run `probelab bless {}` and quote its output in the commit message. ({elapsed:.1} s)\n",
-            failed.len(),
-            exps.len(),
-            failed.join(", "),
-            failed.join(" ")
-        );
-        1
-    };
+    text += &verdict(exps.len(), &failed, (numbers, moved), maps_only, elapsed);
+    if let Some(line) = missing.line("checked") {
+        text += &format!("{line}\n");
+    }
     let json = serde_json::json!({
         "passed": failed.is_empty(),
         "experiments": checks,
@@ -709,9 +690,32 @@ pub fn check_experiments(
         "numbers": numbers,
         "moved": moved,
         "unchecked_maps": unchecked,
+        "missing_maps": missing.names(),
+        "skipped_experiments": missing.skipped(),
+        "unchecked_rows": missing.rows(),
         "seconds": (elapsed * 10.0).round() / 10.0,
     });
-    Ok((code, CheckSummary { text, json }))
+    let code = i32::from(!failed.is_empty());
+    Ok((code, CheckSummary { text, notes: missing.notes(search), json }))
+}
+
+/// `check`'s verdict line: ok, or the experiments that failed and what to do (`bless` when
+/// numbers moved; the maps when only maps were missing, under `--require-all-maps`).
+fn verdict(n: usize, failed: &[String], (numbers, moved): (usize, usize), maps_only: bool, elapsed: f64) -> String {
+    if failed.is_empty() {
+        return format!("check: ok: {n} experiment(s), {numbers} numbers compared, nothing moved ({elapsed:.1} s)\n");
+    }
+    let advice = if maps_only {
+        "Only maps are missing: put them on the map search path (see the maps listed on stderr).".to_string()
+    } else {
+        format!("If intended, run `probelab bless {}` and quote its output in the commit message.", failed.join(" "))
+    };
+    format!(
+        "check: FAILED: {} of {n} experiment(s) differ from their baselines ({}); {moved} number(s) moved. {advice} \
+         ({elapsed:.1} s)\n",
+        failed.len(),
+        failed.join(", ")
+    )
 }
 
 /// `probelab bless`: re-runs the experiments (by default all of them), hands each comparison
@@ -729,8 +733,8 @@ pub fn bless(
     (names, force): (&[String], bool),
     compared: &mut dyn FnMut(&ExperimentCheck) -> Result<()>,
 ) -> Result<(i32, String)> {
-    let tolerances = Tolerances::load(root)?;
     let (exps, _) = select(root, names, false)?;
+    let tolerances = Tolerances::load(root)?;
     let mut staged = Vec::new();
     let mut skipped = Vec::new();
     for exp in &exps {
@@ -848,7 +852,7 @@ mod tests {
     }
 
     #[test]
-    fn allowed_missing_maps_are_notes_and_say_their_rows_were_not_checked() {
+    fn allowed_missing_maps_are_counted_in_the_verdict_and_fail_only_when_required() {
         let c = ExperimentCheck {
             experiment: "x".into(),
             dir: PathBuf::from("results/x"),
@@ -856,19 +860,22 @@ mod tests {
             comparison: Comparison::default(),
             baseline: None,
             maps: 3,
+            unchecked_rows: 7,
         };
         assert!(c.passed());
         assert!(
-            c.report().contains("x: ok in the rows checked (2 of 3 maps), but 1 map(s) were not on this machine"),
+            c.report().contains("x: ok on the maps here (2 of 3; 7 row(s) of the 1 missing not checked)"),
             "{}",
             c.report()
         );
-        assert!(c.report().contains("x: map m not found on this machine (gone)"), "{}", c.report());
+        // Which map, and why, is said once for the whole check, not in each experiment's report.
+        assert!(!c.report().contains("map m"), "{}", c.report());
         let strict = ExperimentCheck {
             findings: vec![Finding::MapMissing { map: "m".into(), why: "gone".into(), allowed: false }],
             ..c
         };
         assert!(!strict.passed());
         assert!(strict.report().contains("x: FAILED: 1 map(s) changed, unrecorded or missing"), "{}", strict.report());
+        assert!(strict.report().contains("x: map m not found on this machine: its rows were not checked"));
     }
 }

@@ -118,7 +118,11 @@ impl Tolerances {
     pub fn load(root: &Path) -> Result<Self> {
         let path = root.join(FILE_NAME);
         let text = std::fs::read_to_string(&path).with_context(|| {
-            format!("{}: cannot read the tolerances file (it belongs at the repository root)", path.display())
+            format!(
+                "{}: cannot read the tolerances file (it belongs at the repository root: {})",
+                path.display(),
+                crate::pipeline::experiment::NOT_A_CHECKOUT
+            )
         })?;
         Self::parse(&text).map_err(|e| anyhow::anyhow!("{}: {e:#}", path.display()))
     }

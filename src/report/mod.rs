@@ -8,7 +8,8 @@
 //! - charts: rmse bars, error against `fit_ns` (when that column exists), one convergence
 //!   chart per knob of every sweep CSV (any CSV with `knob`, `value`, `rmse` columns), the blending chart of every blending CSV (`t`, `method`, E/π at N);
 //! - comparison sheets (`sheet_<map>.png`), drawn when every map of the experiment is on the
-//!   search path; otherwise the committed sheets are kept and linked;
+//!   search path; otherwise the committed sheets are kept and linked, and the page reads the
+//!   same (what this machine lacked is returned in [`Generated`], for the command to print);
 //! - other pictures and files found in the folder (e.g. a blending strip) are linked, so work
 //!   added later appears without changes here.
 //!
@@ -67,7 +68,8 @@ pub struct Options<'a> {
     pub sheet_scale: u32,
 }
 
-/// What a report run produced.
+/// What a report run produced. The pages written depend only on the committed files (results,
+/// experiments, provenance), never on which maps this machine has: what it lacked is here.
 pub struct Generated {
     /// The path of the `REPORT.md` written.
     pub report: PathBuf,
@@ -75,6 +77,10 @@ pub struct Generated {
     pub pictures: usize,
     /// Experiments whose sheets were not redrawn (maps missing).
     pub kept: Vec<String>,
+    /// The experiments' maps not found on the search path.
+    pub missing: Vec<String>,
+    /// Maps found in another file than the one their tables record (a sentence each).
+    pub mismatches: Vec<String>,
 }
 
 /// A file name made of `[A-Za-z0-9._-]`.
@@ -82,14 +88,11 @@ pub fn file_safe(s: &str) -> String {
     s.chars().map(|c| if c.is_ascii_alphanumeric() || matches!(c, '.' | '_' | '-') { c } else { '_' }).collect()
 }
 
-/// One map file as used now.
+/// One map file as found now (what the sheets are drawn from; compared with the records).
 #[derive(Clone, Debug)]
 struct MapUse {
     file: String,
-    dir: String,
-    size: String,
     sha256: String,
-    used_by: Vec<String>,
 }
 
 /// A report section: an experiment, or another folder of results.
@@ -153,25 +156,57 @@ pub fn generate(opts: &Options) -> Result<Generated> {
     let (pages, page_pictures, kept) = write_pages(opts, &sections, &drawn_sheets)?;
     // Every table's provenance.toml, read once for REPORT.md's opening and PROVENANCE.md.
     let records = run_records(&sections, out)?;
-    let doc = report_md(opts, &records, &maps, &pages)?;
+    let named = named_maps(&sections);
+    let doc = report_md(opts, &records, named.len(), &pages)?;
     let report = out.join("REPORT.md");
     crate::io::atomic::write(&report, doc.as_bytes())?;
-    crate::io::atomic::write(&out.join(PROVENANCE_PAGE), provenance(opts, &sections, &records, &maps).as_bytes())?;
-    Ok(Generated { report, pictures: sheet_pictures + page_pictures, kept })
+    crate::io::atomic::write(&out.join(PROVENANCE_PAGE), provenance(&sections, &records, &named).as_bytes())?;
+    let missing = maps.iter().filter(|(_, u)| u.is_none()).map(|(m, _)| m.clone()).collect();
+    Ok(Generated {
+        report,
+        pictures: sheet_pictures + page_pictures,
+        kept,
+        missing,
+        mismatches: mismatches(&maps, &records),
+    })
+}
+
+/// Every map the experiments name, with the experiments that name it (committed data only).
+fn named_maps(sections: &[Section]) -> BTreeMap<String, Vec<String>> {
+    let mut named: BTreeMap<String, Vec<String>> = BTreeMap::new();
+    for s in sections {
+        for m in s.exp.iter().flat_map(|e| &e.maps) {
+            named.entry(m.clone()).or_default().push(s.name.clone());
+        }
+    }
+    named
+}
+
+/// The maps found here in another file than the one a table was computed from, one sentence
+/// each (the file's sha256 differs; `check` says whether the pixels are the same).
+fn mismatches(maps: &BTreeMap<String, Option<MapUse>>, records: &[RunRecord]) -> Vec<String> {
+    let mut out = Vec::new();
+    for (section, pr) in records {
+        for r in &pr.maps {
+            if let Some(Some(u)) = maps.get(&r.name) {
+                if u.sha256 != r.sha256 {
+                    out.push(format!(
+                        "{section}: its table used a map {} with another file sha256 than {}",
+                        r.name, u.file
+                    ));
+                }
+            }
+        }
+    }
+    out
 }
 
 /// Every map an experiment names, resolved on the search path and checksummed (`None` when it
-/// is not found), with the sections that use it.
+/// is not found).
 fn map_uses(opts: &Options, sections: &[Section]) -> BTreeMap<String, Option<MapUse>> {
     let mut maps: BTreeMap<String, Option<MapUse>> = BTreeMap::new();
-    for s in sections {
-        let Some(exp) = &s.exp else { continue };
-        for m in &exp.maps {
-            let entry = maps.entry(m.clone()).or_insert_with(|| map_use(opts.root, opts.search, m).ok());
-            if let Some(u) = entry {
-                u.used_by.push(s.name.clone());
-            }
-        }
+    for m in sections.iter().flat_map(|s| s.exp.iter().flat_map(|e| &e.maps)) {
+        maps.entry(m.clone()).or_insert_with(|| map_use(opts.search, m).ok());
     }
     maps
 }
@@ -260,12 +295,7 @@ fn write_pages(
 /// REPORT.md's text: the opening, the claims at a glance, one section per paper and the other
 /// results. Reads the claims declarations (`experiments/claims/`), the paper sections' plans
 /// ([`papers::PLAN_FILE`]) and the engine's CLAIMS.csv.
-fn report_md(
-    opts: &Options,
-    records: &[RunRecord],
-    maps: &BTreeMap<String, Option<MapUse>>,
-    pages: &[Page],
-) -> Result<String> {
+fn report_md(opts: &Options, records: &[RunRecord], named: usize, pages: &[Page]) -> Result<String> {
     let out = opts.out;
     let decl_dir = opts.root.join("experiments").join(crate::claims::declaration::DIR);
     let papers = if decl_dir.is_dir() {
@@ -282,7 +312,7 @@ fn report_md(
     };
     let claims_csv = out.join(CLAIMS_CSV);
     let claims = if claims_csv.is_file() { Some(CsvTable::read(&claims_csv)?) } else { None };
-    let mut doc = opening(records, maps, &papers, &plans);
+    let mut doc = opening(records, named, &papers, &plans);
     doc.push_str(&papers::at_a_glance(&papers, claims.as_ref())?);
     doc.push_str(&paper_sections(out, &papers, &plans, pages)?);
     let planned: Vec<&str> = plans.iter().flat_map(|p| p.pages.iter().map(String::as_str)).collect();
@@ -293,7 +323,7 @@ fn report_md(
 /// The first lines of REPORT.md: what probelab is and how this run was made.
 fn opening(
     records: &[RunRecord],
-    maps: &BTreeMap<String, Option<MapUse>>,
+    named: usize,
     papers: &[crate::claims::declaration::Paper],
     plans: &[papers::PaperPlan],
 ) -> String {
@@ -318,16 +348,15 @@ fn opening(
          measurements. This report is generated by `probelab report` from the CSVs under `results/`; do not edit \
          it by hand.\n\n",
     );
-    let found = maps.values().filter(|m| m.is_some()).count();
     let _ = writeln!(
         md,
         "**How this run was made.** {tables} tables, computed at commit{} {}{} on {} (UTC), each recorded in its \
          `provenance.toml`. Reference: the exact irradiance of each map taken as piecewise-constant radiance over its \
          texel cells (Gauss–Legendre in the polar angle; each table's `reference` column says which grid and nodes). \
          Every figure is **E/π** (a white Lambertian surface's exit radiance: a constant environment of radiance 1 \
-         gives 1); each table states its domain, weighting and output resolution. Maps: {} named in the \
-         experiments, {found} found now; each is listed with its file's sha256 in [{PROVENANCE_PAGE}]({PROVENANCE_PAGE}) \
-         with every experiment's settings.{}\n",
+         gives 1); each table states its domain, weighting and output resolution. Maps: {named} named in the \
+         experiments; each is listed with the sha256 of the file its tables were computed from in \
+         [{PROVENANCE_PAGE}]({PROVENANCE_PAGE}) with every experiment's settings.{}\n",
         if commits.len() == 1 { "" } else { "s" },
         commits.iter().map(|c| format!("`{c}`")).collect::<Vec<_>>().join(", "),
         if dirty > 0 { format!(" ({dirty} with uncommitted changes)") } else { String::new() },
@@ -336,7 +365,6 @@ fn opening(
             (Some(a), _) => a.clone(),
             _ => "-".into(),
         },
-        maps.len(),
         if papers.is_empty() {
             format!(
                 " No claims declarations (`experiments/{}/`) in this checkout: the papers' sections use the \
@@ -357,15 +385,12 @@ fn opening(
     md
 }
 
-fn map_use(root: &Path, search: &SearchPath, name: &str) -> Result<MapUse> {
+fn map_use(search: &SearchPath, name: &str) -> Result<MapUse> {
     let map = search.load(name)?;
     let path = map.path.clone().unwrap_or_default();
     Ok(MapUse {
         file: path.file_name().map(|f| f.to_string_lossy().into_owned()).unwrap_or_default(),
-        dir: path.parent().map(|p| shown_dir(root, p)).unwrap_or_default(),
-        size: crate::regression::provenance::size_and_exposure(map.width(), map.height(), map.exposure),
         sha256: map.sha256.clone().unwrap_or_default(),
-        used_by: Vec::new(),
     })
 }
 
@@ -573,17 +598,15 @@ fn sheets_part(md: &mut String, s: &Section, now: &[String], sheets: Option<&Vec
         sheet_files.sort_by_key(|f| (pos(f).unwrap_or(usize::MAX), f.clone()));
     }
     if let Some(exp) = &s.exp {
-        let note = if sheets.is_some() {
-            String::new()
-        } else {
+        // Sheets not redrawn here are the committed ones, and the page says nothing of this
+        // machine: the command reports the experiments `kept`.
+        if sheets.is_none() {
             kept.push(s.name.clone());
-            if sheet_files.is_empty() {
-                "Not drawn: not every map of this experiment is on the map search path (set PROBELAB_ENVMAPS).\n\n"
-                    .to_string()
-            } else {
-                "Not redrawn in this run (not every map is on the map search path); these are the committed sheets.\n\n"
-                    .to_string()
-            }
+        }
+        let note = if sheet_files.is_empty() {
+            "None yet: they are drawn when every map of the experiment is on the map search path.\n\n"
+        } else {
+            ""
         };
         let hemi = !exp.orientations.is_empty();
         let _ = writeln!(
@@ -633,19 +656,6 @@ fn other_files(md: &mut String, dir: &Path, now: &[String], made: &[String]) -> 
     Ok(())
 }
 
-/// A folder as shown in the report: relative to the repository root when inside it, else
-/// "a `PROBELAB_ENVMAPS` folder" — so no machine path (absolute, or relative to wherever the
-/// checkout lives) reaches `results/`; maps are identified by their sha256.
-fn shown_dir(root: &Path, d: &Path) -> String {
-    let root = root.canonicalize().unwrap_or_else(|_| root.to_path_buf());
-    let abs = d.canonicalize().unwrap_or_else(|_| d.to_path_buf());
-    match abs.strip_prefix(&root) {
-        Ok(rel) if rel.as_os_str().is_empty() => ".".into(),
-        Ok(rel) => rel.display().to_string(),
-        Err(_) => "a PROBELAB_ENVMAPS folder".into(),
-    }
-}
-
 /// A section's recorded run: the section's name and its folder's `provenance.toml`.
 type RunRecord = (String, crate::regression::provenance::Provenance);
 
@@ -663,26 +673,21 @@ fn run_records(sections: &[Section], out: &Path) -> Result<Vec<RunRecord>> {
 }
 
 /// PROVENANCE.md: how each table was computed, the settings of every experiment and the maps.
-/// Everything comes from the committed files (each table's provenance.toml) and the maps, not
-/// from the clock or the checkout, so the same results give the same page.
-fn provenance(
-    opts: &Options,
-    sections: &[Section],
-    records: &[RunRecord],
-    maps: &BTreeMap<String, Option<MapUse>>,
-) -> String {
+/// Everything comes from the committed files (each table's provenance.toml, the experiments),
+/// not from the clock, the checkout or the maps this machine has, so the same results give the
+/// same page.
+fn provenance(sections: &[Section], records: &[RunRecord], named: &BTreeMap<String, Vec<String>>) -> String {
     let mut md = String::from(
         "# How this run was made\n\nGenerated by `probelab report`; do not edit. Back to [the report](REPORT.md).\n\n",
     );
-    runs_part(&mut md, opts, records);
+    runs_part(&mut md, records);
     settings_part(&mut md, sections);
-    maps_part(&mut md, maps, records);
+    maps_part(&mut md, named, records);
     md
 }
 
-/// The runs table (per table: commit, date, version, table checksum) and the pictures' build
-/// and map search path.
-fn runs_part(md: &mut String, opts: &Options, records: &[RunRecord]) {
+/// The runs table (per table: commit, date, version, table checksum) and the pictures' version.
+fn runs_part(md: &mut String, records: &[RunRecord]) {
     md.push_str(
         "Each table was computed by the run its `provenance.toml` records (`probelab run`, `reproduce` or `bless`); \
          the report was drawn from those tables.\n\n",
@@ -708,13 +713,11 @@ fn runs_part(md: &mut String, opts: &Options, records: &[RunRecord]) {
         md.push_str(&markdown::table_with(&headers, &rows, markdown::text_cell));
         md.push('\n');
     }
-    let dirs: Vec<String> = opts.search.dirs().iter().map(|d| format!("`{}`", shown_dir(opts.root, d))).collect();
     let _ = writeln!(
         md,
-        "Pictures: probelab {} ({} build). Map search path of this report: {} (`PROBELAB_ENVMAPS` adds folders after `envmaps/`).\n",
-        env!("CARGO_PKG_VERSION"),
-        if cfg!(debug_assertions) { "debug" } else { "release" },
-        dirs.join(", ")
+        "Pictures: probelab {}; a comparison sheet is drawn when every map of its experiment is on the map \
+         search path, and otherwise kept as committed.\n",
+        env!("CARGO_PKG_VERSION")
     );
 }
 
@@ -760,33 +763,30 @@ fn settings_row(name: &str, e: &Experiment) -> Vec<String> {
     ]
 }
 
-/// What the runs recorded of a map: its file, size, sha256 and the experiments that used it.
-type RecordedMap = (String, String, String, Vec<String>);
+/// What the runs recorded of a map: its file, size and sha256.
+type RecordedMap = (String, String, String);
 
-/// The maps table: each map as read now, or as its tables recorded it when it is not found;
-/// and a warning naming every table computed from a map with another checksum.
-fn maps_part(md: &mut String, maps: &BTreeMap<String, Option<MapUse>>, records: &[RunRecord]) {
+/// The maps table: every map the experiments name, as the first table that records it
+/// (section order) recorded it, with the experiments that name it; and a warning naming the
+/// tables computed from a file with another checksum than that one.
+fn maps_part(md: &mut String, named: &BTreeMap<String, Vec<String>>, records: &[RunRecord]) {
     md.push_str(
-        "## Maps\n\nSHA-256 of the file read now (each experiment's `provenance.toml` records the files its table was \
-         computed from).\n\n",
+        "## Maps\n\nSHA-256 of the file each table was computed from, as its `provenance.toml` records it. \
+         `probelab maps` lists the known maps missing on a machine and where to get them (docs/maps.md).\n\n",
     );
     let mut recorded: BTreeMap<String, RecordedMap> = BTreeMap::new();
     let mut mismatches = Vec::new();
     for (section, pr) in records {
         for r in &pr.maps {
-            if let Some(Some(u)) = maps.get(&r.name) {
-                if u.sha256 != r.sha256 {
-                    mismatches.push(format!("`{section}`: its table used a map `{}` with another checksum", r.name));
-                }
+            let first = recorded
+                .entry(r.name.clone())
+                .or_insert_with(|| (r.file.clone(), crate::regression::provenance::size_and_exposure(r.width, r.height, r.exposure), r.sha256.clone()));
+            if first.2 != r.sha256 {
+                mismatches.push(format!("`{section}`: its table used a map `{}` with another checksum", r.name));
             }
-            let e = recorded.entry(r.name.clone()).or_insert_with(|| {
-                let size = crate::regression::provenance::size_and_exposure(r.width, r.height, r.exposure);
-                (r.file.clone(), size, r.sha256.clone(), Vec::new())
-            });
-            e.3.push(section.clone());
         }
     }
-    let rows: Vec<Vec<String>> = maps.iter().map(|(name, u)| map_row(name, u.as_ref(), recorded.get(name))).collect();
+    let rows: Vec<Vec<String>> = named.iter().map(|(name, by)| map_row(name, by, recorded.get(name))).collect();
     let headers: Vec<String> = ["map", "file", "size", "sha256", "used by"].iter().map(|s| s.to_string()).collect();
     md.push_str(&markdown::table_with(&headers, &rows, markdown::text_cell));
     if !mismatches.is_empty() {
@@ -795,24 +795,13 @@ fn maps_part(md: &mut String, maps: &BTreeMap<String, Option<MapUse>>, records: 
     md.push('\n');
 }
 
-/// A map's row of the maps table: as found now, else as recorded, else not found.
-fn map_row(name: &str, u: Option<&MapUse>, recorded: Option<&RecordedMap>) -> Vec<String> {
-    match (u, recorded) {
-        (Some(u), _) => vec![
-            name.to_string(),
-            format!("`{}` in `{}`", u.file, u.dir),
-            u.size.clone(),
-            format!("`{}`", u.sha256),
-            u.used_by.join(", "),
-        ],
-        (None, Some((file, size, sha, by))) => vec![
-            name.to_string(),
-            format!("not found on this machine; the table used `{file}` (from provenance.toml)"),
-            size.clone(),
-            format!("`{sha}`"),
-            by.join(", "),
-        ],
-        (None, None) => vec![name.to_string(), "not found on this machine".into(), "-".into(), "-".into(), "-".into()],
+/// A map's row of the maps table: as recorded, else that no table records it.
+fn map_row(name: &str, used_by: &[String], recorded: Option<&RecordedMap>) -> Vec<String> {
+    match recorded {
+        Some((file, size, sha)) => {
+            vec![name.to_string(), format!("`{file}`"), size.clone(), format!("`{sha}`"), used_by.join(", ")]
+        }
+        None => vec![name.to_string(), "no table records it yet".into(), "-".into(), "-".into(), used_by.join(", ")],
     }
 }
 
