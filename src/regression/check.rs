@@ -642,6 +642,8 @@ pub struct CheckSummary {
     /// `{ "passed", "experiments": [ExperimentCheck::to_json…], "not_checked": […],
     /// "numbers", "moved", "unchecked_maps", "seconds" }`.
     pub json: serde_json::Value,
+    /// Every map the experiments read, with its identity, in the order read.
+    pub maps: Vec<crate::pipeline::runner::MapInfo>,
 }
 
 /// `probelab check`: checks the selected experiments against their baselines; the exit code
@@ -664,12 +666,14 @@ pub fn check_experiments(
     let start = std::time::Instant::now();
     let mut failed = Vec::new();
     let mut checks = Vec::new();
+    let mut maps = Vec::new();
     let (mut numbers, mut moved, mut unchecked) = (0, 0, 0);
     for exp in &exps {
         let t = std::time::Instant::now();
         let report = runner::run(exp, search)?;
         let c = compare_with_baseline(&out.join(&exp.name), exp, &report, &tolerances, allow_missing)?;
         checked(&c, t.elapsed().as_secs_f64())?;
+        maps.extend(report.maps);
         numbers += c.comparison.numbers;
         moved += c.moved();
         unchecked += c.unchecked_maps();
@@ -711,7 +715,7 @@ pub fn check_experiments(
         "unchecked_maps": unchecked,
         "seconds": (elapsed * 10.0).round() / 10.0,
     });
-    Ok((code, CheckSummary { text, json }))
+    Ok((code, CheckSummary { text, json, maps }))
 }
 
 /// `probelab bless`: re-runs the experiments (by default all of them), hands each comparison
