@@ -16,6 +16,7 @@ use crate::encoders::encoder::{surface_normal_refusal, Encoder, Fitted};
 use crate::envmap::search::SearchPath;
 use crate::envmap::EnvMap;
 use crate::math::cap::Cap;
+use crate::pipeline::experiment::Experiment as PipelineExperiment;
 use crate::pipeline::runner::{score_fit, Case, CaseData, MapData};
 use crate::reference::domain::Domain;
 use crate::reference::exact::DEFAULT_POLAR_NODES;
@@ -25,7 +26,14 @@ use std::path::Path;
 
 pub use crate::encoders::stored::{Entry, Role, Stored, Unit, Value};
 pub use crate::math::colour::Rgb;
+pub use crate::pipeline::table::Row;
+pub use crate::reference::metrics::Scores;
 pub use glam::DVec3;
+
+/// The output grid (W, H) of normals that `probelab eval` and experiments score on unless told
+/// otherwise (`--resolution`, the experiment key `resolution`): pass it to [`Lighting::score`]
+/// to get the command line's numbers.
+pub const DEFAULT_RESOLUTION: (usize, usize) = (256, 128);
 
 /// A lat-long HDR map (OpenEXR or Radiance `.hdr`), read as piecewise-constant radiance over
 /// its texel cells (`docs/conventions.md` §1).
@@ -144,6 +152,16 @@ pub enum Surface {
     Normal(DVec3),
 }
 
+/// Prints `sphere` or `hemisphere about N = (x, y, z)`.
+impl std::fmt::Display for Surface {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Surface::Sphere => f.write_str("sphere"),
+            Surface::Normal(n) => write!(f, "hemisphere about N = ({}, {}, {})", n.x, n.y, n.z),
+        }
+    }
+}
+
 /// A map's light as seen from one [`Surface`]: what every fit and the reference are computed
 /// from (the map's SH and row moments, computed once).
 pub struct Lighting<'m> {
@@ -226,6 +244,13 @@ pub struct Score {
     pub neg_frac: f64,
 }
 
+/// Prints `rmse=… rel_rmse=… neg_frac=…` (E/π; `rel_rmse` and `neg_frac` are unitless).
+impl std::fmt::Display for Score {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "rmse={} rel_rmse={} neg_frac={}", self.rmse, self.rel_rmse, self.neg_frac)
+    }
+}
+
 /// A fitted encoding.
 pub struct Fit {
     id: String,
@@ -263,6 +288,54 @@ impl Fit {
     /// Solver statistics and similar per-fit figures (the tables' `diagnostics` column).
     pub fn diagnostics(&self) -> Vec<(&'static str, f64)> {
         self.fitted.diagnostics()
+    }
+}
+
+/// An experiment (`docs/experiments.md`): maps, encoders with their settings, metrics, the
+/// domain, orientations, effects and the output resolution; what `probelab run FILE` runs,
+/// here run without writing anything.
+pub struct Experiment {
+    exp: PipelineExperiment,
+}
+
+impl Experiment {
+    /// An experiment from the text of an experiment file. `name` is its name (the default of
+    /// the file's `name` key) and names it in errors, which give the line of the fault as for a
+    /// file (`NAME:LINE: …`).
+    pub fn from_toml(name: &str, text: &str) -> Result<Experiment> {
+        let mut exp = PipelineExperiment::parse(text, Path::new(name))?;
+        exp.source = None;
+        Ok(Experiment { exp })
+    }
+
+    /// An experiment file (`experiments/NAME.toml`); errors name the file and the line.
+    pub fn load(path: impl AsRef<Path>) -> Result<Experiment> {
+        Ok(Experiment { exp: PipelineExperiment::load(path.as_ref())? })
+    }
+
+    /// Its name.
+    pub fn name(&self) -> &str {
+        &self.exp.name
+    }
+
+    /// Runs it on its maps, found as [`Map::load`] finds them (`<root>/envmaps`, then
+    /// `PROBELAB_ENVMAPS`), and returns the rows of its table (`docs/tables.md`: one per map,
+    /// case, encoder and metric). A map that is not found is an error naming it and the
+    /// folders searched.
+    pub fn run(&self, root: impl AsRef<Path>) -> Result<Vec<Row>> {
+        let search = SearchPath::from_env(root.as_ref().join("envmaps"));
+        let report = crate::pipeline::runner::run(&self.exp, &search)?;
+        if !report.missing.is_empty() {
+            let why: Vec<String> =
+                report.missing.iter().zip(&report.missing_why).map(|(m, w)| format!("{m} ({w})")).collect();
+            bail!(
+                "experiment {}: map(s) not found: {}\nSearched: {}",
+                self.exp.name,
+                why.join(", "),
+                search.describe()
+            );
+        }
+        Ok(report.rows)
     }
 }
 

@@ -13,7 +13,7 @@
 //!
 //! ```no_run
 //! use probelab::{DVec3, Map, Surface};
-//! # fn main() -> anyhow::Result<()> {
+//! # fn main() -> probelab::Result<()> {
 //! let map = Map::load("blender_city_256x128", ".")?;
 //! let light = map.lighting(Surface::Sphere)?;
 //! let fit = light.fit("zh3_solved_shared", "")?;
@@ -43,11 +43,20 @@
 #![deny(missing_docs)]
 
 pub mod api;
+/// The one error type of the library: every fallible function returns [`Result`], whose error
+/// names the file, key or encoder and what is wrong (`{:#}` prints the whole chain, as the
+/// command line does). It is `anyhow`'s, re-exported so that a program need not depend on it.
+pub use anyhow::{Error, Result};
 pub use api::{
-    encoder_ids, needs_surface_normal, unit_normal, Entry, Fit, Lighting, Map, Rgb, Role, Score, Stored, Surface, Unit,
-    Value,
+    encoder_ids, needs_surface_normal, unit_normal, Entry, Experiment, Fit, Lighting, Map, Rgb, Role, Row, Score,
+    Scores, Stored, Surface, Unit, Value, DEFAULT_RESOLUTION,
 };
 pub use glam::DVec3;
+
+/// docs/library.md, whose Rust examples `cargo test --doc` compiles and runs.
+#[cfg(doctest)]
+#[doc = include_str!("../docs/library.md")]
+pub mod library_guide {}
 
 // The internal layers (ARCHITECTURE.md): reachable for the binary, the tests and the benches;
 // no stability promise.

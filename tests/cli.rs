@@ -262,23 +262,42 @@ fn with_self_bounce_delegates_the_surface_refusal() {
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
 }
 
-/// `eval --format json`: the same rows as the CSV, keyed by the same columns, each score a JSON
-/// number equal to the CSV's cell (both print f64 in shortest round-trip form), empty cells
-/// `null`; a format other than csv or json is refused.
+/// `eval --format json`: the same rows as the CSV, keyed by the same columns in the same order,
+/// each score a JSON number equal to the CSV's cell (both print f64 in shortest round-trip
+/// form), empty cells `null`, the diagnostics an object of the CSV cell's `key=value` pairs; a
+/// format other than csv or json is refused.
 #[test]
 fn eval_prints_json_with_the_csv_columns() {
-    let args = ["eval", "blender_city_256x128", "--encoders", "sh1,zh3_hallucinate", "--resolution", "32x16"];
-    let csv = parse_csv(&stdout_ok(&run(&args)));
+    let args = ["eval", "blender_city_256x128", "--encoders", "sh1,zh3_solved_shared", "--resolution", "32x16"];
+    let csv_text = stdout_ok(&run(&args));
+    let csv = parse_csv(&csv_text);
+    let columns: Vec<&str> = csv_text.lines().next().unwrap().split(',').collect();
+    assert!(csv.iter().any(|r| r["diagnostics"].contains('=')), "an encoder with diagnostics");
     let json: serde_json::Value =
         serde_json::from_str(&stdout_ok(&run(&[&args[..], &["--format", "json"]].concat()))).unwrap();
-    let rows = json.as_array().expect("an array of rows");
+    assert_eq!(json["schema"], "probelab.eval/1");
+    let rows = json["rows"].as_array().expect("an array of rows");
     assert_eq!(rows.len(), csv.len());
     assert_eq!(rows.len(), 2);
     for (j, c) in rows.iter().zip(&csv) {
         let j = j.as_object().unwrap();
         assert_eq!(j.len(), c.len(), "the same columns");
+        assert_eq!(j.keys().map(String::as_str).collect::<Vec<_>>(), columns, "the CSV's column order");
         for (col, cell) in c {
             let v = &j[col];
+            if col == "diagnostics" {
+                let pairs: Vec<(String, f64)> = cell
+                    .split(';')
+                    .filter(|p| !p.is_empty())
+                    .map(|p| p.split_once('=').map(|(k, v)| (k.to_string(), v.parse().unwrap())).unwrap())
+                    .collect();
+                let obj = v.as_object().expect("diagnostics are an object");
+                assert_eq!(obj.len(), pairs.len(), "{cell}");
+                for (k, x) in pairs {
+                    assert_eq!(obj[&k].as_f64(), Some(x), "diagnostics {k}");
+                }
+                continue;
+            }
             match v {
                 serde_json::Value::String(s) => assert_eq!(s, cell, "{col}"),
                 serde_json::Value::Null => assert!(cell.is_empty(), "{col}: null for '{cell}'"),

@@ -2,7 +2,10 @@
 //! each command's own `--help`, for nested commands) and every option of each command has its
 //! place in docs/commands.md, and nothing there is absent from the help; every relative link of
 //! README.md, ARCHITECTURE.md and docs/*.md resolves; README.md stays short, opens with the two
-//! commands, and `.ci/run` runs its test command.
+//! commands, and `.ci/run` runs its test command; every command line of the ```` ```sh ````
+//! blocks of README.md and docs/*.md runs on a fresh clone (a temporary copy of the checkout,
+//! the release binary as `probelab`, `PROBELAB_ENVMAPS` unset) or carries a marker
+//! (docs/commands.md, the top: `# needs: …`, `# long: run by FILE`).
 //!
 //! docs/commands.md's layout, which this file parses: one `## `probelab CMD`` heading per
 //! command (`## `probelab maps import`` for a nested one), a `## Global options` section for the
@@ -272,4 +275,179 @@ fn help_parsers_read_clap_blocks() {
     assert_eq!(parsed[&Vec::new()].iter().collect::<Vec<_>>(), ["--jobs"]);
     assert_eq!(parsed[&vec!["maps".to_string(), "import".to_string()]].iter().collect::<Vec<_>>(), ["--out"]);
     assert_eq!(parsed.len(), 2);
+}
+
+/// A command line of a ```` ```sh ```` block: the page, its line number, the command (a
+/// continued line joined) and its marker (`needs: …` or `long: …`), if any.
+#[derive(Debug, PartialEq)]
+struct DocCommand {
+    page: String,
+    line: usize,
+    command: String,
+    marker: Option<String>,
+}
+
+/// The marker of a line: the text from a `# needs:` or `# long:` comment on.
+fn marker(line: &str) -> Option<String> {
+    ["# needs:", "# long:"].iter().filter_map(|m| line.find(m)).min().map(|at| line[at + 2..].trim().to_string())
+}
+
+/// Every command line of the ```` ```sh ```` blocks of `text` (docs/commands.md, the top): a
+/// trailing `\` joins the next line; comment lines are not commands, but a comment line
+/// holding a marker marks its whole block.
+fn sh_commands(page: &str, text: &str) -> Vec<DocCommand> {
+    let mut out = Vec::new();
+    let lines: Vec<&str> = text.lines().collect();
+    let mut i = 0;
+    while i < lines.len() {
+        if lines[i].trim_end() != "```sh" {
+            i += 1;
+            continue;
+        }
+        let start = i + 1;
+        let end = (start..lines.len()).find(|&k| lines[k].trim_start().starts_with("```")).unwrap_or(lines.len());
+        let block = &lines[start..end];
+        let block_marker = block.iter().filter(|l| l.trim_start().starts_with('#')).find_map(|l| marker(l));
+        let mut k = 0;
+        while k < block.len() {
+            let first = k;
+            let mut command = block[k].trim_end().to_string();
+            while command.ends_with('\\') && k + 1 < block.len() {
+                command.pop();
+                k += 1;
+                command = format!("{} {}", command.trim_end(), block[k].trim());
+            }
+            k += 1;
+            let trimmed = command.trim();
+            if trimmed.is_empty() || trimmed.starts_with('#') {
+                continue;
+            }
+            out.push(DocCommand {
+                page: page.to_string(),
+                line: start + first + 1,
+                marker: marker(&command).or_else(|| block_marker.clone()),
+                command: trimmed.to_string(),
+            });
+        }
+        i = end + 1;
+    }
+    out
+}
+
+#[test]
+fn sh_commands_join_lines_and_read_markers() {
+    let md =
+        "x\n```sh\n# a comment\nprobelab a \\\n  --b\nprobelab c   # needs: the paper probes (docs/maps.md)\n```\n\
+              ```text\nnot a command\n```\n```sh\n#!/bin/bash\n# long: run by tests/x.rs\nprobelab d\n```\n";
+    let got = sh_commands("p.md", md);
+    let short: Vec<(usize, &str, Option<&str>)> =
+        got.iter().map(|c| (c.line, c.command.as_str(), c.marker.as_deref())).collect();
+    assert_eq!(
+        short,
+        [
+            (4, "probelab a --b", None),
+            (
+                6,
+                "probelab c   # needs: the paper probes (docs/maps.md)",
+                Some("needs: the paper probes (docs/maps.md)")
+            ),
+            (14, "probelab d", Some("long: run by tests/x.rs")),
+        ]
+    );
+}
+
+/// The files of the checkout (`git ls-files`), copied to `to`.
+fn copy_checkout(to: &Path) {
+    let out = Command::new("git").args(["ls-files", "-z"]).current_dir(repo()).output().expect("git ls-files");
+    assert!(out.status.success(), "git ls-files: {}", String::from_utf8_lossy(&out.stderr));
+    for rel in out.stdout.split(|b| *b == 0).filter(|r| !r.is_empty()) {
+        let rel = Path::new(std::str::from_utf8(rel).unwrap());
+        let (from, dest) = (repo().join(rel), to.join(rel));
+        if !from.is_file() {
+            continue; // deleted in the working tree
+        }
+        std::fs::create_dir_all(dest.parent().unwrap()).unwrap();
+        std::fs::copy(&from, &dest).unwrap_or_else(|e| panic!("{}: {e}", rel.display()));
+    }
+}
+
+/// Runs `command` with `sh` in `dir`, `bin` first on PATH and `PROBELAB_ENVMAPS` unset; the
+/// exit status and output, or `None` after `limit`.
+fn run_line(command: &str, dir: &Path, bin: &Path, limit: std::time::Duration) -> Option<std::process::Output> {
+    let path = format!("{}:{}", bin.display(), std::env::var("PATH").unwrap_or_default());
+    let mut child = Command::new("sh")
+        .args(["-c", command])
+        .current_dir(dir)
+        .env("PATH", path)
+        .env_remove("PROBELAB_ENVMAPS")
+        .stdin(std::process::Stdio::null())
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("run sh");
+    let start = std::time::Instant::now();
+    while child.try_wait().unwrap().is_none() {
+        if start.elapsed() > limit {
+            child.kill().ok();
+            child.wait().ok();
+            return None;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    Some(child.wait_with_output().unwrap())
+}
+
+/// Every command of README.md's and docs/*.md's ```` ```sh ```` blocks runs on a fresh clone
+/// (the committed maps only), in page order, in a copy of the checkout, with the binary as
+/// `probelab`; or it is marked (docs/commands.md, the top), and a `long:` marker names a file
+/// of the repository that runs it.
+#[test]
+fn every_documented_command_runs_on_a_fresh_clone_or_is_marked() {
+    let mut pages = vec![PathBuf::from("README.md")];
+    let mut docs: Vec<PathBuf> = std::fs::read_dir(repo().join("docs"))
+        .unwrap()
+        .map(|e| PathBuf::from("docs").join(e.unwrap().file_name()))
+        .filter(|p| p.extension().is_some_and(|x| x == "md"))
+        .collect();
+    docs.sort();
+    pages.extend(docs);
+    let commands: Vec<DocCommand> =
+        pages.iter().flat_map(|p| sh_commands(&p.display().to_string(), &read(&p.display().to_string()))).collect();
+    assert!(commands.len() > 20, "found only {} commands: is the block parser broken?", commands.len());
+    let checkout = tempfile::tempdir().unwrap();
+    copy_checkout(checkout.path());
+    let bin = tempfile::tempdir().unwrap();
+    std::os::unix::fs::symlink(env!("CARGO_BIN_EXE_probelab"), bin.path().join("probelab")).unwrap();
+    let mut faults = Vec::new();
+    let mut ran = 0;
+    for c in &commands {
+        let at = format!("{}:{}: `{}`", c.page, c.line, c.command);
+        match c.marker.as_deref() {
+            Some(m) if m.starts_with("long:") => {
+                let named = m.split_whitespace().map(|w| w.trim_matches(|ch: char| ",;()".contains(ch)));
+                if !named.clone().any(|w| w.contains('/') && repo().join(w).is_file()) {
+                    faults.push(format!("{at}: `{m}` names no file of the repository that runs it"));
+                }
+            }
+            Some(m) => {
+                if m.trim_start_matches("needs:").trim().is_empty() {
+                    faults.push(format!("{at}: `{m}` does not say what it needs"));
+                }
+            }
+            None => {
+                ran += 1;
+                match run_line(&c.command, checkout.path(), bin.path(), std::time::Duration::from_secs(30)) {
+                    None => faults.push(format!("{at}: still running after 30 s (mark it `# long: run by tests/…`)")),
+                    Some(out) if !out.status.success() => faults.push(format!(
+                        "{at}: exit {:?} on a fresh clone (fix it or mark it, docs/commands.md):\n    {}",
+                        out.status.code(),
+                        String::from_utf8_lossy(&out.stderr).trim().replace('\n', "\n    ")
+                    )),
+                    Some(_) => {}
+                }
+            }
+        }
+    }
+    assert!(ran >= 5, "only {ran} documented commands ran");
+    assert!(faults.is_empty(), "documented commands:\n  {}", faults.join("\n  "));
 }

@@ -3,7 +3,8 @@
 //! those binaries and parses a line of their output. Expected values: the stored-scalar count
 //! of ZH3 with a stored coefficient is 3 + 9 + 3 = 15 (L0, L1, k; ZH3 talk), and on the sphere
 //! SH L2 is the least-squares projection through band 2, which contains SH L1, so its
-//! solid-angle RMSE is no larger than SH L1's.
+//! solid-angle RMSE is no larger than SH L1's. `compare` says which grid it scored on, and its
+//! scores are `probelab eval`'s with the command line's defaults (the binary run beside it).
 
 use std::path::PathBuf;
 use std::process::Command;
@@ -56,4 +57,29 @@ fn compare_scores_two_encoders() {
     };
     let (sh1, sh2) = (score("sh1"), score("sh2"));
     assert!(sh2 <= sh1, "sh2 {sh2} > sh1 {sh1}\n{text}");
+}
+
+#[test]
+fn compare_says_its_grid_and_gives_the_command_lines_numbers() {
+    let text = run("compare", &["sh1", "zh3_hallucinate"]);
+    assert!(text.lines().any(|l| l.starts_with("scored over 256x128 normals")), "the grid is not said:\n{text}");
+    let out = Command::new(env!("CARGO_BIN_EXE_probelab"))
+        .args(["--no-timing", "eval", "blender_city_256x128", "--encoders", "sh1,zh3_hallucinate"])
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .expect("run probelab eval");
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let mut table = csv::Reader::from_reader(out.stdout.as_slice());
+    let header = table.headers().unwrap().clone();
+    let col = |name: &str| header.iter().position(|c| c == name).unwrap();
+    let rows: Vec<csv::StringRecord> = table.records().map(|r| r.unwrap()).collect();
+    assert_eq!(rows.len(), 2);
+    for cells in &rows {
+        let (id, rmse) = (&cells[col("encoder")], &cells[col("rmse")]);
+        assert_eq!(&cells[col("resolution")], "256x128");
+        let printed = text.lines().find(|l| l.starts_with(&format!("{id} rmse="))).expect("a line per encoder");
+        let theirs: f64 = printed.split_whitespace().nth(1).unwrap()["rmse=".len()..].parse().unwrap();
+        let ours: f64 = rmse.parse().unwrap();
+        assert!((ours - theirs).abs() <= 1e-12 * ours, "{id}: eval {ours}, compare {theirs}");
+    }
 }

@@ -19,7 +19,8 @@ fn values(v: &serde_json::Value) -> Vec<f64> {
 fn json_carries_names_units_basis_and_the_closed_form_values() {
     let out = run(&["fit", "gen_constant", "--encoders", "sh1,zh3_solved_shared", "--format", "json"]);
     let doc: serde_json::Value = serde_json::from_str(&stdout_ok(&out)).expect("JSON");
-    assert_eq!(doc["map"], "gen_constant");
+    assert_eq!(doc["schema"], "probelab.fit/1");
+    assert_eq!(doc["maps"][0]["name"], "gen_constant");
     assert_eq!(doc["domain"], "sphere");
     assert!(doc["normal"].is_null());
     assert!(doc["fitted_on"].as_str().unwrap().contains("sphere"), "{}", doc["fitted_on"]);

@@ -7,6 +7,7 @@
 use super::context::{reading, Env};
 use super::terminal::{note, noteln, outln};
 use anyhow::Result;
+use probelab::front::check::{self as check_json, ClaimsCheck};
 use probelab::io::output;
 use std::path::PathBuf;
 
@@ -41,7 +42,8 @@ pub fn run(a: Args, env: &Env) -> Result<i32> {
     let claims = a.all || a.experiments.iter().any(|e| e == "claims");
     let names: Vec<String> = a.experiments.into_iter().filter(|e| e != "claims").collect();
     let mut code = 0;
-    let mut doc = serde_json::json!({ "passed": true });
+    let mut checked = None;
+    let mut claims_json = None;
     if a.all || !names.is_empty() || !claims {
         let mut show = |c: &probelab::regression::check::ExperimentCheck, seconds: f64| -> Result<()> {
             if !json {
@@ -60,18 +62,16 @@ pub fn run(a: Args, env: &Env) -> Result<i32> {
         )?;
         code = c;
         note(&summary.notes);
-        if json {
-            doc = summary.json;
-        } else {
+        if !json {
             output::write(summary.text.as_bytes())?;
         }
+        checked = Some(summary);
     }
     if claims {
         let run = probelab::regression::claims::run(&env.root, &env.search, &out, false, false)?;
         let (ok, text) = probelab::regression::claims::report(&run, true);
         if json {
-            doc["claims"] = serde_json::json!({ "passed": ok, "lines": text.lines().collect::<Vec<_>>() });
-            doc["passed"] = serde_json::Value::Bool(doc["passed"].as_bool().unwrap_or(true) && ok);
+            claims_json = Some((ok, text));
         } else {
             output::write(text.as_bytes())?;
             outln!("claims: {}", if ok { "ok: no measurement moved, no verdict changed" } else { "FAILED" })?;
@@ -81,7 +81,8 @@ pub fn run(a: Args, env: &Env) -> Result<i32> {
         }
     }
     if json {
-        output::write((serde_json::to_string_pretty(&doc)? + "\n").as_bytes())?;
+        let claims = claims_json.as_ref().map(|(passed, text)| ClaimsCheck { passed: *passed, text });
+        output::write(check_json::to_json(checked.as_ref(), claims)?.as_bytes())?;
     }
     Ok(code)
 }

@@ -30,8 +30,9 @@ pub struct Args {
     /// Gauss–Legendre nodes per row piece of the reference.
     #[arg(long, default_value_t = probelab::reference::exact::DEFAULT_POLAR_NODES)]
     polar_nodes: usize,
-    /// Output format: `csv` (the table's columns) or `json` (an array of objects keyed by
-    /// the same columns, scores as numbers).
+    /// Output format: `csv` (the table's columns) or `json` (one object: `schema`, the maps
+    /// read with their sha256, and the rows keyed by the same columns, scores as numbers;
+    /// docs/json.md).
     #[arg(long, default_value = "csv", value_parser = ["csv", "json"])]
     format: String,
 }
@@ -46,7 +47,7 @@ pub fn run(a: Args, env: &Env) -> Result<i32> {
         polar_nodes: a.polar_nodes,
     };
     env.refuse_long_experiments(&[eval::experiment(a.maps.clone(), &options)?])?;
-    let rows = eval::rows_by_name(a.maps, &options, &env.search)?;
-    output::write(&if json { table::to_json(&rows)? } else { table::to_csv(&rows)? })?;
+    let evaluated = eval::rows_by_name(a.maps, &options, &env.search)?;
+    output::write(&if json { evaluated.to_json()?.into_bytes() } else { table::to_csv(&evaluated.rows)? })?;
     Ok(0)
 }

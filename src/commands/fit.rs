@@ -38,7 +38,8 @@ pub fn run(a: Args, env: &Env) -> Result<i32> {
     let map = Map::load_on(&env.search, &a.map)?;
     let light = map.lighting(surface)?;
     let fits = fit::fit_all(&light, &ids)?;
-    let text = if a.format == "json" { fit::to_json(&map, &light, &fits)? } else { to_csv(&map, &light, &fits)? };
+    let text =
+        if a.format == "json" { fit::to_json(&a.map, &map, &light, &fits)? } else { to_csv(&map, &light, &fits)? };
     output::write(text.as_bytes())?;
     Ok(0)
 }

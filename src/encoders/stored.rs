@@ -44,6 +44,13 @@ impl Unit {
     }
 }
 
+/// Prints [`Unit::label`]: `E/pi`, `radiance`, `unitless`, `direction` (padded to a width asked for).
+impl std::fmt::Display for Unit {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.pad(self.label())
+    }
+}
+
 /// Whether an entry is held by the probe or texel, or recomputed from what is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
 #[serde(rename_all = "lowercase")]
@@ -52,6 +59,16 @@ pub enum Role {
     Stored,
     /// Derived at decode time (from stored values, N, or the encoder's constants).
     Derived,
+}
+
+/// Prints `stored` or `derived` (as in JSON and CSV).
+impl std::fmt::Display for Role {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.pad(match self {
+            Role::Stored => "stored",
+            Role::Derived => "derived",
+        })
+    }
 }
 
 /// The value of an entry: one scalar, an RGB triple or a 3-vector.
@@ -94,6 +111,23 @@ impl Value {
     /// Whether every component is finite.
     pub fn is_finite(&self) -> bool {
         self.components().iter().all(|c| c.is_finite())
+    }
+}
+
+/// Prints the components separated by spaces (`0.25`, `0.1 0.2 0.3`), each in Rust's shortest
+/// round-trip form, or with the precision asked for (`{:.4}`).
+impl std::fmt::Display for Value {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        for (i, c) in self.components().iter().enumerate() {
+            if i > 0 {
+                f.write_str(" ")?;
+            }
+            match f.precision() {
+                Some(p) => write!(f, "{c:.p$}")?,
+                None => write!(f, "{c}")?,
+            }
+        }
+        Ok(())
     }
 }
 
@@ -239,6 +273,15 @@ mod tests {
         assert_eq!(sh_name(16), "L4_-4");
         assert_eq!(sh_name(24), "L4_4");
         assert_eq!(sh_name(15), "L3_3");
+    }
+
+    /// What `{}` prints is what JSON and CSV call them, so a program's output matches theirs.
+    #[test]
+    fn units_roles_and_values_print_as_the_tables_name_them() {
+        assert_eq!(format!("{}|{:9}|", Unit::Irradiance, Unit::Direction), "E/pi|direction|");
+        assert_eq!(format!("{:8}|{}", Role::Stored, Role::Derived), "stored  |derived");
+        assert_eq!(Value::Scalar(0.25).to_string(), "0.25");
+        assert_eq!(format!("{:.2}", Value::Rgb(DVec3::new(0.1, 0.2, 0.3))), "0.10 0.20 0.30");
     }
 
     #[test]

@@ -3,6 +3,7 @@
 //! on the search path or on one map in memory, as the rows of the result table
 //! (`docs/tables.md`).
 
+use super::json::{self, MapEntry};
 use crate::api::Map;
 use crate::encoders;
 use crate::envmap::search::SearchPath;
@@ -41,9 +42,24 @@ impl Default for EvalOptions {
     }
 }
 
+/// What `probelab eval` computed: the rows of its table and the maps they were scored on.
+pub struct Evaluated {
+    /// The rows, in table order (`docs/tables.md`).
+    pub rows: Vec<Row>,
+    /// Each map read, with its identity.
+    pub maps: Vec<MapEntry>,
+}
+
+impl Evaluated {
+    /// The JSON document `eval --format json` prints (`docs/json.md`, `probelab.eval/1`).
+    pub fn to_json(&self) -> Result<String> {
+        json::text(&json::eval_document(&self.maps, &self.rows)?)
+    }
+}
+
 /// The rows of `probelab eval MAPS…`: every map found by name (or path) on `search`. A map
 /// not found is an error naming it, why, and the folders searched.
-pub fn rows_by_name(maps: Vec<String>, o: &EvalOptions, search: &SearchPath) -> Result<Vec<Row>> {
+pub fn rows_by_name(maps: Vec<String>, o: &EvalOptions, search: &SearchPath) -> Result<Evaluated> {
     let exp = experiment(maps, o)?;
     let report = runner::run(&exp, search)?;
     if !report.missing.is_empty() {
@@ -51,14 +67,15 @@ pub fn rows_by_name(maps: Vec<String>, o: &EvalOptions, search: &SearchPath) -> 
             report.missing.iter().zip(&report.missing_why).map(|(m, w)| format!("{m} ({w})")).collect();
         bail!("map(s) not found: {}\nSearched: {}", why.join(", "), search.describe());
     }
-    Ok(report.rows)
+    Ok(Evaluated { rows: report.rows, maps: report.maps.iter().map(MapEntry::from_info).collect() })
 }
 
-/// The rows of `probelab eval` on one map in memory (named `map.name()` in the rows): the
-/// same experiment and the same scoring as [`rows_by_name`].
-pub fn rows_on_map(map: &Map, o: &EvalOptions) -> Result<Vec<Row>> {
+/// The rows of `probelab eval` on one map in memory (named `map.name()` in the rows), asked
+/// for as `given`: the same experiment and the same scoring as [`rows_by_name`].
+pub fn rows_on_map(given: &str, map: &Map, o: &EvalOptions) -> Result<Evaluated> {
     let exp = experiment(vec![map.name().to_string()], o)?;
-    Ok(runner::run_map(&exp, map.env_map()))
+    let rows = runner::run_map(&exp, map.env_map());
+    Ok(Evaluated { rows, maps: vec![MapEntry::from_map(given, map.env_map())] })
 }
 
 /// The experiment `probelab eval` runs. Every option is checked before any map is read.

@@ -2,6 +2,7 @@
 //! read, every fit's stored coefficients checked finite before anything is returned, and the
 //! JSON document (`docs/commands.md`, `probelab fit`; the stored form is `docs/library.md`).
 
+use super::json::{self, MapEntry};
 use crate::api::{Fit, Lighting, Map, Stored, Surface};
 use crate::encoders;
 use anyhow::{bail, Result};
@@ -45,9 +46,10 @@ pub fn domain_of(light: &Lighting) -> &'static str {
     }
 }
 
-/// The fits as one JSON document: the map, domain, normal, what they were fitted on, units,
-/// and each fit's stored entries.
-pub fn to_json(map: &Map, light: &Lighting, fits: &[(Fit, Stored)]) -> Result<String> {
+/// The fits as one JSON document (`docs/json.md`, `probelab.fit/1`): the map (asked for as
+/// `given`) with its identity, domain, normal, what they were fitted on, units, and each
+/// fit's stored entries and diagnostics.
+pub fn to_json(given: &str, map: &Map, light: &Lighting, fits: &[(Fit, Stored)]) -> Result<String> {
     let fits: Vec<serde_json::Value> = fits
         .iter()
         .map(|(f, s)| {
@@ -56,13 +58,13 @@ pub fn to_json(map: &Map, light: &Lighting, fits: &[(Fit, Stored)]) -> Result<St
                 "stored_scalars": f.stored_scalars(),
                 "basis": s.basis,
                 "entries": s.entries,
+                "diagnostics": json::diagnostics_of(&f.diagnostics()),
             })
         })
         .collect();
-    let (w, h) = map.size();
     let doc = serde_json::json!({
-        "map": map.name(),
-        "size": [w, h],
+        "schema": json::FIT,
+        "maps": json::maps(&[MapEntry::from_map(given, map.env_map())]),
         "domain": domain_of(light),
         "normal": light.normal().map(|n| n.to_array()),
         "fitted_on": light.describe(),
@@ -70,5 +72,5 @@ pub fn to_json(map: &Map, light: &Lighting, fits: &[(Fit, Stored)]) -> Result<St
                   (docs/conventions.md section 1); SH follow section 2",
         "fits": fits,
     });
-    Ok(serde_json::to_string_pretty(&doc)? + "\n")
+    json::text(&doc)
 }

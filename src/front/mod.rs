@@ -4,5 +4,7 @@
 //! the command line's options (`--encoders`, `--domain`, `--normal`), whose names the Python
 //! package's keyword arguments share. Layers: `ARCHITECTURE.md`.
 
+pub mod check;
 pub mod eval;
 pub mod fit;
+pub mod json;

@@ -143,6 +143,8 @@ pub fn cone_centre(n: DVec3, tilt_deg: f64) -> DVec3 {
 /// Identity of a map used in a run (for provenance).
 #[derive(Clone, Debug)]
 pub struct MapInfo {
+    /// The name or path the experiment asked for, as written.
+    pub given: String,
     /// The map's name.
     pub name: String,
     /// The file it was loaded from; None for a generated map.
@@ -223,6 +225,7 @@ pub fn run(exp: &Experiment, search: &SearchPath) -> Result<RunReport> {
             }
         };
         maps.push(MapInfo {
+            given: name.clone(),
             name: map.name.clone(),
             path: map.path.clone(),
             width: map.width(),

@@ -162,7 +162,8 @@ pub fn to_csv(rows: &[Row]) -> Result<Vec<u8>> {
     w.into_inner().map_err(|e| anyhow::anyhow!("csv: {e}"))
 }
 
-/// The columns whose cells are numbers (JSON numbers in [`to_json`]; an empty cell is `null`).
+/// The columns whose cells are numbers (JSON numbers in `eval`'s document, `front::json`; an
+/// empty cell is `null`).
 pub const NUMERIC_COLUMNS: &[&str] = &[
     "rmse_r",
     "rmse_g",
@@ -176,34 +177,6 @@ pub const NUMERIC_COLUMNS: &[&str] = &[
     "fit_ns",
     "eval_ns",
 ];
-
-/// The rows as a JSON array of objects, one a row, keyed by the CSV's [`COLUMNS`] (the same
-/// cells: each row names its reference, domain, weighting, resolution and units), with the
-/// [`NUMERIC_COLUMNS`] as numbers. The same finiteness rule as [`to_csv`].
-pub fn to_json(rows: &[Row]) -> Result<Vec<u8>> {
-    let mut out = Vec::with_capacity(rows.len());
-    for r in rows {
-        r.check_finite()?;
-        let mut obj = serde_json::Map::new();
-        for (col, cell) in COLUMNS.iter().zip(r.fields()) {
-            let v = if !NUMERIC_COLUMNS.contains(col) {
-                serde_json::Value::String(cell)
-            } else if cell.is_empty() {
-                serde_json::Value::Null
-            } else if let Ok(k) = cell.parse::<u64>() {
-                serde_json::Value::Number(k.into())
-            } else {
-                let x: f64 = cell.parse().with_context(|| format!("column {col}: '{cell}' is not a number"))?;
-                serde_json::Number::from_f64(x).map(serde_json::Value::Number).unwrap_or(serde_json::Value::Null)
-            };
-            obj.insert(col.to_string(), v);
-        }
-        out.push(serde_json::Value::Object(obj));
-    }
-    let mut bytes = serde_json::to_vec_pretty(&out)?;
-    bytes.push(b'\n');
-    Ok(bytes)
-}
 
 /// Writes the rows to `path` atomically.
 pub fn write_csv(path: &Path, rows: &[Row]) -> Result<()> {

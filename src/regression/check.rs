@@ -634,6 +634,8 @@ pub struct CheckSummary {
     /// "numbers", "moved", "unchecked_maps", "missing_maps": […], "skipped_experiments",
     /// "unchecked_rows", "seconds" }`.
     pub json: serde_json::Value,
+    /// Every map the experiments read, with its identity, in the order read.
+    pub maps: Vec<crate::pipeline::runner::MapInfo>,
 }
 
 /// `probelab check`: checks the selected experiments against their baselines; the exit code
@@ -659,11 +661,13 @@ pub fn check_experiments(
     let mut checks = Vec::new();
     let mut missing = MissingMaps::default();
     let (mut numbers, mut moved, mut unchecked, mut maps_only) = (0, 0, 0, true);
+    let mut maps = Vec::new();
     for exp in &exps {
         let t = std::time::Instant::now();
         let report = runner::run(exp, search)?;
         let c = compare_with_baseline(&out.join(&exp.name), exp, &report, &tolerances, allow_missing)?;
         checked(&c, t.elapsed().as_secs_f64())?;
+        maps.extend(report.maps);
         numbers += c.comparison.numbers;
         moved += c.moved();
         unchecked += c.unchecked_maps();
@@ -696,7 +700,7 @@ pub fn check_experiments(
         "seconds": (elapsed * 10.0).round() / 10.0,
     });
     let code = i32::from(!failed.is_empty());
-    Ok((code, CheckSummary { text, notes: missing.notes(search), json }))
+    Ok((code, CheckSummary { text, notes: missing.notes(search), json, maps }))
 }
 
 /// `check`'s verdict line: ok, or the experiments that failed and what to do (`bless` when

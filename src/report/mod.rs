@@ -778,9 +778,13 @@ fn maps_part(md: &mut String, named: &BTreeMap<String, Vec<String>>, records: &[
     let mut mismatches = Vec::new();
     for (section, pr) in records {
         for r in &pr.maps {
-            let first = recorded
-                .entry(r.name.clone())
-                .or_insert_with(|| (r.file.clone(), crate::regression::provenance::size_and_exposure(r.width, r.height, r.exposure), r.sha256.clone()));
+            let first = recorded.entry(r.name.clone()).or_insert_with(|| {
+                (
+                    r.file.clone(),
+                    crate::regression::provenance::size_and_exposure(r.width, r.height, r.exposure),
+                    r.sha256.clone(),
+                )
+            });
             if first.2 != r.sha256 {
                 mismatches.push(format!("`{section}`: its table used a map `{}` with another checksum", r.name));
             }

@@ -66,6 +66,13 @@ impl Source {
         Ok(Source::Texels { name, width, height, texels })
     }
 
+    /// The map as asked for: the name or path, or the array's name.
+    fn given(&self) -> String {
+        match self {
+            Source::Named { name, .. } | Source::Texels { name, .. } => name.clone(),
+        }
+    }
+
     /// The map (loaded, or built from the texels and checked).
     fn open(self) -> anyhow::Result<Map> {
         match self {
@@ -97,7 +104,7 @@ fn load_map<'py>(
     Ok((map.name().to_string(), w, h, texels))
 }
 
-/// `probelab eval`'s table on one map, as its JSON text (`--format json`).
+/// `probelab eval`'s document on one map, as its JSON text (`--format json`, docs/json.md).
 #[pyfunction]
 #[allow(clippy::too_many_arguments)]
 fn eval(
@@ -113,11 +120,11 @@ fn eval(
     let source = Source::extract(map, &root)?;
     let options = EvalOptions { encoders, domain, metric, resolution, polar_nodes };
     py.detach(|| {
-        let rows = match source {
+        let evaluated = match source {
             Source::Named { name, search } => rows_by_name(vec![name], &options, &search)?,
-            texels => rows_on_map(&texels.open()?, &options)?,
+            texels => rows_on_map(&texels.given(), &texels.open()?, &options)?,
         };
-        Ok(String::from_utf8(table::to_json(&rows)?)?)
+        evaluated.to_json()
     })
     .map_err(py_err)
 }
@@ -140,11 +147,12 @@ fn fit(
     let surface = surface(normal);
     py.detach(|| {
         let ids = encoder_ids(&encoders, surface)?;
+        let given = source.given();
         let map = source.open()?;
         let light = map.lighting(surface)?;
         let fits = fit_all(&light, &ids)?;
         let coefficients = fits.iter().map(|(_, stored)| flatten(stored)).collect();
-        Ok((to_json(&map, &light, &fits)?, coefficients))
+        Ok((to_json(&given, &map, &light, &fits)?, coefficients))
     })
     .map_err(py_err)
 }

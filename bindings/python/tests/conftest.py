@@ -42,6 +42,13 @@ def cli_json(*args: str) -> Any:
     return json.loads(out.stdout)
 
 
+def cli_rows(*args: str) -> List[Dict[str, Any]]:
+    """The rows of the ``probelab eval ARGS --format json`` document (``probelab.eval/1``, docs/json.md)."""
+    doc = cli_json(*args)
+    assert doc["schema"] == "probelab.eval/1", doc.get("schema")
+    return doc["rows"]
+
+
 def cli_error(*args: str) -> str:
     """The message ``probelab ARGS`` fails with (stderr without ``error: ``); exit code 2."""
     out = cli(*args)

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import probelab
-from conftest import CC0_MAPS, RTOL, assert_rows_agree, cli, cli_json
+from conftest import CC0_MAPS, RTOL, assert_rows_agree, cli, cli_json, cli_rows
 
 #: Several families: SH, ZH3 hallucinated and solved (BFGS), Geomerics, the ambient cube, SGs.
 ENCODERS = ["sh1", "sh2", "zh3_hallucinate", "zh3_solved_shared", "geomerics", "ambient_cube", "sg_ls"]
@@ -22,7 +22,7 @@ def test_the_maps_are_there():
 
 @pytest.mark.parametrize("path", MAPS, ids=lambda p: p.stem)
 def test_eval_from_a_path_and_from_an_array_equals_the_cli(path):
-    theirs = cli_json("--no-timing", "eval", str(path), "--encoders", ",".join(ENCODERS), "--format", "json")
+    theirs = cli_rows("--no-timing", "eval", str(path), "--encoders", ",".join(ENCODERS), "--format", "json")
     from_path = probelab.eval(str(path), encoders=ENCODERS)
     assert_rows_agree(from_path, theirs, skip=())
     array = probelab.load_map(path)
@@ -35,11 +35,11 @@ def test_eval_from_a_path_and_from_an_array_equals_the_cli(path):
 def test_eval_on_the_hemisphere_and_the_peer_metric_equals_the_cli():
     path = str(MAPS[0])
     enc = ["sh2", "hlsh", "hhd_search_hemi", "ahd_linear_hemi"]
-    theirs = cli_json("--no-timing", "eval", path, "--encoders", ",".join(enc), "--domain", "hemisphere:+y", "--format", "json")
+    theirs = cli_rows("--no-timing", "eval", path, "--encoders", ",".join(enc), "--domain", "hemisphere:+y", "--format", "json")
     ours = probelab.eval(path, encoders=enc, domain="hemisphere:+y")
     assert_rows_agree(ours, theirs, skip=())
     assert all(r["at_normal_abs_err"] is not None for r in ours)
-    theirs = cli_json("--no-timing", "eval", path, "--encoders", "sh2,sg_nnls", "--metric", "probulator", "--resolution", "128x64", "--format", "json")
+    theirs = cli_rows("--no-timing", "eval", path, "--encoders", "sh2,sg_nnls", "--metric", "probulator", "--resolution", "128x64", "--format", "json")
     ours = probelab.eval(probelab.load_map(path), ["sh2", "sg_nnls"], metric="probulator", resolution=(128, 64), name=MAPS[0].stem)
     assert_rows_agree(ours, theirs, skip=())
 
@@ -69,8 +69,16 @@ def test_fit_equals_the_cli_document(normal):
     enc = ["sh2", "zh3_solved_shared", "geomerics"] + ([] if normal is None else ["hhd_search_hemi"])
     args = ["fit", path, "--encoders", ",".join(enc)] + ([] if normal is None else ["--normal", "0,1,0"])
     theirs = cli_json(*args)
-    for ours in (probelab.fit(path, enc, normal=normal), probelab.fit(probelab.load_map(path), enc, normal=normal, name=MAPS[1].stem)):
-        assert {k: v for k, v in ours.items() if k != "fits"} == {k: v for k, v in theirs.items() if k != "fits"}
+    assert theirs["schema"] == "probelab.fit/1"
+    from_path = probelab.fit(path, enc, normal=normal)
+    from_array = probelab.fit(probelab.load_map(path), enc, normal=normal, name=MAPS[1].stem)
+    assert from_path["maps"] == theirs["maps"]
+    # An array has no file: no path, no file sha256; the same pixels, so the same pixel sha256.
+    (array_map,) = from_array["maps"]
+    assert array_map["path"] is None and array_map["sha256"] is None and array_map["given"] == MAPS[1].stem
+    assert array_map["pixel_sha256"] == theirs["maps"][0]["pixel_sha256"]
+    for ours in (from_path, from_array):
+        assert {k: v for k, v in ours.items() if k not in ("fits", "maps")} == {k: v for k, v in theirs.items() if k not in ("fits", "maps")}
         assert list(ours["fits"]) == enc
         for f, g in zip(ours["fits"].values(), theirs["fits"]):
             assert {k: f[k] for k in g} == g  # encoder, stored_scalars, basis, entries: exactly the JSON

@@ -14,7 +14,7 @@ import subprocess
 import pytest
 
 import probelab
-from conftest import CC0_MAPS, REPO, assert_rows_agree, binary, cli, cli_json
+from conftest import CC0_MAPS, REPO, assert_rows_agree, binary, cli, cli_rows
 
 DOC = REPO / "docs" / "scale-out.md"
 
@@ -49,7 +49,7 @@ def test_the_dask_recipe_on_a_local_cluster_of_two_workers_gives_the_cli_rows(ma
     exec(compile(code, str(DOC), "exec"), scope)
     rows, encoders = scope["rows"], scope["encoders"]
     paths = [str(maps_folder / "maps" / m.name) for m in CC0_MAPS]
-    theirs = cli_json("--no-timing", "eval", *paths, "--encoders", ",".join(encoders), "--format", "json")
+    theirs = cli_rows("--no-timing", "eval", *paths, "--encoders", ",".join(encoders), "--format", "json")
     assert len(rows) == len(theirs) == len(CC0_MAPS) * len(encoders)
     # Every number within 1e-12 relative, text equal (the timing columns aside: wall-clock).
     assert_rows_agree(by_key(rows), by_key(theirs), skip=())

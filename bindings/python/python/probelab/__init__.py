@@ -100,9 +100,10 @@ def eval(
         root: the folder whose ``envmaps/`` is searched first for a map name.
 
     Returns:
-        One dict per (encoder, orientation) with the CSV's columns (:data:`COLUMNS`, in order,
+        The ``rows`` of the ``probelab.eval/1`` document (``docs/json.md``): one dict per
+        (encoder, orientation) with the CSV's columns (:data:`COLUMNS`, in order,
         ``docs/tables.md``): text columns as ``str``, scores as ``float``, ``stored_scalars``
-        as ``int``, and ``None`` where the CSV cell is empty (``at_normal_abs_err`` without a
+        as ``int``, ``diagnostics`` as a dict of numbers, and ``None`` where the CSV cell is empty (``at_normal_abs_err`` without a
         surface normal; ``fit_ns``/``eval_ns`` after ``set_timing(False)``).
     """
     if isinstance(encoders, str):
@@ -117,7 +118,7 @@ def eval(
         f"{int(width)}x{int(height)}",
         int(polar_nodes),
     )
-    return [_row(r) for r in json.loads(text)]
+    return [_row(r) for r in json.loads(text)["rows"]]
 
 
 def _row(obj: Dict[str, Any]) -> Dict[str, Any]:
@@ -151,8 +152,9 @@ def fit(
         root: the folder whose ``envmaps/`` is searched first for a map name.
 
     Returns:
-        The JSON document's keys (``map``, ``size``, ``domain``, ``normal``, ``fitted_on``,
-        ``units``), and ``fits``: a dict from encoder id to its fit, in the order asked, each
+        The ``probelab.fit/1`` document's keys (``docs/json.md``: ``schema``, ``maps`` with the
+        map's name, path, size and sha256, ``domain``, ``normal``, ``fitted_on``, ``units``), and
+        ``fits``: a dict from encoder id to its fit, in the order asked, each
         with ``encoder``, ``stored_scalars``, ``basis`` (how the entries reconstruct E/pi) and
         ``entries`` (every stored and derived value: ``name``, ``role``, ``unit``, ``value``,
         as in the JSON), plus ``coefficients``, a float64 array of the stored values (the
