@@ -46,6 +46,7 @@
 //! | `role`      | string | `primary` (exactly one per claim: decides the verdict) or `context` (default: shown under it, never changes it) |
 //! | `beside`    | bool   | a context check whose headline stands beside the verdict in `CLAIMS.csv` and the report (e.g. a cost the verdict does not count; default false) |
 
+use crate::math::echo::value as echo;
 use anyhow::{bail, Context, Result};
 use serde::Deserialize;
 use std::collections::BTreeMap;
@@ -365,7 +366,7 @@ struct CheckFile {
 /// A finite number, or the key's error.
 fn finite(id: &str, key: &str, v: f64) -> Result<f64> {
     if !v.is_finite() {
-        bail!("claim {id}: '{key}' must be a finite number, got {v}", v = crate::math::echo::value(&v.to_string()));
+        bail!("claim {id}: '{key}' must be a finite number, got {v}", v = echo(&v.to_string()));
     }
     Ok(v)
 }
@@ -374,7 +375,7 @@ fn finite(id: &str, key: &str, v: f64) -> Result<f64> {
 fn non_negative(at: &str, key: &str, v: f64) -> Result<f64> {
     let v = finite(at, key, v)?;
     if v < 0.0 {
-        bail!("claim {at}: '{key}' must be ≥ 0, got {v}", v = crate::math::echo::value(&v.to_string()));
+        bail!("claim {at}: '{key}' must be ≥ 0, got {v}", v = echo(&v.to_string()));
     }
     Ok(v)
 }
@@ -384,7 +385,7 @@ impl CheckFile {
     /// checked in a fixed order (table, test and its keys, baseline, where, on, maps, role,
     /// floor), so the first error is the one reported.
     fn validate(self, id: &str, sets: &BTreeMap<String, Vec<String>>) -> Result<CheckDecl> {
-        let at = format!("{}, check '{}'", crate::math::echo::value(id), crate::math::echo::value(&self.name));
+        let at = format!("{}, check '{}'", echo(id), echo(&self.name));
         let source = self.source(&at)?;
         let test = self.parse_test(&at)?;
         if test.needs_baseline() && self.baseline.is_none() {
@@ -399,7 +400,7 @@ impl CheckFile {
         let primary = match self.role.as_deref().unwrap_or("context") {
             "primary" => true,
             "context" => false,
-            r => bail!("claim {at}: role '{r}' (expected primary or context)", r = crate::math::echo::value(r)),
+            r => bail!("claim {at}: role '{r}' (expected primary or context)", r = echo(r)),
         };
         let beside = self.beside.unwrap_or(false);
         if beside && primary {
@@ -442,7 +443,7 @@ impl CheckFile {
     fn unused(&self, at: &str, keys: &[(&str, bool)]) -> Result<()> {
         for (k, present) in keys {
             if *present {
-                bail!("claim {at}: '{k}' is not used by test = \"{}\"", self.test, k = crate::math::echo::value(k));
+                bail!("claim {at}: '{k}' is not used by test = \"{}\"", self.test, k = echo(k));
             }
         }
         Ok(())
@@ -488,7 +489,7 @@ impl CheckFile {
             }
             t => bail!(
                 "claim {at}: test '{t}' (expected ratio_every, ratio_some, ratio_stat, ratio_summary, every_at_most, every_at_least, every_equal or equal)",
-                t = crate::math::echo::value(t)
+                t = echo(t)
             ),
         }
     }
@@ -532,7 +533,7 @@ impl CheckFile {
             Some(s) => bail!(
                 "claim {at}: statistic '{s}' (expected median or geomean of the per-map ratios; a ratio of pooled \
                  means is not offered: one map with large errors dominates it)",
-                s = crate::math::echo::value(s)
+                s = echo(s)
             ),
             None => bail!("claim {at}: test = \"ratio_stat\" needs 'statistic'"),
         };
@@ -601,10 +602,7 @@ fn check_on(on: &[String], sets: &BTreeMap<String, Vec<String>>, at: &str) -> Re
     }
     for s in on {
         if s != "all" && !sets.contains_key(s) {
-            bail!(
-                "claim {at}: on names map set '{s}', which [map_sets] does not declare",
-                s = crate::math::echo::value(&s.to_string())
-            );
+            bail!("claim {at}: on names map set '{s}', which [map_sets] does not declare", s = echo(&s.to_string()));
         }
     }
     Ok(())
@@ -615,10 +613,7 @@ fn check_fixed(fixed: &str) -> Result<()> {
     match fixed.strip_prefix("after data:") {
         _ if fixed == "before data" => Ok(()),
         Some(reason) if !reason.trim().is_empty() => Ok(()),
-        _ => bail!(
-            "fixed '{fixed}' (expected \"before data\" or \"after data: <reason>\")",
-            fixed = crate::math::echo::value(fixed)
-        ),
+        _ => bail!("fixed '{fixed}' (expected \"before data\" or \"after data: <reason>\")", fixed = echo(fixed)),
     }
 }
 
@@ -676,12 +671,12 @@ pub fn parse(key: &str, text: &str, origin: &Path) -> Result<Paper> {
         bail!("{}: [measurements] maps = [] names no map", origin.display());
     }
     if let Some(m) = measurement_maps.iter().enumerate().find(|(i, m)| measurement_maps[..*i].contains(m)) {
-        bail!("{}: [measurements] maps: '{}' appears twice", origin.display(), crate::math::echo::value(m.1));
+        bail!("{}: [measurements] maps: '{}' appears twice", origin.display(), echo(m.1));
     }
     let mut claims = Vec::new();
     for c in f.claim {
         let id = c.id.clone();
-        let shown = crate::math::echo::value(&id);
+        let shown = echo(&id);
         let at = || format!("{}: claim {shown}", origin.display());
         if id.is_empty() || claims.iter().any(|d: &ClaimDecl| d.id == id) {
             bail!("{}: claim id '{shown}' is empty or declared twice", origin.display());
@@ -693,11 +688,7 @@ pub fn parse(key: &str, text: &str, origin: &Path) -> Result<Paper> {
             bail!("{}: 'paper_figure' has {} characters (at most {SAYS_MAX})", at(), c.paper_figure.chars().count());
         }
         let Some(kind) = Kind::parse(&c.kind) else {
-            bail!(
-                "{}: kind '{}' (expected identity, measured, example or anchor)",
-                at(),
-                crate::math::echo::value(&c.kind)
-            )
+            bail!("{}: kind '{}' (expected identity, measured, example or anchor)", at(), echo(&c.kind))
         };
         check_fixed(&c.fixed).with_context(at)?;
         if c.differs.trim().is_empty() {

@@ -310,7 +310,6 @@ pub fn load(path: &Path) -> Result<EnvMap, LoadError> {
 /// (`pipeline::estimate`); [`load`] still validates everything else.
 pub fn dimensions(path: &Path) -> Result<(usize, usize), LoadError> {
     let io_err = |action, cause| LoadError::Io { path: path.to_path_buf(), action, cause };
-    // Only a regular file is opened: opening a FIFO would block.
     let meta = fs::metadata(path).map_err(|e| io_err("read file metadata", e))?;
     if !meta.is_file() {
         return Err(LoadError::NotAFile { path: path.to_path_buf() });
