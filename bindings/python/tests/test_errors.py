@@ -89,8 +89,8 @@ def test_not_a_map_at_all():
 @pytest.mark.parametrize(
     "normals, words",
     [
-        (np.zeros((2, 3)), "normals: row 0 is (0, 0, 0): expected a finite, non-zero vector"),
-        (np.array([[0, 1, 0], [np.nan, 0, 0]]), "normals: row 1 is (NaN, 0, 0)"),
+        (np.zeros((2, 3)), "normals: row 0: (0, 0, 0): a normal must be three finite numbers of length at least 1e-6 (its length is 0)"),
+        (np.array([[0, 1, 0], [np.nan, 0, 0]]), "normals: row 1: (NaN, 0, 0)"),
         (np.ones((4, 2)), "normals: shape (4, 2)"),
         (np.ones(3), "normals: shape (3,)"),
     ],
@@ -102,4 +102,4 @@ def test_bad_normals_are_refused(normals, words):
 
 def test_bad_surface_normals_are_refused():
     assert "normal: 2 component(s)" in raises(probelab.fit, GOOD, ["sh1"], normal=(0, 1))
-    assert "surface normal (0, 0, 0): expected a finite, non-zero vector" in raises(probelab.fit, GOOD, ["sh1"], normal=(0, 0, 0))
+    assert "surface normal: (0, 0, 0): a normal must be three finite numbers of length at least 1e-6" in raises(probelab.fit, GOOD, ["sh1"], normal=(0, 0, 0))
