@@ -53,15 +53,6 @@ pub fn check_record<'a>(
     Ok(())
 }
 
-/// Refuses a table that lacks any of `required`, naming the file and the columns.
-pub fn require(origin: &Path, columns: &[String], required: &[&str]) -> Result<()> {
-    let missing: Vec<&str> = required.iter().copied().filter(|r| !columns.iter().any(|c| c == r)).collect();
-    if !missing.is_empty() {
-        bail!("{}:1: missing column(s) {} (found: {})", origin.display(), missing.join(", "), columns.join(","));
-    }
-    Ok(())
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -103,7 +94,5 @@ mod tests {
         let c = cols(&["map", "encoder", "rmse"]);
         let e = check_record(Path::new("t.csv"), 7, &c, ["m", "sh2", "nan"]).unwrap_err().to_string();
         assert!(e.starts_with("t.csv:7:3: column 'rmse':"), "{e}");
-        let e = require(Path::new("t.csv"), &c, &["rmse", "metric"]).unwrap_err().to_string();
-        assert!(e.starts_with("t.csv:1: missing column(s) metric"), "{e}");
     }
 }
