@@ -188,7 +188,7 @@ impl SearchPath {
         }
         let mut push = |stem: &str, alias: bool, with_name: bool| {
             for dir in &self.dirs {
-                let mut files = vec![dir.join(format!("{stem}.exr")), dir.join(format!("{stem}.hdr"))];
+                let mut files = map_files_named(dir, stem);
                 if with_name {
                     files.push(dir.join(stem));
                 }
@@ -333,6 +333,25 @@ fn passed_over(path: &Path, map: &EnvMap, pixels: &str, k: &KnownMap) -> String 
     format!("{} ({}x{}, pixel sha256 {}: {what})", path.display(), map.width(), map.height(), &pixels[..12])
 }
 
+/// The files of `dir` named `stem` with a map extension: `STEM.exr`, then `STEM.hdr`, then the
+/// same extensions in any other case (`STEM.EXR`, as `maps` lists them), each in name order.
+fn map_files_named(dir: &Path, stem: &str) -> Vec<PathBuf> {
+    let mut files = vec![dir.join(format!("{stem}.exr")), dir.join(format!("{stem}.hdr"))];
+    let Ok(entries) = std::fs::read_dir(dir) else { return files };
+    let mut other_case: Vec<PathBuf> = entries
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.file_stem().is_some_and(|s| s == stem))
+        .filter(|p| {
+            p.extension().is_some_and(|x| {
+                (x.eq_ignore_ascii_case("exr") || x.eq_ignore_ascii_case("hdr")) && x != "exr" && x != "hdr"
+            })
+        })
+        .collect();
+    other_case.sort();
+    files.extend(other_case);
+    files
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -361,6 +380,21 @@ mod tests {
         // Adding the .exr to the first folder makes it win.
         touch(&a.join("m.exr"));
         assert_eq!(sp.resolve("m").unwrap(), a.join("m.exr"));
+    }
+
+    /// `maps` lists `X.EXR` as map `X`, so the name finds it too; the lower-case file wins.
+    #[test]
+    fn a_map_extension_in_any_case_is_found_by_name() {
+        let t = tempfile::tempdir().unwrap();
+        let a = t.path().join("a");
+        touch(&a.join("Loud.EXR"));
+        touch(&a.join("mixed.Hdr"));
+        let sp = SearchPath::new(vec![a.clone()]);
+        assert_eq!(sp.resolve("Loud").unwrap(), a.join("Loud.EXR"));
+        assert_eq!(sp.resolve("mixed").unwrap(), a.join("mixed.Hdr"));
+        assert!(sp.resolve("loud").is_err() || cfg!(not(target_os = "linux")));
+        touch(&a.join("Loud.exr"));
+        assert_eq!(sp.resolve("Loud").unwrap(), a.join("Loud.exr"));
     }
 
     #[test]
