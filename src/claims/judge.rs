@@ -14,6 +14,7 @@
 
 use crate::claims::declaration::{CheckDecl, ClaimDecl, Kind, Paper, Statistic, Test};
 use crate::claims::ratios;
+use crate::math::echo::value as echo;
 use anyhow::{bail, Context, Result};
 use std::collections::HashMap;
 
@@ -235,11 +236,11 @@ impl<'a> Scope<'a> {
     /// The check's columns in `t`; an error names a column the table lacks.
     fn new(t: &'a Evidence, k: &'a CheckDecl, set_maps: Option<&'a [String]>) -> Result<Self> {
         let enc_col = t.col("encoder").context("the table has no 'encoder' column")?;
-        let Some(val_col) = t.col(&k.column) else { bail!("the table has no column '{}'", k.column) };
+        let Some(val_col) = t.col(&k.column) else { bail!("the table has no column '{}'", echo(&k.column)) };
         let map_col = t.col("map");
         let mut filters = Vec::new();
         for (name, allowed) in &k.filter {
-            let Some(c) = t.col(name) else { bail!("where.{name}: the table has no column '{name}'") };
+            let Some(c) = t.col(name) else { bail!("where.{n}: the table has no column '{n}'", n = echo(name)) };
             filters.push((c, allowed));
         }
         let keys: Vec<usize> = KEY_COLUMNS.iter().filter_map(|c| t.col(c)).collect();
@@ -355,7 +356,7 @@ fn judge_set(t: &Evidence, k: &CheckDecl, set: &str, set_maps: Option<&[String]>
         m.len()
     };
     if picked.is_empty() {
-        return Ok(untestable(set, maps_judged, format!("no rows of '{}' in scope", k.encoder)));
+        return Ok(untestable(set, maps_judged, format!("no rows of '{}' in scope", echo(&k.encoder))));
     }
     if let Some(why) = set_maps.and_then(|s| missing_maps(k, set, s, &picked)) {
         return Ok(untestable(set, maps_judged, why));
@@ -379,7 +380,7 @@ fn missing_maps(k: &CheckDecl, set: &str, set_maps: &[String], picked: &[Picked]
         format!(
             "{} map(s) of set '{set}' have no rows of '{}': {}",
             missing.len(),
-            k.encoder,
+            echo(&k.encoder),
             missing.iter().map(|s| s.as_str()).collect::<Vec<_>>().join(", ")
         )
     })
@@ -391,7 +392,7 @@ fn judge_bound(k: &CheckDecl, set: &str, maps_judged: usize, picked: &[Picked], 
     let col = &k.column;
     let vals: Vec<(&Picked, f64)> = picked.iter().filter_map(|p| p.value.map(|v| (p, v))).collect();
     if vals.is_empty() {
-        return untestable(set, maps_judged, format!("every row of '{}' has an empty {col}", k.encoder));
+        return untestable(set, maps_judged, format!("every row of '{}' has an empty {col}", echo(&k.encoder)));
     }
     let (upper, bound) = match k.test {
         Test::EveryAtMost { bound } => (true, bound),
@@ -494,7 +495,7 @@ fn judge_against_baseline(
         }
     }
     if unmatched > 0 && pairs.is_empty() {
-        return Ok(untestable(set, maps_judged, format!("no rows of '{}' match rows of '{base}'", k.encoder)));
+        return Ok(untestable(set, maps_judged, format!("no rows of '{}' match rows of '{base}'", echo(&k.encoder))));
     }
     if pairs.is_empty() {
         let why = format!("every row of '{base}' is at or below the floor {} ({below_floor} row(s))", fmt3(k.floor));
@@ -692,7 +693,7 @@ pub fn decide(kind: Kind, checks: &[CheckOutcome]) -> Verdict {
         }
     }
     if !untestable.is_empty() {
-        return Verdict::Untestable(format!("'{}' {}", p.decl.name, untestable.join("; ")));
+        return Verdict::Untestable(format!("'{}' {}", echo(&p.decl.name), untestable.join("; ")));
     }
     let on = |v: &[String]| v.join(" and ");
     match kind {
@@ -700,11 +701,13 @@ pub fn decide(kind: Kind, checks: &[CheckOutcome]) -> Verdict {
         Kind::Identity if failing.is_empty() => Verdict::HoldsIdentity,
         Kind::Example if failing.is_empty() => Verdict::Reproduced,
         Kind::Measured if failing.is_empty() => Verdict::Holds,
-        Kind::Example => Verdict::NotReproduced(format!("'{}' not met on {}", p.decl.name, on(&failing))),
+        Kind::Example => Verdict::NotReproduced(format!("'{}' not met on {}", echo(&p.decl.name), on(&failing))),
         Kind::Measured if !passing.is_empty() => {
-            Verdict::Partly(format!("'{}' holds on {}, not on {}", p.decl.name, on(&passing), on(&failing)))
+            Verdict::Partly(format!("'{}' holds on {}, not on {}", echo(&p.decl.name), on(&passing), on(&failing)))
         }
-        Kind::Identity | Kind::Measured => Verdict::Fails(format!("'{}' fails on {}", p.decl.name, on(&failing))),
+        Kind::Identity | Kind::Measured => {
+            Verdict::Fails(format!("'{}' fails on {}", echo(&p.decl.name), on(&failing)))
+        }
     }
 }
 

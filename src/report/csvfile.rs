@@ -81,8 +81,8 @@ impl CsvTable {
                 "{}: line {}, column '{}': '{}' is not a finite number",
                 self.path.display(),
                 row + 2,
-                self.headers[col],
-                s
+                crate::math::echo::value(&self.headers[col]),
+                crate::math::echo::value(s)
             ),
         }
     }

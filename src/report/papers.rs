@@ -19,6 +19,7 @@ use super::csvfile::CsvTable;
 use super::markdown::{href, table_with, text_cell};
 use super::number::sig;
 use crate::claims::declaration::{Kind, Paper, UNTESTABLE};
+use crate::math::echo::value as echo;
 use anyhow::{bail, Result};
 use serde::Deserialize;
 use std::fmt::Write as _;
@@ -112,7 +113,7 @@ pub fn parse_plans(text: &str, origin: &Path) -> Result<Vec<PaperPlan>> {
         .map_err(|e| anyhow::anyhow!("{e:#} (not a report plan)"))?;
     for (i, p) in f.section.iter().enumerate() {
         if p.key.is_empty() || f.section[..i].iter().any(|q| q.key == p.key) {
-            bail!("{}: section key '{}' is empty or declared twice", origin.display(), p.key);
+            bail!("{}: section key '{}' is empty or declared twice", origin.display(), echo(&p.key));
         }
         let files = p.figures.iter().flat_map(|g| match g {
             Figure::Csv { folder, file, .. } | Figure::Picture { folder, file, .. } => vec![folder, file],
@@ -120,7 +121,7 @@ pub fn parse_plans(text: &str, origin: &Path) -> Result<Vec<PaperPlan>> {
         });
         for f in p.pages.iter().chain(files) {
             if relative_link(f) != Some(f.as_str()) {
-                bail!("{}: section '{}': '{f}' is not a path inside results/", origin.display(), p.key);
+                bail!("{}: section '{}': '{}' is not a path inside results/", origin.display(), echo(&p.key), echo(f));
             }
         }
     }
@@ -165,8 +166,8 @@ fn check_rows(t: &CsvTable, id: usize, kind: usize, verdict: usize) -> Result<()
             bail!(
                 "{}: claim {}: kind '{}' is not one of {}",
                 t.path.display(),
-                r[id],
-                r[kind],
+                echo(&r[id]),
+                echo(&r[kind]),
                 Kind::ALL.map(|k| k.as_str()).join(", ")
             );
         };
@@ -175,15 +176,15 @@ fn check_rows(t: &CsvTable, id: usize, kind: usize, verdict: usize) -> Result<()
             bail!(
                 "{}: claim {}: verdict '{}' is not one a{} {} claim may get ({} or {UNTESTABLE})",
                 t.path.display(),
-                r[id],
-                r[verdict],
+                echo(&r[id]),
+                echo(&r[verdict]),
                 if k == Kind::Measured { "" } else { "n" },
                 k.as_str(),
                 k.verdict_words().join(", ")
             );
         }
         if seen.contains(&r[id].as_str()) {
-            bail!("{}: claim {} has two rows (one verdict per claim)", t.path.display(), r[id]);
+            bail!("{}: claim {} has two rows (one verdict per claim)", t.path.display(), echo(&r[id]));
         }
         seen.push(&r[id]);
     }
