@@ -145,3 +145,39 @@ fn check_documents_carry_the_schema_maps_and_numbers() {
     }
     assert!(e["findings"].as_array().unwrap().iter().all(|f| f["kind"].is_string() && f["fails"].is_boolean()));
 }
+
+/// The claims' part of `check`'s document is structured: on a copy of the committed results
+/// whose CLAIMS.csv has one verdict edited, and without the shared maps, `claims` says the
+/// measurements were not taken and why, and lists that verdict as changed (its committed and
+/// its present word), so `passed` is false, as the exit code 1 says.
+#[test]
+fn check_documents_give_the_claims_as_data() {
+    let s = common::harness::Scratch::new();
+    s.copy_from_repo("experiments");
+    s.copy_from_repo("results");
+    s.copy_from_repo("tolerances.toml");
+    let csv = s.path().join("results/CLAIMS.csv");
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let judged = common::harness::parse_csv(&text);
+    let first = &judged[0];
+    let edited = text.replacen(
+        &format!("{},{},{}", first["id"], first["kind"], first["verdict"]),
+        &format!("{},{},edited", first["id"], first["kind"]),
+        1,
+    );
+    assert_ne!(edited, text, "the first row's id, kind and verdict are its first three cells");
+    std::fs::write(&csv, edited).unwrap();
+    let out = s.run(&["check", "claims", "--format", "json"]);
+    assert_eq!(out.status.code(), Some(1), "{}", String::from_utf8_lossy(&out.stderr));
+    let doc = document(&String::from_utf8(out.stdout).unwrap(), "probelab.check/1", &[]);
+    let c = &doc["claims"];
+    assert_eq!(c["passed"], false);
+    assert_eq!(doc["passed"], false);
+    assert_eq!(c["measured"], false);
+    assert!(c["not_measured_because"].as_str().is_some_and(|w| w.contains("not on the search path")), "{c}");
+    assert_eq!(c["moved"], serde_json::json!([]));
+    assert_eq!(
+        c["verdicts_changed"],
+        serde_json::json!([{ "id": first["id"], "committed": "edited", "now": first["verdict"] }])
+    );
+}

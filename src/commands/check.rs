@@ -7,7 +7,7 @@
 use super::context::{reading, Env};
 use super::terminal::{note, noteln, outln};
 use anyhow::Result;
-use probelab::front::check::{self as check_json, ClaimsCheck};
+use probelab::front::check as check_json;
 use probelab::io::output;
 use std::path::PathBuf;
 
@@ -43,7 +43,7 @@ pub fn run(a: Args, env: &Env) -> Result<i32> {
     let names: Vec<String> = a.experiments.into_iter().filter(|e| e != "claims").collect();
     let mut code = 0;
     let mut checked = None;
-    let mut claims_json = None;
+    let mut claims_run = None;
     if a.all || !names.is_empty() || !claims {
         let mut show = |c: &probelab::regression::check::ExperimentCheck, seconds: f64| -> Result<()> {
             if !json {
@@ -70,19 +70,17 @@ pub fn run(a: Args, env: &Env) -> Result<i32> {
     if claims {
         let run = probelab::regression::claims::run(&env.root, &env.search, &out, false, false)?;
         let (ok, text) = probelab::regression::claims::report(&run, true);
-        if json {
-            claims_json = Some((ok, text));
-        } else {
+        if !json {
             output::write(text.as_bytes())?;
             outln!("claims: {}", if ok { "ok: no measurement moved, no verdict changed" } else { "FAILED" })?;
         }
         if !ok {
             code = code.max(1);
         }
+        claims_run = Some(run);
     }
     if json {
-        let claims = claims_json.as_ref().map(|(passed, text)| ClaimsCheck { passed: *passed, text });
-        output::write(check_json::to_json(checked.as_ref(), claims)?.as_bytes())?;
+        output::write(check_json::to_json(checked.as_ref(), claims_run.as_ref())?.as_bytes())?;
     }
     Ok(code)
 }

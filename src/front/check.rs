@@ -4,19 +4,12 @@
 
 use super::json::{self, MapEntry};
 use crate::regression::check::CheckSummary;
+use crate::regression::claims::ClaimsRun;
 use anyhow::Result;
 use serde_json::{json, Value};
 
-/// The claims' part of a check: whether they passed, and the report's lines.
-pub struct ClaimsCheck<'a> {
-    /// No measurement moved and no verdict changed.
-    pub passed: bool,
-    /// The report, one line per claim or finding (`regression::claims::report`).
-    pub text: &'a str,
-}
-
 /// The document: `summary` when experiments were checked, `claims` when the claims were.
-pub fn to_json(summary: Option<&CheckSummary>, claims: Option<ClaimsCheck>) -> Result<String> {
+pub fn to_json(summary: Option<&CheckSummary>, claims: Option<&ClaimsRun>) -> Result<String> {
     let mut doc = json!({
         "schema": json::CHECK,
         "passed": true,
@@ -35,9 +28,11 @@ pub fn to_json(summary: Option<&CheckSummary>, claims: Option<ClaimsCheck>) -> R
         let maps: Vec<MapEntry> = s.maps.iter().map(MapEntry::from_info).collect();
         doc["maps"] = json::maps(&maps);
     }
-    if let Some(c) = claims {
-        doc["claims"] = json!({ "passed": c.passed, "lines": c.text.lines().collect::<Vec<_>>() });
-        doc["passed"] = Value::Bool(doc["passed"].as_bool().unwrap_or(true) && c.passed);
+    if let Some(run) = claims {
+        let c = run.to_json(true);
+        let passed = c["passed"].as_bool().unwrap_or(false);
+        doc["claims"] = c;
+        doc["passed"] = Value::Bool(doc["passed"].as_bool().unwrap_or(true) && passed);
     }
     json::text(&doc)
 }

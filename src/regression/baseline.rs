@@ -157,6 +157,42 @@ impl fmt::Display for Change {
     }
 }
 
+impl Change {
+    /// The change as JSON (`check --format json`): `kind` (`moved`, `text`, `row_added`,
+    /// `row_removed`, `column_added`, `column_removed`), the row and column where they apply,
+    /// the old and new cell texts, the relative move (`null` from 0) and the tolerance, and
+    /// `text`, the sentence the text format prints.
+    pub fn to_json(&self) -> serde_json::Value {
+        let mut v = match self {
+            Change::Moved { key, column, old, new, rel, tolerance } => serde_json::json!({
+                "kind": "moved", "row": key.to_string(), "column": column, "old": cell(old), "new": cell(new),
+                "rel": rel.is_finite().then_some(*rel),
+                "tolerance": match tolerance {
+                    Tolerance::Within { rel, abs } => serde_json::json!({ "rel": rel, "abs": abs }),
+                    Tolerance::Ignore => serde_json::Value::Null,
+                },
+            }),
+            Change::Text { key, column, old, new } => serde_json::json!({
+                "kind": "text", "row": key.to_string(), "column": column, "old": cell(old), "new": cell(new),
+            }),
+            Change::RowAdded(k) => serde_json::json!({ "kind": "row_added", "row": k.to_string() }),
+            Change::RowRemoved(k) => serde_json::json!({ "kind": "row_removed", "row": k.to_string() }),
+            Change::ColumnAdded(c) => serde_json::json!({ "kind": "column_added", "column": c }),
+            Change::ColumnRemoved(c) => serde_json::json!({ "kind": "column_removed", "column": c }),
+        };
+        v["text"] = serde_json::Value::String(self.to_string());
+        v
+    }
+}
+
+/// A cell as JSON: a number when it reads as a finite one, else its text.
+fn cell(text: &str) -> serde_json::Value {
+    match text.trim().parse::<f64>() {
+        Ok(x) if x.is_finite() => serde_json::json!(x),
+        _ => serde_json::Value::String(text.to_string()),
+    }
+}
+
 /// The result of comparing two tables.
 #[derive(Clone, Debug, Default)]
 pub struct Comparison {

@@ -71,6 +71,36 @@ pub struct ClaimsRun {
     pub strips: Vec<BlendStrip>,
 }
 
+impl ClaimsRun {
+    /// The run as JSON (`check --format json`'s `claims`; `docs/json.md`): `passed` as
+    /// [`report`] decides it, whether the measurements were taken and why not, each moved
+    /// measurement with its changes ([`Change::to_json`]), and each changed verdict.
+    pub fn to_json(&self, checking: bool) -> serde_json::Value {
+        let moved: Vec<serde_json::Value> = self
+            .moved
+            .iter()
+            .map(|(name, ch)| {
+                serde_json::json!({
+                    "measurement": name,
+                    "changes": ch.iter().map(Change::to_json).collect::<Vec<_>>(),
+                })
+            })
+            .collect();
+        let verdicts: Vec<serde_json::Value> = self
+            .verdicts_changed
+            .iter()
+            .map(|(id, old, new)| serde_json::json!({ "id": id, "committed": old, "now": new }))
+            .collect();
+        serde_json::json!({
+            "passed": report(self, checking).0,
+            "measured": self.skipped.is_none(),
+            "not_measured_because": self.skipped,
+            "moved": moved,
+            "verdicts_changed": verdicts,
+        })
+    }
+}
+
 /// The committed verdicts, by id.
 fn committed_verdicts(results: &Path) -> Vec<(String, String)> {
     let Ok(t) = Table::read(&results.join(verdicts::CSV)) else { return Vec::new() };
