@@ -81,9 +81,9 @@ pub fn blend_charts(t: &CsvTable) -> Result<Vec<(String, Outcome)>> {
                 let over = a.iter().map(|p| (p.1 - hi).max(lo - p.1).max(0.0)).fold(0.0, f64::max);
                 notes.push(format!("{m}: overshoot {}", sig(over, 3)));
             }
-            irr.push(Series { label: m.clone(), colour: k, points: a });
+            irr.push(Series { label: m.clone(), colour: k, dashed: false, points: a });
             if !e.is_empty() {
-                err.push(Series { label: m, colour: k, points: e });
+                err.push(Series { label: m, colour: k, dashed: false, points: e });
             }
         }
         let two = !err.is_empty();

@@ -3,7 +3,7 @@
 
 use super::super::text::{text_width, BODY, FONT, HEADING};
 use super::axes::tick;
-use super::draw::{colour, pe};
+use super::draw::{canvas, colour, pe, Outcome};
 use anyhow::Result;
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -42,7 +42,13 @@ pub(super) fn draw_legend<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, ser
     for (s, b) in series.iter().zip(legend_boxes(series, x0)) {
         let c = colour(s.colour);
         let y = (b.1 + b.3) / 2;
-        root.draw(&PathElement::new([(b.0, y), (b.0 + 18, y)], c.stroke_width(2))).map_err(pe)?;
+        if s.dashed {
+            for x in [b.0, b.0 + 8, b.0 + 16] {
+                root.draw(&PathElement::new([(x, y), (x + 4, y)], c.stroke_width(2))).map_err(pe)?;
+            }
+        } else {
+            root.draw(&PathElement::new([(b.0, y), (b.0 + 18, y)], c.stroke_width(2))).map_err(pe)?;
+        }
         root.draw(&Circle::new((b.0 + 9, y), 3, c.filled())).map_err(pe)?;
         let style = TextStyle::from((FONT, BODY).into_font()).color(&BLACK).pos(Pos::new(HPos::Left, VPos::Center));
         root.draw_text(&s.label, &style, (b.0 + 24, y)).map_err(pe)?;
@@ -55,6 +61,8 @@ pub(super) struct Series {
     pub(super) label: String,
     /// Palette index, so a label keeps its colour across panels.
     pub(super) colour: usize,
+    /// Drawn dashed (a second statistic of the same group, beside its solid line).
+    pub(super) dashed: bool,
     pub(super) points: Vec<(f64, f64)>,
 }
 
@@ -111,7 +119,11 @@ pub(super) fn line_panel<DB: DrawingBackend>(
                 .map_err(pe)?;
             for s in series {
                 let c = colour(s.colour);
-                chart.draw_series(LineSeries::new(s.points.clone(), c.stroke_width(2))).map_err(pe)?;
+                if s.dashed {
+                    chart.draw_series(DashedLineSeries::new(s.points.clone(), 5, 4, c.stroke_width(2))).map_err(pe)?;
+                } else {
+                    chart.draw_series(LineSeries::new(s.points.clone(), c.stroke_width(2))).map_err(pe)?;
+                }
                 chart.draw_series(s.points.iter().map(|p| Circle::new(*p, 3, c.filled()))).map_err(pe)?;
             }
         }};
@@ -124,4 +136,43 @@ pub(super) fn line_panel<DB: DrawingBackend>(
         (false, false) => draw!(xp.0..xp.1, yp.0..yp.1),
     }
     Ok(())
+}
+
+/// Most entries a sweep chart's legend holds. A knob with more series is drawn as their
+/// convergence, summarised per encoder (two entries each), split into charts of at most this
+/// many entries.
+pub const MAX_LEGEND: usize = 8;
+
+/// One series of a sweep: its label (map / encoder / domain, or `label`), the group it is
+/// summarised in (its encoder, or the label where the file has none), and its points
+/// (knob value, rmse, time_ns), in value order.
+pub(super) struct Line {
+    pub(super) label: String,
+    pub(super) group: String,
+    pub(super) points: Vec<(f64, f64, Option<f64>)>,
+}
+
+/// Draws the value panel and, when any series has times, the time panel, with the legend
+/// column beside them.
+pub(super) fn panels(
+    knob: &str,
+    what: &str,
+    (by_value, by_time): (&[Series], &[Series]),
+    y: &str,
+    linear_y: bool,
+) -> Result<Outcome> {
+    let two = !by_time.is_empty();
+    let w = if two { 1200 } else { 640 };
+    let (image, svg, text) = canvas!(w + legend_width(by_value), legend_height(by_value), |root| {
+        root.fill(&WHITE).map_err(pe)?;
+        draw_legend(root, by_value, w as i32)?;
+        let root = &root.split_horizontally(w).0;
+        let (a, b) = if two { root.split_horizontally(600) } else { (root.clone(), root.clone()) };
+        line_panel(&a, &format!("{knob}: {what} against value"), knob, y, by_value, linear_y)?;
+        if two {
+            line_panel(&b, &format!("{knob}: {what} against time"), "time, ns", y, by_time, linear_y)?;
+        }
+        Ok(())
+    })?;
+    Ok(Outcome::Drawn { image, svg, caption: String::new(), text, marks: vec![] })
 }

@@ -8,7 +8,8 @@
 //! File formats read here (also in docs/report.md):
 //! - `table.csv` (the runner's): `map`, `encoder`, `rmse`; optional `metric` (rows of `exact`
 //!   are charted when present), `fit_ns` (the error-against-time chart needs it).
-//! - `sweep*.csv`: `knob,value,rmse,time_ns,label` — one chart per knob, one line per label;
+//! - `sweep*.csv`: `knob,value,rmse,time_ns,label` — one chart per knob, one line per label
+//!   (more than 8 labels: per encoder, the median and worst ratio to the series' converged value);
 //!   `time_ns` may be empty; an optional `reference` column says what rmse is measured against.
 //! - `blend*.csv`: `t,method,irradiance_at_n_r,irradiance_at_n_g,irradiance_at_n_b,rmse` —
 //!   `rmse` may be empty; an optional `set` column gives one chart per lighting set.
@@ -16,12 +17,14 @@
 //! One concept per file: `draw.rs` (the outcome, the palette, drawing on both backends),
 //! `axes.rs` (log-axis bounds and ticks), `rows.rs` (which rows a table chart reads),
 //! `bars.rs` (rmse bars), `cost.rs` (error against cost, the Pareto front, point labels),
-//! `lines.rs` (line panels and their legend column), `sweeps.rs` and `blending.rs`.
+//! `lines.rs` (line panels and their legend column), `sweeps.rs`, `convergence.rs` (a sweep
+//! with more series than a legend holds) and `blending.rs`.
 
 mod axes;
 mod backend;
 mod bars;
 mod blending;
+mod convergence;
 mod cost;
 mod draw;
 mod lines;

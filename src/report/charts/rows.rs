@@ -60,9 +60,13 @@ impl Measure {
         }
     }
 
-    /// What is measured, for an axis: "RMSE of E/π (exact, solid-angle)".
+    /// What is measured, for an axis: "RMSE of E/π (exact, solid-angle)". The reference is
+    /// the `metric`, or where the table has none, its `reference` up to " reference" (a
+    /// sweep's "converged reference (1024x512 map, 16 GL nodes)" gives "converged").
     pub fn quantity(&self) -> String {
-        let how: Vec<&str> = [self.metric.as_deref(), self.weighting.as_deref()].into_iter().flatten().collect();
+        let kind =
+            self.metric.as_deref().or_else(|| self.reference.as_deref()?.split_once(" reference").map(|(k, _)| k));
+        let how: Vec<&str> = [kind, self.weighting.as_deref()].into_iter().flatten().collect();
         if how.is_empty() {
             format!("RMSE of {}", self.unit)
         } else {

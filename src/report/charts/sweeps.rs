@@ -1,98 +1,101 @@
 //! Convergence sweeps: rmse against a knob's value, and against time, one line per label.
 
 use super::super::csvfile::CsvTable;
-use super::draw::{canvas, pe, Outcome};
-use super::lines::{draw_legend, legend_height, legend_width, line_panel, Series};
+use super::convergence::convergence_charts;
+use super::draw::Outcome;
+use super::lines::{panels, Line, Series, MAX_LEGEND};
 use super::rows::{distinct, Measure};
 use anyhow::Result;
-use plotters::prelude::*;
 
 /// One chart per knob of a sweep CSV (`knob,value,rmse,time_ns,label`): rmse against the
 /// knob's value, one line per label, and beside it rmse against time when `time_ns` is filled.
+/// A knob with more than [`MAX_LEGEND`] series gets the summary of [`convergence_charts`].
 pub fn sweep_charts(t: &CsvTable) -> Result<Vec<(String, Outcome)>> {
-    let [kc, vc, rc] = t.require(&["knob", "value", "rmse"])?[..] else { unreachable!() };
+    let [kc, _, _] = t.require(&["knob", "value", "rmse"])?[..] else { unreachable!() };
+    let all: Vec<usize> = (0..t.rows.len()).collect();
+    let mut out = Vec::new();
+    for knob in distinct(t, &all, kc) {
+        let rows: Vec<usize> = all.iter().copied().filter(|&i| t.rows[i][kc] == knob).collect();
+        let (lines, unplotted) = lines_of(t, &rows)?;
+        if lines.iter().all(|l| l.points.is_empty()) {
+            out.push((knob.clone(), Outcome::Skipped(format!("sweep '{knob}': no numeric rows"))));
+            continue;
+        }
+        let measure = Measure::of(t, &rows);
+        let unplotted = if unplotted > 0 {
+            format!("; {unplotted} row(s) with a non-numeric value (e.g. `full`) are in the CSV, not on the chart")
+        } else {
+            String::new()
+        };
+        if lines.len() <= MAX_LEGEND {
+            out.push((knob.clone(), absolute_chart(&knob, &lines, &measure, &unplotted)?));
+        } else {
+            out.extend(convergence_charts(&knob, &lines, &measure, &unplotted)?);
+        }
+    }
+    Ok(out)
+}
+
+/// The series of one knob's rows, in first-seen order, and how many rows have a value that is
+/// not a number.
+fn lines_of(t: &CsvTable, rows: &[usize]) -> Result<(Vec<Line>, usize)> {
+    let [vc, rc] = t.require(&["value", "rmse"])?[..] else { unreachable!() };
     // A series per `label`, or per map / encoder / domain where the file has those instead.
     let label_cols: Vec<usize> = match t.col("label") {
         Some(c) => vec![c],
         None => ["map", "encoder", "domain"].iter().filter_map(|h| t.col(h)).collect(),
     };
+    let group_col = if t.col("label").is_some() { None } else { t.col("encoder") };
     let label_of = |i: usize| label_cols.iter().map(|&c| t.rows[i][c].as_str()).collect::<Vec<_>>().join(" / ");
     let tc = t.col("time_ns");
-    let refc = t.col("reference");
-    let all: Vec<usize> = (0..t.rows.len()).collect();
-    let mut out = Vec::new();
-    for knob in distinct(t, &all, kc) {
-        let rows: Vec<usize> = all.iter().copied().filter(|&i| t.rows[i][kc] == knob).collect();
-        let mut by_value = Vec::new();
-        let mut by_time = Vec::new();
-        let mut zero = 0;
-        let mut labels: Vec<String> = Vec::new();
-        for &i in &rows {
-            let l = label_of(i);
-            if !labels.contains(&l) {
-                labels.push(l);
+    let mut lines: Vec<Line> = Vec::new();
+    let mut unplotted = 0;
+    for &i in rows {
+        let label = label_of(i);
+        let k = match lines.iter().position(|l| l.label == label) {
+            Some(k) => k,
+            None => {
+                let group = group_col.map_or_else(|| label.clone(), |c| t.rows[i][c].clone());
+                lines.push(Line { label, group, points: Vec::new() });
+                lines.len() - 1
             }
-        }
-        let mut unplotted = 0;
-        for (k, label) in labels.into_iter().enumerate() {
-            let mut a = Vec::new();
-            let mut b = Vec::new();
-            for &i in rows.iter().filter(|&&i| label_of(i) == label) {
-                let Some(v) = knob_value(&t.rows[i][vc]) else {
-                    unplotted += 1;
-                    continue;
-                };
-                let Some(r) = t.num(i, rc)? else { continue };
-                if r <= 0.0 {
-                    zero += 1;
-                }
-                a.push((v, r));
-                if let Some(tn) = tc.map(|c| t.num(i, c)).transpose()?.flatten() {
-                    b.push((tn, r));
-                }
-            }
-            a.sort_by(|p, q| p.0.total_cmp(&q.0));
-            b.sort_by(|p, q| p.0.total_cmp(&q.0));
-            by_value.push(Series { label: label.clone(), colour: k, points: a });
-            if !b.is_empty() {
-                by_time.push(Series { label, colour: k, points: b });
-            }
-        }
-        if by_value.iter().all(|s| s.points.is_empty()) {
-            out.push((knob.clone(), Outcome::Skipped(format!("sweep '{knob}': no numeric rows"))));
+        };
+        let Some(v) = knob_value(&t.rows[i][vc]) else {
+            unplotted += 1;
             continue;
-        }
-        let two = !by_time.is_empty();
-        let quantity = Measure::of(t, &rows).quantity();
-        let w = if two { 1200 } else { 640 };
-        let (image, svg, text) = canvas!(w + legend_width(&by_value), legend_height(&by_value), |root| {
-            root.fill(&WHITE).map_err(pe)?;
-            draw_legend(root, &by_value, w as i32)?;
-            let root = &root.split_horizontally(w).0;
-            let (a, b) = if two { root.split_horizontally(600) } else { (root.clone(), root.clone()) };
-            line_panel(&a, &format!("{knob}: RMSE against value"), &knob, &quantity, &by_value, zero > 0)?;
-            if two {
-                line_panel(&b, &format!("{knob}: RMSE against time"), "time, ns", &quantity, &by_time, zero > 0)?;
-            }
-            Ok(())
-        })?;
-        let against = refc
-            .and_then(|c| rows.iter().map(|&i| t.rows[i][c].clone()).find(|s| !s.is_empty()))
-            .map(|s| format!("; rmse against {s}"))
-            .unwrap_or_default();
-        let caption = format!(
-            "convergence sweep of `{knob}`: rmse against the knob's value (a W×H value is plotted at W){}{}{}",
-            if two { " and against time_ns" } else { " (no time_ns in the file)" },
-            against,
-            if unplotted > 0 {
-                format!("; {unplotted} row(s) with a non-numeric value (e.g. `full`) are in the CSV, not on the chart")
-            } else {
-                String::new()
-            }
-        );
-        out.push((knob, Outcome::Drawn { image, svg, caption, text, marks: vec![] }));
+        };
+        let Some(r) = t.num(i, rc)? else { continue };
+        let time = tc.map(|c| t.num(i, c)).transpose()?.flatten();
+        lines[k].points.push((v, r, time));
     }
-    Ok(out)
+    for l in &mut lines {
+        l.points.sort_by(|p, q| p.0.total_cmp(&q.0));
+    }
+    Ok((lines, unplotted))
+}
+
+/// Every series' rmse, one line each, against the knob's value and against time.
+fn absolute_chart(knob: &str, lines: &[Line], measure: &Measure, unplotted: &str) -> Result<Outcome> {
+    let zero = lines.iter().flat_map(|l| &l.points).any(|p| p.1 <= 0.0);
+    let series = |k: usize, l: &Line, time: bool| Series {
+        label: l.label.clone(),
+        colour: k,
+        dashed: false,
+        points: l.points.iter().filter_map(|p| if time { p.2.map(|t| (t, p.1)) } else { Some((p.0, p.1)) }).collect(),
+    };
+    let by_value: Vec<Series> = lines.iter().enumerate().map(|(k, l)| series(k, l, false)).collect();
+    let by_time: Vec<Series> =
+        lines.iter().enumerate().map(|(k, l)| series(k, l, true)).filter(|s| !s.points.is_empty()).collect();
+    let two = !by_time.is_empty();
+    let mut o = panels(knob, "RMSE", (&by_value, &by_time), &measure.quantity(), zero)?;
+    if let Outcome::Drawn { caption, .. } = &mut o {
+        *caption = format!(
+            "convergence sweep of `{knob}`: {} against the knob's value (a W×H value is plotted at W){}{unplotted}",
+            measure.caption(),
+            if two { " and against time_ns" } else { " (no time_ns in the file)" },
+        );
+    }
+    Ok(o)
 }
 
 /// A sweep knob's value as a number: a plain number, or the width W of a `W×H` resolution

@@ -223,7 +223,7 @@ fn legends_are_beside_the_data() {
     let series: Vec<Series> = ["a_long_series_name_one", "two"]
         .iter()
         .enumerate()
-        .map(|(k, l)| Series { label: l.to_string(), colour: k, points: vec![] })
+        .map(|(k, l)| Series { label: l.to_string(), colour: k, dashed: false, points: vec![] })
         .collect();
     let boxes = legend_boxes(&series, 1200);
     for (i, b) in boxes.iter().enumerate() {
