@@ -14,8 +14,9 @@ use std::io::{BufRead, BufReader};
 use std::process::Stdio;
 use std::time::{Duration, Instant};
 
-/// The size assumed for a map the search path does not find here (the paper probes without
-/// `PROBELAB_ENVMAPS`): at least as large as any map the committed files name.
+/// The size assumed for a map the search path does not find here that is not a known map
+/// (`envmaps/known.toml` gives the size of those, the paper probes without
+/// `PROBELAB_ENVMAPS` among them): at least as large as any map the committed files name.
 const UNFOUND: (usize, usize) = (2048, 1024);
 
 /// The committed search path: the repository's maps, then `PROBELAB_ENVMAPS`.
@@ -23,10 +24,18 @@ fn search() -> SearchPath {
     SearchPath::from_env(repo().join("envmaps"))
 }
 
-/// Each map's size from its header, or [`UNFOUND`].
+/// Each map's size from its header, else its known size, else [`UNFOUND`].
 fn sizes(maps: &[String], search: &SearchPath) -> Vec<(usize, usize)> {
     maps.iter()
-        .map(|m| search.resolve(m).ok().and_then(|p| probelab::envmap::load::dimensions(&p).ok()).unwrap_or(UNFOUND))
+        .map(|m| {
+            let known = || probelab::envmap::known::by_name(m).map(|k| (k.width, k.height));
+            search
+                .resolve(m)
+                .ok()
+                .and_then(|p| probelab::envmap::load::dimensions(&p).ok())
+                .or_else(known)
+                .unwrap_or(UNFOUND)
+        })
         .collect()
 }
 
@@ -129,4 +138,25 @@ fn a_long_sweep_is_refused_without_allow_long() {
     assert_eq!(out.status.code(), Some(2), "{err}");
     assert!(err.contains("long.toml: estimated ") && err.contains("5 value(s) of polar_nodes"), "{err}");
     assert!(!s.path().join("results").join("sweeps").exists(), "nothing is written");
+}
+
+/// `check` and `bless` re-run experiments too: an experiment edited to run for hours is
+/// refused by either before it runs, exit 2, naming the file; no baseline is written.
+#[test]
+fn check_and_bless_refuse_a_long_experiment_too() {
+    let s = scratch_with("");
+    let file =
+        s.write("experiments/long.toml", format!("{MAPS}orientations = ['fibonacci4096']\nresolution = [512, 256]\n"));
+    for cmd in ["check", "bless"] {
+        let t = Instant::now();
+        let out = s.probelab().args([cmd, "--out"]).arg(s.path().join("results")).arg(&file).output().unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{cmd}: {err}");
+        assert!(t.elapsed() < Duration::from_secs(5), "{cmd}: the refusal took {:?}", t.elapsed());
+        assert!(
+            err.contains(&format!("{}: estimated ", file.display())) && err.contains("--allow-long"),
+            "{cmd}: {err}"
+        );
+        assert!(!s.path().join("results").join("long").exists(), "{cmd}: nothing is written");
+    }
 }

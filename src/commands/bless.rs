@@ -30,6 +30,7 @@ pub fn run(a: Args, env: &Env) -> Result<i32> {
     let mut code = 0;
     let mut lines = String::new();
     if a.experiments.is_empty() || !names.is_empty() {
+        env.refuse_long_experiments(&probelab::regression::check::select(&env.root, &names, false)?.0)?;
         // Each comparison is printed before anything is written (the library writes only after
         // every experiment was compared).
         let mut show = |c: &probelab::regression::check::ExperimentCheck| -> Result<()> {

@@ -45,6 +45,7 @@ pub fn run(a: Args, env: &Env) -> Result<i32> {
     let mut checked = None;
     let mut claims_run = None;
     if a.all || !names.is_empty() || !claims {
+        env.refuse_long_experiments(&probelab::regression::check::select(&env.root, &names, !a.all)?.0)?;
         let mut show = |c: &probelab::regression::check::ExperimentCheck, seconds: f64| -> Result<()> {
             if !json {
                 output::write(c.report().as_bytes())?;
