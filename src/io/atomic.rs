@@ -323,9 +323,7 @@ mod tests {
     #[test]
     fn a_write_removes_the_stale_temporaries_beside_it() {
         let d = tempfile::tempdir().unwrap();
-        let mut child = std::process::Command::new("true").spawn().unwrap();
-        let gone = child.id();
-        child.wait().unwrap();
+        let gone = crate::io::folder::pid_of_a_finished_process();
         let mut alive = std::process::Command::new("sleep").arg("30").spawn().unwrap();
         let stale = [d.path().join(format!(".t.csv.tmp-{gone}")), d.path().join(format!(".u.csv.tmp-{gone}-7"))];
         let live = d.path().join(format!(".t.csv.tmp-{}", alive.id()));

@@ -114,6 +114,16 @@ fn remove_stale_here(d: &Path) -> Result<(Vec<PathBuf>, Vec<PathBuf>)> {
     Ok((removed, subfolders))
 }
 
+/// A process id that is surely gone: a child that has been waited for (for the tests of the
+/// removal of stale temporary files, here and in `io::atomic`).
+#[cfg(test)]
+pub(crate) fn pid_of_a_finished_process() -> u32 {
+    let mut child = std::process::Command::new("true").spawn().expect("spawn `true`");
+    let gone = child.id();
+    child.wait().expect("wait for `true`");
+    gone
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -135,10 +145,7 @@ mod tests {
     #[test]
     fn stale_temporary_files_are_removed() {
         let d = tempfile::tempdir().unwrap();
-        // A process id that is surely gone: a child that has been waited for.
-        let mut child = std::process::Command::new("true").spawn().unwrap();
-        let gone = child.id();
-        child.wait().unwrap();
+        let gone = pid_of_a_finished_process();
         let own = std::process::id();
         std::fs::create_dir(d.path().join("x")).unwrap();
         let stale =
