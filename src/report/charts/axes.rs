@@ -1,6 +1,14 @@
 //! Log axes: decade bounds around positive values and short tick labels.
 
 use super::super::number::sig;
+use super::super::text::{text_width, BODY, FONT};
+use super::draw::pe;
+use anyhow::Result;
+use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
+
+/// The height a tick label takes along a vertical axis, px.
+const LABEL_LINE: i32 = 15;
 
 /// The widest span a log axis is given: tables hold numbers within ±1e30
 /// (`pipeline::table_cells`); a wider axis once made plotters' log coordinates hang.
@@ -38,10 +46,17 @@ pub(super) fn tick(v: f64) -> String {
         return format!("1e{}", e.round() as i32);
     }
     let s = sig(v, 2);
-    if s.contains('.') && !s.contains('e') {
-        s.trim_end_matches('0').trim_end_matches('.').to_string()
-    } else {
-        s
+    let trim = |m: &str| {
+        if m.contains('.') {
+            m.trim_end_matches('0').trim_end_matches('.').to_string()
+        } else {
+            m.to_string()
+        }
+    };
+    match s.split_once('e') {
+        // "5.0e7" reads "5e7".
+        Some((m, e)) => format!("{}e{e}", trim(m)),
+        None => trim(&s),
     }
 }
 
@@ -82,4 +97,43 @@ pub(super) fn log_ticks(lo: f64, hi: f64, min: usize) -> Vec<f64> {
         }
     }
     out
+}
+
+/// Grid lines and labelled ticks at `ticks` along x (`vertical`: lines across the plot, labels
+/// under it) or y (labels left of it), `at` giving a value's pixel; a label that would touch
+/// the one before it is left out (its grid line stays).
+pub(super) fn grid<DB: DrawingBackend>(
+    root: &DrawingArea<DB, plotters::coord::Shift>,
+    plot: (i32, i32, i32, i32),
+    ticks: &[f64],
+    at: impl Fn(f64) -> i32,
+    vertical: bool,
+) -> Result<()> {
+    let (x0, y0, x1, y1) = plot;
+    let light = RGBColor(225, 225, 225);
+    let mut last: Option<i32> = None;
+    for &v in ticks {
+        let p = at(v);
+        let label = tick(v);
+        let (line, mark, pos, anchor) = if vertical {
+            ([(p, y0), (p, y1)], [(p, y1), (p, y1 + 5)], (p, y1 + 8), Pos::new(HPos::Center, VPos::Top))
+        } else {
+            ([(x0, p), (x1, p)], [(x0 - 5, p), (x0, p)], (x0 - 8, p), Pos::new(HPos::Right, VPos::Center))
+        };
+        root.draw(&PathElement::new(line, light.stroke_width(1))).map_err(pe)?;
+        root.draw(&PathElement::new(mark, BLACK.stroke_width(1))).map_err(pe)?;
+        let w = text_width(&label, BODY, false) as i32;
+        // The label's extent along the axis, and whether it clears the previous one by 6 px.
+        let (from, to) = if vertical { (p - w / 2, p + w / 2) } else { (p - LABEL_LINE / 2, p + LABEL_LINE / 2) };
+        let clear = match last {
+            Some(l) if vertical => from >= l + 6,
+            Some(l) => to <= l - 2,
+            None => true,
+        };
+        if clear {
+            root.draw_text(&label, &TextStyle::from((FONT, BODY)).pos(anchor), pos).map_err(pe)?;
+            last = Some(if vertical { to } else { from });
+        }
+    }
+    Ok(())
 }

@@ -1,8 +1,8 @@
 //! A sweep with more series than a legend can tell apart (every map × encoder × normal of a
-//! solver's iteration count, say) drawn as what a sweep is for: how fast each encoder
-//! converges. Each series is divided by its own RMSE at the knob's largest value, so every
-//! series ends at 1; per encoder the median and the worst (largest) of these ratios over its
-//! series are drawn against the value, and against the median time at that value.
+//! solver's iteration count, say) drawn per encoder: at each value of the knob, the median and
+//! the worst (largest) RMSE over the encoder's series, against the value and against the
+//! median time at that value. Where each encoder's curves flatten is where it has converged;
+//! the levels stay in the table's unit.
 
 use super::draw::Outcome;
 use super::lines::{panels, Line, Series, MAX_LEGEND};
@@ -10,7 +10,7 @@ use super::rows::Measure;
 use anyhow::Result;
 
 /// One encoder's summary: at each knob value (ascending), the median time over its series
-/// (if any has one), the median ratio and the worst ratio.
+/// (if any has one), the median RMSE and the worst RMSE.
 struct Summary {
     group: String,
     series: usize,
@@ -27,42 +27,34 @@ fn median(v: &mut [f64]) -> Option<f64> {
     Some(if n % 2 == 1 { v[n / 2] } else { 0.5 * (v[n / 2 - 1] + v[n / 2]) })
 }
 
-/// The summaries of `lines`, by group in first-seen order, and how many series could not be
-/// scaled (their RMSE at their largest value is 0).
-fn summarise(lines: &[Line]) -> (Vec<Summary>, usize) {
+/// The summaries of `lines`, by group in first-seen order.
+fn summarise(lines: &[Line]) -> Vec<Summary> {
     let mut groups: Vec<&str> = Vec::new();
     for l in lines {
         if !groups.contains(&l.group.as_str()) {
             groups.push(&l.group);
         }
     }
-    let mut unscaled = 0;
     let mut out = Vec::new();
     for g in groups {
-        let mut scaled: Vec<Vec<(f64, f64, Option<f64>)>> = Vec::new();
-        for l in lines.iter().filter(|l| l.group == g) {
-            match l.points.last() {
-                Some(last) if last.1 > 0.0 => scaled.push(l.points.iter().map(|p| (p.0, p.1 / last.1, p.2)).collect()),
-                Some(_) => unscaled += 1,
-                None => {}
-            }
-        }
-        let mut values: Vec<f64> = scaled.iter().flatten().map(|p| p.0).collect();
+        let members: Vec<&Line> = lines.iter().filter(|l| l.group == g).collect();
+        let mut values: Vec<f64> = members.iter().flat_map(|l| &l.points).map(|p| p.0).collect();
         values.sort_by(f64::total_cmp);
         values.dedup();
         let points = values
             .into_iter()
             .filter_map(|v| {
-                let at: Vec<&(f64, f64, Option<f64>)> = scaled.iter().flatten().filter(|p| p.0 == v).collect();
-                let mut ratios: Vec<f64> = at.iter().map(|p| p.1).collect();
-                let worst = ratios.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+                let at: Vec<&(f64, f64, Option<f64>)> =
+                    members.iter().flat_map(|l| &l.points).filter(|p| p.0 == v).collect();
+                let mut rmse: Vec<f64> = at.iter().map(|p| p.1).collect();
+                let worst = rmse.iter().copied().fold(f64::NEG_INFINITY, f64::max);
                 let mut times: Vec<f64> = at.iter().filter_map(|p| p.2).collect();
-                Some((v, median(&mut times), median(&mut ratios)?, worst))
+                Some((v, median(&mut times), median(&mut rmse)?, worst))
             })
             .collect();
-        out.push(Summary { group: g.to_string(), series: scaled.len(), points });
+        out.push(Summary { group: g.to_string(), series: members.len(), points });
     }
-    (out, unscaled)
+    out
 }
 
 /// The convergence charts of one knob: [`MAX_LEGEND`]` / 2` encoders a chart (a median and a
@@ -73,7 +65,8 @@ pub fn convergence_charts(
     measure: &Measure,
     unplotted: &str,
 ) -> Result<Vec<(String, Outcome)>> {
-    let (summaries, unscaled) = summarise(lines);
+    let summaries = summarise(lines);
+    let zero = lines.iter().flat_map(|l| &l.points).any(|p| p.1 <= 0.0);
     let mut out = Vec::new();
     for (part, chunk) in summaries.chunks(MAX_LEGEND / 2).enumerate() {
         let mut by_value = Vec::new();
@@ -94,11 +87,9 @@ pub fn convergence_charts(
                 }
             }
         }
-        let largest = lines.iter().filter_map(|l| l.points.last()).map(|p| p.0).fold(f64::NEG_INFINITY, f64::max);
-        let axis = format!("RMSE ÷ RMSE at the series' largest {knob}");
-        let mut o = panels(knob, "RMSE ratio", (&by_value, &by_time), &axis, false)?;
+        let mut o = panels(knob, "RMSE", (&by_value, &by_time), &measure.quantity(), zero)?;
         if let Outcome::Drawn { caption, .. } = &mut o {
-            *caption = caption_of(knob, lines.len(), largest, measure, unscaled, unplotted);
+            *caption = caption_of(knob, lines.len(), measure, unplotted);
         }
         let name = if part == 0 { knob.to_string() } else { format!("{knob}_part{}", part + 1) };
         out.push((name, o));
@@ -107,18 +98,12 @@ pub fn convergence_charts(
 }
 
 /// The caption of a convergence chart.
-fn caption_of(knob: &str, series: usize, largest: f64, measure: &Measure, unscaled: usize, unplotted: &str) -> String {
-    let left_out = if unscaled > 0 {
-        format!("; {unscaled} series with an RMSE of 0 at their largest value are left out")
-    } else {
-        String::new()
-    };
+fn caption_of(knob: &str, series: usize, measure: &Measure, unplotted: &str) -> String {
     format!(
         "convergence sweep of `{knob}` over {series} series (map / encoder / domain; more than the \
-         {MAX_LEGEND} a legend tells apart): each series' RMSE divided by its RMSE at its largest `{knob}` \
-         (up to {largest}), so every series ends at 1; per encoder the median (solid) and the worst \
-         (dashed) ratio, against the value (a W×H value at W) and against the median time_ns. {}. Every \
-         series is in the CSV{left_out}{unplotted}",
+         {MAX_LEGEND} a legend tells apart): per encoder, the median (solid) and the worst (dashed) RMSE \
+         over its series at each value, against the value (a W×H value at W) and against the median \
+         time_ns there. {}. Every series is in the CSV{unplotted}",
         measure.caption(),
     )
 }
@@ -135,25 +120,24 @@ mod tests {
         }
     }
 
-    /// Three series ending at 1, 2 and 0.5 that start at 2, 6 and 2 times that: at the first
-    /// value the median ratio is 2 and the worst 6; at the last every ratio is 1. A series
-    /// ending at 0 cannot be scaled and is counted.
+    /// Three series of one encoder: at value 1 the median RMSE is 2 and the worst 12; at 5
+    /// only one series has a point; the median time is that of the series at the value.
     #[test]
-    fn each_series_is_scaled_by_its_own_last_value() {
+    fn each_value_gets_the_median_and_worst_of_the_encoders_series() {
         let lines = [
             line("e", "a", &[(1.0, 2.0), (10.0, 1.0)]),
             line("e", "b", &[(1.0, 12.0), (10.0, 2.0)]),
             line("e", "c", &[(1.0, 1.0), (5.0, 0.75), (10.0, 0.5)]),
-            line("e", "d", &[(1.0, 1.0), (10.0, 0.0)]),
+            line("f", "d", &[(1.0, 7.0)]),
         ];
-        let (s, unscaled) = summarise(&lines);
-        assert_eq!(unscaled, 1);
-        assert_eq!(s.len(), 1);
-        assert_eq!(s[0].series, 3);
+        let s = summarise(&lines);
+        assert_eq!(s.len(), 2);
+        assert_eq!((s[0].group.as_str(), s[0].series), ("e", 3));
         assert_eq!(
             s[0].points,
-            vec![(1.0, Some(10.0), 2.0, 6.0), (5.0, Some(50.0), 1.5, 1.5), (10.0, Some(100.0), 1.0, 1.0)]
+            vec![(1.0, Some(10.0), 2.0, 12.0), (5.0, Some(50.0), 0.75, 0.75), (10.0, Some(100.0), 1.0, 2.0)]
         );
+        assert_eq!(s[1].points, vec![(1.0, Some(10.0), 7.0, 7.0)]);
         assert_eq!(median(&mut [3.0, 1.0, 2.0, 10.0]), Some(2.5));
         assert_eq!(median(&mut []), None);
     }

@@ -3,7 +3,7 @@
 
 use super::super::csvfile::CsvTable;
 use super::super::text::{text_width, BODY, FONT, TITLE};
-use super::axes::{fitted, log_ticks, tick};
+use super::axes::{fitted, grid, log_ticks};
 use super::draw::{canvas, pe, Outcome};
 use super::rows::{distinct, metric_rows, Measure};
 use anyhow::Result;
@@ -302,45 +302,6 @@ fn draw_points<DB: DrawingBackend>(
         root.draw_text(name, &style, (bx0, cy)).map_err(pe)?;
     }
     Ok(dots)
-}
-
-/// Grid lines and labelled ticks at `ticks` along x (`vertical`: lines across the plot, labels
-/// under it) or y (labels left of it), `at` giving a value's pixel; a label that would touch
-/// the one before it is left out (its grid line stays).
-fn grid<DB: DrawingBackend>(
-    root: &DrawingArea<DB, plotters::coord::Shift>,
-    plot: (i32, i32, i32, i32),
-    ticks: &[f64],
-    at: impl Fn(f64) -> i32,
-    vertical: bool,
-) -> Result<()> {
-    let (x0, y0, x1, y1) = plot;
-    let light = RGBColor(225, 225, 225);
-    let mut last: Option<i32> = None;
-    for &v in ticks {
-        let p = at(v);
-        let label = tick(v);
-        let (line, mark, pos, anchor) = if vertical {
-            ([(p, y0), (p, y1)], [(p, y1), (p, y1 + 5)], (p, y1 + 8), Pos::new(HPos::Center, VPos::Top))
-        } else {
-            ([(x0, p), (x1, p)], [(x0 - 5, p), (x0, p)], (x0 - 8, p), Pos::new(HPos::Right, VPos::Center))
-        };
-        root.draw(&PathElement::new(line, light.stroke_width(1))).map_err(pe)?;
-        root.draw(&PathElement::new(mark, BLACK.stroke_width(1))).map_err(pe)?;
-        let w = text_width(&label, BODY, false) as i32;
-        // The label's extent along the axis, and whether it clears the previous one by 6 px.
-        let (from, to) = if vertical { (p - w / 2, p + w / 2) } else { (p - LINE / 2, p + LINE / 2) };
-        let clear = match last {
-            Some(l) if vertical => from >= l + 6,
-            Some(l) => to <= l - 2,
-            None => true,
-        };
-        if clear {
-            root.draw_text(&label, &TextStyle::from((FONT, BODY)).pos(anchor), pos).map_err(pe)?;
-            last = Some(if vertical { to } else { from });
-        }
-    }
-    Ok(())
 }
 
 /// Places one label per point: boxes (x0, y0, x1, y1) of width `widths[i]` and height `line`,

@@ -2,7 +2,7 @@
 //! beside the panels, so a legend never covers data.
 
 use super::super::text::{text_width, BODY, FONT, HEADING};
-use super::axes::tick;
+use super::axes::{grid, log_ticks, tick};
 use super::draw::{canvas, colour, pe, Outcome};
 use anyhow::Result;
 use plotters::coord::Shift;
@@ -97,6 +97,12 @@ pub(super) fn line_panel<DB: DrawingBackend>(
     };
     let xlog = xl > 0.0 && xh / xl >= 20.0;
     let ylog = !force_linear_y && yl > 0.0 && yh / yl >= 20.0;
+    let (xp, yp) = (pad(xl, xh), pad(yl, yh));
+    let (xb, yb) = ((xl * 0.8, xh * 1.25), (yl * 0.8, yh * 1.25));
+    // A log axis gets the ticks of `axes::log_ticks`, drawn by `axes::grid` (plotters' own
+    // key points put a label at every 1..9 of a decade, which overlap on a tall range).
+    let xt = if xlog { log_ticks(xb.0, xb.1, 5) } else { Vec::new() };
+    let yt = if ylog { log_ticks(yb.0, yb.1, 5) } else { Vec::new() };
     macro_rules! draw {
         ($x:expr, $y:expr) => {{
             let mut chart = ChartBuilder::on(area)
@@ -110,13 +116,20 @@ pub(super) fn line_panel<DB: DrawingBackend>(
                 .configure_mesh()
                 .x_desc(xdesc)
                 .y_desc(ydesc)
-                .x_label_formatter(&|v| tick(*v))
-                .y_label_formatter(&|v| tick(*v))
+                .x_labels(if xlog { 0 } else { 10 })
+                .y_labels(if ylog { 0 } else { 10 })
+                .x_label_formatter(&|v| if xlog { String::new() } else { tick(*v) })
+                .y_label_formatter(&|v| if ylog { String::new() } else { tick(*v) })
                 .label_style((FONT, BODY))
                 .axis_desc_style((FONT, BODY))
                 .light_line_style(RGBColor(238, 238, 238))
                 .draw()
                 .map_err(pe)?;
+            let (xr, yr) = chart.plotting_area().get_pixel_range();
+            let base = area.get_base_pixel();
+            let plot = (xr.start - base.0, yr.start - base.1, xr.end - base.0, yr.end - base.1);
+            grid(area, plot, &xt, |v| chart.backend_coord(&(v, yl)).0 - base.0, true)?;
+            grid(area, plot, &yt, |v| chart.backend_coord(&(xl, v)).1 - base.1, false)?;
             for s in series {
                 let c = colour(s.colour);
                 if s.dashed {
@@ -128,11 +141,10 @@ pub(super) fn line_panel<DB: DrawingBackend>(
             }
         }};
     }
-    let (xp, yp) = (pad(xl, xh), pad(yl, yh));
     match (xlog, ylog) {
-        (true, true) => draw!((xl * 0.8..xh * 1.25).log_scale(), (yl * 0.8..yh * 1.25).log_scale()),
-        (true, false) => draw!((xl * 0.8..xh * 1.25).log_scale(), yp.0..yp.1),
-        (false, true) => draw!(xp.0..xp.1, (yl * 0.8..yh * 1.25).log_scale()),
+        (true, true) => draw!((xb.0..xb.1).log_scale(), (yb.0..yb.1).log_scale()),
+        (true, false) => draw!((xb.0..xb.1).log_scale(), yp.0..yp.1),
+        (false, true) => draw!(xp.0..xp.1, (yb.0..yb.1).log_scale()),
         (false, false) => draw!(xp.0..xp.1, yp.0..yp.1),
     }
     Ok(())

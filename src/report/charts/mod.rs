@@ -9,7 +9,7 @@
 //! - `table.csv` (the runner's): `map`, `encoder`, `rmse`; optional `metric` (rows of `exact`
 //!   are charted when present), `fit_ns` (the error-against-time chart needs it).
 //! - `sweep*.csv`: `knob,value,rmse,time_ns,label` — one chart per knob, one line per label
-//!   (more than 8 labels: per encoder, the median and worst ratio to the series' converged value);
+//!   (more than 8 labels: per encoder, the median and worst RMSE over its series);
 //!   `time_ns` may be empty; an optional `reference` column says what rmse is measured against.
 //! - `blend*.csv`: `t,method,irradiance_at_n_r,irradiance_at_n_g,irradiance_at_n_b,rmse` —
 //!   `rmse` may be empty; an optional `set` column gives one chart per lighting set.
