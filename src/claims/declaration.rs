@@ -386,6 +386,9 @@ impl CheckFile {
     /// floor), so the first error is the one reported.
     fn validate(self, id: &str, sets: &BTreeMap<String, Vec<String>>) -> Result<CheckDecl> {
         let at = format!("{}, check '{}'", echo(id), echo(&self.name));
+        if self.name.chars().count() > SAYS_MAX {
+            bail!("claim {at}: 'name' has {} characters (at most {SAYS_MAX})", self.name.chars().count());
+        }
         let source = self.source(&at)?;
         let test = self.parse_test(&at)?;
         if test.needs_baseline() && self.baseline.is_none() {

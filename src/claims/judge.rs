@@ -693,7 +693,7 @@ pub fn decide(kind: Kind, checks: &[CheckOutcome]) -> Verdict {
         }
     }
     if !untestable.is_empty() {
-        return Verdict::Untestable(format!("'{}' {}", echo(&p.decl.name), untestable.join("; ")));
+        return Verdict::Untestable(format!("'{}' {}", p.decl.name, untestable.join("; ")));
     }
     let on = |v: &[String]| v.join(" and ");
     match kind {
@@ -701,13 +701,11 @@ pub fn decide(kind: Kind, checks: &[CheckOutcome]) -> Verdict {
         Kind::Identity if failing.is_empty() => Verdict::HoldsIdentity,
         Kind::Example if failing.is_empty() => Verdict::Reproduced,
         Kind::Measured if failing.is_empty() => Verdict::Holds,
-        Kind::Example => Verdict::NotReproduced(format!("'{}' not met on {}", echo(&p.decl.name), on(&failing))),
+        Kind::Example => Verdict::NotReproduced(format!("'{}' not met on {}", p.decl.name, on(&failing))),
         Kind::Measured if !passing.is_empty() => {
-            Verdict::Partly(format!("'{}' holds on {}, not on {}", echo(&p.decl.name), on(&passing), on(&failing)))
+            Verdict::Partly(format!("'{}' holds on {}, not on {}", p.decl.name, on(&passing), on(&failing)))
         }
-        Kind::Identity | Kind::Measured => {
-            Verdict::Fails(format!("'{}' fails on {}", echo(&p.decl.name), on(&failing)))
-        }
+        Kind::Identity | Kind::Measured => Verdict::Fails(format!("'{}' fails on {}", p.decl.name, on(&failing))),
     }
 }
 

@@ -125,3 +125,18 @@ fn measurement_maps_keep_their_order_and_are_checked() {
     assert!(format!("{:#}", with("maps = ['m1', 'm2', 'm1']").unwrap_err()).contains("'m1' appears twice"));
     assert!(with("maps = ['m1']\nsets = 2").is_err());
 }
+
+/// A check's name is written whole into the verdicts, so it is bounded like `says`: at most
+/// [`SAYS_MAX`] characters, else refused with the name cut.
+#[test]
+fn check_names_are_bounded() {
+    let check = |name: &str| {
+        format!(
+            "[[claim.check]]\nname='{name}'\ntable='exp'\nencoder='a'\ntest='every_at_most'\nbound=1\nrole='primary'"
+        )
+    };
+    assert!(paper(&check(&"n".repeat(SAYS_MAX))).is_ok());
+    let e = err(&check(&"n".repeat(SAYS_MAX + 1)));
+    assert!(e.contains(&format!("'name' has {} characters (at most {SAYS_MAX})", SAYS_MAX + 1)), "{e}");
+    assert!(!e.contains(&"n".repeat(41)), "the name is echoed cut: {e}");
+}
