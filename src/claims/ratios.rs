@@ -34,18 +34,10 @@ pub struct Summary {
     pub max: f64,
 }
 
-/// The median of `v` (the mean of the two middle values for an even count); NaN when empty.
+/// The median of `v` (the mean of the two middle values for an even count); NaN when empty
+/// ([`crate::math::stats::median`]).
 pub fn median(v: &[f64]) -> f64 {
-    let mut s = v.to_vec();
-    s.sort_by(|a, b| a.total_cmp(b));
-    let n = s.len();
-    if n == 0 {
-        f64::NAN
-    } else if n % 2 == 1 {
-        s[n / 2]
-    } else {
-        0.5 * (s[n / 2 - 1] + s[n / 2])
-    }
+    crate::math::stats::median(v).unwrap_or(f64::NAN)
 }
 
 /// The geometric mean of non-negative `v`: exp of the mean log (0 if any value is 0); NaN

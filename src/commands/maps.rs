@@ -68,8 +68,7 @@ fn list(env: &Env) -> Result<i32> {
 /// symbolic links; not a FIFO, socket or a folder named `NAME.exr`) whose extension is `exr` or
 /// `hdr` in any case (`X.EXR`).
 fn is_map_file(path: &Path) -> bool {
-    let ext = path.extension().map(|x| x.to_string_lossy().to_ascii_lowercase());
-    matches!(ext.as_deref(), Some("exr" | "hdr")) && std::fs::metadata(path).is_ok_and(|m| m.is_file())
+    probelab::envmap::search::has_map_extension(path) && std::fs::metadata(path).is_ok_and(|m| m.is_file())
 }
 
 /// The known maps (envmaps/known.toml) not on the search path, each with where to get it.

@@ -240,9 +240,7 @@ impl SearchPath {
             let Ok(entries) = std::fs::read_dir(dir) else { continue };
             let mut stems: Vec<String> = entries
                 .filter_map(|e| e.ok().map(|e| e.path()))
-                .filter(|p| {
-                    p.extension().is_some_and(|x| x.eq_ignore_ascii_case("exr") || x.eq_ignore_ascii_case("hdr"))
-                })
+                .filter(|p| has_map_extension(p))
                 .filter_map(|p| p.file_stem().map(|s| s.to_string_lossy().into_owned()))
                 .collect();
             stems.sort();
@@ -333,6 +331,12 @@ fn passed_over(path: &Path, map: &EnvMap, pixels: &str, k: &KnownMap) -> String 
     format!("{} ({}x{}, pixel sha256 {}: {what})", path.display(), map.width(), map.height(), &pixels[..12])
 }
 
+/// Whether `path` ends in a map extension, `.exr` or `.hdr`, in any case (`X.EXR`): what the
+/// search path, `maps` and `maps import` take for a map file.
+pub fn has_map_extension(path: &Path) -> bool {
+    path.extension().is_some_and(|x| x.eq_ignore_ascii_case("exr") || x.eq_ignore_ascii_case("hdr"))
+}
+
 /// The files of `dir` named `stem` with a map extension: `STEM.exr`, then `STEM.hdr`, then the
 /// same extensions in any other case (`STEM.EXR`, as `maps` lists them), each in name order.
 fn map_files_named(dir: &Path, stem: &str) -> Vec<PathBuf> {
@@ -341,11 +345,7 @@ fn map_files_named(dir: &Path, stem: &str) -> Vec<PathBuf> {
     let mut other_case: Vec<PathBuf> = entries
         .filter_map(|e| e.ok().map(|e| e.path()))
         .filter(|p| p.file_stem().is_some_and(|s| s == stem))
-        .filter(|p| {
-            p.extension().is_some_and(|x| {
-                (x.eq_ignore_ascii_case("exr") || x.eq_ignore_ascii_case("hdr")) && x != "exr" && x != "hdr"
-            })
-        })
+        .filter(|p| has_map_extension(p) && p.extension().is_some_and(|x| x != "exr" && x != "hdr"))
         .collect();
     other_case.sort();
     files.extend(other_case);

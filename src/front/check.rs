@@ -29,10 +29,8 @@ pub fn to_json(summary: Option<&CheckSummary>, claims: Option<&ClaimsRun>) -> Re
         doc["maps"] = json::maps(&maps);
     }
     if let Some(run) = claims {
-        let c = run.to_json(true);
-        let passed = c["passed"].as_bool().unwrap_or(false);
-        doc["claims"] = c;
-        doc["passed"] = Value::Bool(doc["passed"].as_bool().unwrap_or(true) && passed);
+        doc["claims"] = run.to_json(true);
+        doc["passed"] = Value::Bool(doc["passed"].as_bool().unwrap_or(true) && run.passed(true));
     }
     json::text(&doc)
 }

@@ -447,6 +447,18 @@ impl SummaryState {
     }
 }
 
+/// The median of `v` (the mean of the two middle values for an even count); `None` when `v`
+/// is empty. The one median of the crate: summaries, claims ratios and sweep charts use it.
+pub fn median(v: &[f64]) -> Option<f64> {
+    if v.is_empty() {
+        return None;
+    }
+    let mut s = v.to_vec();
+    s.sort_by(f64::total_cmp);
+    let n = s.len();
+    Some(if n % 2 == 1 { s[n / 2] } else { 0.5 * (s[n / 2 - 1] + s[n / 2]) })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -58,18 +58,6 @@ pub fn ratio(a: f64, b: f64) -> Option<f64> {
     }
 }
 
-/// The median (mean of the two middle values for an even count).
-pub fn median(v: &[f64]) -> f64 {
-    let mut s = v.to_vec();
-    s.sort_by(|a, b| a.total_cmp(b));
-    let n = s.len();
-    if n % 2 == 1 {
-        s[n / 2]
-    } else {
-        0.5 * (s[n / 2 - 1] + s[n / 2])
-    }
-}
-
 /// The baseline floor: rows whose baseline `rel_rmse` (rmse / RMS of the reference) is below
 /// this are left out of the ratio statistics and counted. 1e-6 = the baseline is exact to a
 /// part per million, which only rounding and the polar quadrature reach (a constant map's
@@ -110,7 +98,8 @@ pub fn ratio_stats(pairs: &[(f64, f64, f64)]) -> Option<RatioStats> {
         n: kept.len(),
         n_below_floor: pairs.len() - kept.len(),
         ratio_of_means: num / den,
-        median_ratio: median(&ratios),
+        // Cannot be None: `kept`, one ratio each, was checked non-empty above.
+        median_ratio: crate::math::stats::median(&ratios).unwrap_or(f64::NAN),
         worst_ratio: worst,
         worst_at: kept[wi],
         frac_below_1: ratios.iter().filter(|&&x| x < 1.0).count() as f64 / ratios.len() as f64,

@@ -72,8 +72,13 @@ pub struct ClaimsRun {
 }
 
 impl ClaimsRun {
-    /// The run as JSON (`check --format json`'s `claims`; `docs/json.md`): `passed` as
-    /// [`report`] decides it, whether the measurements were taken and why not, each moved
+    /// No measurement moved and, when `checking`, no verdict changed.
+    pub fn passed(&self, checking: bool) -> bool {
+        self.moved.is_empty() && (!checking || self.verdicts_changed.is_empty())
+    }
+
+    /// The run as JSON (`check --format json`'s `claims`; `docs/json.md`): `passed`
+    /// ([`ClaimsRun::passed`]), whether the measurements were taken and why not, each moved
     /// measurement with its changes ([`Change::to_json`]), and each changed verdict.
     pub fn to_json(&self, checking: bool) -> serde_json::Value {
         let moved: Vec<serde_json::Value> = self
@@ -92,7 +97,7 @@ impl ClaimsRun {
             .map(|(id, old, new)| serde_json::json!({ "id": id, "committed": old, "now": new }))
             .collect();
         serde_json::json!({
-            "passed": report(self, checking).0,
+            "passed": self.passed(checking),
             "measured": self.skipped.is_none(),
             "not_measured_because": self.skipped,
             "moved": moved,
@@ -171,6 +176,5 @@ pub fn report(run: &ClaimsRun, checking: bool) -> (bool, String) {
     for (id, old, new) in &run.verdicts_changed {
         s += &format!("claims: verdict of {id}: {old} -> {new}\n");
     }
-    let ok = run.moved.is_empty() && (!checking || run.verdicts_changed.is_empty());
-    (ok, s)
+    (run.passed(checking), s)
 }

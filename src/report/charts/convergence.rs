@@ -7,6 +7,7 @@
 use super::draw::Outcome;
 use super::lines::{panels, Line, Series, MAX_LEGEND};
 use super::rows::Measure;
+use crate::math::stats::median;
 use anyhow::Result;
 
 /// One encoder's summary: at each knob value (ascending), the median time over its series
@@ -15,16 +16,6 @@ struct Summary {
     group: String,
     series: usize,
     points: Vec<(f64, Option<f64>, f64, f64)>,
-}
-
-/// The median of `v` (sorted here); `None` when empty.
-fn median(v: &mut [f64]) -> Option<f64> {
-    if v.is_empty() {
-        return None;
-    }
-    v.sort_by(f64::total_cmp);
-    let n = v.len();
-    Some(if n % 2 == 1 { v[n / 2] } else { 0.5 * (v[n / 2 - 1] + v[n / 2]) })
 }
 
 /// The summaries of `lines`, by group in first-seen order.
@@ -46,10 +37,10 @@ fn summarise(lines: &[Line]) -> Vec<Summary> {
             .filter_map(|v| {
                 let at: Vec<&(f64, f64, Option<f64>)> =
                     members.iter().flat_map(|l| &l.points).filter(|p| p.0 == v).collect();
-                let mut rmse: Vec<f64> = at.iter().map(|p| p.1).collect();
+                let rmse: Vec<f64> = at.iter().map(|p| p.1).collect();
                 let worst = rmse.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-                let mut times: Vec<f64> = at.iter().filter_map(|p| p.2).collect();
-                Some((v, median(&mut times), median(&mut rmse)?, worst))
+                let times: Vec<f64> = at.iter().filter_map(|p| p.2).collect();
+                Some((v, median(&times), median(&rmse)?, worst))
             })
             .collect();
         out.push(Summary { group: g.to_string(), series: members.len(), points });
@@ -138,8 +129,8 @@ mod tests {
             vec![(1.0, Some(10.0), 2.0, 12.0), (5.0, Some(50.0), 0.75, 0.75), (10.0, Some(100.0), 1.0, 2.0)]
         );
         assert_eq!(s[1].points, vec![(1.0, Some(10.0), 7.0, 7.0)]);
-        assert_eq!(median(&mut [3.0, 1.0, 2.0, 10.0]), Some(2.5));
-        assert_eq!(median(&mut []), None);
+        assert_eq!(median(&[3.0, 1.0, 2.0, 10.0]), Some(2.5));
+        assert_eq!(median(&[]), None);
     }
 
     /// Five encoders of three series each: four encoders (eight legend entries) on the first
