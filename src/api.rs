@@ -74,7 +74,7 @@ impl Map {
         self.map.texels()
     }
 
-    /// The map as the internal layers hold it (for `front`).
+    /// The map as the internal layers hold it (for `ops`).
     #[doc(hidden)]
     pub fn env_map(&self) -> &EnvMap {
         &self.map

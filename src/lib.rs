@@ -63,9 +63,9 @@ pub mod library_guide {}
 pub mod claims;
 pub mod encoders;
 pub mod envmap;
-pub mod front;
 pub mod io;
 pub mod math;
+pub mod ops;
 pub mod pipeline;
 pub mod reference;
 pub mod regression;

@@ -4,7 +4,7 @@
 mod commands;
 
 use clap::Parser;
-use probelab::io::output;
+use commands::output;
 
 fn main() {
     // clap's own output (--help, --version, usage errors) goes through the same rules as the

@@ -665,10 +665,10 @@ fn the_checker_reads_paths_modules_and_the_table() {
 fn the_library_never_prints() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
     let main_code = code_of(&std::fs::read_to_string(root.join("main.rs")).unwrap());
-    let printing = ["println!", "eprintln!", "print!(", "eprint!(", "dbg!(", "stdout()", "stderr()", "io::output::"];
+    let printing = ["println!", "eprintln!", "print!(", "eprint!(", "dbg!(", "stdout()", "stderr()"];
     let mut found = Vec::new();
     for (rel, code) in &read_crate().files {
-        if is_binary_file(rel, &main_code) || rel == Path::new("io/output.rs") {
+        if is_binary_file(rel, &main_code) {
             continue;
         }
         for p in printing.iter().filter(|p| code.contains(*p)) {

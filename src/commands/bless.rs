@@ -3,9 +3,9 @@
 //! exclusive lock. Every write, then every line: a failing stdout never stops a bless between
 //! two baselines.
 
-use super::context::{writing, Env};
+use super::output;
 use anyhow::Result;
-use probelab::io::output;
+use probelab::ops::Env;
 use std::path::PathBuf;
 
 /// `probelab bless`.
@@ -22,9 +22,9 @@ pub struct Args {
 }
 
 pub fn run(a: Args, env: &Env) -> Result<i32> {
-    super::context::checkout(env)?;
+    env.checkout()?;
     let out = env.results(a.out);
-    let _lock = writing(&out)?;
+    let _lock = env.writing(&out)?;
     let claims = a.experiments.is_empty() || a.experiments.iter().any(|e| e == "claims");
     let names: Vec<String> = a.experiments.iter().filter(|e| *e != "claims").cloned().collect();
     let mut code = 0;

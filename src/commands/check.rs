@@ -4,11 +4,11 @@
 //! baseline while it is read. Text prints each experiment's report as it comes, then the
 //! verdict; JSON prints one document at the end.
 
-use super::context::{reading, Env};
+use super::output;
 use super::terminal::{note, noteln, outln};
 use anyhow::Result;
-use probelab::front::check as check_json;
-use probelab::io::output;
+use probelab::ops::check as check_json;
+use probelab::ops::Env;
 use std::path::PathBuf;
 
 /// `probelab check`.
@@ -38,7 +38,7 @@ pub struct Args {
 pub fn run(a: Args, env: &Env) -> Result<i32> {
     let out = env.results(a.out);
     let json = a.format == "json";
-    let _lock = reading(&out)?;
+    let _lock = env.reading(&out)?;
     let claims = a.all || a.experiments.iter().any(|e| e == "claims");
     let names: Vec<String> = a.experiments.into_iter().filter(|e| e != "claims").collect();
     let mut code = 0;

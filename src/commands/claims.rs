@@ -3,10 +3,10 @@
 //! and the blending strips. Takes the results folder's exclusive lock; exit 1 when a
 //! measurement moved.
 
-use super::context::{writing, Env};
+use super::output;
 use super::terminal::noteln;
 use anyhow::Result;
-use probelab::io::output;
+use probelab::ops::Env;
 use probelab::regression::claims::ClaimsRun;
 use std::path::{Path, PathBuf};
 
@@ -19,9 +19,9 @@ pub struct Args {
 }
 
 pub fn run(a: Args, env: &Env) -> Result<i32> {
-    super::context::checkout(env)?;
+    env.checkout()?;
     let out = env.results(a.out);
-    let _lock = writing(&out)?;
+    let _lock = env.writing(&out)?;
     let run = probelab::regression::claims::run(&env.root, &env.search, &out, false, true)?;
     let (ok, text) = probelab::regression::claims::report(&run, false);
     let strips = write_strips(&out, &run)?;

@@ -1,11 +1,11 @@
 //! `probelab eval`: scores encoders on maps, once, and prints the table (CSV or JSON) on
 //! stdout; nothing is written and no lock is taken. Exit 2 when a map is not found. What it
-//! computes is `front::eval`, shared with the Python package.
+//! computes is `ops::eval`, shared with the Python package.
 
-use super::context::Env;
+use super::output;
 use anyhow::Result;
-use probelab::front::eval::{self, EvalOptions};
-use probelab::io::output;
+use probelab::ops::eval::{self, EvalOptions};
+use probelab::ops::Env;
 use probelab::pipeline::table;
 
 /// `probelab eval`.

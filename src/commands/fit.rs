@@ -1,13 +1,13 @@
 //! `probelab fit`: fits encoders to one map and prints each fit's stored coefficients (names,
 //! units, roles and basis) and what it was fitted on, as JSON or CSV; everything is checked
 //! before anything is printed. Nothing is written and no lock is taken. The checks, the fits and
-//! the JSON document are `front::fit`, shared with the Python package.
+//! the JSON document are `ops::fit`, shared with the Python package.
 
-use super::context::Env;
+use super::output;
 use anyhow::{bail, Context, Result};
 use probelab::api::{Fit, Lighting, Map, Role, Stored, Surface};
-use probelab::front::fit;
-use probelab::io::output;
+use probelab::ops::fit;
+use probelab::ops::Env;
 
 /// `probelab fit`.
 #[derive(clap::Args, Debug)]

@@ -2,9 +2,9 @@
 //! and/or a probe file and prints it beside SH L1 and the paper's curve
 //! (`pipeline::hallucination_fit`). Nothing is written and no lock is taken.
 
-use super::context::Env;
+use super::output;
 use anyhow::Result;
-use probelab::io::output;
+use probelab::ops::Env;
 use std::path::PathBuf;
 
 /// `probelab fit-hallucination`.

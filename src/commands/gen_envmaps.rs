@@ -2,9 +2,9 @@
 //! EXR maps, each atomically, under the output folder's exclusive lock; prints each file after
 //! the last write, so a failing stdout never stops the writes half way.
 
-use super::context::{writing, Env};
+use super::output;
 use anyhow::{bail, Result};
-use probelab::io::output;
+use probelab::ops::Env;
 use std::path::PathBuf;
 
 /// `probelab gen-envmaps`.
@@ -24,7 +24,7 @@ pub fn run(a: Args, env: &Env) -> Result<i32> {
         bail!("--width {width}: expected an even width from 4 to 8192");
     }
     let out = a.out.unwrap_or_else(|| env.root.join("envmaps"));
-    let _lock = writing(&out)?;
+    let _lock = env.writing(&out)?;
     let mut lines = String::new();
     for s in probelab::reference::scenes::generated() {
         let path = out.join(format!("{}.exr", s.id));

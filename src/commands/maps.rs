@@ -3,12 +3,13 @@
 //! makes the 256x128 maps of map files as the shared ones were made (`envmap::import`), named
 //! through the known maps, each written atomically under the output folder's exclusive lock.
 
-use super::context::{describe_search, writing, Env};
+use super::context::describe_search;
+use super::output;
 use anyhow::{bail, Context, Result};
 use probelab::envmap::import::Imported;
 use probelab::envmap::EnvMap;
 use probelab::io::distinct::{refuse_overwrite, Named};
-use probelab::io::output;
+use probelab::ops::Env;
 use std::path::{Path, PathBuf};
 
 /// `probelab maps`.
@@ -36,7 +37,7 @@ enum MapsCommand {
 
 pub fn run(a: Args, env: &Env) -> Result<i32> {
     match a.command {
-        Some(MapsCommand::Import { inputs, out }) => import_maps(&inputs, &out),
+        Some(MapsCommand::Import { inputs, out }) => import_maps(env, &inputs, &out),
         None => list(env),
     }
 }
@@ -91,14 +92,14 @@ fn known_missing(env: &Env) -> String {
 /// `probelab maps import` (`envmap::import`): every input is read and derived before anything
 /// is written (a bad file writes nothing); a map whose file already exists in `out` with the
 /// same pixels is left as it is, one with other pixels is refused; each is written atomically.
-fn import_maps(inputs: &[PathBuf], out: &Path) -> Result<i32> {
+fn import_maps(env: &Env, inputs: &[PathBuf], out: &Path) -> Result<i32> {
     let files = input_files(inputs)?;
     // A target that is an input exists with that input's pixels (kept) or other pixels
     // (refused by `already_there`); the folder itself must not be an input file.
     let ins: Vec<Named> = files.iter().map(|p| Named { role: "an input map", path: p }).collect();
     refuse_overwrite(&[Named { role: "--out", path: out }], &ins)?;
     let made = derive_all(&files)?;
-    let _lock = writing(out)?;
+    let _lock = env.writing(out)?;
     let kept = already_there(&made, out)?;
     let mut lines = String::new();
     for ((f, source, d), &kept) in made.iter().zip(&kept) {

@@ -1,10 +1,10 @@
 //! `probelab merge`: merges the statistics files of probe-set shards (`probes --out`) and
 //! prints the summary CSV; with `--out`, writes the merged statistics atomically.
 
+use super::output;
 use super::terminal::{note, noteln};
 use anyhow::Result;
 use probelab::io::distinct::{refuse_overwrite, Named};
-use probelab::io::output;
 use std::path::PathBuf;
 
 /// `probelab merge`: combine shard statistics.

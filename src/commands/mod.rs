@@ -20,6 +20,7 @@ mod fit_hallucination;
 mod gen_envmaps;
 mod maps;
 mod merge;
+pub mod output;
 mod probes;
 mod report;
 mod reproduce;
@@ -29,8 +30,8 @@ mod terminal;
 
 use anyhow::{bail, Context, Result};
 use clap::{Parser, Subcommand};
-use context::Env;
 use probelab::envmap::search::SearchPath;
+use probelab::ops::Env;
 use std::path::PathBuf;
 
 /// The `probelab` command line (its global options and the command).
@@ -119,8 +120,12 @@ pub fn main_with(cli: Cli) -> Result<i32> {
     probelab::pipeline::timing::set_enabled(!cli.no_timing);
     terminal::install_progress();
     let _profile_report = terminal::ProfileReport(std::time::Instant::now());
-    let env =
-        Env { search: SearchPath::from_env(cli.root.join("envmaps")), root: cli.root, allow_long: cli.allow_long };
+    let env = Env {
+        search: SearchPath::from_env(cli.root.join("envmaps")),
+        root: cli.root,
+        allow_long: cli.allow_long,
+        notes: &terminal::Stderr,
+    };
     let done = match cli.command {
         Command::Run(a) => run::run(a, &env),
         Command::Reproduce(a) => reproduce::run(a, &env),

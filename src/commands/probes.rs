@@ -2,11 +2,11 @@
 //! optionally one shard of it (`pipeline::probeset::job`); prints the summary CSV on stdout and
 //! the run's figures on stderr, and with `--out` writes the mergeable statistics atomically.
 
-use super::context::Env;
+use super::output;
 use super::terminal::noteln;
 use anyhow::{bail, Result};
 use probelab::io::distinct::{refuse_overwrite, Named};
-use probelab::io::output;
+use probelab::ops::Env;
 use probelab::pipeline::probeset::format::DEFAULT_CHUNK;
 use probelab::pipeline::probeset::job::{self, Input, Job};
 use std::path::PathBuf;

@@ -2,9 +2,9 @@
 //! the folders' pages and `PROVENANCE.md` from the result CSVs (`report::generate`). Takes the
 //! results folder's exclusive lock.
 
-use super::context::{writing, Env};
 use super::terminal::noteln;
 use anyhow::Result;
+use probelab::ops::Env;
 use std::path::{Path, PathBuf};
 
 /// `probelab report`.
@@ -21,9 +21,9 @@ pub struct Args {
 }
 
 pub fn run(a: Args, env: &Env) -> Result<i32> {
-    super::context::checkout(env)?;
+    env.checkout()?;
     let out = env.results(a.out);
-    let _lock = writing(&out)?;
+    let _lock = env.writing(&out)?;
     write_report(env, &out, a.scale)?;
     Ok(0)
 }

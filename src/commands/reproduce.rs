@@ -4,11 +4,13 @@
 //! is skipped and listed. Takes the results folder's exclusive lock; exit 1 when a baseline or
 //! a claims measurement moved.
 
-use super::context::{experiment_outputs_distinct, refused_exit, writing, Env};
+use super::context::refused_exit;
+use super::output;
 use super::terminal::{note, noteln, outln};
 use anyhow::Result;
-use probelab::io::output;
 use probelab::io::progress::Progress;
+use probelab::ops::context::experiment_outputs_distinct;
+use probelab::ops::Env;
 use probelab::pipeline::experiment::{list_experiments, Experiment};
 use probelab::pipeline::runner::{self, RunReport};
 use probelab::regression::missing::{self, MissingMaps};
@@ -51,9 +53,9 @@ fn run_all<'a>(exps: &'a [Experiment], env: &Env) -> Result<Runs<'a>> {
 }
 
 pub fn run(a: Args, env: &Env) -> Result<i32> {
-    super::context::checkout(env)?;
+    env.checkout()?;
     let out = env.results(a.out);
-    let _lock = writing(&out)?;
+    let _lock = env.writing(&out)?;
     let dir = env.root.join("experiments");
     let exps = list_experiments(&dir)?.iter().map(|p| Experiment::load(p)).collect::<Result<Vec<_>>>()?;
     experiment_outputs_distinct(&out, &exps)?;

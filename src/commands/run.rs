@@ -2,9 +2,11 @@
 //! exists; a table that exists is a baseline, left unchanged when nothing moved and refused
 //! (exit 1) when something did. Takes the results folder's exclusive lock.
 
-use super::context::{describe_search, experiment_outputs_distinct, refused_exit, writing, Env};
+use super::context::{describe_search, refused_exit};
 use super::terminal::{note, noteln};
 use anyhow::{bail, Result};
+use probelab::ops::context::experiment_outputs_distinct;
+use probelab::ops::Env;
 use probelab::pipeline::experiment::{self, Experiment};
 use probelab::pipeline::runner::{self, RunReport};
 use probelab::regression::check::{self, Stored};
@@ -32,7 +34,7 @@ pub fn run(a: Args, env: &Env) -> Result<i32> {
         .iter()
         .map(|e| Experiment::load(&experiment::resolve(&env.root, e)?))
         .collect::<Result<Vec<_>>>()?;
-    let _lock = writing(&out)?;
+    let _lock = env.writing(&out)?;
     experiment_outputs_distinct(&out, &exps)?;
     env.refuse_long_experiments(&exps)?;
     let mut done = Vec::new();

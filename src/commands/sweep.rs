@@ -2,10 +2,10 @@
 //! (`experiments/sweeps/*.toml`, `pipeline::sweep`), writing `results/sweeps/<name>.csv`
 //! atomically under the results folder's exclusive lock.
 
-use super::context::{writing, Env};
 use super::terminal::noteln;
 use anyhow::{bail, Result};
 use probelab::io::distinct::{refuse_overwrite, Named};
+use probelab::ops::Env;
 use probelab::pipeline::sweep::{self, Sweep};
 use std::path::PathBuf;
 
@@ -21,7 +21,7 @@ pub struct Args {
 
 pub fn run(a: Args, env: &Env) -> Result<i32> {
     let results = env.results(a.out);
-    let _lock = writing(&results)?;
+    let _lock = env.writing(&results)?;
     let out = results.join("sweeps");
     let all = a.files.is_empty();
     let files = if all {

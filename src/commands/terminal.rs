@@ -14,7 +14,7 @@ use std::time::Duration;
 /// `println!` that returns `Result<(), StdoutError>` instead of panicking.
 macro_rules! outln {
     ($($arg:tt)*) => {
-        probelab::io::output::write_fmt(format_args!("{}\n", format_args!($($arg)*)))
+        crate::commands::output::write_fmt(format_args!("{}\n", format_args!($($arg)*)))
     };
 }
 pub(crate) use outln;
@@ -22,7 +22,7 @@ pub(crate) use outln;
 /// `eprintln!` that ignores a failing stderr instead of panicking, printed above the bars.
 macro_rules! noteln {
     ($($arg:tt)*) => {
-        probelab::io::output::note_fmt(format_args!("{}\n", format_args!($($arg)*)))
+        crate::commands::output::note_fmt(format_args!("{}\n", format_args!($($arg)*)))
     };
 }
 pub(crate) use noteln;
@@ -30,7 +30,16 @@ pub(crate) use noteln;
 /// Prints `text` (lines already ending in newlines) to stderr, above the bars.
 pub fn note(text: &str) {
     if !text.is_empty() {
-        probelab::io::output::note_fmt(format_args!("{text}"));
+        crate::commands::output::note_fmt(format_args!("{text}"));
+    }
+}
+
+/// The workflows' notes ([`probelab::ops::Notes`]), each a line on stderr above the bars.
+pub struct Stderr;
+
+impl probelab::ops::Notes for Stderr {
+    fn note(&self, line: &str) {
+        crate::commands::output::note_fmt(format_args!("{line}\n"));
     }
 }
 

@@ -162,7 +162,7 @@ pub fn to_csv(rows: &[Row]) -> Result<Vec<u8>> {
     w.into_inner().map_err(|e| anyhow::anyhow!("csv: {e}"))
 }
 
-/// The columns whose cells are numbers (JSON numbers in `eval`'s document, `front::json`; an
+/// The columns whose cells are numbers (JSON numbers in `eval`'s document, `ops::json`; an
 /// empty cell is `null`).
 pub const NUMERIC_COLUMNS: &[&str] = &[
     "rmse_r",

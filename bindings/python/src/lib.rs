@@ -1,6 +1,6 @@
 //! `probelab._core`, the Python extension: a thin layer over the probelab crate that converts
 //! Python values to the library's and back. Every number comes from the same functions as the
-//! command line (`probelab::front` for `eval` and `fit`, `probelab::api` for maps and the
+//! command line (`probelab::ops` for `eval` and `fit`, `probelab::api` for maps and the
 //! reference); nothing here computes a score or a fit. The package `probelab`
 //! (`python/probelab/__init__.py`) wraps these functions with numpy arrays, checks array
 //! shapes and types, and documents the API.
@@ -13,8 +13,8 @@
 use anyhow::Context;
 use probelab::api::{unit_normal, DVec3, Map, Surface, Value};
 use probelab::envmap::search::SearchPath;
-use probelab::front::eval::{rows_by_name, rows_on_map, EvalOptions};
-use probelab::front::fit::{encoder_ids, fit_all, to_json};
+use probelab::ops::eval::{rows_by_name, rows_on_map, EvalOptions};
+use probelab::ops::fit::{encoder_ids, fit_all, to_json};
 use probelab::pipeline::table;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;

@@ -5,6 +5,9 @@
 //! package's keyword arguments share. Layers: `ARCHITECTURE.md`.
 
 pub mod check;
+pub mod context;
 pub mod eval;
 pub mod fit;
 pub mod json;
+
+pub use context::{Env, Notes, Quiet};

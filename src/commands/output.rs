@@ -50,9 +50,9 @@ pub fn write_fmt(args: fmt::Arguments) -> Result<(), StdoutError> {
 }
 
 /// Writes formatted text to stderr, ignoring any error (what `noteln!` calls); above the
-/// progress bars, when they are drawn ([`crate::io::progress::suspend`]).
+/// progress bars, when they are drawn ([`probelab::io::progress::suspend`]).
 pub fn note_fmt(args: fmt::Arguments) {
-    crate::io::progress::suspend(|| {
+    probelab::io::progress::suspend(|| {
         let _ = std::io::stderr().lock().write_fmt(args);
     });
 }
