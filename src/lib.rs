@@ -70,3 +70,6 @@ pub mod pipeline;
 pub mod reference;
 pub mod regression;
 pub mod report;
+
+#[cfg(test)]
+mod tests;

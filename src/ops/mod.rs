@@ -10,4 +10,6 @@ pub mod eval;
 pub mod fit;
 pub mod json;
 
+/// The map search path every workflow reads maps from (`<root>/envmaps`, then `PROBELAB_ENVMAPS`).
+pub use crate::envmap::search::SearchPath;
 pub use context::{Env, Notes, Quiet};

@@ -1,0 +1,6 @@
+//! The crate's cross-layer tests: checks that need the internals of several layers at once (an
+//! encoder against the exact reference on a generated map, a baseline comparison on a table
+//! built in memory), which no public item shows. They were integration tests under `tests/`;
+//! the library's public surface is small and deliberate, so they live here, compiled only for
+//! `cargo test` (`#[cfg(test)]` in `lib.rs`). Tests that run the binary stay under `tests/` and
+//! use the public surface alone. Each file names the concept it checks.
