@@ -238,8 +238,14 @@ fn links_parser_sees_links_and_skips_code() {
 }
 
 #[test]
-fn readme_is_short_and_opens_with_the_two_commands() {
+fn readme_is_short_and_opens_with_its_purpose_then_the_two_commands() {
     let readme = read("README.md");
+    let opening = readme.split("```sh").next().unwrap_or("");
+    let prose = opening.lines().filter(|l| !l.starts_with('#') && !l.trim().is_empty()).count();
+    assert!(
+        prose >= 2,
+        "README.md must open with a paragraph on what probelab is for, and for whom, then the two commands"
+    );
     assert!(
         readme.len() < 10 * 1024,
         "README.md is {} bytes; keep it under 10 KiB (details go in docs/)",
