@@ -18,8 +18,10 @@
 //!   `["sh1", "sh2"]` as much as one alone) is a registered encoder id, or a comma-separated
 //!   list of them (`"sh1,sh2"`); a unit-test file of its own, `tests.rs`, is test code
 //!   throughout.
-//! - The modules whose product code touches the disk (`fs::`, `File::`, `OpenOptions`) are
-//!   exactly the ones ARCHITECTURE.md lists ("Only these modules touch the disk").
+//! - The modules whose product code touches the disk — opens, reads, writes or lists files
+//!   (`fs::`, `File::`, `OpenOptions`) or asks about a path (`.is_file()`, `.is_dir()`,
+//!   `.exists()`, `try_exists(`, `fs::metadata`, `symlink_metadata`) — are exactly the ones
+//!   ARCHITECTURE.md lists ("Only these modules touch the disk").
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
@@ -701,6 +703,25 @@ fn only_encoders_and_claims_name_an_encoder() {
     assert!(errors.is_empty(), "{}", errors.join("\n"));
 }
 
+/// What, in a module's product code, touches the disk: opening, reading, writing or listing
+/// files (`fs::`, `File::`, `OpenOptions`), and asking whether or what a path is.
+const DISK: [&str; 9] = [
+    "fs::",
+    "File::",
+    "OpenOptions",
+    ".is_file()",
+    ".is_dir()",
+    ".exists()",
+    "try_exists(",
+    "fs::metadata",
+    "symlink_metadata",
+];
+
+/// The marks of [`DISK`] that `product` holds.
+fn disk_touches(product: &str) -> Vec<&'static str> {
+    DISK.iter().copied().filter(|p| product.contains(p)).collect()
+}
+
 #[test]
 fn only_the_listed_modules_touch_the_disk() {
     let arch = architecture_md();
@@ -717,15 +738,15 @@ fn only_the_listed_modules_touch_the_disk() {
         .map(String::from)
         .collect();
     let krate = read_crate();
-    let mut touching = BTreeSet::new();
+    let mut touching = BTreeMap::new();
     for (m, (_, code)) in &krate.modules {
-        let product = product_code(m, code);
-        if ["fs::", "File::", "OpenOptions"].iter().any(|p| product.contains(p)) {
-            touching.insert(m.join("::"));
+        let marks = disk_touches(product_code(m, code));
+        if !marks.is_empty() {
+            touching.insert(m.join("::"), marks);
         }
     }
-    let unlisted: Vec<_> = touching.difference(&listed).collect();
-    let idle: Vec<_> = listed.difference(&touching).collect();
+    let unlisted: Vec<_> = touching.iter().filter(|(m, _)| !listed.contains(*m)).collect();
+    let idle: Vec<_> = listed.iter().filter(|m| !touching.contains_key(*m)).collect();
     assert!(
         unlisted.is_empty() && idle.is_empty(),
         "touch the disk but are not listed in ARCHITECTURE.md: {unlisted:?}; listed but touch no file: {idle:?}"
@@ -753,6 +774,25 @@ fn the_encoder_rule_sees_literals_lists_and_joined_ids() {
             .collect();
     assert_eq!(found, want);
     assert_eq!(named_encoders("sh1, zh3_x", &ids), ["sh1", "zh3_x"]);
+}
+
+/// The disk rule sees file checks and metadata as well as reads and writes.
+#[test]
+fn the_disk_rule_sees_file_checks() {
+    let cases = [
+        ("if path.is_file() {", ".is_file()"),
+        ("if dir.is_dir() {", ".is_dir()"),
+        ("let here = p.exists();", ".exists()"),
+        ("let here = p.try_exists()?;", "try_exists("),
+        ("let m = std::fs::metadata(p)?;", "fs::metadata"),
+        ("let m = p.symlink_metadata()?;", "symlink_metadata"),
+        ("let f = File::open(p)?;", "File::"),
+        ("let o = OpenOptions::new();", "OpenOptions"),
+    ];
+    for (code, mark) in cases {
+        assert!(disk_touches(code).contains(&mark), "{code}: {:?}", disk_touches(code));
+    }
+    assert!(disk_touches("let n = p.file_name(); let e = path.extension();").is_empty());
 }
 
 /// The checker itself: paths, modules and the table parse as intended.
