@@ -14,10 +14,14 @@
 //!   its own children) there is no circle.
 //! - Every file the "## Code map" tables name exists under `src/`.
 //! - Outside `encoders/` and `claims/`, product code names no encoder: no string literal in
-//!   code before a file's `#[cfg(test)]` is a registered encoder id (a unit-test file of its
-//!   own, `tests.rs`, is test code throughout).
-//! - The modules whose product code touches the disk (`fs::`, `File::`, `OpenOptions`) are
-//!   exactly the ones ARCHITECTURE.md lists ("Only these modules touch the disk").
+//!   code before a file's `#[cfg(test)]` (every literal of a line, an element of a list literal
+//!   `["sh1", "sh2"]` as much as one alone) is a registered encoder id, or a comma-separated
+//!   list of them (`"sh1,sh2"`); a unit-test file of its own, `tests.rs`, is test code
+//!   throughout.
+//! - The modules whose product code touches the disk — opens, reads, writes or lists files
+//!   (`fs::`, `File::`, `OpenOptions`) or asks about a path (`.is_file()`, `.is_dir()`,
+//!   `.exists()`, `try_exists(`, `fs::metadata`, `symlink_metadata`) — are exactly the ones
+//!   ARCHITECTURE.md lists ("Only these modules touch the disk").
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
@@ -572,25 +576,150 @@ fn product_code<'a>(module: &[String], code: &'a str) -> &'a str {
     code.split("#[cfg(test)]").next().unwrap()
 }
 
+/// The string literals of Rust source `src` (its comments skipped), each with its line; and the
+/// line of its first `#[cfg(test)]` outside comments and literals, where product code ends.
+/// Normal, byte, C and raw strings (`r#"…"#`) are read; char literals (`'"'`) and lifetimes
+/// are stepped over. A literal's text is as written, escapes unread.
+fn string_literals(src: &str) -> (Vec<(usize, String)>, Option<usize>) {
+    let b = src.as_bytes();
+    let ident = |c: u8| c.is_ascii_alphanumeric() || c == b'_';
+    let (mut out, mut test_line, mut line, mut i) = (Vec::new(), None, 1, 0);
+    // Steps over `b[from..to]`, counting its newlines.
+    let skip = |line: &mut usize, from: usize, to: usize| {
+        *line += b[from..to.min(b.len())].iter().filter(|&&c| c == b'\n').count();
+        to
+    };
+    while i < b.len() {
+        let rest = &b[i..];
+        if rest.starts_with(b"//") {
+            i = rest.iter().position(|&c| c == b'\n').map_or(b.len(), |k| i + k);
+        } else if rest.starts_with(b"/*") {
+            let (mut depth, mut k) = (0usize, i);
+            while k < b.len() {
+                if b[k..].starts_with(b"/*") {
+                    depth += 1;
+                    k += 2;
+                } else if b[k..].starts_with(b"*/") {
+                    depth -= 1;
+                    k += 2;
+                    if depth == 0 {
+                        break;
+                    }
+                } else {
+                    k += 1;
+                }
+            }
+            i = skip(&mut line, i, k);
+        } else if let Some((open, raw, hashes)) = string_start(b, i, ident) {
+            let close = format!("\"{}", "#".repeat(hashes));
+            let body = open + 1;
+            let end = if raw {
+                b[body..].windows(close.len()).position(|w| w == close.as_bytes()).map_or(b.len(), |k| body + k)
+            } else {
+                let mut k = body;
+                while k < b.len() && b[k] != b'"' {
+                    k += if b[k] == b'\\' { 2 } else { 1 };
+                }
+                k.min(b.len())
+            };
+            out.push((line, String::from_utf8_lossy(&b[body..end]).into_owned()));
+            i = skip(&mut line, i, end + close.len());
+        } else if b[i] == b'\'' {
+            // A char literal ('x', '\'', '"') ends within a few bytes; a lifetime does not close.
+            let close = (i + 2..(i + 12).min(b.len())).find(|&k| b[k] == b'\'' && (b[k - 1] != b'\\' || k == i + 3));
+            i = match close {
+                Some(k) if b[i + 1] == b'\\' || src[i + 1..k].chars().count() == 1 => k + 1,
+                _ => i + 1,
+            };
+        } else if ident(b[i]) {
+            i = (i..b.len()).find(|&k| !ident(b[k])).unwrap_or(b.len());
+        } else {
+            if rest.starts_with(b"#[cfg(test)]") && test_line.is_none() {
+                test_line = Some(line);
+            }
+            line += usize::from(b[i] == b'\n');
+            i += 1;
+        }
+    }
+    (out, test_line)
+}
+
+/// Whether a string literal opens at `i` (`"`, `b"`, `c"`, `r"`, `r#"`, `br#"`…, not inside
+/// an identifier): the offset of its opening quote, whether it is raw, and its number of `#`.
+fn string_start(b: &[u8], i: usize, ident: impl Fn(u8) -> bool) -> Option<(usize, bool, usize)> {
+    if i > 0 && ident(b[i - 1]) {
+        return None;
+    }
+    let mut k = i;
+    if k < b.len() && (b[k] == b'b' || b[k] == b'c') {
+        k += 1;
+    }
+    if k < b.len() && b[k] == b'r' {
+        k += 1;
+        let hashes = b[k..].iter().take_while(|&&c| c == b'#').count();
+        return (b.get(k + hashes) == Some(&b'"')).then_some((k + hashes, true, hashes));
+    }
+    (b.get(k) == Some(&b'"')).then_some((k, false, 0))
+}
+
+/// The encoder ids a string literal names: itself, if it is one, or every part of a
+/// comma-separated list (`"sh1,sh2"`, `"sh1, zh3_hallucinate"`) whose parts all are.
+fn named_encoders(lit: &str, ids: &BTreeSet<String>) -> Vec<String> {
+    if ids.contains(lit) {
+        return vec![lit.to_string()];
+    }
+    let parts: Vec<&str> = lit.split(',').map(str::trim).collect();
+    if parts.len() > 1 && parts.iter().all(|p| ids.contains(*p)) {
+        return parts.into_iter().map(String::from).collect();
+    }
+    Vec::new()
+}
+
+/// Where product code (before the first `#[cfg(test)]`) names an encoder in a string literal,
+/// alone, as an element of a list literal or joined by commas: (line, literal).
+fn encoder_literals(src: &str, ids: &BTreeSet<String>) -> Vec<(usize, String)> {
+    let (literals, test_line) = string_literals(src);
+    literals
+        .into_iter()
+        .filter(|(line, lit)| test_line.is_none_or(|t| *line < t) && !named_encoders(lit, ids).is_empty())
+        .collect()
+}
+
 #[test]
 fn only_encoders_and_claims_name_an_encoder() {
     let ids: BTreeSet<String> = probelab::encoders::REGISTRY.iter().map(|k| k.id.to_string()).collect();
-    let krate = read_crate();
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
     let mut errors = Vec::new();
-    for (m, (file, code)) in &krate.modules {
-        if m[0] == "encoders" || m[0] == "claims" {
+    for (m, (file, _)) in &read_crate().modules {
+        // A unit-test file of its own (`…/tests.rs`) is test code throughout.
+        if m[0] == "encoders" || m[0] == "claims" || m.last().is_some_and(|x| x == "tests") {
             continue;
         }
-        let product = product_code(m, code);
-        for (n, line) in product.lines().enumerate() {
-            for (i, lit) in line.split('"').enumerate() {
-                if i % 2 == 1 && ids.contains(lit) {
-                    errors.push(format!("src/{}:{}: names encoder \"{lit}\"", file.display(), n + 1));
-                }
-            }
+        let text = std::fs::read_to_string(src.join(file)).unwrap();
+        for (line, lit) in encoder_literals(&text, &ids) {
+            errors.push(format!("src/{}:{line}: names encoder \"{lit}\"", file.display()));
         }
     }
     assert!(errors.is_empty(), "{}", errors.join("\n"));
+}
+
+/// What, in a module's product code, touches the disk: opening, reading, writing or listing
+/// files (`fs::`, `File::`, `OpenOptions`), and asking whether or what a path is.
+const DISK: [&str; 9] = [
+    "fs::",
+    "File::",
+    "OpenOptions",
+    ".is_file()",
+    ".is_dir()",
+    ".exists()",
+    "try_exists(",
+    "fs::metadata",
+    "symlink_metadata",
+];
+
+/// The marks of [`DISK`] that `product` holds.
+fn disk_touches(product: &str) -> Vec<&'static str> {
+    DISK.iter().copied().filter(|p| product.contains(p)).collect()
 }
 
 #[test]
@@ -609,19 +738,61 @@ fn only_the_listed_modules_touch_the_disk() {
         .map(String::from)
         .collect();
     let krate = read_crate();
-    let mut touching = BTreeSet::new();
+    let mut touching = BTreeMap::new();
     for (m, (_, code)) in &krate.modules {
-        let product = product_code(m, code);
-        if ["fs::", "File::", "OpenOptions"].iter().any(|p| product.contains(p)) {
-            touching.insert(m.join("::"));
+        let marks = disk_touches(product_code(m, code));
+        if !marks.is_empty() {
+            touching.insert(m.join("::"), marks);
         }
     }
-    let unlisted: Vec<_> = touching.difference(&listed).collect();
-    let idle: Vec<_> = listed.difference(&touching).collect();
+    let unlisted: Vec<_> = touching.iter().filter(|(m, _)| !listed.contains(*m)).collect();
+    let idle: Vec<_> = listed.iter().filter(|m| !touching.contains_key(*m)).collect();
     assert!(
         unlisted.is_empty() && idle.is_empty(),
         "touch the disk but are not listed in ARCHITECTURE.md: {unlisted:?}; listed but touch no file: {idle:?}"
     );
+}
+
+/// The encoder rule sees every literal of a line, a list literal's elements, comma-joined ids,
+/// raw and multi-line strings; not comments, char literals, partial lists or unit tests.
+#[test]
+fn the_encoder_rule_sees_literals_lists_and_joined_ids() {
+    let ids: BTreeSet<String> = ["sh1", "sh2", "zh3_x"].iter().map(|s| s.to_string()).collect();
+    let src = concat!(
+        "let a = (\"x\", \"sh2\"); let q = '\"'; let l: &'static str = \"sh1\";\n",
+        "const E: [&str; 2] = [\"sh1\", \"zh3_x\"]; // \"sh2\"\n",
+        "let j = \"sh1,sh2\"; let k = \"sh1, zh3_x\"; let no = \"sh1,all\"; let s = \"--encoders sh1\";\n",
+        "/* \"sh1\" */ let r = r#\"zh3_x\"#; let m = \"a\n\\\"b\"; let esc = \"say \\\"sh9\\\"\";\n",
+        "let after = \"sh2\";\n",
+        "#[cfg(test)]\nmod tests { const T: &str = \"sh1\"; }\n",
+    );
+    let found: Vec<(usize, String)> = encoder_literals(src, &ids);
+    let want: Vec<(usize, String)> =
+        [(1, "sh2"), (1, "sh1"), (2, "sh1"), (2, "zh3_x"), (3, "sh1,sh2"), (3, "sh1, zh3_x"), (4, "zh3_x"), (6, "sh2")]
+            .iter()
+            .map(|(l, s)| (*l, s.to_string()))
+            .collect();
+    assert_eq!(found, want);
+    assert_eq!(named_encoders("sh1, zh3_x", &ids), ["sh1", "zh3_x"]);
+}
+
+/// The disk rule sees file checks and metadata as well as reads and writes.
+#[test]
+fn the_disk_rule_sees_file_checks() {
+    let cases = [
+        ("if path.is_file() {", ".is_file()"),
+        ("if dir.is_dir() {", ".is_dir()"),
+        ("let here = p.exists();", ".exists()"),
+        ("let here = p.try_exists()?;", "try_exists("),
+        ("let m = std::fs::metadata(p)?;", "fs::metadata"),
+        ("let m = p.symlink_metadata()?;", "symlink_metadata"),
+        ("let f = File::open(p)?;", "File::"),
+        ("let o = OpenOptions::new();", "OpenOptions"),
+    ];
+    for (code, mark) in cases {
+        assert!(disk_touches(code).contains(&mark), "{code}: {:?}", disk_touches(code));
+    }
+    assert!(disk_touches("let n = p.file_name(); let e = path.extension();").is_empty());
 }
 
 /// The checker itself: paths, modules and the table parse as intended.

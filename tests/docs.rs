@@ -4,8 +4,10 @@
 //! README.md, ARCHITECTURE.md and docs/*.md resolves; README.md stays short, opens with the two
 //! commands, and `.ci/run` runs its test command; every command line of the ```` ```sh ````
 //! blocks of README.md and docs/*.md runs on a fresh clone (a temporary copy of the checkout,
-//! the release binary as `probelab`, `PROBELAB_ENVMAPS` unset) or carries a marker
-//! (docs/commands.md, the top: `# needs: …`, `# long: run by FILE`).
+//! the release binary as `probelab`, `PROBELAB_ENVMAPS` unset), unless the manifest beside this
+//! file, `tests/docs_commands.toml`, names it as long (with the file that runs it) or as needing
+//! what a fresh clone lacks. The pages carry plain commands: the manifest, not they, holds what
+//! only this test needs to know.
 //!
 //! docs/commands.md's layout, which this file parses: one `## `probelab CMD`` heading per
 //! command (`## `probelab maps import`` for a nested one), a `## Global options` section for the
@@ -19,6 +21,9 @@ use std::process::Command;
 fn repo() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
+
+/// What the documentation test does not run, and why: see its opening comment.
+const MANIFEST: &str = "tests/docs_commands.toml";
 
 fn read(rel: &str) -> String {
     std::fs::read_to_string(repo().join(rel)).unwrap_or_else(|e| panic!("{rel}: {e}"))
@@ -233,8 +238,14 @@ fn links_parser_sees_links_and_skips_code() {
 }
 
 #[test]
-fn readme_is_short_and_opens_with_the_two_commands() {
+fn readme_is_short_and_opens_with_its_purpose_then_the_two_commands() {
     let readme = read("README.md");
+    let opening = readme.split("```sh").next().unwrap_or("");
+    let prose = opening.lines().filter(|l| !l.starts_with('#') && !l.trim().is_empty()).count();
+    assert!(
+        prose >= 2,
+        "README.md must open with a paragraph on what probelab is for, and for whom, then the two commands"
+    );
     assert!(
         readme.len() < 10 * 1024,
         "README.md is {} bytes; keep it under 10 KiB (details go in docs/)",
@@ -277,24 +288,28 @@ fn help_parsers_read_clap_blocks() {
     assert_eq!(parsed.len(), 2);
 }
 
-/// A command line of a ```` ```sh ```` block: the page, its line number, the command (a
-/// continued line joined) and its marker (`needs: …` or `long: …`), if any.
+/// A command line of a ```` ```sh ```` block: the page, its line number, the block (its
+/// opening line) and the command (a continued line joined, trimmed).
 #[derive(Debug, PartialEq)]
 struct DocCommand {
     page: String,
     line: usize,
+    block: usize,
     command: String,
-    marker: Option<String>,
 }
 
-/// The marker of a line: the text from a `# needs:` or `# long:` comment on.
-fn marker(line: &str) -> Option<String> {
-    ["# needs:", "# long:"].iter().filter_map(|m| line.find(m)).min().map(|at| line[at + 2..].trim().to_string())
+impl DocCommand {
+    /// The command without its trailing comment (`# …` after white space), trimmed: what a
+    /// manifest entry names.
+    fn text(&self) -> &str {
+        let c = self.command.as_str();
+        let cut = c.char_indices().find(|&(i, ch)| ch == '#' && i > 0 && c[..i].ends_with(char::is_whitespace));
+        cut.map_or(c, |(i, _)| &c[..i]).trim()
+    }
 }
 
-/// Every command line of the ```` ```sh ```` blocks of `text` (docs/commands.md, the top): a
-/// trailing `\` joins the next line; comment lines are not commands, but a comment line
-/// holding a marker marks its whole block.
+/// Every command line of the ```` ```sh ```` blocks of `text`: a trailing `\` joins the next
+/// line; comment lines are not commands.
 fn sh_commands(page: &str, text: &str) -> Vec<DocCommand> {
     let mut out = Vec::new();
     let lines: Vec<&str> = text.lines().collect();
@@ -307,7 +322,6 @@ fn sh_commands(page: &str, text: &str) -> Vec<DocCommand> {
         let start = i + 1;
         let end = (start..lines.len()).find(|&k| lines[k].trim_start().starts_with("```")).unwrap_or(lines.len());
         let block = &lines[start..end];
-        let block_marker = block.iter().filter(|l| l.trim_start().starts_with('#')).find_map(|l| marker(l));
         let mut k = 0;
         while k < block.len() {
             let first = k;
@@ -325,7 +339,7 @@ fn sh_commands(page: &str, text: &str) -> Vec<DocCommand> {
             out.push(DocCommand {
                 page: page.to_string(),
                 line: start + first + 1,
-                marker: marker(&command).or_else(|| block_marker.clone()),
+                block: start,
                 command: trimmed.to_string(),
             });
         }
@@ -334,26 +348,158 @@ fn sh_commands(page: &str, text: &str) -> Vec<DocCommand> {
     out
 }
 
+/// Why a documented command is not run: `long` names the file of the repository that runs it
+/// (or its equivalent), `needs` what a fresh clone lacks; at least one is set.
+#[derive(Debug, Clone, PartialEq)]
+struct Skip {
+    long: Option<String>,
+    needs: Option<String>,
+}
+
+/// An entry of the manifest (tests/docs_commands.toml): on `page`, the command line `key`
+/// names (its whole text, or a prefix of exactly one), or with `block` every line of its block.
+#[derive(Debug, PartialEq)]
+struct Entry {
+    page: String,
+    key: String,
+    skip: Skip,
+    block: bool,
+}
+
+/// The manifest's entries, or what is wrong with it.
+fn manifest(text: &str) -> Result<Vec<Entry>, String> {
+    let table: toml::Table = text.parse().map_err(|e| format!("{e}"))?;
+    let mut out = Vec::new();
+    for (page, lines) in &table {
+        let lines = lines.as_table().ok_or(format!("[\"{page}\"] is not a table"))?;
+        for (key, value) in lines {
+            let at = format!("[\"{page}\"] \"{key}\"");
+            let fields = value.as_table().ok_or(format!("{at}: not a table"))?;
+            if let Some(unknown) = fields.keys().find(|k| !["long", "needs", "block"].contains(&k.as_str())) {
+                return Err(format!("{at}: unknown field `{unknown}` (long, needs, block)"));
+            }
+            let text_of = |f: &str| -> Result<Option<String>, String> {
+                match fields.get(f) {
+                    None => Ok(None),
+                    Some(v) => v
+                        .as_str()
+                        .filter(|s| !s.trim().is_empty())
+                        .map(|s| Some(s.to_string()))
+                        .ok_or(format!("{at}: `{f}` must be a non-empty string")),
+                }
+            };
+            let skip = Skip { long: text_of("long")?, needs: text_of("needs")? };
+            if skip.long.is_none() && skip.needs.is_none() {
+                return Err(format!("{at}: says neither `long` nor `needs`"));
+            }
+            let block = match fields.get("block") {
+                None => false,
+                Some(v) => v.as_bool().ok_or(format!("{at}: `block` must be true or false"))?,
+            };
+            out.push(Entry { page: page.clone(), key: key.clone(), skip, block });
+        }
+    }
+    Ok(out)
+}
+
+/// Which command (an index into `commands`) each entry skips, and the faults: an entry whose
+/// page has no such line (stale) or several, a `long` file that does not exist (`exists`
+/// says), a line two entries claim, and a line that still carries a marker comment of its own.
+fn classify(
+    commands: &[DocCommand],
+    entries: &[Entry],
+    exists: impl Fn(&str) -> bool,
+) -> (BTreeMap<usize, Skip>, Vec<String>) {
+    let mut skipped = BTreeMap::new();
+    let mut faults = Vec::new();
+    for e in entries {
+        let at = format!("tests/docs_commands.toml, [\"{}\"] \"{}\"", e.page, e.key);
+        let on_page: Vec<usize> = (0..commands.len()).filter(|&i| commands[i].page == e.page).collect();
+        let exact: Vec<usize> = on_page.iter().copied().filter(|&i| commands[i].text() == e.key).collect();
+        let matched = if exact.is_empty() {
+            on_page.iter().copied().filter(|&i| commands[i].text().starts_with(e.key.as_str())).collect()
+        } else {
+            exact
+        };
+        if let Some(file) = e.skip.long.as_deref().filter(|f| !exists(f)) {
+            faults.push(format!("{at}: long = \"{file}\", which is not a file of the repository"));
+        }
+        let hit = match matched[..] {
+            [one] => one,
+            [] => {
+                faults.push(format!("{at}: stale, no command line of {} is or starts with it", e.page));
+                continue;
+            }
+            _ => {
+                let lines: Vec<String> = matched.iter().map(|&i| commands[i].line.to_string()).collect();
+                faults.push(format!("{at}: names several lines of {} ({})", e.page, lines.join(", ")));
+                continue;
+            }
+        };
+        let block = commands[hit].block;
+        let lines = on_page.into_iter().filter(|&i| if e.block { commands[i].block == block } else { i == hit });
+        for i in lines {
+            if skipped.insert(i, e.skip.clone()).is_some() {
+                faults.push(format!("{at}: {}:{} is named twice", e.page, commands[i].line));
+            }
+        }
+    }
+    for c in commands {
+        if ["# long:", "# needs:"].iter().any(|m| c.command.contains(m)) {
+            faults.push(format!(
+                "{}:{}: a `# long:`/`# needs:` marker; say it in tests/docs_commands.toml instead",
+                c.page, c.line
+            ));
+        }
+    }
+    (skipped, faults)
+}
+
 #[test]
-fn sh_commands_join_lines_and_read_markers() {
-    let md =
-        "x\n```sh\n# a comment\nprobelab a \\\n  --b\nprobelab c   # needs: the paper probes (docs/maps.md)\n```\n\
-              ```text\nnot a command\n```\n```sh\n#!/bin/bash\n# long: run by tests/x.rs\nprobelab d\n```\n";
+fn sh_commands_join_lines_and_strip_comments() {
+    let md = "x\n```sh\n# a comment\nprobelab a \\\n  --b\nprobelab c   # the paper probes\n```\n\
+              ```text\nnot a command\n```\n```sh\n#!/bin/bash\nN=4 # four\nprobelab d \"#x\"\n```\n";
     let got = sh_commands("p.md", md);
-    let short: Vec<(usize, &str, Option<&str>)> =
-        got.iter().map(|c| (c.line, c.command.as_str(), c.marker.as_deref())).collect();
+    let short: Vec<(usize, usize, &str, &str)> =
+        got.iter().map(|c| (c.line, c.block, c.command.as_str(), c.text())).collect();
     assert_eq!(
         short,
         [
-            (4, "probelab a --b", None),
-            (
-                6,
-                "probelab c   # needs: the paper probes (docs/maps.md)",
-                Some("needs: the paper probes (docs/maps.md)")
-            ),
-            (14, "probelab d", Some("long: run by tests/x.rs")),
+            (4, 2, "probelab a --b", "probelab a --b"),
+            (6, 2, "probelab c   # the paper probes", "probelab c"),
+            (13, 11, "N=4 # four", "N=4"),
+            (14, 11, "probelab d \"#x\"", "probelab d \"#x\""),
         ]
     );
+}
+
+/// The manifest's checks see what they look for: a whole line wins over a prefix, a block entry
+/// covers its block, and a stale entry, an ambiguous prefix, a missing `long` file, a line named
+/// twice and a marker left in a page are faults.
+#[test]
+fn the_manifest_classifies_lines_and_finds_its_faults() {
+    let md =
+        "```sh\nprobelab check\nprobelab check one\n```\n```sh\nN=4\nrun $N\n```\n```sh\nx   # long: run by y\n```\n";
+    let commands = sh_commands("p.md", md);
+    let toml =
+        "[\"p.md\"]\n\"probelab check\" = { needs = \"maps\" }\n\"N=4\" = { long = \"tests/t.rs\", block = true }\n";
+    let entries = manifest(toml).unwrap();
+    let (skipped, faults) = classify(&commands, &entries, |f| f == "tests/t.rs");
+    assert_eq!(skipped.keys().copied().collect::<Vec<_>>(), [0, 2, 3]);
+    assert_eq!(skipped[&0].needs.as_deref(), Some("maps"));
+    assert_eq!(faults.len(), 1, "{faults:?}");
+    assert!(faults[0].starts_with("p.md:10: a `# long:`"), "{faults:?}");
+    let bad = "[\"p.md\"]\n\"probelab check o\" = { needs = \"a\" }\n\"gone\" = { needs = \"b\" }\n\
+               \"probelab\" = { long = \"tests/none.rs\" }\n\"run $N\" = { needs = \"c\" }\n\"N=4\" = { needs = \"d\", block = true }\n";
+    let (_, faults) = classify(&commands, &manifest(bad).unwrap(), |f| f == "tests/t.rs");
+    let says = |what: &str| faults.iter().filter(|f| f.contains(what)).count();
+    assert_eq!(says("\"gone\": stale"), 1, "{faults:?}");
+    assert_eq!(says("\"probelab\": names several lines of p.md (2, 3)"), 1, "{faults:?}");
+    assert_eq!(says("is named twice"), 1, "{faults:?}");
+    assert_eq!(says("long = \"tests/none.rs\", which is not a file"), 1, "{faults:?}");
+    assert_eq!(faults.len(), 5, "{faults:?}");
+    assert!(manifest("[\"p.md\"]\n\"x\" = { block = true }\n").is_err());
+    assert!(manifest("[\"p.md\"]\n\"x\" = { lnog = \"a\" }\n").is_err());
 }
 
 /// The files of the checkout (`git ls-files`), copied to `to`.
@@ -399,10 +545,10 @@ fn run_line(command: &str, dir: &Path, bin: &Path, limit: std::time::Duration) -
 
 /// Every command of README.md's and docs/*.md's ```` ```sh ```` blocks runs on a fresh clone
 /// (the committed maps only), in page order, in a copy of the checkout, with the binary as
-/// `probelab`; or it is marked (docs/commands.md, the top), and a `long:` marker names a file
-/// of the repository that runs it.
+/// `probelab`; or the manifest (tests/docs_commands.toml) says why not, each of its entries
+/// naming a line that exists and each `long` a file of the repository.
 #[test]
-fn every_documented_command_runs_on_a_fresh_clone_or_is_marked() {
+fn every_documented_command_runs_on_a_fresh_clone_or_is_in_the_manifest() {
     let mut pages = vec![PathBuf::from("README.md")];
     let mut docs: Vec<PathBuf> = std::fs::read_dir(repo().join("docs"))
         .unwrap()
@@ -414,38 +560,30 @@ fn every_documented_command_runs_on_a_fresh_clone_or_is_marked() {
     let commands: Vec<DocCommand> =
         pages.iter().flat_map(|p| sh_commands(&p.display().to_string(), &read(&p.display().to_string()))).collect();
     assert!(commands.len() > 20, "found only {} commands: is the block parser broken?", commands.len());
+    let entries = manifest(&read(MANIFEST)).unwrap_or_else(|e| panic!("{MANIFEST}: {e}"));
+    let (skipped, mut faults) = classify(&commands, &entries, |f| repo().join(f).is_file());
+    for e in entries.iter().filter(|e| !pages.iter().any(|p| p.as_os_str() == e.page.as_str())) {
+        faults.push(format!("{MANIFEST}: [\"{}\"] is not README.md or a page of docs/", e.page));
+    }
     let checkout = tempfile::tempdir().unwrap();
     copy_checkout(checkout.path());
     let bin = tempfile::tempdir().unwrap();
     std::os::unix::fs::symlink(env!("CARGO_BIN_EXE_probelab"), bin.path().join("probelab")).unwrap();
-    let mut faults = Vec::new();
     let mut ran = 0;
-    for c in &commands {
+    for (i, c) in commands.iter().enumerate() {
+        if skipped.contains_key(&i) {
+            continue;
+        }
+        ran += 1;
         let at = format!("{}:{}: `{}`", c.page, c.line, c.command);
-        match c.marker.as_deref() {
-            Some(m) if m.starts_with("long:") => {
-                let named = m.split_whitespace().map(|w| w.trim_matches(|ch: char| ",;()".contains(ch)));
-                if !named.clone().any(|w| w.contains('/') && repo().join(w).is_file()) {
-                    faults.push(format!("{at}: `{m}` names no file of the repository that runs it"));
-                }
-            }
-            Some(m) => {
-                if m.trim_start_matches("needs:").trim().is_empty() {
-                    faults.push(format!("{at}: `{m}` does not say what it needs"));
-                }
-            }
-            None => {
-                ran += 1;
-                match run_line(&c.command, checkout.path(), bin.path(), std::time::Duration::from_secs(30)) {
-                    None => faults.push(format!("{at}: still running after 30 s (mark it `# long: run by tests/…`)")),
-                    Some(out) if !out.status.success() => faults.push(format!(
-                        "{at}: exit {:?} on a fresh clone (fix it or mark it, docs/commands.md):\n    {}",
-                        out.status.code(),
-                        String::from_utf8_lossy(&out.stderr).trim().replace('\n', "\n    ")
-                    )),
-                    Some(_) => {}
-                }
-            }
+        match run_line(&c.command, checkout.path(), bin.path(), std::time::Duration::from_secs(30)) {
+            None => faults.push(format!("{at}: still running after 30 s (fix it, or say `long` in {MANIFEST})")),
+            Some(out) if !out.status.success() => faults.push(format!(
+                "{at}: exit {:?} on a fresh clone (fix it, or say `long` or `needs` in {MANIFEST}):\n    {}",
+                out.status.code(),
+                String::from_utf8_lossy(&out.stderr).trim().replace('\n', "\n    ")
+            )),
+            Some(_) => {}
         }
     }
     assert!(ran >= 5, "only {ran} documented commands ran");
