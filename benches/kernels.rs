@@ -3,20 +3,11 @@
 //! kernels (synthesis, SH rotation, per-probe error, statistics). Figures: benches/README.md.
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use glam::DVec3;
-use probelab::encoders::encoder::{FitInput, Fitted, Params};
-use probelab::encoders::REGISTRY;
-use probelab::envmap::moments::RowMoments;
-use probelab::envmap::EnvMap;
-use probelab::math::cap::Cap;
-use probelab::math::colour::Rgb;
-use probelab::math::sh::Sh9;
-use probelab::math::sh_rotation::{uniform_rotation, ShRotation};
-use probelab::math::stats::Summary;
-use probelab::pipeline::probeset::{probe_rmse, SphereRule, Synth};
-use probelab::reference::domain::fibonacci_sphere;
-use probelab::reference::exact::{Reference, DEFAULT_POLAR_NODES};
-use probelab::reference::projection::{project, project_visible};
-use probelab::reference::radiance::MapLight;
+use probelab::bench::{
+    build, fibonacci_sphere, generated, probe_rmse, project, project_visible, uniform_rotation, Cap, EnvMap, FitInput,
+    Fitted, MapLight, Params, Reference, Rgb, RowMoments, Sh9, ShRotation, SphereRule, Stored, Summary, Synth,
+    DEFAULT_POLAR_NODES, REGISTRY,
+};
 use std::hint::black_box;
 
 /// The inputs every encoder is fitted from: the generated sky-and-sun scene seen by a probe
@@ -37,7 +28,7 @@ fn inputs(map: &EnvMap, rm: &RowMoments) -> Inputs {
 }
 
 fn encoders(c: &mut Criterion) {
-    let scene = probelab::reference::scenes::generated().into_iter().find(|s| s.id == "gen_sky_sun").expect("scene");
+    let scene = generated().into_iter().find(|s| s.id == "gen_sky_sun").expect("scene");
     let map = scene.map(256);
     let rm = RowMoments::new(&map);
     let inp = inputs(&map, &rm);
@@ -94,14 +85,13 @@ impl Fitted for NoHook {
     fn irradiance(&self, n: DVec3) -> Rgb {
         self.0.irradiance(n)
     }
-    fn stored(&self) -> probelab::encoders::stored::Stored {
+    fn stored(&self) -> Stored {
         self.0.stored()
     }
 }
 
 fn probes(c: &mut Criterion) {
-    let palette: Vec<(String, Sh9)> =
-        probelab::reference::scenes::generated().into_iter().map(|s| (s.id.clone(), s.sh())).collect();
+    let palette: Vec<(String, Sh9)> = generated().into_iter().map(|s| (s.id.clone(), s.sh())).collect();
     let synth = Synth::new(1, palette);
     let mut g = c.benchmark_group("probes");
     g.throughput(Throughput::Elements(1));
@@ -119,12 +109,12 @@ fn probes(c: &mut Criterion) {
     g.bench_function("SH rotation: apply to RGB SH3", |b| b.iter(|| black_box(rot.apply(black_box(&p)))));
     let reference = p.convolve_cosine();
     let rule = SphereRule::standard();
-    let sh1 = probelab::encoders::build("sh1", None, toml::Table::new()).expect("sh1");
+    let sh1 = build("sh1", None, toml::Table::new()).expect("sh1");
     let fit = sh1.encoder.fit(&FitInput::sphere(&p));
     g.bench_function("probe error: closed form (sh1)", |b| {
         b.iter(|| black_box(probe_rmse(fit.as_ref(), black_box(&reference), &rule)))
     });
-    let geo = probelab::encoders::build("geomerics", None, toml::Table::new()).expect("geomerics");
+    let geo = build("geomerics", None, toml::Table::new()).expect("geomerics");
     let gfit = geo.encoder.fit(&FitInput::sphere(&p));
     g.bench_function("probe error: closed form (geomerics, Funk-Hecke)", |b| {
         b.iter(|| black_box(probe_rmse(gfit.as_ref(), black_box(&reference), &rule)))

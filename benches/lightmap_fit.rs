@@ -7,18 +7,13 @@
 //! spherical Fibonacci set, each with the hemisphere effect about its normal (visible SH by the
 //! exact masked projection, I_z by the exact reference).
 //!
-//! `cargo bench --bench lightmap_fit` prints `min-of-N` lines: ns per texel per core.
+//! `cargo bench --features bench --bench lightmap_fit` prints `min-of-N` lines: ns per texel per core.
 
 use glam::DVec3;
-use probelab::encoders::encoder::{FitInput, Params};
-use probelab::encoders::REGISTRY;
-use probelab::envmap::moments::RowMoments;
-use probelab::math::cap::Cap;
-use probelab::math::colour::Rgb;
-use probelab::math::sh::Sh9;
-use probelab::reference::domain::fibonacci_sphere;
-use probelab::reference::exact::{Reference, DEFAULT_POLAR_NODES};
-use probelab::reference::projection::{project, project_visible};
+use probelab::bench::{
+    fibonacci_sphere, generated, project, project_visible, Cap, FitInput, Params, Reference, Rgb, RowMoments, Sh9,
+    DEFAULT_POLAR_NODES, REGISTRY,
+};
 use std::hint::black_box;
 
 fn thread_cpu_ns() -> u64 {
@@ -30,7 +25,7 @@ fn thread_cpu_ns() -> u64 {
 
 fn main() {
     let filter: Option<String> = std::env::args().skip(1).find(|a| !a.starts_with('-'));
-    let scene = probelab::reference::scenes::generated().into_iter().find(|s| s.id == "gen_sky_sun").expect("scene");
+    let scene = generated().into_iter().find(|s| s.id == "gen_sky_sun").expect("scene");
     let map = scene.map(256);
     let rm = RowMoments::new(&map);
     let probe = project(&map);

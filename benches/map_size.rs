@@ -5,10 +5,9 @@
 //! texel up to the larger sizes) and written as half-float EXR to a temporary folder; nothing
 //! large is committed. Figures, and the whole-process commands for 16k: benches/README.md.
 use criterion::{criterion_group, criterion_main, Criterion};
-use probelab::envmap::moments::RowMoments;
-use probelab::envmap::{load, resample, LatLong};
-use probelab::reference::exact::{Reference, DEFAULT_POLAR_NODES};
-use probelab::reference::projection::project;
+use probelab::bench::{
+    load_map, project, resized, write_exr_half, LatLong, Reference, RowMoments, DEFAULT_POLAR_NODES,
+};
 use std::hint::black_box;
 use std::path::Path;
 
@@ -16,7 +15,7 @@ const SIZES: [(usize, usize); 7] =
     [(32, 16), (256, 128), (1000, 500), (1024, 512), (2048, 1024), (2000, 1000), (4096, 2048)];
 
 fn eval_once(path: &Path) -> usize {
-    let map = load::load(path).expect("the bench map loads");
+    let map = load_map(path).expect("the bench map loads");
     let rm = RowMoments::new(&map);
     let sh = project(&map);
     let r = Reference::new(&rm, vec![], DEFAULT_POLAR_NODES);
@@ -28,13 +27,13 @@ fn eval_once(path: &Path) -> usize {
 fn bench(c: &mut Criterion) {
     let dir = tempfile::tempdir().expect("a temporary folder");
     let source = Path::new(env!("CARGO_MANIFEST_DIR")).join("envmaps/pmndrs_bridge_256x128.exr");
-    let map = load::load(&source).expect("the committed map loads");
+    let map = load_map(&source).expect("the committed map loads");
     let mut group = c.benchmark_group("map_size");
     group.sample_size(10);
     for (w, h) in SIZES {
         let path = dir.path().join(format!("bridge_{w}x{h}.exr"));
-        let resized = resample::resized(&map, w, h).expect("a 2:1 size");
-        load::write_exr_half(&path, &resized).expect("the bench map is written");
+        let resized = resized(&map, w, h).expect("a 2:1 size");
+        write_exr_half(&path, &resized).expect("the bench map is written");
         drop(resized);
         group.bench_function(format!("{w}x{h} decode+moments+SH+reference 256x128"), |b| {
             b.iter(|| eval_once(black_box(&path)))

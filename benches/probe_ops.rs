@@ -14,13 +14,10 @@
 use criterion::measurement::{Measurement, ValueFormatter};
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use glam::DVec3;
-use probelab::encoders::encoder::FitInput;
-use probelab::envmap::moments::RowMoments;
-use probelab::envmap::EnvMap;
-use probelab::math::cap::Cap;
-use probelab::pipeline::runner::cone_centre;
-use probelab::reference::exact::{Reference, DEFAULT_POLAR_NODES};
-use probelab::reference::projection::project_visible;
+use probelab::bench::{
+    build, cone_centre, fibonacci_sphere, generated, project_visible, Cap, EnvMap, FitInput, Reference, RowMoments,
+    DEFAULT_POLAR_NODES,
+};
 use std::hint::black_box;
 
 const OPS: &[&str] = &[
@@ -95,12 +92,12 @@ impl ValueFormatter for NsFormatter {
 
 /// Deterministic unit vectors (spherical Fibonacci).
 fn directions(n: usize) -> Vec<DVec3> {
-    probelab::reference::domain::fibonacci_sphere(n)
+    fibonacci_sphere(n)
 }
 
 fn ops(c: &mut Criterion<CpuTime>) {
     // A realistic probe: the generated sun-and-sky scene's closed-form L2 SH.
-    let scene = probelab::reference::scenes::generated().into_iter().find(|s| s.id == "gen_sun_sky").expect("scene");
+    let scene = generated().into_iter().find(|s| s.id == "gen_sun_sky").expect("scene");
     let sh = scene.sh();
     let normals: Vec<DVec3> = directions(64);
     let cones: Vec<(DVec3, f64)> = normals.iter().map(|&n| (cone_centre(n, 30.0), 0.5)).collect();
@@ -108,7 +105,7 @@ fn ops(c: &mut Criterion<CpuTime>) {
     let shaded: Vec<DVec3> = directions(2048).into_iter().filter(|d| d.dot(shade_n) > 0.0).take(1024).collect();
     let mut g = c.benchmark_group("probe_ops");
     for &id in OPS {
-        let enc = probelab::encoders::build(id, None, toml::Table::new()).expect("encoder").encoder;
+        let enc = build(id, None, toml::Table::new()).expect("encoder").encoder;
         let inputs: Vec<FitInput> = normals
             .iter()
             .zip(&cones)

@@ -2,13 +2,7 @@
 //! the 2-core machine), the general capped path (a cone-AO case, 4096 hemisphere
 //! normals), and the SH projection of a 1024×512 map (target ≤ 5 ms).
 use criterion::{criterion_group, criterion_main, Criterion};
-use probelab::envmap::moments::RowMoments;
-use probelab::envmap::{EnvMap, LatLong};
-use probelab::math::cap::Cap;
-use probelab::pipeline::runner::cone_centre;
-use probelab::reference::domain::Domain;
-use probelab::reference::exact::{Reference, DEFAULT_POLAR_NODES};
-use probelab::reference::projection::project;
+use probelab::bench::{cone_centre, project, Cap, Domain, EnvMap, LatLong, Reference, RowMoments, DEFAULT_POLAR_NODES};
 use std::hint::black_box;
 
 fn synthetic(w: usize) -> EnvMap {

@@ -15,12 +15,10 @@
 use criterion::measurement::{Measurement, ValueFormatter};
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use glam::DVec3;
-use probelab::encoders::zh3::solve::{Formulation, SolverSettings, Zonal};
-use probelab::encoders::zh3::{solved, AxisRule};
-use probelab::envmap::search::SearchPath;
-use probelab::math::colour::Rgb;
-use probelab::math::sh::{constant, Sh9};
-use probelab::reference::lighting::Light;
+use probelab::bench::{
+    constant, project, solved, AxisRule, Formulation, Light, Rgb, SearchPath, Sh9, SolveStats, Solved, SolverSettings,
+    Zonal,
+};
 use std::hint::black_box;
 
 /// Thread CPU time (CLOCK_THREAD_CPUTIME_ID): the machine is shared, so wall time measures the
@@ -114,30 +112,25 @@ fn probes() -> Vec<(String, Sh9)> {
     let mut out = Vec::new();
     for p in PROBES {
         match search.load(p) {
-            Ok(map) => out.push((p.to_string(), probelab::reference::projection::project(&map).convolve_cosine())),
+            Ok(map) => out.push((p.to_string(), project(&map).convolve_cosine())),
             Err(_) => eprintln!("zh3_solve bench: {p} not found (set PROBELAB_ENVMAPS); skipped"),
         }
     }
     out
 }
 
-fn shared(irr: &Sh9, s: &SolverSettings) -> probelab::encoders::zh3::Solved {
+fn shared(irr: &Sh9, s: &SolverSettings) -> Solved {
     let eq = Rgb::splat(1.0 / 3.0);
     solved(irr, AxisRule::Shared(eq), eq, Zonal::Stored, s)
 }
 
-fn channel(irr: &Sh9, s: &SolverSettings) -> probelab::encoders::zh3::Solved {
+fn channel(irr: &Sh9, s: &SolverSettings) -> Solved {
     solved(irr, AxisRule::Channel, Rgb::ONE, Zonal::Stored, s)
 }
 
-fn distribution(
-    name: &str,
-    set: &[Sh9],
-    s: &SolverSettings,
-    f: fn(&Sh9, &SolverSettings) -> probelab::encoders::zh3::Solved,
-) {
+fn distribution(name: &str, set: &[Sh9], s: &SolverSettings, f: fn(&Sh9, &SolverSettings) -> Solved) {
     let stats: Vec<_> = set.iter().map(|irr| f(irr, s).stats).collect();
-    let col = |g: &dyn Fn(&probelab::encoders::zh3::solve::SolveStats) -> u32| {
+    let col = |g: &dyn Fn(&SolveStats) -> u32| {
         let mut v: Vec<u32> = stats.iter().map(g).collect();
         v.sort();
         let mean = v.iter().map(|&x| x as f64).sum::<f64>() / v.len() as f64;

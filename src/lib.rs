@@ -71,5 +71,7 @@ pub mod reference;
 pub mod regression;
 pub mod report;
 
+#[cfg(feature = "bench")]
+pub mod bench;
 #[cfg(test)]
 mod tests;
