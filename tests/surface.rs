@@ -137,7 +137,7 @@ fn library_files() -> Vec<PathBuf> {
 
 #[test]
 fn exit_codes_are_the_binarys() {
-    let words = ["process::exit", "ExitCode", "exit_code", "Result<i32>", "Result<(i32", "-> i32 {", "-> (i32"];
+    let words = ["process::exit", "ExitCode", "exit_code", "Result<i32>", "Result<(i32", "-> i32 {"];
     let mut found = Vec::new();
     for p in library_files() {
         let code = code_of(&std::fs::read_to_string(&p).unwrap());
