@@ -1,77 +1,24 @@
-//! The lightmap paper's claims (with the ZH3 measurements `probelab claims` takes beside them):
-//! - `experiments/lightmap_claims.toml`: H1, H2, H4 and D1 on the generated scenes. The H2
-//!   bound of `scenes::TiltedLight` against quadrature of the closed forms, and the bound the H2
-//!   declaration uses.
-//! - The claims measurements end to end: from the shared maps, `probelab claims` writes the
-//!   measurement tables (H5–H8, H10, Z9, Z10 checked here) under `claims/measures/` and the blending
-//!   strips under `claims/`, each value checked against what it must be independently of the
-//!   program. Without the maps it takes no measurement.
+//! The lightmap paper's claims measurements (with the ZH3 measurements `probelab claims` takes
+//! beside them), end to end: from the shared maps, `probelab claims` writes the measurement
+//! tables (H5–H8, H10, Z9, Z10 checked here) under `claims/measures/` and the blending strips
+//! under `claims/`, each value checked against what it must be independently of the program.
+//! Without the maps it takes no measurement. (The H2 bound of `experiments/lightmap_claims.toml`
+//! is checked inside the crate: `src/tests/tilted_light_bound.rs`.)
 
 mod common;
 
 use common::harness::{parse_csv, probelab, repo, Run};
 use common::shared_maps::shared_envmaps;
-use probelab::claims::declaration::{load_papers, Test};
-use probelab::encoders::lightmap::hhd_from_linear_sh;
-use probelab::math::cap::Cap;
-use probelab::math::colour::Rgb;
-use probelab::reference::domain::Domain;
-use probelab::reference::lighting::{Light, Lighting};
-use probelab::reference::metrics::score;
-use probelab::reference::scenes::{generated, TILTED_LIGHT};
 use std::path::Path;
 
-/// hhd_from_sh1 on gen_tilted_light's closed forms, seen from a floor: the visible linear SH is
-/// the hemisphere light of the ambient plus the whole cap (it lies above the horizon), and the
-/// reference is A·H(n) plus the cap's form factor. Its rmse over a fine hemisphere grid is
-/// below the derived bound and close to it (the bound is not loose); for a delta light of the
-/// same E/π the HHD is exact, so the whole error is the cap's size.
-#[test]
-fn tilted_light_bound_holds_against_quadrature() {
-    let t = &TILTED_LIGHT;
-    let (a, n) = (t.axis(), glam::DVec3::Y);
-    let sigma = t.radius_deg.to_radians();
-    assert!(t.tilt_deg + t.radius_deg < 90.0, "the light must lie above the floor's horizon");
-    let scene = generated().into_iter().find(|s| s.id == "gen_tilted_light").expect("gen_tilted_light");
-    assert_eq!(
-        scene.lighting,
-        Lighting(vec![Light::Ambient(t.ambient), Light::Cap { axis: a, half_angle: sigma, radiance: t.radiance() }])
-    );
-    let floor = [Cap::hemisphere(n)];
-    let visible = scene.lighting.visible(&floor);
-    let model = hhd_from_linear_sh(&visible.sh(), n);
-    let grid = Domain::Hemisphere { normal: n }.output_grid((4096, 2048));
-    let reference: Vec<Rgb> = grid.normals.iter().map(|&w| visible.irradiance(w)).collect();
-    let test: Vec<Rgb> = grid.normals.iter().map(|&w| model.irradiance(w)).collect();
-    let rmse = score(&reference, &test, &grid.weights, false).rmse;
-    let bound = t.hhd_rmse_bound();
-    println!("hhd_from_sh1 on the closed forms: rmse {rmse:.4e}, bound {bound:.4e}");
-    assert!(rmse <= bound && rmse >= 0.85 * bound, "rmse {rmse:e} vs bound {bound:e}");
-    // The same light as a delta (E/π I facing it): the HHD is exact.
-    let delta = Lighting(vec![Light::Ambient(t.ambient), Light::Delta { dir: a, facing: t.facing }]).visible(&floor);
-    let m = hhd_from_linear_sh(&delta.sh(), n);
-    let worst =
-        grid.normals.iter().map(|&w| (m.irradiance(w) - delta.irradiance(w)).abs().max_element()).fold(0.0, f64::max);
-    assert!(worst < 1e-12, "{worst:e}");
+/// The maps of the claims measurements, as `experiments/claims/zh3.toml` declares them
+/// (`[measurements] maps`), in order.
+fn measurement_maps() -> Vec<String> {
+    let text = std::fs::read_to_string(repo().join("experiments/claims/zh3.toml")).unwrap();
+    let file: toml::Table = toml::from_str(&text).unwrap();
+    let maps = file["measurements"]["maps"].as_array().expect("[measurements] maps is a list");
+    maps.iter().map(|m| m.as_str().expect("a map name").to_string()).collect()
 }
-
-/// The H2 bound declared in experiments/claims/hemi.toml is the derived one, rounded up to two
-/// significant digits.
-#[test]
-fn h2_claim_uses_the_derived_bound() {
-    let papers = load_papers(&repo().join("experiments")).unwrap();
-    let h2 = papers.iter().flat_map(|p| &p.claims).find(|c| c.id == "H2").expect("claim H2");
-    let k = h2.checks.iter().find(|k| k.encoder == "hhd_from_sh1" && !k.test.needs_baseline()).expect("HHD bound");
-    let Test::EveryAtMost { bound } = k.test else { panic!("H2's HHD check is not every_at_most: {:?}", k.test) };
-    let derived = TILTED_LIGHT.hhd_rmse_bound();
-    let unit = 10f64.powf(derived.log10().floor() - 1.0);
-    let want = (derived / unit).ceil() * unit;
-    assert!((bound - want).abs() < 1e-6 * want, "H2 bound {bound:e}, derived {derived:e} (rounded up: {want:e})");
-    assert_eq!(k.maps.as_deref(), Some(&["gen_tilted_light".to_string()][..]));
-}
-
-// ---------------------------------------------------------------------------------------------
-// The claims measurements (`probelab claims`), from the shared maps.
 
 /// The rows of `claims/measures/NAME.csv` under `dir`.
 fn table(dir: &Path, name: &str) -> Vec<std::collections::HashMap<String, String>> {
@@ -88,8 +35,7 @@ fn num(r: &std::collections::HashMap<String, String>, col: &str) -> f64 {
     ignore = "needs the paper probes (not CC0, not in the repository): set PROBELAB_ENVMAPS to a folder holding them, see envmaps/README.md"
 )]
 fn claims_write_the_measurement_tables_and_strips() {
-    let papers = load_papers(&repo().join("experiments")).unwrap();
-    let maps = probelab::claims::zh3::maps(&papers).unwrap();
+    let maps = measurement_maps();
     let env = shared_envmaps(&maps.iter().map(String::as_str).collect::<Vec<_>>());
     let dir = tempfile::tempdir().unwrap();
     let out = probelab().args(["claims", "--out", dir.path().to_str().unwrap()]).env("PROBELAB_ENVMAPS", env).run();

@@ -5,13 +5,11 @@
 //! resampled to widths that are not multiples of the grid's, on grids finer than the map, and
 //! on every shared map when `PROBELAB_ENVMAPS` is set.
 
-mod common;
-
-use common::shared_maps::shared_envmaps;
-use probelab::envmap::moments::RowMoments;
-use probelab::envmap::{load, resample, EnvMap, LatLong};
-use probelab::math::colour::Rgb;
-use probelab::reference::exact::{Reference, DEFAULT_POLAR_NODES};
+use super::shared_maps::shared_envmaps;
+use crate::envmap::moments::RowMoments;
+use crate::envmap::{load, resample, EnvMap, LatLong};
+use crate::math::colour::Rgb;
+use crate::reference::exact::{Reference, DEFAULT_POLAR_NODES};
 use std::path::{Path, PathBuf};
 
 /// The worst difference between the two paths on `grid`, relative to each value; a value below

@@ -1,12 +1,12 @@
 //! The catalogue of hard cases: named scenes that push encoders to divide by d_z, by
 //! L00 and by |L1|, take square roots of discriminants and normalise vectors that can be zero.
-//! Every encoder of `probelab::encoders::REGISTRY` (default settings) and every encoder
+//! Every encoder of `encoders::REGISTRY` (default settings) and every encoder
 //! configuration declared in `experiments/*.toml` runs on every case; an encoder added to the
 //! registry or a variant added to an experiment joins automatically (this file names none).
 //!
 //! Each case is built analytically (closed-form SH of ambient, delta and cap lights, visible
-//! under the surface's effects, and closed-form E/π; `probelab::reference::lighting`, with the
-//! surfaces of `tests/common`), and fitted through
+//! under the surface's effects, and closed-form E/π; `reference::lighting`, with the
+//! surfaces of `common.rs`), and fitted through
 //! `FitInput` with or without a surface normal and cone, as the case says. A second test feeds
 //! tiny maps with the same kind of trouble through the whole pipeline (projection, reference,
 //! metrics, CSV).
@@ -48,14 +48,12 @@
 //! relative is a generous bound, and 1e-9 (of the scale) absolute covers answers that are
 //! exact to rounding.
 
-mod common;
-
-use common::*;
+use super::common::*;
+use crate::encoders::encoder::{Encoder, Fitted};
+use crate::math::colour::Rgb;
+use crate::math::sh::Sh9;
+use crate::reference::domain::{Domain, OutputGrid};
 use glam::DVec3;
-use probelab::encoders::encoder::{Encoder, Fitted};
-use probelab::math::colour::Rgb;
-use probelab::math::sh::Sh9;
-use probelab::reference::domain::{Domain, OutputGrid};
 use std::f64::consts::PI;
 
 /// Output grid of the checks.
@@ -589,7 +587,7 @@ fn non_negative(f: &FittedCase) -> Option<String> {
 #[test]
 fn every_encoder_survives_every_hard_case() {
     let encoders = all_encoders();
-    assert!(encoders.len() >= probelab::encoders::REGISTRY.len());
+    assert!(encoders.len() >= crate::encoders::REGISTRY.len());
     let cases = cases();
     let mut fails = Vec::new();
     for c in &cases {
@@ -597,7 +595,6 @@ fn every_encoder_survives_every_hard_case() {
             fails.extend(check(c, id, e.as_ref()));
         }
     }
-    println!("{} hard cases x {} encoder configurations", cases.len(), encoders.len());
     assert!(fails.is_empty(), "{} failure(s):\n{}", fails.len(), fails.join("\n"));
 }
 
@@ -609,7 +606,7 @@ fn least_squares_on_a_grid_tolerance() {
     let g = Domain::Sphere.output_grid(RES);
     let mut gram = [[0.0f64; 9]; 9];
     for (n, w) in g.normals.iter().zip(&g.weights) {
-        let y = probelab::math::sh::basis(*n);
+        let y = crate::math::sh::basis(*n);
         for a in 0..9 {
             for b in 0..9 {
                 gram[a][b] += w * y[a] * y[b];
@@ -617,7 +614,6 @@ fn least_squares_on_a_grid_tolerance() {
         }
     }
     let eps = (0..81).map(|k| (gram[k / 9][k % 9] - if k / 9 == k % 9 { 1.0 } else { 0.0 }).abs()).fold(0.0, f64::max);
-    println!("SH Gram error on the {}x{} grid: {eps:e}", RES.0, RES.1);
     assert!(eps < 1e-3, "{eps}");
     // 4ε² relative in the squared error is ~2ε² in the rmse: far below LSQ_REL.
     assert!(2.0 * eps * eps < LSQ_REL);
@@ -675,8 +671,7 @@ fn cases_have_the_claimed_trouble() {
     // 2π(1 − cos α) = 2π·1e-12.
     let cone = by_name("cone_cos_1e-12@cone");
     assert!(
-        (cone.visible_sh[0].x - (probelab::math::sh::k::Y00 * PI + 2.0 * PI * 1e-12 * probelab::math::sh::k::Y00))
-            .abs()
+        (cone.visible_sh[0].x - (crate::math::sh::k::Y00 * PI + 2.0 * PI * 1e-12 * crate::math::sh::k::Y00)).abs()
             < 1e-15
     );
     // The scaled cases are the sun and sky scaled.
@@ -708,10 +703,10 @@ fn fallback_bound_is_the_error_of_the_mean() {
 /// "nonfinite".
 #[test]
 fn tiny_hard_maps_score_finite_through_the_pipeline() {
-    use probelab::envmap::EnvMap;
-    use probelab::pipeline::experiment::Experiment;
+    use crate::envmap::EnvMap;
+    use crate::pipeline::experiment::Experiment;
     use std::path::Path;
-    let quoted = |e: &[(String, Box<dyn probelab::encoders::encoder::Encoder>)]| {
+    let quoted = |e: &[(String, Box<dyn crate::encoders::encoder::Encoder>)]| {
         e.iter().map(|(id, _)| format!("'{id}'")).collect::<Vec<_>>().join(", ")
     };
     let all = registry_encoders();
@@ -739,7 +734,7 @@ fn tiny_hard_maps_score_finite_through_the_pipeline() {
     for text in &exps {
         let exp = Experiment::parse(text, Path::new("hard.toml")).unwrap();
         for m in &maps {
-            let rows = probelab::pipeline::runner::run_map(&exp, m);
+            let rows = crate::pipeline::runner::run_map(&exp, m);
             assert!(!rows.is_empty());
             for r in &rows {
                 let s = &r.scores;
@@ -753,7 +748,7 @@ fn tiny_hard_maps_score_finite_through_the_pipeline() {
                     r.effects
                 );
             }
-            let csv = String::from_utf8(probelab::pipeline::table::to_csv(&rows).unwrap()).unwrap();
+            let csv = String::from_utf8(crate::pipeline::table::to_csv(&rows).unwrap()).unwrap();
             assert!(!csv.contains("nonfinite"), "{}: {csv}", m.name);
         }
     }
@@ -762,7 +757,7 @@ fn tiny_hard_maps_score_finite_through_the_pipeline() {
 /// The contract can fail: deliberately broken encoders, each breaking one rule, are caught.
 mod broken {
     use super::*;
-    use probelab::encoders::encoder::{Encoder, FitInput, Fitted};
+    use crate::encoders::encoder::{Encoder, FitInput, Fitted};
 
     #[derive(Clone, Copy, PartialEq, Debug)]
     pub enum Flaw {
@@ -784,8 +779,8 @@ mod broken {
         fn irradiance(&self, n: DVec3) -> Rgb {
             (self.0)(n)
         }
-        fn stored(&self) -> probelab::encoders::stored::Stored {
-            probelab::encoders::stored::Stored::new("a deliberately broken test encoder: nothing stored")
+        fn stored(&self) -> crate::encoders::stored::Stored {
+            crate::encoders::stored::Stored::new("a deliberately broken test encoder: nothing stored")
         }
     }
     impl Encoder for Broken {

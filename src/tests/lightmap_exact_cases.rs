@@ -1,17 +1,15 @@
 //! Exact cases of the lightmap encodings (claims H1, H2, H6, D1 of CLAIMS.md), with
-//! expected values derived independently of the fits: closed-form lighting (`tests/common`),
+//! expected values derived independently of the fits: closed-form lighting (`common.rs`),
 //! the hemisphere light (1 + n·N)/2, and quadrature of exact irradiance.
 
-mod common;
-
-use common::*;
+use super::common::*;
+use crate::encoders::encoder::Fitted;
+use crate::encoders::lightmap::fit::{fit, solve, Colours, Direction, FitSpec, FitTarget, Gram};
+use crate::encoders::lightmap::lune::{Angle, Moments};
+use crate::encoders::lightmap::{linear_sh_of, Basis, Model};
+use crate::math::colour::Rgb;
+use crate::reference::domain::Domain;
 use glam::DVec3;
-use probelab::encoders::encoder::Fitted;
-use probelab::encoders::lightmap::fit::{fit, solve, Colours, Direction, FitSpec, FitTarget, Gram};
-use probelab::encoders::lightmap::lune::{Angle, Moments};
-use probelab::encoders::lightmap::{linear_sh_of, Basis, Model};
-use probelab::math::colour::Rgb;
-use probelab::reference::domain::Domain;
 use std::f64::consts::PI;
 
 fn spec(basis: Basis, colours: Colours, search: bool) -> FitSpec {
@@ -27,8 +25,8 @@ fn spec(basis: Basis, colours: Colours, search: bool) -> FitSpec {
     }
 }
 
-fn encoder(kind: &str, keys: &str) -> Box<dyn probelab::encoders::encoder::Encoder> {
-    probelab::encoders::build(kind, None, toml::from_str(keys).unwrap()).unwrap().encoder
+fn encoder(kind: &str, keys: &str) -> Box<dyn crate::encoders::encoder::Encoder> {
+    crate::encoders::build(kind, None, toml::from_str(keys).unwrap()).unwrap().encoder
 }
 
 /// rmse of `f` against the closed-form visible irradiance over the hemisphere about N.
@@ -70,7 +68,7 @@ fn h1_constant_ambient_gives_the_hemisphere_light() {
 /// so the region is |φ| ≤ min h_i. Gauss–Legendre in z between the breakpoints 0, sin τ_i and
 /// in φ over the arc: accurate to ~1e-9 for the smooth integrands here.
 fn lune_integral(tilts: &[f64], f: &dyn Fn(DVec3) -> f64) -> f64 {
-    let (gz, gp) = (probelab::math::quadrature::gauss_legendre(300), probelab::math::quadrature::gauss_legendre(32));
+    let (gz, gp) = (crate::math::quadrature::gauss_legendre(300), crate::math::quadrature::gauss_legendre(32));
     let mut cuts = vec![0.0, 1.0];
     cuts.extend(tilts.iter().map(|t| t.sin().abs()));
     cuts.sort_by(f64::total_cmp);
@@ -148,7 +146,7 @@ fn h2_ambient_plus_tilted_light_is_exactly_hhd() {
         let input = Input::new(&lights, Some(&Surface::hemisphere(n)));
         let target = Exact { a: amb, s: e / PI, tau_l: t };
         let i_z = input.exact_at_normal.unwrap();
-        let dom = probelab::encoders::lightmap::fit::FitDomain::new(Gram::Hemisphere);
+        let dom = crate::encoders::lightmap::fit::FitDomain::new(Gram::Hemisphere);
         let g = Domain::Hemisphere { normal: DVec3::Z }.output_grid((256, 128));
         let truth = |v: DVec3| amb * (0.5 * (1.0 + v.z)) + e / PI * v.dot(DVec3::new(t.sin(), 0.0, t.cos())).max(0.0);
         let mut errs = Vec::new();
@@ -205,7 +203,7 @@ fn h6_round_trip_through_the_encoder() {
             d,
         };
         let sh = linear_sh_of(&m);
-        let input = probelab::encoders::encoder::FitInput {
+        let input = crate::encoders::encoder::FitInput {
             probe_sh: &sh,
             visible_sh: &sh,
             surface_normal: Some(n),

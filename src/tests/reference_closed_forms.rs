@@ -2,16 +2,16 @@
 //! The scenes' maps hold exact cell averages, so what remains is the sub-texel placement of
 //! light, which falls with resolution; the test checks both the level and the convergence.
 
+use crate::envmap::moments::RowMoments;
+use crate::math::cap::Cap;
+use crate::math::colour::Rgb;
+use crate::reference::domain::fibonacci_sphere;
+use crate::reference::exact::{Reference, DEFAULT_POLAR_NODES};
+use crate::reference::scenes::generated;
 use glam::DVec3;
-use probelab::envmap::moments::RowMoments;
-use probelab::math::cap::Cap;
-use probelab::math::colour::Rgb;
-use probelab::reference::domain::fibonacci_sphere;
-use probelab::reference::exact::{Reference, DEFAULT_POLAR_NODES};
-use probelab::reference::scenes::generated;
 
 /// Worst error over 200 Fibonacci normals, relative to the RMS of the closed form.
-fn worst_relative(width: usize, scene: &probelab::reference::scenes::Scene) -> f64 {
+fn worst_relative(width: usize, scene: &crate::reference::scenes::Scene) -> f64 {
     let map = scene.map(width);
     let rm = RowMoments::new(&map);
     let r = Reference::new(&rm, vec![], DEFAULT_POLAR_NODES);
@@ -26,7 +26,6 @@ fn worst_relative(width: usize, scene: &probelab::reference::scenes::Scene) -> f
 fn reference_matches_closed_forms_to_1e4() {
     for s in generated() {
         let e512 = worst_relative(1024, &s);
-        println!("{:16} 512: {:.2e}  1024: {:.2e}", s.id, worst_relative(512, &s), e512);
         assert!(e512 < 1e-4, "{}: {e512:e}", s.id);
     }
 }
@@ -35,7 +34,7 @@ fn reference_matches_closed_forms_to_1e4() {
 /// H(n) = (1 + n·N)/2 (FORMULAS §8), for N off every grid axis too.
 #[test]
 fn hemisphere_effect_on_constant_gives_hemisphere_light() {
-    let map = probelab::envmap::EnvMap::from_fn("c", 512, 256, |_, _| [1.0; 3]).unwrap();
+    let map = crate::envmap::EnvMap::from_fn("c", 512, 256, |_, _| [1.0; 3]).unwrap();
     let rm = RowMoments::new(&map);
     for big_n in [DVec3::Y, DVec3::X, DVec3::new(0.3, -0.5, 0.81).normalize()] {
         let r = Reference::new(&rm, vec![Cap::hemisphere(big_n)], DEFAULT_POLAR_NODES);

@@ -1,7 +1,7 @@
 //! Properties of every registered encoder (and every encoder configuration declared in
 //! `experiments/*.toml`) on random non-negative lighting: mixtures of delta lights, uniform
-//! caps and coloured ambient, as closed-form SH (`probelab::reference::lighting`, with the
-//! surfaces of `tests/common`) and, for the error ordering, as small maps through the exact
+//! caps and coloured ambient, as closed-form SH (`reference::lighting`, with the
+//! surfaces of `common.rs`) and, for the error ordering, as small maps through the exact
 //! pipeline.
 //!
 //! - outputs are finite;
@@ -12,27 +12,31 @@
 //!   encoder that promises `sphere_error_at_most_sh() == Some(l)` is no worse than SH L_l.
 //!
 //! Case count: `PROPTEST_CASES` (default 24 per property, to keep CI fast). For a long run:
-//! `PROPTEST_CASES=5000 cargo test --release --test encoder_properties`.
+//! `PROPTEST_CASES=5000 cargo test --release --lib tests::encoder_properties`. Failing cases
+//! proptest found are replayed from `encoder_properties.proptest-regressions` beside this file.
 
-mod common;
-
-use common::*;
+use super::common::*;
+use crate::encoders::encoder::Encoder;
+use crate::encoders::sh::ShEncoder;
+use crate::envmap::moments::RowMoments;
+use crate::envmap::LatLong;
+use crate::math::colour::Rgb;
+use crate::reference::domain::Domain;
+use crate::reference::exact::Reference;
+use crate::reference::projection::project;
+use crate::reference::scenes::Scene;
 use glam::{DQuat, DVec3};
-use probelab::encoders::encoder::Encoder;
-use probelab::encoders::sh::ShEncoder;
-use probelab::envmap::moments::RowMoments;
-use probelab::envmap::LatLong;
-use probelab::math::colour::Rgb;
-use probelab::reference::domain::Domain;
-use probelab::reference::exact::Reference;
-use probelab::reference::projection::project;
-use probelab::reference::scenes::Scene;
 use proptest::prelude::*;
+use proptest::test_runner::FileFailurePersistence;
 use std::f64::consts::PI;
 
+/// The case count, and the failures proptest saves kept beside this file
+/// (`encoder_properties.proptest-regressions`): under `src/` proptest's default would put them
+/// in a `proptest-regressions/` folder at the package root.
 fn config() -> ProptestConfig {
     let cases = std::env::var("PROPTEST_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(24);
-    ProptestConfig { cases, ..ProptestConfig::default() }
+    let beside = FileFailurePersistence::WithSource("proptest-regressions");
+    ProptestConfig { cases, failure_persistence: Some(Box::new(beside)), ..ProptestConfig::default() }
 }
 
 /// A uniformly distributed unit vector.
@@ -187,7 +191,7 @@ proptest! {
     /// orthogonal projection of the true irradiance onto a space containing the previous one, so
     /// rmse(sh2) ≤ rmse(sh1) ≤ rmse(sh0); and each encoder promising `Some(l)` is no worse than
     /// SH L_l. Slack: the grid's quadrature error enters only the cross term (see
-    /// `tests/hard_cases.rs`, `least_squares_on_a_grid_tolerance`): 1e-5 relative.
+    /// `encoder_hard_cases.rs`, `least_squares_on_a_grid_tolerance`): 1e-5 relative.
     #[test]
     fn sh_errors_shrink_with_order(lighting in probe_lighting()) {
         let map = scene_of(&lighting.0).map(64);
@@ -198,7 +202,7 @@ proptest! {
         let truth = reference.irradiance_latlong(LatLong::new(128, 64));
         let scale = max_abs(&truth).max(1e-300);
         let err = |e: &dyn Encoder| {
-            let f = e.fit(&probelab::encoders::encoder::FitInput::sphere(&sh));
+            let f = e.fit(&crate::encoders::encoder::FitInput::sphere(&sh));
             rmse_scaled(&truth, &eval(f.as_ref(), &grid), &grid, scale)
         };
         let by_order: Vec<f64> = (0..3).map(|l| err(&ShEncoder::new(l))).collect();
@@ -228,10 +232,9 @@ fn sh_error_gaps_are_large_on_a_sun_and_sky() {
     let grid = Domain::Sphere.output_grid((128, 64));
     let e: Vec<f64> = (0..3)
         .map(|l| {
-            let f = ShEncoder::new(l).fit(&probelab::encoders::encoder::FitInput::sphere(&sh));
+            let f = ShEncoder::new(l).fit(&crate::encoders::encoder::FitInput::sphere(&sh));
             rmse_scaled(&truth, &eval(f.as_ref(), &grid), &grid, 1.0)
         })
         .collect();
-    println!("sh0 {:.5}  sh1 {:.5}  sh2 {:.5}", e[0], e[1], e[2]);
     assert!(e[1] < 0.6 * e[0] && e[2] < 0.6 * e[1], "{e:?}");
 }
