@@ -4,3 +4,12 @@
 //! the library's public surface is small and deliberate, so they live here, compiled only for
 //! `cargo test` (`#[cfg(test)]` in `lib.rs`). Tests that run the binary stay under `tests/` and
 //! use the public surface alone. Each file names the concept it checks.
+mod band_scale_check;
+mod claim_ids;
+mod envmap_load;
+mod hdr_exposure;
+mod map_identity;
+mod repository;
+mod run_estimates;
+mod table_values;
+mod toml_nesting;
