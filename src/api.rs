@@ -68,6 +68,13 @@ impl Map {
         Ok(Map { map })
     }
 
+    /// Writes the map to `path` as an OpenEXR file that [`Map::load`] reads back bit-exactly:
+    /// f32 R, G, B channels, ZIP compression, written beside `path` and then moved over it, so a
+    /// reader never sees a partial file. Errors name the file and what failed.
+    pub fn write_exr(&self, path: impl AsRef<Path>) -> Result<()> {
+        Ok(crate::envmap::load::write_exr(path.as_ref(), &self.map)?)
+    }
+
     /// The texels: linear RGB radiance, row-major, row 0 at the zenith, the centre column
     /// looking along −Z (`docs/conventions.md` §1); [`Map::size`] gives (W, H).
     pub fn texels(&self) -> &[[f32; 3]] {

@@ -12,10 +12,9 @@
 
 mod common;
 
-use common::harness::{repo, snapshot, Scratch};
+use common::harness::{map_from_fn, repo, snapshot, Scratch};
 use exr::prelude::*;
-use probelab::envmap::load::write_exr;
-use probelab::envmap::EnvMap;
+use probelab::Map;
 use std::fs;
 use std::path::{Path, PathBuf};
 use std::process::Output;
@@ -25,8 +24,13 @@ fn corpus_dir() -> PathBuf {
 }
 
 /// A small valid map.
-fn good_map(w: usize) -> EnvMap {
-    EnvMap::from_fn("good", w, w / 2, |i, j| [0.25 + i as f32 * 0.5, 1.0 + j as f32, 0.5]).unwrap()
+fn good_map(w: usize) -> Map {
+    map_from_fn("good", w, w / 2, |i, j| [0.25 + i as f32 * 0.5, 1.0 + j as f32, 0.5])
+}
+
+/// Writes `map` as the library writes an EXR ([`Map::write_exr`]).
+fn write_exr(path: &Path, map: &Map) -> probelab::Result<()> {
+    map.write_exr(path)
 }
 
 /// Writes an uncompressed scanline EXR with arbitrary f32 channels (no checks on values).
@@ -585,7 +589,8 @@ fn fuzz_seeds_are_current_and_load() {
         make(&fresh.path().join(name));
         let committed = fs::read(seed_dir().join(name)).unwrap_or_default();
         assert!(committed == fs::read(fresh.path().join(name)).unwrap(), "fuzz seed {name} is stale");
-        probelab::envmap::load::load(&seed_dir().join(name)).unwrap_or_else(|e| panic!("seed {name}: {e}"));
+        let seed = seed_dir().join(name);
+        Map::load(seed.to_str().unwrap(), repo()).unwrap_or_else(|e| panic!("seed {name}: {e:#}"));
     }
 }
 

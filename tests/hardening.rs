@@ -148,7 +148,7 @@ fn pair_is_consistent(out: &Path, name: &str) -> bool {
     let table = std::fs::read(out.join(name).join("table.csv")).unwrap();
     let prov: toml::Table =
         std::fs::read_to_string(out.join(name).join("provenance.toml")).unwrap().parse().expect("provenance parses");
-    prov["table_sha256"].as_str() == Some(probelab::envmap::load::sha256_hex(&table).as_str())
+    prov["table_sha256"].as_str() == Some(common::harness::sha256_hex(&table).as_str())
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -201,8 +201,8 @@ fn coarse_maps_get_an_exact_reference() {
     let dir = tempfile::tempdir().unwrap();
     for (w, h) in [(2, 1), (4, 2), (8, 4)] {
         let path = dir.path().join(format!("constant_{w}x{h}.exr"));
-        let map = probelab::envmap::EnvMap::from_fn("c", w, h, |_, _| [1.0; 3]).unwrap();
-        probelab::envmap::load::write_exr(&path, &map).unwrap();
+        let map = common::harness::map_from_fn("c", w, h, |_, _| [1.0; 3]);
+        map.write_exr(&path).unwrap();
         let p = path.to_str().unwrap();
         for (domain, encoder) in [("sphere", "sh0"), ("hemisphere:+x", "sh1")] {
             let csv = assert_ok(

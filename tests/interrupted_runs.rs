@@ -89,10 +89,7 @@ fn root_with(experiments: &[(&str, String)]) -> Scratch {
 fn encoder_list(sphere: bool) -> String {
     probelab::encoders::REGISTRY
         .iter()
-        .filter(|k| {
-            !sphere
-                || !probelab::encoders::build(k.id, None, toml::Table::new()).unwrap().encoder.needs_surface_normal()
-        })
+        .filter(|k| !sphere || !probelab::needs_surface_normal(k.id).unwrap())
         .map(|k| format!("'{}'", k.id))
         .collect::<Vec<_>>()
         .join(", ")

@@ -5,63 +5,10 @@
 
 mod common;
 
-use common::harness::{repo, Scratch};
-use probelab::envmap::search::SearchPath;
-use probelab::pipeline::estimate::{self, Estimate, BOUND_S};
-use probelab::pipeline::experiment::{list_experiments, Experiment};
-use probelab::pipeline::sweep::Sweep;
+use common::harness::Scratch;
 use std::io::{BufRead, BufReader};
 use std::process::Stdio;
 use std::time::{Duration, Instant};
-
-/// The size assumed for a map the search path does not find here that is not a known map
-/// (`envmaps/known.toml` gives the size of those, the paper probes without
-/// `PROBELAB_ENVMAPS` among them): at least as large as any map the committed files name.
-const UNFOUND: (usize, usize) = (2048, 1024);
-
-/// The committed search path: the repository's maps, then `PROBELAB_ENVMAPS`.
-fn search() -> SearchPath {
-    SearchPath::from_env(repo().join("envmaps"))
-}
-
-/// Each map's size from its header, else its known size, else [`UNFOUND`].
-fn sizes(maps: &[String], search: &SearchPath) -> Vec<(usize, usize)> {
-    maps.iter()
-        .map(|m| {
-            let known = || probelab::envmap::known::by_name(m).map(|k| (k.width, k.height));
-            search
-                .resolve(m)
-                .ok()
-                .and_then(|p| probelab::envmap::load::dimensions(&p).ok())
-                .or_else(known)
-                .unwrap_or(UNFOUND)
-        })
-        .collect()
-}
-
-/// Every committed experiment, every sweep, and `reproduce` (all the experiments together) are
-/// estimated under the bound: none needs `--allow-long`.
-#[test]
-fn every_committed_run_is_estimated_under_the_bound() {
-    let search = search();
-    let mut parts = Vec::new();
-    for path in list_experiments(&repo().join("experiments")).unwrap() {
-        let exp = Experiment::load(&path).unwrap();
-        let e = estimate::experiment_on(&exp, &sizes(&exp.maps, &search));
-        println!("{}: {e}", path.display());
-        assert!(!e.is_long(), "{}: {e}", path.display());
-        parts.push(e);
-    }
-    let all = Estimate::total(&parts);
-    println!("reproduce: {all}");
-    assert!(all.seconds < BOUND_S, "reproduce: {all}");
-    for path in list_experiments(&repo().join("experiments").join("sweeps")).unwrap() {
-        let sweep = Sweep::load(&path).unwrap();
-        let e = estimate::sweep_on(&sweep, &sizes(&sweep.exp.maps, &search));
-        println!("{}: {e}", path.display());
-        assert!(!e.is_long(), "{}: {e}", path.display());
-    }
-}
 
 /// The repository's generated maps, six small ones.
 const MAPS: &str =

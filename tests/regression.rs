@@ -5,16 +5,12 @@
 
 mod common;
 
+use common::harness::sha256_hex;
 use common::harness::{repo, Run};
 use common::shared_maps::shared_envmaps;
-use probelab::encoders::encoder::{Encoder, FitInput, Fitted};
-use probelab::encoders::NamedEncoder;
-use probelab::envmap::load::sha256_hex;
-use probelab::envmap::search::SearchPath;
-use probelab::math::sh::band_of;
+use probelab::ops::SearchPath;
 use probelab::pipeline::experiment::{list_experiments, Experiment};
 use probelab::regression::baseline::Table;
-use probelab::regression::check::{compare_with_baseline, Finding};
 use probelab::regression::provenance::Provenance;
 use probelab::regression::tolerance::{EncoderClass, Tolerance, Tolerances};
 use std::path::Path;
@@ -154,10 +150,7 @@ fn committed_baselines_on_cc0_maps_pass_check() {
 fn all_encoders(sphere: bool) -> String {
     probelab::encoders::REGISTRY
         .iter()
-        .filter(|k| {
-            !sphere
-                || !probelab::encoders::build(k.id, None, toml::Table::new()).unwrap().encoder.needs_surface_normal()
-        })
+        .filter(|k| !sphere || !probelab::needs_surface_normal(k.id).unwrap())
         .map(|k| format!("{:?}", k.id))
         .collect::<Vec<_>>()
         .join(", ")
@@ -234,64 +227,8 @@ fn tables_with_jobs(dir: &Path, paths: &[String], names: &[&str], jobs: &str) ->
     names.iter().map(|n| std::fs::read(out_dir.join(n).join("table.csv")).unwrap()).collect()
 }
 
-/// A deliberately broken variant of sh1: band 1 scaled by 0.6667 instead of Â₁ = 2/3 (a
-/// rounded constant, 5e-5 relative). Everything else as `sh1` (FORMULAS §3).
-struct BrokenSh1;
-
-impl Encoder for BrokenSh1 {
-    fn id(&self) -> &str {
-        "sh1"
-    }
-    fn stored_scalars(&self) -> usize {
-        12
-    }
-    fn fit(&self, input: &FitInput) -> Box<dyn Fitted> {
-        let mut sh = input.visible_sh.truncate(1);
-        for i in 0..9 {
-            sh[i] *= [1.0, 0.6667, 0.25][band_of(i)];
-        }
-        Box::new(probelab::encoders::sh::ShIrradiance(sh, 1))
-    }
-}
-
-/// `check` catches the broken band scale against the committed generated_scenes baseline: it
-/// reports moved numbers for sh1 on every scene with a linear (band 1) component, and nothing
-/// else — not for sh0 or sh2, and not for the constant scene, whose band 1 is zero.
-#[test]
-fn check_catches_a_changed_band_scale() {
-    let mut exp = Experiment::load(&repo().join("experiments/generated_scenes.toml")).unwrap();
-    let i = exp.encoders.iter().position(|e| e.name == "sh1").expect("generated_scenes has sh1");
-    exp.encoders[i] = NamedEncoder { name: "sh1".into(), encoder: Box::new(BrokenSh1) };
-    let search = SearchPath::new(vec![repo().join("envmaps")]);
-    let report = probelab::pipeline::runner::run(&exp, &search).unwrap();
-    let tolerances = Tolerances::load(&repo()).unwrap();
-    let c = compare_with_baseline(&repo().join("results/generated_scenes"), &exp, &report, &tolerances, false).unwrap();
-    let report_text = c.report();
-    eprintln!("{report_text}");
-    assert!(!c.passed());
-    let mut maps = std::collections::BTreeSet::new();
-    for f in &c.findings {
-        match f {
-            Finding::Change(probelab::regression::baseline::Change::Moved { key, .. }) if key.encoder == "sh1" => {
-                maps.insert(key.map.clone());
-            }
-            other => panic!("unexpected finding: {other}"),
-        }
-    }
-    let want: std::collections::BTreeSet<String> =
-        ["gen_hemisphere", "gen_sun_sky", "gen_two_lights", "gen_cone", "gen_sky_sun"].map(String::from).into();
-    assert_eq!(maps, want);
-    assert!(
-        report_text.contains("generated_scenes: moved    gen_sun_sky  sh1  sphere  exact  rmse  "),
-        "{report_text}"
-    );
-}
-
 fn write_provenance_sha(dir: &Path) {
-    let p = dir.join("provenance.toml");
-    let mut prov = Provenance::read(&p).unwrap();
-    prov.table_sha256 = sha256_hex(&std::fs::read(dir.join("table.csv")).unwrap());
-    std::fs::write(&p, prov.to_toml().unwrap()).unwrap();
+    common::harness::vouch_for(&dir.join("provenance.toml"), &std::fs::read(dir.join("table.csv")).unwrap());
 }
 
 /// The table text with one cell replaced.

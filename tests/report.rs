@@ -201,7 +201,8 @@ fn add_other_result_files(root: &Path, res: &Path) {
     std::fs::copy(root.join("envmaps/gen_constant.exr"), res.join("a_sphere/not_a_picture.exr")).unwrap();
     // A stale sheet of a map the experiment no longer lists is removed; another picture (as
     // a blending strip would be) is linked.
-    let png = probelab::report::png::png_bytes(&image::RgbImage::new(2, 2)).unwrap();
+    let mut png = Vec::new();
+    image::RgbImage::new(2, 2).write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png).unwrap();
     std::fs::write(res.join("a_sphere/sheet_old_map.png"), &png).unwrap();
     std::fs::write(res.join("a_sphere/blend_strip.png"), &png).unwrap();
     std::fs::write(res.join("a_sphere/chart_old_knob.svg"), "<svg/>").unwrap();

@@ -5,13 +5,22 @@
 //! `cargo test` (`#[cfg(test)]` in `lib.rs`). Tests that run the binary stay under `tests/` and
 //! use the public surface alone. Each file names the concept it checks.
 
+mod band_scale_check;
+mod claim_ids;
 mod common;
 mod encoder_hard_cases;
 mod encoder_properties;
+mod envmap_load;
+mod hdr_exposure;
 mod lightmap_exact_cases;
+mod map_identity;
 mod peer_hbasis;
 mod reference_closed_forms;
 mod reference_oracle;
+mod repository;
+mod run_estimates;
 mod shared_maps;
 mod surface_encoders;
+mod table_values;
 mod tilted_light_bound;
+mod toml_nesting;

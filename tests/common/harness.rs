@@ -143,3 +143,35 @@ pub fn snapshot(dir: &Path) -> BTreeMap<PathBuf, Vec<u8>> {
     }
     out
 }
+
+/// A `width` × `height` map whose texel at column `i`, row `j` (row 0 at the zenith) is
+/// `f(i, j)`, built through the public surface ([`probelab::Map::from_texels`]).
+pub fn map_from_fn(
+    name: &str,
+    width: usize,
+    height: usize,
+    mut f: impl FnMut(usize, usize) -> [f32; 3],
+) -> probelab::Map {
+    let texels = (0..height).flat_map(|j| (0..width).map(move |i| (i, j))).map(|(i, j)| f(i, j)).collect();
+    probelab::Map::from_texels(name, width, height, texels).expect("a valid test map")
+}
+
+/// The lowercase hex sha256 of `bytes`, computed here rather than by the library, as provenance
+/// files and JSON documents record a file's.
+pub fn sha256_hex(bytes: &[u8]) -> String {
+    use sha2::{Digest, Sha256};
+    Sha256::digest(bytes).iter().map(|b| format!("{b:02x}")).collect()
+}
+
+/// Makes the `provenance.toml` at `path` vouch for a table of bytes `table`, as if `bless`
+/// had written them together: its `table_sha256` line, and nothing else, is rewritten.
+pub fn vouch_for(path: &Path, table: &[u8]) {
+    let text = fs::read_to_string(path).expect("provenance.toml");
+    let key = "table_sha256 = ";
+    assert_eq!(text.lines().filter(|l| l.starts_with(key)).count(), 1, "{}: one {key}line", path.display());
+    let edited: String = text
+        .split_inclusive('\n')
+        .map(|l| if l.starts_with(key) { format!("{key}\"{}\"\n", sha256_hex(table)) } else { l.to_string() })
+        .collect();
+    fs::write(path, edited).expect("rewrite provenance.toml");
+}

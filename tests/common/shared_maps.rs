@@ -7,7 +7,7 @@
 //! variable (or `CI`) is set; the test then runs and asks [`shared_envmaps`] for the maps it
 //! needs, which fails the test when one is missing: a set variable declares the maps present.
 
-use probelab::envmap::search::SearchPath;
+use probelab::ops::SearchPath;
 
 /// The probes of the papers' tables (`experiments/sh_baseline.toml`, `zh3_table.toml`,
 /// `probelab claims zh3`). The build script checks for the same five.

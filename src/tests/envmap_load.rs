@@ -1,13 +1,11 @@
-//! Tests of `probelab::envmap::load`: round trips, accepted encodings, and every rejection,
+//! Tests of `envmap::load`: round trips, accepted encodings, and every rejection,
 //! each triggered by a file generated in a temporary folder; and the shared maps load.
 
-mod common;
-
-use common::shared_maps::{shared_envmaps, PAPER_PROBES};
+use super::repository::{repo, shared_envmaps, PAPER_PROBES};
+use crate::envmap::load::{load, write_exr, LoadError, MAX_HEIGHT, MAX_WIDTH};
+use crate::envmap::EnvMap;
 use exr::math::RoundingMode;
 use exr::prelude::*;
-use probelab::envmap::load::{load, write_exr, LoadError, MAX_HEIGHT, MAX_WIDTH};
-use probelab::envmap::EnvMap;
 use std::fs;
 use std::path::{Path, PathBuf};
 
@@ -47,7 +45,6 @@ fn expect_error(path: &Path, keywords: &[&str]) -> String {
     for k in keywords {
         assert!(lower.contains(&k.to_lowercase()), "message lacks '{k}': {msg}");
     }
-    println!("ok: {msg}");
     msg
 }
 
@@ -456,14 +453,14 @@ fn corrupted_files_never_panic() {
                 Err(e) => {
                     assert!(e.to_string().starts_with(&path.display().to_string()), "{e}");
                     if matches!(e, LoadError::DecoderPanic { .. }) {
-                        println!("caught: {e}");
                         panicked += 1;
                     }
                     failed += 1;
                 }
             }
         }
-        println!("{}: {ok} loaded, {failed} rejected ({panicked} decoder panics caught)", path.display());
+        let said = format!("{}: {ok} loaded, {failed} rejected ({panicked} decoder panics caught)", path.display());
+        assert_eq!(ok + failed, rounds, "{said}");
     }
 }
 
@@ -559,7 +556,6 @@ fn shared_probes_load() {
     for p in PAPER_PROBES {
         assert!(loaded.iter().any(|m| m == p), "{p} was not among the maps loaded: {loaded:?}");
     }
-    println!("loaded {} shared probe(s)", loaded.len());
 }
 
 /// The CC0 maps committed in `envmaps/` (what a fresh clone has): each loads as a finite,
@@ -567,7 +563,7 @@ fn shared_probes_load() {
 /// sha256, and none of the paper probes (not CC0) is among them.
 #[test]
 fn committed_cc0_maps_load_and_match_their_readme() {
-    let dir = common::harness::repo().join("envmaps");
+    let dir = repo().join("envmaps");
     let readme = fs::read_to_string(dir.join("README.md")).expect("envmaps/README.md");
     let mut files: Vec<PathBuf> = fs::read_dir(&dir)
         .unwrap()
@@ -585,7 +581,7 @@ fn committed_cc0_maps_load_and_match_their_readme() {
         let map = load(f).unwrap_or_else(|e| panic!("{e}"));
         assert_eq!((map.width(), map.height()), (256, 128), "{name}");
         assert!(map.texels().iter().flatten().all(|v| v.is_finite() && *v >= 0.0), "{name}");
-        let sha = probelab::envmap::load::sha256_hex(&fs::read(f).unwrap());
+        let sha = crate::envmap::load::sha256_hex(&fs::read(f).unwrap());
         let row = readme
             .lines()
             .find(|l| l.starts_with(&format!("| `{name}` |")))
