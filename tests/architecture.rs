@@ -568,9 +568,10 @@ pub fn f() {}",
 }
 
 /// A module's product code: what comes before its `#[cfg(test)]`; nothing for a unit-test
-/// module in a file of its own (`…/tests.rs`, declared `#[cfg(test)] mod tests;`).
+/// module in a file of its own (`…/tests.rs`, declared `#[cfg(test)] mod tests;`) or for the
+/// crate's cross-layer tests (`src/tests/`, declared `#[cfg(test)] mod tests;` in `lib.rs`).
 fn product_code<'a>(module: &[String], code: &'a str) -> &'a str {
-    if module.last().is_some_and(|m| m == "tests") {
+    if module.last().is_some_and(|m| m == "tests") || module.first().is_some_and(|m| m == "tests") {
         return "";
     }
     code.split("#[cfg(test)]").next().unwrap()
