@@ -1,10 +1,10 @@
-//! `probelab encoders`: lists every registered encoder id with its one-line summary.
+//! `probelab encoders`: lists every registered encoder id with its one-line summary
+//! (`ops::encoders`).
 
 use super::output;
 use anyhow::Result;
 
 pub fn run() -> Result<i32> {
-    let text: String = probelab::encoders::REGISTRY.iter().map(|k| format!("{:28} {}\n", k.id, k.summary)).collect();
-    output::write(text.as_bytes())?;
+    output::write(probelab::ops::encoders::encoders().to_text().as_bytes())?;
     Ok(0)
 }

@@ -4,9 +4,8 @@
 
 use super::output;
 use anyhow::Result;
-use probelab::ops::eval::{self, EvalOptions};
+use probelab::ops::eval::{self, EvalMaps, EvalOptions};
 use probelab::ops::Env;
-use probelab::pipeline::table;
 
 /// `probelab eval`.
 #[derive(clap::Args, Debug)]
@@ -15,7 +14,7 @@ pub struct Args {
     #[arg(required = true)]
     maps: Vec<String>,
     /// Comma-separated encoder ids (see `probelab encoders`).
-    #[arg(long, default_value = "sh1,sh2")]
+    #[arg(long, default_value = probelab::ops::DEFAULT_ENCODERS)]
     encoders: String,
     /// `sphere`, or `hemisphere:AXIS` with AXIS one of +x -x +y -y +z -z (the surface normal
     /// N; the hemisphere effect about N is applied and n′ ranges over its hemisphere).
@@ -28,7 +27,7 @@ pub struct Args {
     #[arg(long, default_value = "256x128")]
     resolution: String,
     /// Gauss–Legendre nodes per row piece of the reference.
-    #[arg(long, default_value_t = probelab::reference::exact::DEFAULT_POLAR_NODES)]
+    #[arg(long, default_value_t = eval::DEFAULT_POLAR_NODES)]
     polar_nodes: usize,
     /// Output format: `csv` (the table's columns) or `json` (one object: `schema`, the maps
     /// read with their sha256, and the rows keyed by the same columns, scores as numbers;
@@ -38,16 +37,15 @@ pub struct Args {
 }
 
 pub fn run(a: Args, env: &Env) -> Result<i32> {
-    let json = a.format == "json";
     let options = EvalOptions {
+        maps: EvalMaps::Named(a.maps),
         encoders: a.encoders,
         domain: a.domain,
         metric: a.metric,
         resolution: a.resolution,
         polar_nodes: a.polar_nodes,
     };
-    env.refuse_long_experiments(&[eval::experiment(a.maps.clone(), &options)?])?;
-    let evaluated = eval::rows_by_name(a.maps, &options, &env.search)?;
-    output::write(&if json { evaluated.to_json()?.into_bytes() } else { table::to_csv(&evaluated.rows)? })?;
+    let evaluated = eval::eval(env, &options)?;
+    output::write(&if a.format == "json" { evaluated.to_json()?.into_bytes() } else { evaluated.to_csv()? })?;
     Ok(0)
 }

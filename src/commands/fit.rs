@@ -5,9 +5,9 @@
 
 use super::output;
 use anyhow::{bail, Context, Result};
-use probelab::api::{Fit, Lighting, Map, Role, Stored, Surface};
-use probelab::ops::fit;
-use probelab::ops::Env;
+use probelab::api::Surface;
+use probelab::ops::fit::{self, FitOptions};
+use probelab::ops::{Env, MapSource};
 
 /// `probelab fit`.
 #[derive(clap::Args, Debug)]
@@ -34,46 +34,10 @@ pub fn run(a: Args, env: &Env) -> Result<i32> {
         None => Surface::Sphere,
         Some(text) => Surface::Normal(parse_normal(text)?),
     };
-    let ids = fit::encoder_ids(&a.encoders, surface)?;
-    let map = Map::load_on(&env.search, &a.map)?;
-    let light = map.lighting(surface)?;
-    let fits = fit::fit_all(&light, &ids)?;
-    let text =
-        if a.format == "json" { fit::to_json(&a.map, &map, &light, &fits)? } else { to_csv(&map, &light, &fits)? };
+    let fitted = fit::fit(env, &FitOptions { map: MapSource::Named(a.map), encoders: a.encoders, surface })?;
+    let text = if a.format == "json" { fitted.to_json()? } else { fitted.to_csv()? };
     output::write(text.as_bytes())?;
     Ok(0)
-}
-
-/// The fits as CSV: one row per stored or derived entry, its value's components in v0..v2.
-fn to_csv(map: &Map, light: &Lighting, fits: &[(Fit, Stored)]) -> Result<String> {
-    let mut w = csv::Writer::from_writer(Vec::new());
-    w.write_record(["map", "domain", "normal", "encoder", "entry", "role", "unit", "kind", "v0", "v1", "v2", "basis"])?;
-    let normal_cell = light.normal().map(|n| format!("{} {} {}", n.x, n.y, n.z)).unwrap_or_default();
-    for (f, s) in fits {
-        for e in &s.entries {
-            let mut c: Vec<String> = e.value.components().iter().map(|v| format!("{v}")).collect();
-            c.resize(3, String::new());
-            let role = match e.role {
-                Role::Stored => "stored",
-                Role::Derived => "derived",
-            };
-            w.write_record([
-                map.name(),
-                fit::domain_of(light),
-                &normal_cell,
-                f.id(),
-                &e.name,
-                role,
-                e.unit.label(),
-                e.value.kind(),
-                &c[0],
-                &c[1],
-                &c[2],
-                &s.basis,
-            ])?;
-        }
-    }
-    Ok(String::from_utf8(w.into_inner().context("writing CSV")?)?)
 }
 
 /// A surface normal `x,y,z`: three numbers, checked by `api::unit_normal`.

@@ -4,6 +4,7 @@
 
 use super::output;
 use anyhow::Result;
+use probelab::ops::fit_hallucination::{fit_hallucination, FitHallucinationOptions};
 use probelab::ops::Env;
 use std::path::PathBuf;
 
@@ -29,14 +30,8 @@ pub struct Args {
 }
 
 pub fn run(a: Args, env: &Env) -> Result<i32> {
-    let report = probelab::pipeline::hallucination_fit::run(
-        &env.search,
-        &a.maps,
-        a.probes.as_deref(),
-        a.format.as_deref(),
-        &a.axis,
-        a.cubic,
-    )?;
-    output::write(report.as_bytes())?;
+    let options =
+        FitHallucinationOptions { maps: a.maps, probes: a.probes, format: a.format, cubic: a.cubic, axis: a.axis };
+    output::write(fit_hallucination(env, &options)?.to_text().as_bytes())?;
     Ok(0)
 }

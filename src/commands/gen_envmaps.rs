@@ -3,7 +3,8 @@
 //! the last write, so a failing stdout never stops the writes half way.
 
 use super::output;
-use anyhow::{bail, Result};
+use anyhow::Result;
+use probelab::ops::gen_envmaps::{gen_envmaps, GenEnvmapsOptions};
 use probelab::ops::Env;
 use std::path::PathBuf;
 
@@ -19,18 +20,7 @@ pub struct Args {
 }
 
 pub fn run(a: Args, env: &Env) -> Result<i32> {
-    let width = a.width;
-    if width < 4 || !width.is_multiple_of(2) || width > 8192 {
-        bail!("--width {width}: expected an even width from 4 to 8192");
-    }
-    let out = a.out.unwrap_or_else(|| env.root.join("envmaps"));
-    let _lock = env.writing(&out)?;
-    let mut lines = String::new();
-    for s in probelab::reference::scenes::generated() {
-        let path = out.join(format!("{}.exr", s.id));
-        probelab::envmap::load::write_exr(&path, &s.map(width))?;
-        lines += &format!("{}  {}\n", path.display(), s.description);
-    }
-    output::write(lines.as_bytes())?;
+    let generated = gen_envmaps(env, &GenEnvmapsOptions { out: a.out, width: a.width })?;
+    output::write(generated.to_text().as_bytes())?;
     Ok(0)
 }

@@ -2,9 +2,9 @@
 //! prints the summary CSV; with `--out`, writes the merged statistics atomically.
 
 use super::output;
-use super::terminal::{note, noteln};
 use anyhow::Result;
-use probelab::io::distinct::{refuse_overwrite, Named};
+use probelab::ops::merge::{merge, MergeOptions};
+use probelab::ops::Env;
 use std::path::PathBuf;
 
 /// `probelab merge`: combine shard statistics.
@@ -18,18 +18,8 @@ pub struct Args {
     out: Option<PathBuf>,
 }
 
-pub fn run(a: Args) -> Result<i32> {
-    let inputs: Vec<Named> = a.files.iter().map(|p| Named { role: "a shard file", path: p }).collect();
-    let outputs: Vec<Named> = a.out.iter().map(|p| Named { role: "--out", path: p }).collect();
-    refuse_overwrite(&outputs, &inputs)?;
-    let (merged, warning) = probelab::pipeline::probeset::job::merge(&a.files)?;
-    if let Some(w) = warning {
-        note(&format!("{w}\n"));
-    }
-    if let Some(out) = &a.out {
-        probelab::io::atomic::write(out, merged.to_toml()?.as_bytes())?;
-        noteln!("wrote {}", out.display());
-    }
+pub fn run(a: Args, env: &Env) -> Result<i32> {
+    let merged = merge(env, &MergeOptions { files: a.files, out: a.out })?;
     output::write(&merged.summary_csv()?)?;
     Ok(0)
 }

@@ -30,8 +30,7 @@ mod terminal;
 
 use anyhow::{bail, Context, Result};
 use clap::{Parser, Subcommand};
-use probelab::envmap::search::SearchPath;
-use probelab::ops::Env;
+use probelab::ops::{Env, SearchPath};
 use std::path::PathBuf;
 
 /// The `probelab` command line (its global options and the command).
@@ -140,7 +139,7 @@ pub fn main_with(cli: Cli) -> Result<i32> {
         Command::Encoders => encoders::run(),
         Command::Maps(a) => maps::run(a, &env),
         Command::Probes(a) => probes::run(a, &env),
-        Command::Merge(a) => merge::run(a),
+        Command::Merge(a) => merge::run(a, &env),
         Command::Sweep(a) => sweep::run(a, &env),
     };
     // What writes found beside their targets, left by writers no longer running.

@@ -5,10 +5,8 @@
 use super::output;
 use super::terminal::noteln;
 use anyhow::{bail, Result};
-use probelab::io::distinct::{refuse_overwrite, Named};
+use probelab::ops::probes::{probes, ProbeInput, ProbesOptions, DEFAULT_CHUNK};
 use probelab::ops::Env;
-use probelab::pipeline::probeset::format::DEFAULT_CHUNK;
-use probelab::pipeline::probeset::job::{self, Input, Job};
 use std::path::PathBuf;
 
 /// `probelab probes`: score encoders over a probe set (a file or synthetic).
@@ -32,7 +30,7 @@ pub struct Args {
     #[arg(long)]
     palette: Option<String>,
     /// Comma-separated encoder ids, or `all` (sh1 is always added: it is the baseline).
-    #[arg(long, default_value = "sh1,sh2")]
+    #[arg(long, default_value = probelab::ops::DEFAULT_ENCODERS)]
     encoders: String,
     /// Process shard I of N (contiguous probe ranges); merge the --out files with `probelab merge`.
     #[arg(long, default_value = "0/1")]
@@ -53,43 +51,22 @@ pub struct Args {
 }
 
 pub fn run(a: Args, env: &Env) -> Result<i32> {
-    let outputs = [("--out", &a.out), ("--save", &a.save)];
-    let outputs: Vec<Named> =
-        outputs.iter().filter_map(|(r, p)| Some(Named { role: r, path: p.as_deref()? })).collect();
-    let inputs: Vec<Named> = a.input.iter().map(|p| Named { role: "--input", path: p }).collect();
-    refuse_overwrite(&outputs, &inputs)?;
-    let input = match (&a.input, a.synth) {
-        (Some(path), _) => Input::File(path, a.format.as_deref()),
-        (None, Some(count)) => Input::Synth { count, seed: a.seed, palette: a.palette.as_deref() },
+    let input = match (a.input, a.synth) {
+        (Some(path), _) => ProbeInput::File { path, format: a.format },
+        (None, Some(count)) => ProbeInput::Synth { count, seed: a.seed, palette: a.palette },
         (None, None) => bail!("give --input FILE or --synth N"),
     };
-    let job = Job {
+    let options = ProbesOptions {
         input,
-        encoders: &a.encoders,
-        shard: &a.shard,
-        quadrature: &a.quadrature,
+        encoders: a.encoders,
+        shard: a.shard,
+        quadrature: a.quadrature,
         chunk: a.chunk,
-        save: a.save.as_deref(),
+        out: a.out,
+        save: a.save,
     };
-    let done = job::run(&job, &env.search)?;
-    for n in &done.notes {
-        noteln!("{n}");
-    }
-    let stats = &done.stats;
-    if let Some(out) = &a.out {
-        probelab::io::atomic::write(out, stats.to_toml()?.as_bytes())?;
-        noteln!("wrote {}", out.display());
-    }
-    noteln!(
-        "probes: {} (shard {}/{}), wall {:.3} s, input {:.3} s, peak memory {:.1} MiB (VmHWM), {} thread(s)",
-        stats.probes,
-        done.shard.index,
-        done.shard.count,
-        stats.wall_s,
-        stats.input_s,
-        stats.peak_mem_bytes as f64 / (1024.0 * 1024.0),
-        stats.threads
-    );
-    output::write(&stats.summary_csv()?)?;
+    let run = probes(env, &options)?;
+    noteln!("{}", run.figures());
+    output::write(&run.summary_csv()?)?;
     Ok(0)
 }

@@ -2,11 +2,9 @@
 //! (`experiments/sweeps/*.toml`, `pipeline::sweep`), writing `results/sweeps/<name>.csv`
 //! atomically under the results folder's exclusive lock.
 
-use super::terminal::noteln;
-use anyhow::{bail, Result};
-use probelab::io::distinct::{refuse_overwrite, Named};
+use anyhow::Result;
+use probelab::ops::sweep::{sweep, SweepOptions};
 use probelab::ops::Env;
-use probelab::pipeline::sweep::{self, Sweep};
 use std::path::PathBuf;
 
 /// `probelab sweep`.
@@ -20,35 +18,6 @@ pub struct Args {
 }
 
 pub fn run(a: Args, env: &Env) -> Result<i32> {
-    let results = env.results(a.out);
-    let _lock = env.writing(&results)?;
-    let out = results.join("sweeps");
-    let all = a.files.is_empty();
-    let files = if all {
-        probelab::pipeline::experiment::list_experiments(&env.root.join("experiments").join("sweeps"))?
-    } else {
-        a.files
-    };
-    // Every sweep file read before any runs, and no table may overwrite one (`io::distinct`).
-    let sweeps = files.iter().map(|p| Sweep::load(p)).collect::<Result<Vec<_>>>()?;
-    let targets: Vec<PathBuf> = sweeps.iter().map(|s| out.join(format!("{}.csv", s.name))).collect();
-    let outputs: Vec<Named> = targets.iter().map(|p| Named { role: "a sweep table", path: p }).collect();
-    let inputs: Vec<Named> = files.iter().map(|p| Named { role: "a sweep file", path: p }).collect();
-    refuse_overwrite(&outputs, &inputs)?;
-    for (path, sweep) in files.iter().zip(&sweeps) {
-        env.refuse_long(&path.display().to_string(), &probelab::pipeline::estimate::sweep(sweep, &env.search))?;
-    }
-    for ((path, sweep), file) in files.iter().zip(&sweeps).zip(&targets) {
-        let (rows, missing) = sweep::run(sweep, &env.search)?;
-        if !missing.is_empty() {
-            if all {
-                noteln!("skipped sweep {}: map(s) not found: {}", sweep.name, missing.join(", "));
-                continue;
-            }
-            bail!("{}: map(s) not found: {}; nothing written", path.display(), missing.join(", "));
-        }
-        probelab::io::atomic::write(file, &sweep::to_csv(sweep, &rows)?)?;
-        noteln!("wrote {} ({} rows)", file.display(), rows.len());
-    }
+    sweep(env, &SweepOptions { files: a.files, out: a.out })?;
     Ok(0)
 }

@@ -35,6 +35,10 @@ pub struct EncoderKind {
 /// what a game stores today (ZH3 talk).
 pub const BASELINE: &str = "sh1";
 
+/// The encoders `eval` and `probes` score when none are named (`--encoders`'s default, and the
+/// Python package's): SH L1 and L2, comma-separated as `--encoders` takes them.
+pub const DEFAULT_IDS: &str = "sh1,sh2";
+
 /// Every encoder kind, in the order tables list them.
 pub const REGISTRY: &[EncoderKind] = &[
     EncoderKind { id: "sh0", summary: "SH band 0 only (constant)", build: sh::build_sh0 },

@@ -1,22 +1,39 @@
-//! `probelab eval`'s table: the experiment its options describe (the encoders, the domain,
-//! the metric, the output resolution, the reference's polar nodes), run on maps found by name
-//! on the search path or on one map in memory, as the rows of the result table
-//! (`docs/tables.md`).
+//! `probelab eval`: the experiment its options describe (the encoders, the domain, the
+//! metric, the output resolution, the reference's polar nodes), run on maps found by name on
+//! the search path or on one map in memory, as the rows of the result table
+//! (`docs/tables.md`), and the two documents it prints: the CSV table and the JSON document
+//! (`docs/json.md`, `probelab.eval/1`). Nothing is written and no lock is taken.
 
+use super::context::Env;
 use super::json::{self, MapEntry};
-use crate::api::Map;
+use super::source::Texels;
 use crate::encoders;
-use crate::envmap::search::SearchPath;
 use crate::pipeline::experiment::{parse_resolution, DomainKind, Effect, Experiment};
 use crate::pipeline::runner;
-use crate::pipeline::table::Row;
+use crate::pipeline::table::{self, Row};
 use crate::reference::domain::{expand_orientations, parse_axis, Orientation};
 use crate::reference::metrics::Metric;
 use anyhow::{bail, Context, Result};
 
-/// The options of `probelab eval`, as text (the command line's values).
+pub use crate::pipeline::table::{COLUMNS, NUMERIC_COLUMNS, TIMING_COLUMNS};
+pub use crate::pipeline::timing::set_enabled as set_timing;
+pub use crate::reference::exact::DEFAULT_POLAR_NODES;
+
+/// The maps `eval` scores.
+#[derive(Clone, Debug, PartialEq)]
+pub enum EvalMaps {
+    /// Names (on the search path) or file paths (`probelab eval MAPS…`).
+    Named(Vec<String>),
+    /// One map in memory, named by its texels' name in the rows.
+    Texels(Texels),
+}
+
+/// The options of `probelab eval`: the maps, and the settings as text (the command line's
+/// values).
 #[derive(Clone, Debug, PartialEq)]
 pub struct EvalOptions {
+    /// The maps scored.
+    pub maps: EvalMaps,
     /// Comma-separated encoder ids (`--encoders`).
     pub encoders: String,
     /// `sphere`, or `hemisphere:AXIS` with AXIS one of +x -x +y -y +z -z (`--domain`).
@@ -30,14 +47,15 @@ pub struct EvalOptions {
 }
 
 impl Default for EvalOptions {
-    /// The command line's defaults.
+    /// The command line's defaults, on no maps.
     fn default() -> Self {
         EvalOptions {
-            encoders: "sh1,sh2".into(),
+            maps: EvalMaps::Named(Vec::new()),
+            encoders: encoders::DEFAULT_IDS.into(),
             domain: "sphere".into(),
             metric: "exact".into(),
             resolution: "256x128".into(),
-            polar_nodes: crate::reference::exact::DEFAULT_POLAR_NODES,
+            polar_nodes: DEFAULT_POLAR_NODES,
         }
     }
 }
@@ -51,35 +69,47 @@ pub struct Evaluated {
 }
 
 impl Evaluated {
+    /// The CSV table `eval` prints (`docs/tables.md`).
+    pub fn to_csv(&self) -> Result<Vec<u8>> {
+        table::to_csv(&self.rows)
+    }
+
     /// The JSON document `eval --format json` prints (`docs/json.md`, `probelab.eval/1`).
     pub fn to_json(&self) -> Result<String> {
         json::text(&json::eval_document(&self.maps, &self.rows)?)
     }
 }
 
-/// The rows of `probelab eval MAPS…`: every map found by name (or path) on `search`. A map
-/// not found is an error naming it, why, and the folders searched.
-pub fn rows_by_name(maps: Vec<String>, o: &EvalOptions, search: &SearchPath) -> Result<Evaluated> {
-    let exp = experiment(maps, o)?;
-    let report = runner::run(&exp, search)?;
-    if !report.missing.is_empty() {
-        let why: Vec<String> =
-            report.missing.iter().zip(&report.missing_why).map(|(m, w)| format!("{m} ({w})")).collect();
-        bail!("map(s) not found: {}\nSearched: {}", why.join(", "), search.describe());
+/// `probelab eval`. Maps by name: every option is checked, then work estimated above the bound
+/// is refused unless `env.allow_long` (`Env::refuse_long_experiments`), then every map is found
+/// on `env.search` (one not found is an error naming it, why, and the folders searched) and
+/// scored. A map in memory: its texels are checked first, then the options, and it is scored
+/// with the same experiment.
+pub fn eval(env: &Env, o: &EvalOptions) -> Result<Evaluated> {
+    match &o.maps {
+        EvalMaps::Named(maps) => {
+            let exp = experiment(maps.clone(), o)?;
+            env.refuse_long_experiments(std::slice::from_ref(&exp))?;
+            let report = runner::run(&exp, &env.search)?;
+            if !report.missing.is_empty() {
+                let why: Vec<String> =
+                    report.missing.iter().zip(&report.missing_why).map(|(m, w)| format!("{m} ({w})")).collect();
+                bail!("map(s) not found: {}\nSearched: {}", why.join(", "), env.search.describe());
+            }
+            Ok(Evaluated { rows: report.rows, maps: report.maps.iter().map(MapEntry::from_info).collect() })
+        }
+        EvalMaps::Texels(texels) => {
+            let map = texels.open()?;
+            let exp = experiment(vec![map.name().to_string()], o)?;
+            let rows = runner::run_map(&exp, map.env_map());
+            Ok(Evaluated { rows, maps: vec![MapEntry::from_map(&texels.name, map.env_map())] })
+        }
     }
-    Ok(Evaluated { rows: report.rows, maps: report.maps.iter().map(MapEntry::from_info).collect() })
 }
 
-/// The rows of `probelab eval` on one map in memory (named `map.name()` in the rows), asked
-/// for as `given`: the same experiment and the same scoring as [`rows_by_name`].
-pub fn rows_on_map(given: &str, map: &Map, o: &EvalOptions) -> Result<Evaluated> {
-    let exp = experiment(vec![map.name().to_string()], o)?;
-    let rows = runner::run_map(&exp, map.env_map());
-    Ok(Evaluated { rows, maps: vec![MapEntry::from_map(given, map.env_map())] })
-}
-
-/// The experiment `probelab eval` runs. Every option is checked before any map is read.
-pub fn experiment(maps: Vec<String>, o: &EvalOptions) -> Result<Experiment> {
+/// The experiment `probelab eval` runs on `maps`. Every option is checked before any map is
+/// read.
+fn experiment(maps: Vec<String>, o: &EvalOptions) -> Result<Experiment> {
     let res = parse_resolution(&o.resolution).context("--resolution")?;
     let metric = Metric::parse(&o.metric)?;
     let (kind, orientations, effects) = domain(&o.domain)?;

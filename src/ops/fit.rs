@@ -1,11 +1,54 @@
-//! `probelab fit`'s document: the encoders checked against the surface before any map is
-//! read, every fit's stored coefficients checked finite before anything is returned, and the
-//! JSON document (`docs/commands.md`, `probelab fit`; the stored form is `docs/library.md`).
+//! `probelab fit`: the encoders checked against the surface before any map is read, every
+//! fit's stored coefficients checked finite before anything is returned, and the two
+//! documents it prints: JSON (`docs/json.md`, `probelab.fit/1`; the stored form is
+//! `docs/library.md`) and CSV, one row per stored or derived value (`docs/commands.md`,
+//! `probelab fit`). Nothing is written and no lock is taken.
 
+use super::context::Env;
 use super::json::{self, MapEntry};
-use crate::api::{Fit, Lighting, Map, Stored, Surface};
+use super::source::MapSource;
+use crate::api::{DVec3, Fit, Lighting, Role, Stored, Surface};
 use crate::encoders;
-use anyhow::{bail, Result};
+use anyhow::{bail, Context, Result};
+
+/// The options of `probelab fit`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FitOptions {
+    /// The map fitted.
+    pub map: MapSource,
+    /// Comma-separated encoder ids (`--encoders`).
+    pub encoders: String,
+    /// The whole sphere (a probe's fit), or the light above a surface's horizon (`--normal`).
+    pub surface: Surface,
+}
+
+/// What `probelab fit` computed: every fit with its stored coefficients, and what they were
+/// fitted on.
+pub struct Fitted {
+    /// The map read, with its identity.
+    pub map: MapEntry,
+    /// The surface normal N the light was seen from; `None` on the sphere.
+    pub normal: Option<DVec3>,
+    /// What the fits were fitted on, for a reader (`api::Lighting::describe`).
+    pub fitted_on: String,
+    /// Each encoder's fit and its stored coefficients, in the order asked for.
+    pub fits: Vec<(Fit, Stored)>,
+}
+
+/// `probelab fit`: the encoders checked ([`encoder_ids`]), then the map opened on `env.search`,
+/// then every encoder fitted to its light.
+pub fn fit(env: &Env, o: &FitOptions) -> Result<Fitted> {
+    let ids = encoder_ids(&o.encoders, o.surface)?;
+    let map = o.map.open(&env.search)?;
+    let light = map.lighting(o.surface)?;
+    let fits = fit_all(&light, &ids)?;
+    Ok(Fitted {
+        map: MapEntry::from_map(o.map.given(), map.env_map()),
+        normal: light.normal(),
+        fitted_on: light.describe(),
+        fits,
+    })
+}
 
 /// The encoder ids of the comma-separated `list` (`--encoders`), refused if one is unknown,
 /// listed twice, or needs a surface normal while `surface` is the sphere.
@@ -24,7 +67,7 @@ pub fn encoder_ids(list: &str, surface: Surface) -> Result<Vec<String>> {
 
 /// Fits every encoder of `ids` (defaults) to `light`, with its stored coefficients; a stored
 /// value that is not finite is an error naming the encoder and the light.
-pub fn fit_all(light: &Lighting, ids: &[String]) -> Result<Vec<(Fit, Stored)>> {
+fn fit_all(light: &Lighting, ids: &[String]) -> Result<Vec<(Fit, Stored)>> {
     let mut fits = Vec::new();
     for id in ids {
         let fit = light.fit(id, "")?;
@@ -37,40 +80,77 @@ pub fn fit_all(light: &Lighting, ids: &[String]) -> Result<Vec<(Fit, Stored)>> {
     Ok(fits)
 }
 
-/// `sphere`, or `hemisphere` when the light is seen from a surface normal.
-pub fn domain_of(light: &Lighting) -> &'static str {
-    if light.normal().is_some() {
-        "hemisphere"
-    } else {
-        "sphere"
+impl Fitted {
+    /// `sphere`, or `hemisphere` when the light is seen from a surface normal.
+    pub fn domain(&self) -> &'static str {
+        if self.normal.is_some() {
+            "hemisphere"
+        } else {
+            "sphere"
+        }
     }
-}
 
-/// The fits as one JSON document (`docs/json.md`, `probelab.fit/1`): the map (asked for as
-/// `given`) with its identity, domain, normal, what they were fitted on, units, and each
-/// fit's stored entries and diagnostics.
-pub fn to_json(given: &str, map: &Map, light: &Lighting, fits: &[(Fit, Stored)]) -> Result<String> {
-    let fits: Vec<serde_json::Value> = fits
-        .iter()
-        .map(|(f, s)| {
-            serde_json::json!({
-                "encoder": f.id(),
-                "stored_scalars": f.stored_scalars(),
-                "basis": s.basis,
-                "entries": s.entries,
-                "diagnostics": json::diagnostics_of(&f.diagnostics()),
+    /// The fits as one JSON document (`docs/json.md`, `probelab.fit/1`): the map (as asked
+    /// for) with its identity, domain, normal, what they were fitted on, units, and each fit's
+    /// stored entries and diagnostics.
+    pub fn to_json(&self) -> Result<String> {
+        let fits: Vec<serde_json::Value> = self
+            .fits
+            .iter()
+            .map(|(f, s)| {
+                serde_json::json!({
+                    "encoder": f.id(),
+                    "stored_scalars": f.stored_scalars(),
+                    "basis": s.basis,
+                    "entries": s.entries,
+                    "diagnostics": json::diagnostics_of(&f.diagnostics()),
+                })
             })
-        })
-        .collect();
-    let doc = serde_json::json!({
-        "schema": json::FIT,
-        "maps": json::maps(&[MapEntry::from_map(given, map.env_map())]),
-        "domain": domain_of(light),
-        "normal": light.normal().map(|n| n.to_array()),
-        "fitted_on": light.describe(),
-        "units": "E/pi is irradiance over pi; directions are world-space unit vectors, +Y up \
-                  (docs/conventions.md section 1); SH follow section 2",
-        "fits": fits,
-    });
-    json::text(&doc)
+            .collect();
+        let doc = serde_json::json!({
+            "schema": json::FIT,
+            "maps": json::maps(std::slice::from_ref(&self.map)),
+            "domain": self.domain(),
+            "normal": self.normal.map(|n| n.to_array()),
+            "fitted_on": self.fitted_on,
+            "units": "E/pi is irradiance over pi; directions are world-space unit vectors, +Y up \
+                      (docs/conventions.md section 1); SH follow section 2",
+            "fits": fits,
+        });
+        json::text(&doc)
+    }
+
+    /// The fits as CSV: one row per stored or derived entry, its value's components in v0..v2.
+    pub fn to_csv(&self) -> Result<String> {
+        let mut w = csv::Writer::from_writer(Vec::new());
+        w.write_record([
+            "map", "domain", "normal", "encoder", "entry", "role", "unit", "kind", "v0", "v1", "v2", "basis",
+        ])?;
+        let normal_cell = self.normal.map(|n| format!("{} {} {}", n.x, n.y, n.z)).unwrap_or_default();
+        for (f, s) in &self.fits {
+            for e in &s.entries {
+                let mut c: Vec<String> = e.value.components().iter().map(|v| format!("{v}")).collect();
+                c.resize(3, String::new());
+                let role = match e.role {
+                    Role::Stored => "stored",
+                    Role::Derived => "derived",
+                };
+                w.write_record([
+                    &self.map.name,
+                    self.domain(),
+                    &normal_cell,
+                    f.id(),
+                    &e.name,
+                    role,
+                    e.unit.label(),
+                    e.value.kind(),
+                    &c[0],
+                    &c[1],
+                    &c[2],
+                    &s.basis,
+                ])?;
+            }
+        }
+        Ok(String::from_utf8(w.into_inner().context("writing CSV")?)?)
+    }
 }

@@ -170,36 +170,6 @@ pub fn parse_axis(s: &str) -> Result<AxisRule> {
     }
 }
 
-/// `probelab fit-hallucination`: the radiance SH of the named maps (exact projection) and of
-/// the probe file (read as `probes --input` reads it; `format` as its `--format`), fitted and
-/// reported as text.
-pub fn run(
-    search: &crate::envmap::search::SearchPath,
-    maps: &[String],
-    probe_file: Option<&std::path::Path>,
-    format: Option<&str>,
-    axis: &str,
-    cubic: bool,
-) -> Result<String> {
-    let rule = parse_axis(axis)?;
-    let mut probes = Vec::new();
-    for m in maps {
-        probes.push(crate::reference::projection::project(&search.load(m)?));
-    }
-    if let Some(path) = probe_file {
-        probes.extend(crate::pipeline::probeset::format::read_all(path, format)?);
-    }
-    if probes.is_empty() {
-        bail!("fit-hallucination: give map names and/or --probes FILE");
-    }
-    let mut out = String::new();
-    if !maps.is_empty() {
-        out += &format!("maps: {}\n", maps.join(", "));
-    }
-    out += &format_report(&report(&probes, rule, axis, cubic)?);
-    Ok(out)
-}
-
 /// The report as text.
 pub fn format_report(r: &Report) -> String {
     let mut s = format!(

@@ -12,10 +12,9 @@
 
 use anyhow::Context;
 use probelab::api::{unit_normal, DVec3, Map, Surface, Value};
-use probelab::envmap::search::SearchPath;
-use probelab::ops::eval::{rows_by_name, rows_on_map, EvalOptions};
-use probelab::ops::fit::{encoder_ids, fit_all, to_json};
-use probelab::pipeline::table;
+use probelab::ops::eval::{self as evaluate, EvalMaps, EvalOptions};
+use probelab::ops::fit::{self as fitting, encoder_ids, FitOptions};
+use probelab::ops::{Env, MapSource, Quiet, SearchPath, Texels};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::{PyByteArray, PyBytes};
@@ -34,52 +33,39 @@ fn py_err(e: anyhow::Error) -> PyErr {
     Error::new_err(format!("{e:#}"))
 }
 
-/// Where a map comes from: a name or file path on the search path (`<root>/envmaps`, then
-/// `PROBELAB_ENVMAPS`), or texels handed over from an array.
-enum Source {
-    Named { name: String, search: SearchPath },
-    Texels { name: String, width: usize, height: usize, texels: Vec<[f32; 3]> },
+/// What a workflow is given from Python: the root, its search path (`<root>/envmaps`, then
+/// `PROBELAB_ENVMAPS`), no notes, and no refusal of long work (a Python program decides that
+/// itself).
+fn env(root: &str) -> Env<'static> {
+    Env {
+        root: root.into(),
+        search: SearchPath::from_env(Path::new(root).join("envmaps")),
+        allow_long: true,
+        notes: &Quiet,
+    }
 }
 
-impl Source {
-    /// `map` is a `str` (a name or path) or a tuple `(name, width, height, bytes)` of
-    /// little-endian float32 RGB texels, row-major from the zenith (what `probelab` makes of
-    /// an (H, W, 3) array).
-    fn extract(map: &Bound<'_, PyAny>, root: &str) -> PyResult<Source> {
-        if let Ok(name) = map.extract::<String>() {
-            let search = SearchPath::from_env(Path::new(root).join("envmaps"));
-            return Ok(Source::Named { name, search });
-        }
-        let (name, width, height, bytes): (String, usize, usize, Bound<'_, PyBytes>) = map.extract()?;
-        let bytes = bytes.as_bytes();
-        if bytes.len() != width * height * 12 {
-            return Err(Error::new_err(format!(
-                "map '{name}': {} bytes of texels for {width}x{height} (expected {})",
-                bytes.len(),
-                width * height * 12
-            )));
-        }
-        let texels = bytes
-            .chunks_exact(12)
-            .map(|t| std::array::from_fn(|c| f32::from_le_bytes(t[4 * c..4 * c + 4].try_into().unwrap())))
-            .collect();
-        Ok(Source::Texels { name, width, height, texels })
+/// The map of `map`: a `str` (a name or path) or a tuple `(name, width, height, bytes)` of
+/// little-endian float32 RGB texels, row-major from the zenith (what `probelab` makes of an
+/// (H, W, 3) array).
+fn source(map: &Bound<'_, PyAny>) -> PyResult<MapSource> {
+    if let Ok(name) = map.extract::<String>() {
+        return Ok(MapSource::Named(name));
     }
-
-    /// The map as asked for: the name or path, or the array's name.
-    fn given(&self) -> String {
-        match self {
-            Source::Named { name, .. } | Source::Texels { name, .. } => name.clone(),
-        }
+    let (name, width, height, bytes): (String, usize, usize, Bound<'_, PyBytes>) = map.extract()?;
+    let bytes = bytes.as_bytes();
+    if bytes.len() != width * height * 12 {
+        return Err(Error::new_err(format!(
+            "map '{name}': {} bytes of texels for {width}x{height} (expected {})",
+            bytes.len(),
+            width * height * 12
+        )));
     }
-
-    /// The map (loaded, or built from the texels and checked).
-    fn open(self) -> anyhow::Result<Map> {
-        match self {
-            Source::Named { name, search } => Map::load_on(&search, &name),
-            Source::Texels { name, width, height, texels } => Map::from_texels(&name, width, height, texels),
-        }
-    }
+    let texels = bytes
+        .chunks_exact(12)
+        .map(|t| std::array::from_fn(|c| f32::from_le_bytes(t[4 * c..4 * c + 4].try_into().unwrap())))
+        .collect();
+    Ok(MapSource::Texels(Texels { name, width, height, texels }))
 }
 
 /// `(name, width, height, texels)`: the map `name` (a name on the search path or a file
@@ -90,8 +76,8 @@ fn load_map<'py>(
     name: String,
     root: String,
 ) -> PyResult<(String, usize, usize, Bound<'py, PyByteArray>)> {
-    let search = SearchPath::from_env(Path::new(&root).join("envmaps"));
-    let map = py.detach(|| Map::load_on(&search, &name)).map_err(py_err)?;
+    let env = env(&root);
+    let map = py.detach(|| Map::load_on(&env.search, &name)).map_err(py_err)?;
     let (w, h) = map.size();
     let texels = PyByteArray::new_with(py, w * h * 12, |buf| {
         for (dst, t) in buf.chunks_exact_mut(12).zip(map.texels()) {
@@ -117,16 +103,12 @@ fn eval(
     resolution: String,
     polar_nodes: usize,
 ) -> PyResult<String> {
-    let source = Source::extract(map, &root)?;
-    let options = EvalOptions { encoders, domain, metric, resolution, polar_nodes };
-    py.detach(|| {
-        let evaluated = match source {
-            Source::Named { name, search } => rows_by_name(vec![name], &options, &search)?,
-            texels => rows_on_map(&texels.given(), &texels.open()?, &options)?,
-        };
-        evaluated.to_json()
-    })
-    .map_err(py_err)
+    let maps = match source(map)? {
+        MapSource::Named(name) => EvalMaps::Named(vec![name]),
+        MapSource::Texels(texels) => EvalMaps::Texels(texels),
+    };
+    let options = EvalOptions { maps, encoders, domain, metric, resolution, polar_nodes };
+    py.detach(|| evaluate::eval(&env(&root), &options)?.to_json()).map_err(py_err)
 }
 
 /// The flattened stored coefficients of one fit: per component, its name (`L1_0.g`, `d.x`,
@@ -143,16 +125,11 @@ fn fit(
     encoders: String,
     normal: Option<(f64, f64, f64)>,
 ) -> PyResult<(String, Vec<Coefficients>)> {
-    let source = Source::extract(map, &root)?;
-    let surface = surface(normal);
+    let options = FitOptions { map: source(map)?, encoders, surface: surface(normal) };
     py.detach(|| {
-        let ids = encoder_ids(&encoders, surface)?;
-        let given = source.given();
-        let map = source.open()?;
-        let light = map.lighting(surface)?;
-        let fits = fit_all(&light, &ids)?;
-        let coefficients = fits.iter().map(|(_, stored)| flatten(stored)).collect();
-        Ok((to_json(&given, &map, &light, &fits)?, coefficients))
+        let fitted = fitting::fit(&env(&root), &options)?;
+        let coefficients = fitted.fits.iter().map(|(_, stored)| flatten(stored)).collect();
+        Ok((fitted.to_json()?, coefficients))
     })
     .map_err(py_err)
 }
@@ -186,12 +163,12 @@ fn reference<'py>(
     normals: &[u8],
     normal: Option<(f64, f64, f64)>,
 ) -> PyResult<Bound<'py, PyByteArray>> {
-    let source = Source::extract(map, &root)?;
+    let source = source(map)?;
     let normals = unit_normals(normals)?;
     let surface = surface(normal);
     let values = py
         .detach(|| -> anyhow::Result<Vec<DVec3>> {
-            let map = source.open()?;
+            let map = source.open(&env(&root).search)?;
             Ok(map.lighting(surface)?.reference(&normals))
         })
         .map_err(py_err)?;
@@ -209,13 +186,13 @@ fn irradiance<'py>(
     normals: &[u8],
     normal: Option<(f64, f64, f64)>,
 ) -> PyResult<Bound<'py, PyByteArray>> {
-    let source = Source::extract(map, &root)?;
+    let source = source(map)?;
     let normals = unit_normals(normals)?;
     let surface = surface(normal);
     let values = py
         .detach(|| -> anyhow::Result<Vec<DVec3>> {
             let ids = encoder_ids(&id, surface)?;
-            let map = source.open()?;
+            let map = source.open(&env(&root).search)?;
             let light = map.lighting(surface)?;
             let fit = light.fit(&ids[0], "")?;
             Ok(normals.iter().map(|&n| fit.irradiance(n)).collect())
@@ -261,24 +238,24 @@ fn unit_normals(bytes: &[u8]) -> PyResult<Vec<DVec3>> {
 /// Every registered encoder as `(id, summary)`, in the order `probelab encoders` lists them.
 #[pyfunction]
 fn encoders() -> Vec<(&'static str, &'static str)> {
-    probelab::encoders::REGISTRY.iter().map(|k| (k.id, k.summary)).collect()
+    probelab::ops::encoders::encoders().encoders.iter().map(|e| (e.id, e.summary)).collect()
 }
 
 /// Whether `eval` measures `fit_ns` and `eval_ns` (the command line's `--no-timing` is
 /// `set_timing(False)`); process-wide.
 #[pyfunction]
 fn set_timing(on: bool) {
-    probelab::pipeline::timing::set_enabled(on);
+    evaluate::set_timing(on);
 }
 
 /// The module `probelab._core`.
 #[pymodule]
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("Error", m.py().get_type::<Error>())?;
-    m.add("COLUMNS", table::COLUMNS.to_vec())?;
-    m.add("NUMERIC_COLUMNS", table::NUMERIC_COLUMNS.to_vec())?;
-    m.add("TIMING_COLUMNS", table::TIMING_COLUMNS.to_vec())?;
-    m.add("DEFAULT_POLAR_NODES", probelab::reference::exact::DEFAULT_POLAR_NODES)?;
+    m.add("COLUMNS", evaluate::COLUMNS.to_vec())?;
+    m.add("NUMERIC_COLUMNS", evaluate::NUMERIC_COLUMNS.to_vec())?;
+    m.add("TIMING_COLUMNS", evaluate::TIMING_COLUMNS.to_vec())?;
+    m.add("DEFAULT_POLAR_NODES", evaluate::DEFAULT_POLAR_NODES)?;
     m.add_function(wrap_pyfunction!(load_map, m)?)?;
     m.add_function(wrap_pyfunction!(eval, m)?)?;
     m.add_function(wrap_pyfunction!(fit, m)?)?;
