@@ -7,6 +7,7 @@ use clap::Parser;
 use commands::output;
 
 fn main() {
+    quiet_caught_decoder_panics();
     // clap's own output (--help, --version, usage errors) goes through the same rules as the
     // commands': a closed pipe ends quietly (141), any other write error exits 2.
     let cli = match commands::Cli::try_parse() {
@@ -27,4 +28,18 @@ fn main() {
             std::process::exit(code);
         }
     }
+}
+
+/// Keeps the panics the map loader catches off stderr. A decoder panic on a malformed map file
+/// comes back as an error (`LoadError::DecoderPanic`) that the command prints as `error: …`;
+/// the default hook would print the panic first. Installed before anything runs, this hook
+/// stays quiet while the loader runs a decoder on this thread
+/// (`envmap::load::in_guarded_decoder`) and hands every other panic to the default hook.
+fn quiet_caught_decoder_panics() {
+    let previous = std::panic::take_hook();
+    std::panic::set_hook(Box::new(move |info| {
+        if !probelab::envmap::load::in_guarded_decoder() {
+            previous(info);
+        }
+    }));
 }

@@ -1,6 +1,8 @@
 //! The declarations' parser and loader: what each key accepts and refuses.
 
 use super::*;
+use anyhow::Result;
+use std::path::Path;
 
 fn paper(claim: &str) -> Result<Paper> {
     let text = format!(
