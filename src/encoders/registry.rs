@@ -2,10 +2,19 @@
 //! an encoder means adding its file and one entry here; nothing else in the program names an
 //! encoder.
 
+use crate::encoders::ambient_cube;
+use crate::encoders::ambient_dice;
 use crate::encoders::encoder::{self, Encoder, Params};
+use crate::encoders::geomerics;
+use crate::encoders::hbasis;
 use crate::encoders::lightmap::{ahd, hhd};
 use crate::encoders::probe_occlusion as occ;
-use crate::encoders::{ambient_cube, ambient_dice, geomerics, hbasis, quantise, self_bounce, sg, sh, sh_high, zh3};
+use crate::encoders::quantise;
+use crate::encoders::self_bounce;
+use crate::encoders::sg;
+use crate::encoders::sh;
+use crate::encoders::sh_high;
+use crate::encoders::zh3;
 use anyhow::{bail, Context, Result};
 
 /// A kind of encoder: its id, a one-line summary, and its factory from TOML settings.

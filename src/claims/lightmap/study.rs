@@ -2,9 +2,11 @@
 //! strips the report draws ([`Study`]).
 
 use crate::claims::lightmap::blend_tables::blend_measures;
+use crate::claims::lightmap::bounce;
 use crate::claims::lightmap::fig2_tables::fig2_measures;
+use crate::claims::lightmap::leak;
 use crate::claims::lightmap::roundtrip::hhd_roundtrip;
-use crate::claims::lightmap::{bounce, leak, strip};
+use crate::claims::lightmap::strip;
 use crate::claims::measure::Measure;
 use crate::envmap::search::SearchPath;
 use crate::pipeline::experiment::Experiment;

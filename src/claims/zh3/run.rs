@@ -2,7 +2,11 @@
 //! declared maps the search path has, with progress.
 
 use crate::claims::measure::Measure;
-use crate::claims::zh3::{axis, blending, cases, geomerics, quantisation};
+use crate::claims::zh3::axis;
+use crate::claims::zh3::blending;
+use crate::claims::zh3::cases;
+use crate::claims::zh3::geomerics;
+use crate::claims::zh3::quantisation;
 use crate::envmap::search::SearchPath;
 use anyhow::Result;
 
