@@ -98,13 +98,18 @@ fn chroma_error_lit(test: &[Rgb], reference: &[Rgb], w: &[f64]) -> f64 {
     chroma_error(test, reference, &lw)
 }
 
+/// The standard Rec.709/sRGB (D65) RGB → CIE XYZ matrix, by rows (X, Y, Z).
+const RGB_TO_XYZ: [Rgb; 3] = [
+    Rgb::new(0.4124564, 0.3575761, 0.1804375),
+    Rgb::new(0.2126729, 0.7151522, 0.0721750),
+    Rgb::new(0.0193339, 0.1191920, 0.9503041),
+];
+
 /// CIE 1931 xy chromaticity of a displayed linear Rec.709 colour (clamped at 0, as displayed),
 /// through the standard Rec.709/sRGB (D65) RGB → XYZ matrix; black is the D65 white point.
 pub fn cie_xy(e: Rgb) -> (f64, f64) {
     let c = e.max(Rgb::ZERO);
-    let x = 0.4124564 * c.x + 0.3575761 * c.y + 0.1804375 * c.z;
-    let y = 0.2126729 * c.x + 0.7151522 * c.y + 0.0721750 * c.z;
-    let z = 0.0193339 * c.x + 0.1191920 * c.y + 0.9503041 * c.z;
+    let [x, y, z] = RGB_TO_XYZ.map(|row| row.dot(c));
     let s = x + y + z;
     if s > 0.0 {
         (x / s, y / s)
@@ -113,9 +118,12 @@ pub fn cie_xy(e: Rgb) -> (f64, f64) {
     }
 }
 
-/// The luminance Y of a linear Rec.709 colour (Rec.709 weights), clamped at 0.
+/// The luminance Y of a linear Rec.709 colour, clamped at 0: CIE Y, the middle row of
+/// [`RGB_TO_XYZ`], so the chroma error weights by the same Y its chromaticities are taken
+/// with. Those are the Rec.709 weights to seven digits; [`crate::math::colour::REC709`] rounds
+/// them to four and would move Z2's published figures.
 fn luminance(e: Rgb) -> f64 {
-    (0.2126729 * e.x + 0.7151522 * e.y + 0.0721750 * e.z).max(0.0)
+    RGB_TO_XYZ[1].dot(e).max(0.0)
 }
 
 /// The chroma error of claim Z2, a documented standard metric: the RMS of the CIE 1931 xy
@@ -323,5 +331,19 @@ mod tests {
         assert!((e - (0.34f64.powi(2) + 0.27f64.powi(2)).sqrt()).abs() < 2e-4, "{e}");
         assert_eq!(xy_error(&[r], &[Rgb::ZERO], &[1.0]), 0.0);
         assert_eq!(xy_error(&[g * 5.0], &[g], &[1.0]), 0.0);
+    }
+
+    /// Z1 needs no maps. ZH3 of a zonal light is its SH3 (a zonal function's band-2 part is a
+    /// multiple of the zonal harmonic about its axis), so every stored ZH3 must agree with SH3
+    /// to rounding on every zonal light.
+    #[test]
+    fn zonal_lights_agree_with_sh3() {
+        let grid = super::super::cases::grid();
+        let m = z1(&grid).unwrap();
+        assert_eq!(m.rows.len(), 16);
+        for r in &m.rows {
+            let crate::claims::measure::Cell::Num(field) = r[2] else { panic!("a number") };
+            assert!(field < 1e-9, "{r:?}");
+        }
     }
 }

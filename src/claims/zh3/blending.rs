@@ -25,11 +25,9 @@ const CAPS: &str = "caps_x_y";
 /// The case of two white delta lights along +x and +y.
 const DELTAS: &str = "deltas_x_y";
 
-/// Z9 as the table `zh3_blend`: per case and method, the zonal coefficient of the 50% blend
-/// over an endpoint's (`zonal_scale`), and the RMSE of the method's blend against the exact
-/// blend. The row `p2_cos_45` holds the expected ¼ of each case.
-pub(super) fn zh3_blend(grid: &OutputGrid) -> Result<Measure> {
-    let mut m = Measure::new(
+/// The empty table `zh3_blend`, its columns and what they hold.
+fn blend_table() -> Measure {
+    Measure::new(
         "zh3_blend",
         "claim Z9, blending two probes with perpendicular L1 axes 50/50: zonal_scale = the blend's zonal coefficient \
          (red channel) about its axis / an endpoint's; rmse = E/pi RMSE of the blended encoding against the exact \
@@ -47,21 +45,31 @@ pub(super) fn zh3_blend(grid: &OutputGrid) -> Result<Measure> {
             "reference",
             "units",
         ],
-    );
-    let context = |m: &mut Measure, case: &str, encoder: &str, scale: f64, rmse: Option<f64>, reference: &str| {
-        m.row(vec![
-            case.into(),
-            encoder.into(),
-            scale.into(),
-            rmse.map_or(Cell::from(""), Cell::from),
-            "exact".into(),
-            "sphere".into(),
-            "solid_angle".into(),
-            "256x128".into(),
-            reference.into(),
-            "E/pi".into(),
-        ])
-    };
+    )
+}
+
+/// A row of `zh3_blend`: the case, the method, its zonal scale and RMSE (none where not
+/// scored), the exact metric's context and the reference.
+fn context(m: &mut Measure, case: &str, encoder: &str, scale: f64, rmse: Option<f64>, reference: &str) {
+    m.row(vec![
+        case.into(),
+        encoder.into(),
+        scale.into(),
+        rmse.map_or(Cell::from(""), Cell::from),
+        "exact".into(),
+        "sphere".into(),
+        "solid_angle".into(),
+        "256x128".into(),
+        reference.into(),
+        "E/pi".into(),
+    ])
+}
+
+/// Z9 as the table `zh3_blend`: per case and method, the zonal coefficient of the 50% blend
+/// over an endpoint's (`zonal_scale`), and the RMSE of the method's blend against the exact
+/// blend. The row `p2_cos_45` holds the expected ¼ of each case.
+pub(super) fn zh3_blend(grid: &OutputGrid) -> Result<Measure> {
+    let mut m = blend_table();
     let mk = |axis: DVec3| scene("p", vec![cap(axis, 0.2, Rgb::splat(10.0)), Light::Ambient(Rgb::splat(0.1))]);
     let (a, b) = (mk(DVec3::X), mk(DVec3::Y));
     let blend = scene("blend", a.lighting.0.iter().chain(&b.lighting.0).cloned().collect());

@@ -100,35 +100,7 @@ pub fn fit(spec: &FitSpec, input: &FitInput) -> FitResult {
     let mut s = solve_by(&spec_here, theta_lin, |th| objective.objective(th), |th| objective.at(th));
     let mut frame = frame;
     if let (true, Direction::Search2d { iterations, tolerance, rounds }) = (search, spec.direction) {
-        let (mut iters, mut evals) = (s.iterations, s.evaluations);
-        for _ in 0..rounds {
-            // φ: golden section over ±90° about the current azimuth at the current θ.
-            let theta = s.theta;
-            let at = |p: f64| {
-                let f = frame.turned(p);
-                ThetaObjective::new(spec, &domain, &QuadraticTarget::new(&sh, &f, domain.moments), i_z).objective(theta)
-            };
-            let half = std::f64::consts::FRAC_PI_2;
-            let (p, fp, k) = golden_section(-half, half, iterations, tolerance, at);
-            evals += 2 + k;
-            iters += k;
-            if fp >= s.colour.objective {
-                break;
-            }
-            // θ again at the new azimuth.
-            let turned = frame.turned(p);
-            let t2 = ThetaObjective::new(spec, &domain, &QuadraticTarget::new(&sh, &turned, domain.moments), i_z);
-            let s2 = solve_by(spec, s.theta, |th| t2.objective(th), |th| t2.at(th));
-            iters += s2.iterations;
-            evals += s2.evaluations;
-            // (t2 at the old θ repeats the φ search's winner.)
-            let better =
-                if s2.colour.objective <= fp { s2 } else { Solved { theta: s.theta, colour: t2.at(s.theta), ..s2 } };
-            frame = turned;
-            s = better;
-        }
-        s.iterations = iters;
-        s.evaluations = evals;
+        (frame, s) = search_azimuth(spec, (&domain, &sh, i_z), (frame, s), (iterations, tolerance, rounds));
     }
     let d = frame.direction(Angle::new(s.theta));
     let model = Model {
@@ -139,4 +111,45 @@ pub fn fit(spec: &FitSpec, input: &FitInput) -> FitResult {
         d,
     };
     result(model, s.theta, s.iterations, s.evaluations, false)
+}
+
+/// `Search2d` after the first θ search: rounds of an azimuth search at the current θ, then θ
+/// again at the new azimuth, while the azimuth improves; the frame turned and the solution,
+/// with the iterations and evaluations of every search counted.
+fn search_azimuth(
+    spec: &FitSpec,
+    (domain, sh, i_z): (&FitDomain, &Sh9, Rgb),
+    (mut frame, mut s): (Frame, Solved),
+    (iterations, tolerance, rounds): (usize, f64, usize),
+) -> (Frame, Solved) {
+    let (mut iters, mut evals) = (s.iterations, s.evaluations);
+    for _ in 0..rounds {
+        // φ: golden section over ±90° about the current azimuth at the current θ.
+        let theta = s.theta;
+        let at = |p: f64| {
+            let f = frame.turned(p);
+            ThetaObjective::new(spec, domain, &QuadraticTarget::new(sh, &f, domain.moments), i_z).objective(theta)
+        };
+        let half = std::f64::consts::FRAC_PI_2;
+        let (p, fp, k) = golden_section(-half, half, iterations, tolerance, at);
+        evals += 2 + k;
+        iters += k;
+        if fp >= s.colour.objective {
+            break;
+        }
+        // θ again at the new azimuth.
+        let turned = frame.turned(p);
+        let t2 = ThetaObjective::new(spec, domain, &QuadraticTarget::new(sh, &turned, domain.moments), i_z);
+        let s2 = solve_by(spec, s.theta, |th| t2.objective(th), |th| t2.at(th));
+        iters += s2.iterations;
+        evals += s2.evaluations;
+        // (t2 at the old θ repeats the φ search's winner.)
+        let better =
+            if s2.colour.objective <= fp { s2 } else { Solved { theta: s.theta, colour: t2.at(s.theta), ..s2 } };
+        frame = turned;
+        s = better;
+    }
+    s.iterations = iters;
+    s.evaluations = evals;
+    (frame, s)
 }
