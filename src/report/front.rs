@@ -4,32 +4,12 @@
 use super::charts;
 use super::csvfile::CsvTable;
 use super::markdown::{self, href};
+use super::names::{rel, PAGE, PROVENANCE_PAGE};
+use super::page::Page;
 use super::papers;
 use anyhow::Result;
 use std::fmt::Write as _;
 use std::path::Path;
-
-/// A result folder's page, `results/<name>/README.md`.
-pub const PAGE: &str = "README.md";
-
-/// How the run was made in full (tables' provenance, settings, maps with sha256).
-pub const PROVENANCE_PAGE: &str = "PROVENANCE.md";
-
-/// The claims engine's table, relative to the results folder.
-pub const CLAIMS_CSV: &str = "CLAIMS.csv";
-
-/// A folder that got a page.
-pub(super) struct Page {
-    pub(super) name: String,
-    pub(super) description: Option<String>,
-    /// False for an experiment with no results folder yet.
-    pub(super) has_page: bool,
-}
-
-/// Link text from REPORT.md (in `out`) to `name/file`.
-pub(super) fn rel(name: &str, file: &str) -> String {
-    format!("{name}/{file}")
-}
 
 /// One section per paper: its claims' ids, the paper's figures reproduced, and its pages.
 pub(super) fn paper_sections(
