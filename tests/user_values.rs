@@ -96,7 +96,7 @@ fn toml_nested_deeper_than_32_is_refused_with_its_line() {
     let deep = format!("title = 'T'\nx = {}\n", nested_arrays(33));
     let e = probelab::claims::declaration::parse("p", &deep, Path::new("claims/p.toml")).err().unwrap();
     assert!(format!("{e:#}").starts_with("claims/p.toml:2: nested deeper than 32 levels"), "{e:#}");
-    let e = probelab::report::papers::parse_plans(&deep, Path::new("report/papers.toml")).err().unwrap();
+    let e = probelab::report::plans::parse_plans(&deep, Path::new("report/papers.toml")).err().unwrap();
     assert!(format!("{e:#}").starts_with("report/papers.toml:2: nested deeper than 32 levels"), "{e:#}");
 }
 

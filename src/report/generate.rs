@@ -4,13 +4,14 @@
 use super::csvfile::CsvTable;
 use super::draw_sheets::draw_sheets;
 use super::folders::sections;
-use super::front::{other_results, paper_sections};
+use super::glance::at_a_glance;
 use super::maps::{map_uses, mismatches, named_maps};
 use super::names::{CLAIMS_CSV, PROVENANCE_PAGE};
 use super::opening::opening;
 use super::options::{Generated, Options};
 use super::page::{write_pages, Page};
-use super::papers;
+use super::paper_sections::{other_results, paper_sections};
+use super::plans::{parse_plans, PLAN_FILE};
 use super::provenance_page::{provenance, run_records, RunRecord};
 use anyhow::{bail, Context, Result};
 
@@ -41,7 +42,7 @@ pub fn generate(opts: &Options) -> Result<Generated> {
 
 /// REPORT.md's text: the opening, the claims at a glance, one section per paper and the other
 /// results. Reads the claims declarations (`experiments/claims/`), the paper sections' plans
-/// ([`papers::PLAN_FILE`]) and the engine's CLAIMS.csv.
+/// ([`PLAN_FILE`]) and the engine's CLAIMS.csv.
 pub(super) fn report_md(opts: &Options, records: &[RunRecord], named: usize, pages: &[Page]) -> Result<String> {
     let out = opts.out;
     let decl_dir = opts.root.join("experiments").join(crate::claims::declaration::DIR);
@@ -51,16 +52,16 @@ pub(super) fn report_md(opts: &Options, records: &[RunRecord], named: usize, pag
         Vec::new()
     };
     // The paper sections' plans; none when the file is absent (a section per declared paper only).
-    let plan_file = opts.root.join("experiments").join(papers::PLAN_FILE);
+    let plan_file = opts.root.join("experiments").join(PLAN_FILE);
     let plans = match std::fs::read_to_string(&plan_file) {
-        Ok(text) => papers::parse_plans(&text, &plan_file)?,
+        Ok(text) => parse_plans(&text, &plan_file)?,
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => Vec::new(),
         Err(e) => bail!("{}: cannot read: {e}", plan_file.display()),
     };
     let claims_csv = out.join(CLAIMS_CSV);
     let claims = if claims_csv.is_file() { Some(CsvTable::read(&claims_csv)?) } else { None };
     let mut doc = opening(records, named, &papers, &plans);
-    doc.push_str(&papers::at_a_glance(&papers, claims.as_ref())?);
+    doc.push_str(&at_a_glance(&papers, claims.as_ref())?);
     doc.push_str(&paper_sections(out, &papers, &plans, pages)?);
     let planned: Vec<&str> = plans.iter().flat_map(|p| p.pages.iter().map(String::as_str)).collect();
     doc.push_str(&other_results(pages, &planned));

@@ -21,7 +21,9 @@
 //! returns), `folders` (the result folders covered, their files, stale pictures), `maps` (the
 //! experiments' maps as found and as recorded), `draw_sheets` (every experiment's sheets
 //! written), `page` and `page_charts` (a result folder's page, its table and charts),
-//! `opening`, `papers` and `front` (REPORT.md's parts), `provenance_page` (PROVENANCE.md),
+//! REPORT.md's parts: `opening`, `glance` (the claims at a glance), `paper_sections` (one per
+//! paper, then the other results), `plans` (which folders and figures each paper section shows),
+//! `ratios` (ratios to the baseline); `provenance_page` (PROVENANCE.md),
 //! `names` (the pages' and files' names); and the pictures: `sheet` (comparison sheets of an
 //! experiment), `strip` (the lightmap study's blending strips, drawn from the claims layer's
 //! data), `charts` (plotters charts), `markdown` (tables and links), `csvfile` (CSV read by
@@ -37,8 +39,8 @@ pub mod charts;
 pub mod csvfile;
 mod draw_sheets;
 mod folders;
-mod front;
 mod generate;
+mod glance;
 pub mod glyphs;
 mod maps;
 pub mod markdown;
@@ -48,9 +50,11 @@ mod opening;
 mod options;
 mod page;
 mod page_charts;
-pub mod papers;
+mod paper_sections;
+pub mod plans;
 pub mod png;
 mod provenance_page;
+mod ratios;
 pub mod sheet;
 pub mod strip;
 pub mod text;

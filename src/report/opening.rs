@@ -3,7 +3,7 @@
 
 use super::markdown::anchor;
 use super::names::PROVENANCE_PAGE;
-use super::papers;
+use super::plans::{section_titles, PaperPlan, PLAN_FILE};
 use super::provenance_page::RunRecord;
 use std::fmt::Write as _;
 
@@ -12,7 +12,7 @@ pub(super) fn opening(
     records: &[RunRecord],
     named: usize,
     papers: &[crate::claims::declaration::Paper],
-    plans: &[papers::PaperPlan],
+    plans: &[PaperPlan],
 ) -> String {
     let mut commits: Vec<String> = Vec::new();
     let mut dates: Vec<String> = Vec::new();
@@ -57,14 +57,14 @@ pub(super) fn opening(
                 " No claims declarations (`experiments/{}/`) in this checkout: the papers' sections use the \
                  titles of `experiments/{}`.",
                 crate::claims::declaration::DIR,
-                papers::PLAN_FILE
+                PLAN_FILE
             )
         } else {
             String::new()
         }
     );
     let mut toc = vec!["[Reproduction at a glance](#reproduction-at-a-glance)".to_string()];
-    for (title, _) in papers::section_titles(papers, plans) {
+    for (title, _) in section_titles(papers, plans) {
         toc.push(format!("[{title}](#{})", anchor(&title)));
     }
     toc.push("[Other results](#other-results)".into());

@@ -7,7 +7,8 @@ use super::csvfile::CsvTable;
 use super::folders::Section;
 use super::markdown::{self, href};
 use super::names::file_safe;
-use super::{papers, png};
+use super::png;
+use super::ratios::ratio_pivot;
 use crate::encoders::encoder::Family;
 use anyhow::Result;
 use std::fmt::Write as _;
@@ -90,7 +91,7 @@ pub(super) fn table_part(
             Some("rmse bars"),
         )?;
         if all.iter().any(|f| f == "summary.csv") {
-            if let Some(p) = papers::ratio_pivot(&CsvTable::read(&dir.join("summary.csv"))?)? {
+            if let Some(p) = ratio_pivot(&CsvTable::read(&dir.join("summary.csv"))?)? {
                 let _ = writeln!(
                     md,
                     "**Against the baseline** (from [summary.csv](summary.csv), per orientation and map there): {p}"
