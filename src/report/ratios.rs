@@ -29,15 +29,7 @@ pub fn ratio_pivot(t: &CsvTable) -> Result<Option<String>> {
     if rows.is_empty() {
         return Ok(None);
     }
-    let distinct = |col: usize| {
-        let mut v: Vec<String> = Vec::new();
-        for &i in &rows {
-            if !v.contains(&t.rows[i][col]) {
-                v.push(t.rows[i][col].clone());
-            }
-        }
-        v
-    };
+    let distinct = |col: usize| distinct(t, &rows, col);
     let (encs, effects, sets) = (distinct(ec), distinct(fc), distinct(sc));
     let mut cols: Vec<(String, String)> = Vec::new();
     for e in &effects {
@@ -91,6 +83,17 @@ pub fn ratio_pivot(t: &CsvTable) -> Result<Option<String>> {
     md.push_str(&table_with(&headers, &body, text_cell));
     md.push('\n');
     Ok(Some(md))
+}
+
+/// The values of column `col` over `rows`, each once, in first-seen order.
+fn distinct(t: &CsvTable, rows: &[usize], col: usize) -> Vec<String> {
+    let mut v: Vec<String> = Vec::new();
+    for &i in rows {
+        if !v.contains(&t.rows[i][col]) {
+            v.push(t.rows[i][col].clone());
+        }
+    }
+    v
 }
 
 #[cfg(test)]
