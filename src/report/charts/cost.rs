@@ -163,11 +163,6 @@ pub fn cost_points(t: &CsvTable, cost: Cost) -> Result<CostPoints> {
     Ok((pts, names, metric))
 }
 
-/// Error against fit time (kept for callers of the first cost chart).
-pub fn error_vs_time(t: &CsvTable, title: &str) -> Result<Outcome> {
-    error_vs_cost(t, Cost::FitNs, title)
-}
-
 /// The chart's size.
 const W: u32 = 820;
 const H: u32 = 580;
@@ -197,14 +192,7 @@ pub fn error_vs_cost(t: &CsvTable, cost: Cost, title: &str) -> Result<Outcome> {
     let (image, svg, text) = canvas!(W, H, |root| {
         root.fill(&WHITE).map_err(pe)?;
         let red = RGBColor(200, 30, 30);
-        let centre =
-            TextStyle::from((FONT, TITLE).into_font().style(FontStyle::Bold)).pos(Pos::new(HPos::Center, VPos::Top));
-        root.draw_text(title, &centre, (W as i32 / 2, 8)).map_err(pe)?;
-        let key = "Pareto front (none is both cheaper and more accurate)";
-        let kx = W as i32 - 14 - text_width(key, BODY, false) as i32;
-        root.draw(&PathElement::new([(kx - 30, 42), (kx - 6, 42)], red.stroke_width(2))).map_err(pe)?;
-        root.draw_text(key, &TextStyle::from((FONT, BODY)).pos(Pos::new(HPos::Left, VPos::Center)), (kx, 42))
-            .map_err(pe)?;
+        title_and_key(root, title, red)?;
         let body = root.split_vertically(56).1;
         let mut chart = ChartBuilder::on(&body)
             .margin(14)
@@ -230,14 +218,7 @@ pub fn error_vs_cost(t: &CsvTable, cost: Cost, title: &str) -> Result<Outcome> {
         let plot = (xr.start, yr.start, xr.end, yr.end);
         grid(root, plot, &log_ticks(xlo, xhi, 5), |v| chart.backend_coord(&(v, ylo)).0, true)?;
         grid(root, plot, &log_ticks(ylo, yhi, 5), |v| chart.backend_coord(&(xlo, v)).1, false)?;
-        // The front as a staircase: the best error reachable at a cost of at most x.
-        let mut line: Vec<(f64, f64)> = Vec::new();
-        for &i in &front {
-            if let Some(&last) = line.last() {
-                line.push((pts[i].0, last.1));
-            }
-            line.push(pts[i]);
-        }
+        let line = staircase(&pts, &front);
         // The staircase's segments, for labels to keep off.
         let steps: Vec<(i32, i32)> = line.iter().map(|p| chart.backend_coord(p)).collect();
         let segments: Vec<(i32, i32, i32, i32)> = steps
@@ -255,21 +236,51 @@ pub fn error_vs_cost(t: &CsvTable, cost: Cost, title: &str) -> Result<Outcome> {
         let ec = t.col("encoder").expect("checked"); // cannot fail: checked on entry
         distinct(t, &rows, ec).len() - names.len()
     };
-    Ok(Outcome::Drawn {
-        image,
-        svg,
-        caption: format!(
-            "error against {} per encoder: x = {} over the table's rows, y = the mean over them of the {}; Pareto \
-             front (lower cost and lower error both better): {}{}",
-            cost.what(),
-            cost.source(),
-            measure.caption(),
-            on.join(", "),
-            if left_out > 0 { format!("; {left_out} encoder(s) without this cost not drawn") } else { String::new() }
-        ),
-        text,
-        marks: marks.into_inner(),
-    })
+    let caption = cost_caption(cost, &measure, &on, left_out);
+    Ok(Outcome::Drawn { image, svg, caption, text, marks: marks.into_inner() })
+}
+
+/// The chart's title, centred, and the front's key at the top right.
+fn title_and_key<DB: DrawingBackend>(
+    root: &DrawingArea<DB, plotters::coord::Shift>,
+    title: &str,
+    red: RGBColor,
+) -> Result<()> {
+    let centre =
+        TextStyle::from((FONT, TITLE).into_font().style(FontStyle::Bold)).pos(Pos::new(HPos::Center, VPos::Top));
+    root.draw_text(title, &centre, (W as i32 / 2, 8)).map_err(pe)?;
+    let key = "Pareto front (none is both cheaper and more accurate)";
+    let kx = W as i32 - 14 - text_width(key, BODY, false) as i32;
+    root.draw(&PathElement::new([(kx - 30, 42), (kx - 6, 42)], red.stroke_width(2))).map_err(pe)?;
+    root.draw_text(key, &TextStyle::from((FONT, BODY)).pos(Pos::new(HPos::Left, VPos::Center)), (kx, 42))
+        .map_err(pe)?;
+    Ok(())
+}
+
+/// The front as a staircase: the best error reachable at a cost of at most x.
+fn staircase(pts: &[(f64, f64)], front: &[usize]) -> Vec<(f64, f64)> {
+    let mut line: Vec<(f64, f64)> = Vec::new();
+    for &i in front {
+        if let Some(&last) = line.last() {
+            line.push((pts[i].0, last.1));
+        }
+        line.push(pts[i]);
+    }
+    line
+}
+
+/// The chart's caption: what x and y are, the encoders on the front (`on`), and how many
+/// encoders had no such cost.
+fn cost_caption(cost: Cost, measure: &Measure, on: &[&str], left_out: usize) -> String {
+    format!(
+        "error against {} per encoder: x = {} over the table's rows, y = the mean over them of the {}; Pareto \
+         front (lower cost and lower error both better): {}{}",
+        cost.what(),
+        cost.source(),
+        measure.caption(),
+        on.join(", "),
+        if left_out > 0 { format!("; {left_out} encoder(s) without this cost not drawn") } else { String::new() }
+    )
 }
 
 /// Draws the points (red on the front, grey off it) and their labels, placed by

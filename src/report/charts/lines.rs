@@ -66,6 +66,23 @@ pub(super) struct Series {
     pub(super) points: Vec<(f64, f64)>,
 }
 
+/// The least and the greatest of `v` (infinite when `v` is empty).
+fn span(v: impl Iterator<Item = f64>) -> (f64, f64) {
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for x in v {
+        lo = lo.min(x);
+        hi = hi.max(x);
+    }
+    (lo, hi)
+}
+
+/// A linear axis' range: the data's span widened by 6% each side (by a tenth of the value's size,
+/// at least 0.1, when the span is a point).
+fn pad(lo: f64, hi: f64) -> (f64, f64) {
+    let d = if hi > lo { (hi - lo) * 0.06 } else { lo.abs().max(1.0) * 0.1 };
+    (lo - d, hi + d)
+}
+
 /// Draws one panel of line series on `area`: log axes where every value is positive and the
 /// range spans at least a factor 20.
 pub(super) fn line_panel<DB: DrawingBackend>(
@@ -76,25 +93,11 @@ pub(super) fn line_panel<DB: DrawingBackend>(
     series: &[Series],
     force_linear_y: bool,
 ) -> Result<()> {
-    let xs = || series.iter().flat_map(|s| s.points.iter().map(|p| p.0));
-    let ys = || series.iter().flat_map(|s| s.points.iter().map(|p| p.1));
-    let span = |v: &mut dyn Iterator<Item = f64>| {
-        let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
-        for x in v {
-            lo = lo.min(x);
-            hi = hi.max(x);
-        }
-        (lo, hi)
-    };
-    let (xl, xh) = span(&mut xs());
-    let (yl, yh) = span(&mut ys());
+    let (xl, xh) = span(series.iter().flat_map(|s| s.points.iter().map(|p| p.0)));
+    let (yl, yh) = span(series.iter().flat_map(|s| s.points.iter().map(|p| p.1)));
     if !xl.is_finite() {
         return Ok(());
     }
-    let pad = |lo: f64, hi: f64| {
-        let d = if hi > lo { (hi - lo) * 0.06 } else { lo.abs().max(1.0) * 0.1 };
-        (lo - d, hi + d)
-    };
     let xlog = xl > 0.0 && xh / xl >= 20.0;
     let ylog = !force_linear_y && yl > 0.0 && yh / yl >= 20.0;
     let (xp, yp) = (pad(xl, xh), pad(yl, yh));

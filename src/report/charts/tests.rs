@@ -102,20 +102,6 @@ fn cost_charts_read_any_encoder_set() {
     assert!(matches!(error_vs_cost(&plain, Cost::EvalNs, "x").unwrap(), Outcome::Skipped(s) if s.contains("eval_ns")));
 }
 
-#[test]
-fn time_chart_skips_without_fit_ns_and_draws_with_it() {
-    let t = csv("map,encoder,metric,rmse\na,sh1,exact,0.5\na,sh2,exact,0.1\n");
-    assert!(matches!(error_vs_time(&t, "x").unwrap(), Outcome::Skipped(s) if s.contains("fit_ns")));
-    let t = csv("map,encoder,metric,rmse,fit_ns\na,sh1,exact,0.5,10\na,sh2,exact,0.1,40\na,zz,exact,0.3,50\n");
-    match error_vs_time(&t, "x").unwrap() {
-        Outcome::Drawn { caption, image, .. } => {
-            assert!(caption.contains("both better): sh1, sh2"), "{caption}");
-            assert_eq!(image.dimensions(), (820, 580));
-        }
-        Outcome::Skipped(s) => panic!("{s}"),
-    }
-}
-
 /// A cluster of points as the ZH3 table's time chart has (eight encoders within 40 px, one
 /// at the right edge): every box is inside the plot and no two overlap (checked pairwise from
 /// the returned layout), and the right-edge label went left of its point.

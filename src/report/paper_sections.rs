@@ -1,41 +1,23 @@
-//! REPORT.md's paper sections (one per paper, its figures with their tables and charts),
-//! the list of other results, and the names of the pages and files the report links.
+//! REPORT.md's paper sections (one per paper, in the order of [`super::plans::section_titles`]:
+//! its claims, the figures its plan reproduces with their tables and charts, links to its pages)
+//! and the list of other results.
 
 use super::charts;
 use super::csvfile::CsvTable;
 use super::markdown::{self, href};
-use super::papers;
+use super::names::{rel, PAGE, PROVENANCE_PAGE};
+use super::page::Page;
+use super::plans::{section_titles, Figure, PaperPlan};
+use super::ratios::ratio_pivot;
 use anyhow::Result;
 use std::fmt::Write as _;
 use std::path::Path;
-
-/// A result folder's page, `results/<name>/README.md`.
-pub const PAGE: &str = "README.md";
-
-/// How the run was made in full (tables' provenance, settings, maps with sha256).
-pub const PROVENANCE_PAGE: &str = "PROVENANCE.md";
-
-/// The claims engine's table, relative to the results folder.
-pub const CLAIMS_CSV: &str = "CLAIMS.csv";
-
-/// A folder that got a page.
-pub(super) struct Page {
-    pub(super) name: String,
-    pub(super) description: Option<String>,
-    /// False for an experiment with no results folder yet.
-    pub(super) has_page: bool,
-}
-
-/// Link text from REPORT.md (in `out`) to `name/file`.
-pub(super) fn rel(name: &str, file: &str) -> String {
-    format!("{name}/{file}")
-}
 
 /// One section per paper: its claims' ids, the paper's figures reproduced, and its pages.
 pub(super) fn paper_sections(
     out: &Path,
     decls: &[crate::claims::declaration::Paper],
-    plans: &[papers::PaperPlan],
+    plans: &[PaperPlan],
     pages: &[Page],
 ) -> Result<String> {
     let evidence = |key: &str| {
@@ -47,7 +29,7 @@ pub(super) fn paper_sections(
         }
     };
     let mut md = String::new();
-    for (title, plan) in papers::section_titles(decls, plans) {
+    for (title, plan) in section_titles(decls, plans) {
         let _ = writeln!(md, "## {title}\n");
         let decl = decls.iter().find(|p| p.title == title);
         if let Some(p) = decl {
@@ -79,8 +61,7 @@ pub(super) fn paper_sections(
 }
 
 /// One figure of a paper section, or nothing when its file is absent.
-pub(super) fn figure(out: &Path, f: &papers::Figure) -> Result<String> {
-    use papers::Figure;
+pub(super) fn figure(out: &Path, f: &Figure) -> Result<String> {
     let mut md = String::new();
     match f {
         Figure::Pivot { folder, caption } => {
@@ -98,7 +79,7 @@ pub(super) fn figure(out: &Path, f: &papers::Figure) -> Result<String> {
         Figure::Ratios { folder, caption } => {
             let p = out.join(folder).join("summary.csv");
             if p.is_file() {
-                if let Some(pv) = papers::ratio_pivot(&CsvTable::read(&p)?)? {
+                if let Some(pv) = ratio_pivot(&CsvTable::read(&p)?)? {
                     let _ = writeln!(
                         md,
                         "{caption} From [{folder}/summary.csv]({}): {pv}",
@@ -115,7 +96,7 @@ pub(super) fn figure(out: &Path, f: &papers::Figure) -> Result<String> {
                     md,
                     "{caption} From [{folder}/{file}]({}):\n\n{}",
                     href(&rel(folder, file)),
-                    papers::whole_csv(&t)
+                    whole_csv(&t)
                 );
             }
         }
@@ -171,4 +152,10 @@ pub(super) fn other_results(pages: &[Page], in_papers: &[&str]) -> String {
         "\nHow every table was made (commit, date, settings, maps with sha256): [{PROVENANCE_PAGE}]({PROVENANCE_PAGE}).\n"
     );
     md
+}
+
+/// A small CSV shown whole (numbers to 4 significant digits).
+fn whole_csv(t: &CsvTable) -> String {
+    let rows: Vec<Vec<String>> = t.rows.clone();
+    markdown::table(&t.headers, &rows)
 }
