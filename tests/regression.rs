@@ -14,7 +14,7 @@ use probelab::envmap::search::SearchPath;
 use probelab::math::sh::band_of;
 use probelab::pipeline::experiment::{list_experiments, Experiment};
 use probelab::regression::baseline::Table;
-use probelab::regression::check::{compare_with_baseline, Finding};
+use probelab::regression::check::{compare_with_baseline, Finding, MapPolicy};
 use probelab::regression::provenance::Provenance;
 use probelab::regression::tolerance::{EncoderClass, Tolerance, Tolerances};
 use std::path::Path;
@@ -265,8 +265,15 @@ fn check_catches_a_changed_band_scale() {
     let search = SearchPath::new(vec![repo().join("envmaps")]);
     let report = probelab::pipeline::runner::run(&exp, &search).unwrap();
     let tolerances = Tolerances::load(&repo()).unwrap();
-    let c = compare_with_baseline(&repo().join("results/generated_scenes"), &exp, &report, &tolerances, false).unwrap();
-    let report_text = c.report();
+    let c = compare_with_baseline(
+        &repo().join("results/generated_scenes"),
+        &exp,
+        &report,
+        &tolerances,
+        MapPolicy::RequireAll,
+    )
+    .unwrap();
+    let report_text = probelab::ops::check::text::experiment(&c);
     eprintln!("{report_text}");
     assert!(!c.passed());
     let mut maps = std::collections::BTreeSet::new();

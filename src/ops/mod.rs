@@ -4,10 +4,15 @@
 //! the command line's options (`--encoders`, `--domain`, `--normal`), whose names the Python
 //! package's keyword arguments share. Layers: `ARCHITECTURE.md`.
 
+pub mod bless;
 pub mod check;
+pub mod claims;
 pub mod context;
 pub mod eval;
 pub mod fit;
 pub mod json;
+pub mod report;
+pub mod reproduce;
+pub mod run;
 
 pub use context::{Env, Notes, Quiet};
