@@ -14,6 +14,9 @@ use crate::regression::claims::{self, ClaimsMode, ClaimsRun};
 use anyhow::Result;
 use std::path::PathBuf;
 
+/// What is handed each experiment's check as soon as it is known.
+pub type OnChecked<'a> = &'a dyn Fn(&ExperimentCheck) -> Result<()>;
+
 /// What `check` is asked to do.
 pub struct CheckOptions<'a> {
     /// Experiment names or files, and `claims` for the claims (empty: the default selection).
@@ -27,7 +30,7 @@ pub struct CheckOptions<'a> {
     /// Handed each experiment's check as soon as it is known (the text report prints it then),
     /// followed by a note of the seconds it took; `None`: neither (the JSON document says it
     /// all at the end).
-    pub on_checked: Option<&'a dyn Fn(&ExperimentCheck) -> Result<()>>,
+    pub on_checked: Option<OnChecked<'a>>,
 }
 
 /// What `check` found.

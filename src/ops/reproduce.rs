@@ -27,7 +27,7 @@ pub struct ReproduceOptions {
 /// What became of one experiment, by how many of its maps were found.
 pub enum Reproduced {
     /// Every map: its table stored as `run` stores it.
-    Stored(Stored),
+    Stored(Box<Stored>),
     /// Some maps (the missing ones named): checked on those, never written.
     Partial(Vec<String>, PartialCheck),
     /// No map: skipped.
@@ -124,7 +124,7 @@ pub fn reproduce(env: &Env, opts: &ReproduceOptions) -> Result<ReproduceOutcome>
         outcome,
     };
     for (exp, report) in &runs.done {
-        results.push(entry(exp, Reproduced::Stored(super::run::store(env, &out, exp, report)?)));
+        results.push(entry(exp, Reproduced::Stored(Box::new(super::run::store(env, &out, exp, report)?))));
     }
     // Some maps found: those maps' rows are compared with the committed baseline, which is
     // never rewritten from a partial run.

@@ -256,12 +256,15 @@ pub fn compare(
     out
 }
 
+/// A row's cells: (column, value) pairs.
+type Cells = [(String, String)];
+
 /// The cells of one row both tables have, `(old, new)` as (column, value) pairs: each number
 /// counted and judged against its column's tolerance, each text cell compared exactly.
 fn compare_cells(
     out: &mut Comparison,
     key: &RowKey,
-    (oc, nc): (&[(String, String)], &[(String, String)]),
+    (oc, nc): (&Cells, &Cells),
     common: &dyn Fn(&str) -> bool,
     tolerance: &dyn Fn(&RowKey, &str) -> Tolerance,
 ) {

@@ -47,7 +47,7 @@ pub enum PartialCheck {
     /// No baseline to compare with (a note, not a failure).
     NoBaseline,
     /// The rows of the maps found compared with the baseline.
-    Compared(ExperimentCheck),
+    Compared(Box<ExperimentCheck>),
 }
 
 impl PartialCheck {
@@ -78,7 +78,7 @@ pub fn check_partial(out: &Path, root: &Path, exp: &Experiment, report: &RunRepo
         return Ok(PartialCheck::NoBaseline);
     }
     let c = compare_with_baseline(&dir, exp, report, &Tolerances::load(root)?, MapPolicy::AllowMissing)?;
-    Ok(PartialCheck::Compared(c))
+    Ok(PartialCheck::Compared(Box::new(c)))
 }
 
 /// The fresh rows with their scores replaced by the stored table's (`<dir>/table.csv`), for a
