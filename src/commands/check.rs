@@ -1,14 +1,14 @@
-//! `probelab check`: re-runs experiments and compares every number with its baseline; exit 1
-//! when anything moved (a map not on this machine leaves its rows unchecked, said once at the
-//! end, unless `--require-all-maps`). Holds the results folder's shared lock, so no `bless` rewrites a
-//! baseline while it is read. Text prints each experiment's report as it comes, then the
-//! verdict; JSON prints one document at the end.
+//! `probelab check`: re-runs experiments and compares every number with its baseline
+//! (`ops::check`); exit 1 when anything moved (a map not on this machine leaves its rows
+//! unchecked, said once at the end, unless `--require-all-maps`). Text prints each
+//! experiment's report as it comes, then the verdict; JSON prints one document at the end.
 
 use super::output;
-use super::terminal::{note, noteln, outln};
+use super::terminal::outln;
 use anyhow::Result;
-use probelab::ops::check as check_json;
-use probelab::ops::Env;
+use probelab::ops::check::{self, text, CheckOptions};
+use probelab::ops::{claims, Env};
+use probelab::regression::check::{ExperimentCheck, MapPolicy, Selection};
 use std::path::PathBuf;
 
 /// `probelab check`.
@@ -36,52 +36,26 @@ pub struct Args {
 }
 
 pub fn run(a: Args, env: &Env) -> Result<i32> {
-    let out = env.results(a.out);
     let json = a.format == "json";
-    let _lock = env.reading(&out)?;
-    let claims = a.all || a.experiments.iter().any(|e| e == "claims");
-    let names: Vec<String> = a.experiments.into_iter().filter(|e| e != "claims").collect();
-    let mut code = 0;
-    let mut checked = None;
-    let mut claims_run = None;
-    if a.all || !names.is_empty() || !claims {
-        env.refuse_long_experiments(&probelab::regression::check::select(&env.root, &names, !a.all)?.0)?;
-        let mut show = |c: &probelab::regression::check::ExperimentCheck, seconds: f64| -> Result<()> {
-            if !json {
-                output::write(c.report().as_bytes())?;
-                noteln!("  ({}: {seconds:.1} s)", c.experiment);
-            }
-            Ok(())
-        };
-        let (c, summary) = probelab::regression::check::check_experiments(
-            &env.root,
-            &env.search,
-            &out,
-            &names,
-            (a.all, !a.require_all_maps),
-            &mut show,
-        )?;
-        code = c;
-        note(&summary.notes);
-        if !json {
-            output::write(summary.text.as_bytes())?;
-        }
-        checked = Some(summary);
-    }
-    if claims {
-        let run = probelab::regression::claims::run(&env.root, &env.search, &out, false, false)?;
-        let (ok, text) = probelab::regression::claims::report(&run, true);
-        if !json {
-            output::write(text.as_bytes())?;
-            outln!("claims: {}", if ok { "ok: no measurement moved, no verdict changed" } else { "FAILED" })?;
-        }
-        if !ok {
-            code = code.max(1);
-        }
-        claims_run = Some(run);
-    }
+    let show = |c: &ExperimentCheck| -> Result<()> { Ok(output::write(text::experiment(c).as_bytes())?) };
+    let opts = CheckOptions {
+        experiments: a.experiments,
+        selection: if a.all { Selection::All } else { Selection::Ci },
+        maps: if a.require_all_maps { MapPolicy::RequireAll } else { MapPolicy::AllowMissing },
+        out: a.out,
+        on_checked: if json { None } else { Some(&show) },
+    };
+    let outcome = check::check(env, &opts)?;
     if json {
-        output::write(check_json::to_json(checked.as_ref(), claims_run.as_ref())?.as_bytes())?;
+        output::write(check::json::document(&outcome)?.as_bytes())?;
+    } else {
+        if let Some(c) = &outcome.experiments {
+            output::write(text::closing(c).as_bytes())?;
+        }
+        if let Some(run) = &outcome.claims {
+            output::write(claims::text::report(run).as_bytes())?;
+            outln!("{}", text::claims_verdict(run))?;
+        }
     }
-    Ok(code)
+    Ok(if outcome.passed() { 0 } else { 1 })
 }

@@ -1,4 +1,4 @@
-//! What the commands share beyond `ops::Context`: the search path's description, and the exit
+//! What the commands share beyond `ops::Env`: the search path's description, and the exit
 //! code of a run whose baselines were refused.
 
 use super::terminal::note;
@@ -12,7 +12,7 @@ pub fn describe_search(s: &SearchPath) -> String {
 /// The exit code of `run`/`reproduce` with the baselines of `refused` not written: 1, with the
 /// advice on stderr, when any was refused.
 pub fn refused_exit(refused: &[String]) -> i32 {
-    match probelab::regression::check::refusal_advice(refused) {
+    match probelab::ops::run::text::refusal_advice(refused) {
         Some(advice) => {
             note(&advice);
             1

@@ -1,11 +1,11 @@
 //! `probelab report`: draws the comparison sheets and charts and writes `results/REPORT.md`,
-//! the folders' pages and `PROVENANCE.md` from the result CSVs (`report::generate`). Takes the
-//! results folder's exclusive lock.
+//! the folders' pages and `PROVENANCE.md` from the result CSVs (`ops::report`).
 
-use super::terminal::noteln;
+use super::terminal::note;
 use anyhow::Result;
+use probelab::ops::report::{self, ReportOptions};
 use probelab::ops::Env;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 /// `probelab report`.
 #[derive(clap::Args, Debug)]
@@ -21,28 +21,7 @@ pub struct Args {
 }
 
 pub fn run(a: Args, env: &Env) -> Result<i32> {
-    env.checkout()?;
-    let out = env.results(a.out);
-    let _lock = env.writing(&out)?;
-    write_report(env, &out, a.scale)?;
+    let generated = report::report(env, &ReportOptions { out: a.out, sheet_scale: a.scale })?;
+    note(&report::text::lines(&generated));
     Ok(0)
-}
-
-/// Writes results/REPORT.md with its pictures (`report::generate`), the comparison sheets at
-/// `sheet_scale` (1 for the standard sheets), and says what was drawn.
-pub fn write_report(env: &Env, out: &Path, sheet_scale: u32) -> Result<()> {
-    let options = probelab::report::Options { root: &env.root, out, search: &env.search, sheet_scale };
-    let g = probelab::report::generate(&options)?;
-    noteln!("wrote {} ({} picture(s) drawn)", g.report.display(), g.pictures);
-    if !g.kept.is_empty() {
-        noteln!(
-            "sheets not redrawn, the committed ones kept ({} map(s) not on the search path): {}",
-            g.missing.len(),
-            g.kept.join(", ")
-        );
-    }
-    for m in &g.mismatches {
-        noteln!("warning: {m}");
-    }
-    Ok(())
 }

@@ -6,7 +6,9 @@
 //! `--domain`, `--normal`), whose names the Python package's keyword arguments share. Layers:
 //! `ARCHITECTURE.md`.
 
+pub mod bless;
 pub mod check;
+pub mod claims;
 pub mod context;
 pub mod encoders;
 pub mod eval;
@@ -19,6 +21,9 @@ pub mod merge;
 pub mod probes;
 pub mod source;
 pub mod sweep;
+pub mod report;
+pub mod reproduce;
+pub mod run;
 
 pub use crate::encoders::DEFAULT_IDS as DEFAULT_ENCODERS;
 /// The map search path every workflow reads maps from (`<root>/envmaps`, then `PROBELAB_ENVMAPS`).

@@ -246,47 +246,7 @@ pub fn compare(
         };
         matched[oi] = true;
         out.rows += 1;
-        let (oc, nc) = (old.cells(oi), new.cells(ni));
-        let mut names: Vec<&String> = nc.iter().map(|(n, _)| n).collect();
-        names.extend(oc.iter().map(|(n, _)| n).filter(|n| !nc.iter().any(|(m, _)| m == *n)));
-        for name in names {
-            if !common(name) {
-                continue;
-            }
-            let get = |cells: &[(String, String)]| cells.iter().find(|(n, _)| n == name).map(|(_, v)| v.clone());
-            let (ov, nv) = (get(&oc).unwrap_or_default(), get(&nc).unwrap_or_default());
-            let tol = tolerance(&key, name);
-            if tol == Tolerance::Ignore {
-                out.ignored += 1;
-                continue;
-            }
-            let parse = |s: &str| s.parse::<f64>().ok().filter(|v| v.is_finite());
-            match (parse(&ov), parse(&nv)) {
-                (Some(o), Some(n)) => {
-                    out.numbers += 1;
-                    if ov == nv || o == n {
-                        continue;
-                    }
-                    if tol.accepts(o, n) {
-                        out.within += 1;
-                    } else {
-                        let rel = if o != 0.0 { (n - o) / o.abs() } else { f64::INFINITY };
-                        out.changes.push(Change::Moved {
-                            key: key.clone(),
-                            column: name.clone(),
-                            old: ov,
-                            new: nv,
-                            rel,
-                            tolerance: tol,
-                        });
-                    }
-                }
-                _ if ov != nv => {
-                    out.changes.push(Change::Text { key: key.clone(), column: name.clone(), old: ov, new: nv })
-                }
-                _ => {}
-            }
-        }
+        compare_cells(&mut out, &key, (&old.cells(oi), &new.cells(ni)), &common, tolerance);
     }
     for (k, m) in old_keys.into_iter().zip(matched) {
         if !m && !skip(&k.map) {
@@ -294,6 +254,60 @@ pub fn compare(
         }
     }
     out
+}
+
+/// A row's cells: (column, value) pairs.
+type Cells = [(String, String)];
+
+/// The cells of one row both tables have, `(old, new)` as (column, value) pairs: each number
+/// counted and judged against its column's tolerance, each text cell compared exactly.
+fn compare_cells(
+    out: &mut Comparison,
+    key: &RowKey,
+    (oc, nc): (&Cells, &Cells),
+    common: &dyn Fn(&str) -> bool,
+    tolerance: &dyn Fn(&RowKey, &str) -> Tolerance,
+) {
+    let mut names: Vec<&String> = nc.iter().map(|(n, _)| n).collect();
+    names.extend(oc.iter().map(|(n, _)| n).filter(|n| !nc.iter().any(|(m, _)| m == *n)));
+    for name in names {
+        if !common(name) {
+            continue;
+        }
+        let get = |cells: &[(String, String)]| cells.iter().find(|(n, _)| n == name).map(|(_, v)| v.clone());
+        let (ov, nv) = (get(oc).unwrap_or_default(), get(nc).unwrap_or_default());
+        let tol = tolerance(key, name);
+        if tol == Tolerance::Ignore {
+            out.ignored += 1;
+            continue;
+        }
+        let parse = |s: &str| s.parse::<f64>().ok().filter(|v| v.is_finite());
+        match (parse(&ov), parse(&nv)) {
+            (Some(o), Some(n)) => {
+                out.numbers += 1;
+                if ov == nv || o == n {
+                    continue;
+                }
+                if tol.accepts(o, n) {
+                    out.within += 1;
+                } else {
+                    let rel = if o != 0.0 { (n - o) / o.abs() } else { f64::INFINITY };
+                    out.changes.push(Change::Moved {
+                        key: key.clone(),
+                        column: name.clone(),
+                        old: ov,
+                        new: nv,
+                        rel,
+                        tolerance: tol,
+                    });
+                }
+            }
+            _ if ov != nv => {
+                out.changes.push(Change::Text { key: key.clone(), column: name.clone(), old: ov, new: nv })
+            }
+            _ => {}
+        }
+    }
 }
 
 #[cfg(test)]

@@ -56,8 +56,22 @@ fn compare_measure(results: &Path, m: &Measure, tolerances: &Tolerances) -> Resu
     Ok(Some(c.changes))
 }
 
+/// What a claims run writes, and so what fails it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ClaimsMode {
+    /// `check`: nothing written; a measurement moved or a verdict changed fails.
+    Check,
+    /// `claims`, `reproduce`: measurements new or unmoved written, verdicts and evidence pages
+    /// written; a measurement moved fails (and is not written).
+    Write,
+    /// `bless`: every measurement written, verdicts and evidence pages written.
+    Bless,
+}
+
 /// The outcome of a claims run.
 pub struct ClaimsRun {
+    /// What the run was asked to write.
+    pub mode: ClaimsMode,
     /// Measurement tables written (relative to results).
     pub written: Vec<String>,
     /// Measurements whose numbers moved (not written unless blessed), with the changes.
@@ -72,37 +86,9 @@ pub struct ClaimsRun {
 }
 
 impl ClaimsRun {
-    /// No measurement moved and, when `checking`, no verdict changed.
-    pub fn passed(&self, checking: bool) -> bool {
-        self.moved.is_empty() && (!checking || self.verdicts_changed.is_empty())
-    }
-
-    /// The run as JSON (`check --format json`'s `claims`; `docs/json.md`): `passed`
-    /// ([`ClaimsRun::passed`]), whether the measurements were taken and why not, each moved
-    /// measurement with its changes ([`Change::to_json`]), and each changed verdict.
-    pub fn to_json(&self, checking: bool) -> serde_json::Value {
-        let moved: Vec<serde_json::Value> = self
-            .moved
-            .iter()
-            .map(|(name, ch)| {
-                serde_json::json!({
-                    "measurement": name,
-                    "changes": ch.iter().map(Change::to_json).collect::<Vec<_>>(),
-                })
-            })
-            .collect();
-        let verdicts: Vec<serde_json::Value> = self
-            .verdicts_changed
-            .iter()
-            .map(|(id, old, new)| serde_json::json!({ "id": id, "committed": old, "now": new }))
-            .collect();
-        serde_json::json!({
-            "passed": self.passed(checking),
-            "measured": self.skipped.is_none(),
-            "not_measured_because": self.skipped,
-            "moved": moved,
-            "verdicts_changed": verdicts,
-        })
+    /// No measurement moved and, under [`ClaimsMode::Check`], no verdict changed.
+    pub fn passed(&self) -> bool {
+        self.moved.is_empty() && (self.mode != ClaimsMode::Check || self.verdicts_changed.is_empty())
     }
 }
 
@@ -117,11 +103,13 @@ fn committed_verdicts(results: &Path) -> Vec<(String, String)> {
 }
 
 /// Runs the measurements (when their maps are here), writes those that are new or unmoved
-/// (all of them with `bless`), then judges every claim and, with `write_verdicts`, writes
-/// CLAIMS.csv and the evidence pages.
-pub fn run(root: &Path, search: &SearchPath, results: &Path, bless: bool, write_verdicts: bool) -> Result<ClaimsRun> {
+/// (all of them under [`ClaimsMode::Bless`]), then judges every claim and, unless
+/// [`ClaimsMode::Check`], writes CLAIMS.csv and the evidence pages.
+pub fn run(root: &Path, search: &SearchPath, results: &Path, mode: ClaimsMode) -> Result<ClaimsRun> {
     let papers: Vec<Paper> = load_papers(&root.join("experiments"))?;
-    let mut run = ClaimsRun { written: vec![], moved: vec![], skipped: None, verdicts_changed: vec![], strips: vec![] };
+    let mut run =
+        ClaimsRun { mode, written: vec![], moved: vec![], skipped: None, verdicts_changed: vec![], strips: vec![] };
+    let (bless, write_verdicts) = (mode == ClaimsMode::Bless, mode != ClaimsMode::Check);
     if papers.is_empty() {
         run.skipped = Some("no claims declared in experiments/claims/".into());
         return Ok(run);
@@ -138,7 +126,7 @@ pub fn run(root: &Path, search: &SearchPath, results: &Path, bless: bool, write_
                     _ => keep.push(m),
                 }
             }
-            if write_verdicts || bless {
+            if write_verdicts {
                 run.written = crate::claims::measure::write_all(results, &keep)?;
             }
         }
@@ -152,29 +140,8 @@ pub fn run(root: &Path, search: &SearchPath, results: &Path, bless: bool, write_
             run.verdicts_changed.push((o.id.clone(), before, new));
         }
     }
-    if write_verdicts || bless {
+    if write_verdicts {
         run.written.extend(verdicts::write(results, &papers, &outcomes)?);
     }
     Ok(run)
-}
-
-/// Prints a claims run's outcome (to stdout, as `check` prints its report); true when nothing
-/// moved and no verdict changed.
-pub fn report(run: &ClaimsRun, checking: bool) -> (bool, String) {
-    let mut s = String::new();
-    if let Some(why) = &run.skipped {
-        s += &format!(
-            "claims: measurements not taken ({why}); the committed measurement tables are judged as they stand\n"
-        );
-    }
-    for (name, ch) in &run.moved {
-        s += &format!("claims: measurement {name} moved ({} change(s)); not written:\n", ch.len());
-        for c in ch.iter().take(20) {
-            s += &format!("  {c}\n");
-        }
-    }
-    for (id, old, new) in &run.verdicts_changed {
-        s += &format!("claims: verdict of {id}: {old} -> {new}\n");
-    }
-    (run.passed(checking), s)
 }
