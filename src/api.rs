@@ -331,7 +331,7 @@ impl Experiment {
     /// folders searched.
     pub fn run(&self, root: impl AsRef<Path>) -> Result<Vec<Row>> {
         let search = SearchPath::from_env(root.as_ref().join("envmaps"));
-        let report = crate::pipeline::runner::run(&self.exp, &search)?;
+        let report = crate::pipeline::runner::run(&self.exp, &search, &Default::default())?;
         if !report.missing.is_empty() {
             let why: Vec<String> =
                 report.missing.iter().zip(&report.missing_why).map(|(m, w)| format!("{m} ({w})")).collect();

@@ -1,13 +1,7 @@
-//! What the commands share beyond `ops::Env`: the search path's description, and the exit
-//! code of a run whose baselines were refused.
+//! What the commands share beyond `ops::Env`: the exit code of a run whose baselines were
+//! refused.
 
 use super::terminal::note;
-use probelab::envmap::search::SearchPath;
-
-/// The search path's folders, each marked `(missing)` when it is not there.
-pub fn describe_search(s: &SearchPath) -> String {
-    s.describe()
-}
 
 /// The exit code of `run`/`reproduce` with the baselines of `refused` not written: 1, with the
 /// advice on stderr, when any was refused.

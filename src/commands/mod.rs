@@ -30,7 +30,7 @@ mod terminal;
 
 use anyhow::{bail, Context, Result};
 use clap::{Parser, Subcommand};
-use probelab::ops::{Env, SearchPath};
+use probelab::ops::{Env, Profile, RunSettings, SearchPath};
 use std::path::PathBuf;
 
 /// The `probelab` command line (its global options and the command).
@@ -113,17 +113,15 @@ pub fn main_with(cli: Cli) -> Result<i32> {
         }
         rayon::ThreadPoolBuilder::new().num_threads(j).build_global().context("--jobs")?;
     }
-    if cli.profile {
-        probelab::io::profile::enable();
-    }
-    probelab::pipeline::timing::set_enabled(!cli.no_timing);
     terminal::install_progress();
-    let _profile_report = terminal::ProfileReport(std::time::Instant::now());
+    let started = std::time::Instant::now();
+    let profile = cli.profile.then(Profile::new);
     let env = Env {
         search: SearchPath::from_env(cli.root.join("envmaps")),
         root: cli.root,
         allow_long: cli.allow_long,
         notes: &terminal::Stderr,
+        settings: RunSettings { timing: !cli.no_timing, profile: profile.as_ref() },
     };
     let done = match cli.command {
         Command::Run(a) => run::run(a, &env),
@@ -145,6 +143,9 @@ pub fn main_with(cli: Cli) -> Result<i32> {
     // What writes found beside their targets, left by writers no longer running.
     for p in probelab::io::atomic::take_removed() {
         terminal::noteln!("removed {} (left by a killed run whose process is gone)", p.display());
+    }
+    if let Some(p) = &profile {
+        terminal::note(&p.report(started.elapsed().as_secs_f64()));
     }
     done
 }

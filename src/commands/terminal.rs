@@ -107,14 +107,3 @@ impl Task for Bar {
         self.bars.remove(&self.bar);
     }
 }
-
-/// Prints the `--profile` report to stderr when dropped, if profiling is on.
-pub struct ProfileReport(pub std::time::Instant);
-
-impl Drop for ProfileReport {
-    fn drop(&mut self) {
-        if probelab::io::profile::enabled() {
-            note(&probelab::io::profile::report(self.0.elapsed().as_secs_f64()));
-        }
-    }
-}

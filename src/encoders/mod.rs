@@ -18,4 +18,6 @@ pub mod sh_high;
 pub mod stored;
 pub mod zh3;
 
-pub use registry::{build, build_list, family_of, known_ids, EncoderKind, NamedEncoder, BASELINE, DEFAULT_IDS, REGISTRY};
+pub use registry::{
+    build, build_list, family_of, known_ids, EncoderKind, NamedEncoder, BASELINE, DEFAULT_IDS, REGISTRY,
+};

@@ -46,7 +46,7 @@ pub fn bless(env: &Env, opts: &BlessOptions) -> Result<BlessOutcome> {
     if all || !names.is_empty() {
         env.refuse_long_experiments(&select(&env.root, &names, Selection::All)?.0)?;
         let mut show = |c: &ExperimentCheck| (opts.on_compared)(c);
-        let blessed = bless::bless(&env.root, &env.search, &out, (&names, opts.rewrite), &mut show)?;
+        let blessed = bless::bless(&env.root, &env.search, &out, (&names, opts.rewrite), &env.settings, &mut show)?;
         outcome.experiments = Some(blessed);
     }
     if all || opts.experiments.iter().any(|e| e == "claims") {

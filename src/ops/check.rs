@@ -65,7 +65,8 @@ pub fn check(env: &Env, opts: &CheckOptions) -> Result<CheckOutcome> {
             }
             Ok(())
         };
-        let request = CheckRequest { names: &names, selection: opts.selection, policy: opts.maps };
+        let request =
+            CheckRequest { names: &names, selection: opts.selection, policy: opts.maps, settings: env.settings };
         let checked = check_experiments(&env.root, &env.search, &out, &request, &mut show)?;
         env.note_lines(&checked.missing.notes(&env.search));
         outcome.experiments = Some(checked);

@@ -8,6 +8,7 @@ use crate::io::distinct::{refuse_overwrite, Named};
 use crate::io::folder;
 use crate::pipeline::estimate::{self, Estimate};
 use crate::pipeline::experiment::Experiment;
+use crate::pipeline::settings::RunSettings;
 use anyhow::Result;
 use std::path::{Path, PathBuf};
 
@@ -36,6 +37,8 @@ pub struct Env<'a> {
     pub allow_long: bool,
     /// Where the lines for the user go.
     pub notes: &'a dyn Notes,
+    /// How runs are carried out: the timing pass on or off, the profile their phases are timed on.
+    pub settings: RunSettings<'a>,
 }
 
 /// An estimate at least this long (seconds) is announced when the run goes ahead.
@@ -67,7 +70,8 @@ impl Env<'_> {
     /// [`Env::refuse_long`] for experiments run together, their estimates added up: a
     /// refusal names the file of the longest.
     pub fn refuse_long_experiments(&self, exps: &[Experiment]) -> Result<()> {
-        let parts: Vec<Estimate> = exps.iter().map(|e| estimate::experiment(e, &self.search)).collect();
+        let parts: Vec<Estimate> =
+            exps.iter().map(|e| estimate::experiment(e, &self.search, self.settings.timing)).collect();
         let longest = parts.iter().enumerate().max_by(|a, b| a.1.seconds.total_cmp(&b.1.seconds)).map(|(i, _)| i);
         let what = match longest.map(|i| &exps[i]) {
             Some(e) => {

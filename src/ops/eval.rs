@@ -16,7 +16,6 @@ use crate::reference::metrics::Metric;
 use anyhow::{bail, Context, Result};
 
 pub use crate::pipeline::table::{COLUMNS, NUMERIC_COLUMNS, TIMING_COLUMNS};
-pub use crate::pipeline::timing::set_enabled as set_timing;
 pub use crate::reference::exact::DEFAULT_POLAR_NODES;
 
 /// The maps `eval` scores.
@@ -90,7 +89,7 @@ pub fn eval(env: &Env, o: &EvalOptions) -> Result<Evaluated> {
         EvalMaps::Named(maps) => {
             let exp = experiment(maps.clone(), o)?;
             env.refuse_long_experiments(std::slice::from_ref(&exp))?;
-            let report = runner::run(&exp, &env.search)?;
+            let report = runner::run(&exp, &env.search, &env.settings)?;
             if !report.missing.is_empty() {
                 let why: Vec<String> =
                     report.missing.iter().zip(&report.missing_why).map(|(m, w)| format!("{m} ({w})")).collect();
@@ -101,7 +100,7 @@ pub fn eval(env: &Env, o: &EvalOptions) -> Result<Evaluated> {
         EvalMaps::Texels(texels) => {
             let map = texels.open()?;
             let exp = experiment(vec![map.name().to_string()], o)?;
-            let rows = runner::run_map(&exp, map.env_map());
+            let rows = runner::run_map(&exp, map.env_map(), &env.settings);
             Ok(Evaluated { rows, maps: vec![MapEntry::from_map(&texels.name, map.env_map())] })
         }
     }

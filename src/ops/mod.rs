@@ -19,14 +19,16 @@ pub mod json;
 pub mod maps;
 pub mod merge;
 pub mod probes;
-pub mod source;
-pub mod sweep;
 pub mod report;
 pub mod reproduce;
 pub mod run;
+pub mod source;
+pub mod sweep;
 
 pub use crate::encoders::DEFAULT_IDS as DEFAULT_ENCODERS;
 /// The map search path every workflow reads maps from (`<root>/envmaps`, then `PROBELAB_ENVMAPS`).
 pub use crate::envmap::search::SearchPath;
+pub use crate::io::profile::Profile;
+pub use crate::pipeline::settings::RunSettings;
 pub use context::{Env, Notes, Quiet};
 pub use source::{MapSource, Texels};

@@ -29,6 +29,12 @@ pub fn report(env: &Env, opts: &ReportOptions) -> Result<Generated> {
 /// Writes `<out>/REPORT.md` with its pictures, the comparison sheets at `sheet_scale`, under a
 /// lock the caller holds (`report`, `reproduce`).
 pub(crate) fn generate(env: &Env, out: &Path, sheet_scale: u32) -> Result<Generated> {
-    let options = crate::report::Options { root: &env.root, out, search: &env.search, sheet_scale };
+    let options = crate::report::Options {
+        root: &env.root,
+        out,
+        search: &env.search,
+        sheet_scale,
+        profile: env.settings.profile,
+    };
     crate::report::generate(&options)
 }

@@ -92,7 +92,7 @@ fn run_all<'a>(exps: &'a [Experiment], env: &Env) -> Result<Runs<'a>> {
     let progress = Progress::new(exps.len() as u64, "experiments");
     for exp in exps {
         progress.message(exp.name.clone());
-        let report = runner::run(exp, &env.search)?;
+        let report = runner::run(exp, &env.search, &env.settings)?;
         if report.missing.is_empty() {
             runs.done.push((exp, report));
         } else if report.missing.len() == exp.maps.len() {

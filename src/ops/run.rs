@@ -60,7 +60,7 @@ pub fn run(env: &Env, opts: &RunOptions) -> Result<RunOutcome> {
     env.refuse_long_experiments(&exps)?;
     let mut done = Vec::new();
     for exp in &exps {
-        let report = runner::run(exp, &env.search)?;
+        let report = runner::run(exp, &env.search, &env.settings)?;
         if !report.missing.is_empty() {
             bail!(
                 "{}\nnothing written. Searched: {}",
@@ -103,7 +103,7 @@ fn missing_maps(exp: &Experiment, missing: &[String], why: &[String]) -> String 
 /// ([`guard::store`]). What became of the table is noted as it is known; when the table
 /// stands, the summary derived from it is written too (`run`, `reproduce`).
 pub(crate) fn store(env: &Env, out: &Path, exp: &Experiment, report: &RunReport) -> Result<Stored> {
-    let _s = crate::io::profile::span("write");
+    let _s = env.settings.span("write");
     let stored = guard::store(out, &env.root, exp, report)?;
     let dir = out.join(&exp.name);
     env.note_lines(&text::stored(&stored, &dir, report.rows.len()));

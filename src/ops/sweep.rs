@@ -71,7 +71,7 @@ pub fn sweep(env: &Env, o: &SweepOptions) -> Result<Swept> {
     }
     let mut swept = Swept::default();
     for ((path, sweep), file) in files.iter().zip(&sweeps).zip(targets) {
-        let (rows, missing) = sweep::run(sweep, &env.search)?;
+        let (rows, missing) = sweep::run(sweep, &env.search, env.settings.profile)?;
         if !missing.is_empty() {
             if all {
                 env.notes.note(&format!("skipped sweep {}: map(s) not found: {}", sweep.name, missing.join(", ")));

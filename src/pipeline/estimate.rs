@@ -185,8 +185,14 @@ fn capped(normals: f64, pieces: f64) -> f64 {
 }
 
 /// Core-ns (parallel) and wall ns (the sequential timing pass) of one map's work in `exp` at
-/// `resolution`, with `polar_nodes`.
-fn map_work(exp: &Experiment, size: (usize, usize), resolution: (usize, usize), polar_nodes: usize) -> (f64, f64) {
+/// `resolution`, with `polar_nodes`; the timing pass counts only when it runs (`timing`).
+fn map_work(
+    exp: &Experiment,
+    size: (usize, usize),
+    resolution: (usize, usize),
+    polar_nodes: usize,
+    timing: bool,
+) -> (f64, f64) {
     let texels = (size.0 * size.1) as f64;
     let pieces = (size.1.max(MIN_ROW_PIECES) * polar_nodes) as f64;
     let cases = case_count(exp) as f64;
@@ -205,18 +211,24 @@ fn map_work(exp: &Experiment, size: (usize, usize), resolution: (usize, usize), 
     let per_case = reference + light + encoders * (FIT_NS + EVAL_NS * scored);
     let parallel = LOAD_NS_PER_TEXEL * texels + cases * per_case;
     let timed = largest.min(crate::pipeline::timing::EVAL_NORMALS as f64);
-    let timing = match crate::pipeline::timing::enabled() {
+    let timing = match timing {
         true => cases * encoders * (TIMING_NS + TIMING_REPEATS * (FIT_NS + EVAL_NS * timed)),
         false => 0.0,
     };
     (parallel, timing)
 }
 
-/// The estimate of running `exp` on maps of the given sizes (width, height).
+/// The estimate of running `exp` on maps of the given sizes (width, height), with the timing
+/// pass.
 pub fn experiment_on(exp: &Experiment, sizes: &[(usize, usize)]) -> Estimate {
+    experiment_timed(exp, sizes, true)
+}
+
+/// [`experiment_on`], with the timing pass only if `timing` (`RunSettings::timing`).
+pub fn experiment_timed(exp: &Experiment, sizes: &[(usize, usize)], timing: bool) -> Estimate {
     let (mut parallel, mut sequential) = (0.0, 0.0);
     for &size in sizes {
-        let (p, s) = map_work(exp, size, exp.resolution, exp.polar_nodes);
+        let (p, s) = map_work(exp, size, exp.resolution, exp.polar_nodes, timing);
         parallel += p;
         sequential += s;
     }
@@ -262,9 +274,10 @@ pub fn map_sizes(exp: &Experiment, search: &SearchPath) -> Vec<(usize, usize)> {
         .collect()
 }
 
-/// The estimate of running `exp` on the maps the search path finds.
-pub fn experiment(exp: &Experiment, search: &SearchPath) -> Estimate {
-    experiment_on(exp, &map_sizes(exp, search))
+/// The estimate of running `exp` on the maps the search path finds, with the timing pass only
+/// if `timing`.
+pub fn experiment(exp: &Experiment, search: &SearchPath, timing: bool) -> Estimate {
+    experiment_timed(exp, &map_sizes(exp, search), timing)
 }
 
 /// The estimate of a sweep on maps of the given sizes: at each value, the reference (and for
@@ -282,9 +295,9 @@ pub fn sweep_on(sweep: &Sweep, sizes: &[(usize, usize)]) -> Estimate {
                 (Knob::PolarNodes, toml::Value::Integer(q)) => (exp.resolution, (*q).clamp(1, 16) as usize),
                 _ => (exp.resolution, exp.polar_nodes),
             };
-            parallel += SWEEP_REPEATS * map_work(exp, size, res, nodes).0;
+            parallel += SWEEP_REPEATS * map_work(exp, size, res, nodes, false).0;
         }
-        parallel += map_work(exp, size, exp.resolution, sweep.converged_polar_nodes).0;
+        parallel += map_work(exp, size, exp.resolution, sweep.converged_polar_nodes, false).0;
     }
     let mut drivers = drivers(exp, sizes);
     drivers.push_str(&format!(", {} value(s) of {}", sweep.values.len(), sweep.knob.name()));

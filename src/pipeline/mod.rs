@@ -1,6 +1,6 @@
 //! The pipeline layer: the order of work from an experiment file to a table. Experiment
 //! files and their validation (`experiment`), the estimate of a run's time (`estimate`), the runner (`runner`: per map, per case, per
-//! encoder, scoring), the timing pass (`timing`), result rows and CSV (`table`), summaries
+//! encoder, scoring), a run's settings (`settings`: timing on or off, the profile), the timing pass (`timing`), result rows and CSV (`table`), summaries
 //! (`summary`), one-knob sweeps (`sweep`), probe sets at scale (`probeset`) and the ZH3
 //! hallucination-curve fit (`hallucination_fit`).
 //!
@@ -12,6 +12,7 @@ pub mod experiment;
 pub mod hallucination_fit;
 pub mod probeset;
 pub mod runner;
+pub mod settings;
 pub mod summary;
 pub mod sweep;
 pub mod table;

@@ -15,6 +15,7 @@ use crate::math::cap::Cap;
 use crate::math::colour::Rgb;
 use crate::math::sh::Sh9;
 use crate::pipeline::experiment::{DomainKind, Effect, Experiment};
+use crate::pipeline::settings::RunSettings;
 use crate::pipeline::table::Row;
 use crate::pipeline::timing;
 use crate::reference::domain::{frame_to, Domain, OutputGrid};
@@ -174,10 +175,15 @@ pub struct RunReport {
     pub missing_why: Vec<String>,
 }
 
+/// The profile phase of setting up a case under caps (hemisphere and cone effects): its masked
+/// SH projection and its capped reference ([`CaseData::new`]). A case with no declared effect is
+/// the phase "case setup" and computes neither.
+pub const CAPPED_CASE_SETUP: &str = "case setup (masked SH, capped reference)";
+
 /// Runs an experiment over the maps the search path finds. Maps that are not found (or, for a
 /// known map, found only in files with other pixels: `SearchPath::open`) are listed in
 /// `missing`; a map that is found but cannot be read is an error.
-pub fn run(exp: &Experiment, search: &SearchPath) -> Result<RunReport> {
+pub fn run(exp: &Experiment, search: &SearchPath, settings: &RunSettings) -> Result<RunReport> {
     let mut rows = Vec::new();
     let mut maps = Vec::new();
     let mut missing: Vec<(usize, String, String)> = Vec::new();
@@ -213,7 +219,7 @@ pub fn run(exp: &Experiment, search: &SearchPath) -> Result<RunReport> {
         progress.message(name.clone());
         // Load first: the loader refuses what is not a regular file (reading a FIFO would block).
         let map = {
-            let _s = crate::io::profile::span("decode");
+            let _s = settings.span("decode");
             match search.open(name) {
                 Ok(m) => m,
                 Err(OpenError::NotFound(e)) => {
@@ -234,7 +240,7 @@ pub fn run(exp: &Experiment, search: &SearchPath) -> Result<RunReport> {
             pixel_sha256: map.pixel_sha256.clone().unwrap_or_default(),
             exposure: map.exposure,
         });
-        rows.extend(run_map(exp, &map));
+        rows.extend(run_map(exp, &map, settings));
         progress.inc();
     }
     progress.finish();
@@ -360,9 +366,9 @@ impl<'a> CaseData<'a> {
 }
 
 /// Scores every encoder of the experiment on one in-memory map.
-pub fn run_map(exp: &Experiment, map: &EnvMap) -> Vec<Row> {
+pub fn run_map(exp: &Experiment, map: &EnvMap, settings: &RunSettings) -> Vec<Row> {
     let data = {
-        let _s = crate::io::profile::span("row moments + SH projection");
+        let _s = settings.span("row moments + SH projection");
         MapData::new(map)
     };
     let all = cases(exp);
@@ -371,13 +377,13 @@ pub fn run_map(exp: &Experiment, map: &EnvMap) -> Vec<Row> {
     let (mut per_case, inputs): (Vec<Vec<Row>>, Vec<(CaseInputs, MapLight)>) = all
         .par_iter()
         .map(|case| {
-            let done = run_case(exp, &data, case);
+            let done = run_case(exp, &data, case, settings);
             progress.iter().for_each(Progress::inc);
             done
         })
         .unzip();
     drop(progress);
-    fill_timing(exp, &all, &inputs, &mut per_case);
+    fill_timing(exp, &all, &inputs, &mut per_case, settings);
     per_case.into_iter().flatten().collect()
 }
 
@@ -385,11 +391,17 @@ pub fn run_map(exp: &Experiment, map: &EnvMap) -> Vec<Row> {
 /// `cases[c]` and `inputs[c]` what scoring fitted them from (with the case's light, whose
 /// caches scoring filled): sequentially, after scoring, so timing never touches the numbers
 /// ([`crate::pipeline::timing`]).
-fn fill_timing(exp: &Experiment, cases: &[Case], inputs: &[(CaseInputs, MapLight)], rows: &mut [Vec<Row>]) {
-    if !timing::enabled() {
+fn fill_timing(
+    exp: &Experiment,
+    cases: &[Case],
+    inputs: &[(CaseInputs, MapLight)],
+    rows: &mut [Vec<Row>],
+    settings: &RunSettings,
+) {
+    if !settings.timing {
         return;
     }
-    let _span = crate::io::profile::span("timing pass");
+    let _span = settings.span("timing pass");
     let progress = (cases.len() > 1).then(|| Progress::new(cases.len() as u64, "timing pass: cases"));
     for ((case, (inputs, light)), rows) in cases.iter().zip(inputs).zip(rows.iter_mut()) {
         let input = inputs.fit_input(case, Some(light));
@@ -410,16 +422,21 @@ fn fill_timing(exp: &Experiment, cases: &[Case], inputs: &[(CaseInputs, MapLight
 type ScoredGrid = ((usize, usize), bool, OutputGrid, Vec<Rgb>);
 
 /// Scores every encoder on one case; returns the rows and the inputs they were fitted from.
-fn run_case<'d>(exp: &Experiment, data: &'d MapData, case: &'d Case) -> (Vec<Row>, (CaseInputs, MapLight<'d>)) {
+fn run_case<'d>(
+    exp: &Experiment,
+    data: &'d MapData,
+    case: &'d Case,
+    settings: &RunSettings,
+) -> (Vec<Row>, (CaseInputs, MapLight<'d>)) {
     let map = data.map;
     let cd = {
-        let _s = crate::io::profile::span("case setup (visible SH)");
+        let _s = settings.span(if case.masks.is_empty() { "case setup" } else { CAPPED_CASE_SETUP });
         CaseData::new(data, case, exp.polar_nodes)
     };
     let reference = &cd.reference;
     let input = cd.fit_input();
     let fitted: Vec<_> = {
-        let _s = crate::io::profile::span("fit");
+        let _s = settings.span("fit");
         exp.encoders.iter().map(|e| e.encoder.fit(&input)).collect()
     };
     let mut rows = Vec::new();
@@ -433,14 +450,21 @@ fn run_case<'d>(exp: &Experiment, data: &'d MapData, case: &'d Case) -> (Vec<Row
         let sphere = matches!(domain, Domain::Sphere);
         if !grids.iter().any(|g| g.0 == res && g.1 == sphere) {
             let grid = domain.output_grid(res);
-            let _s = crate::io::profile::span("reference");
+            let _s = settings.span("reference");
             let values = cd.reference_on(&grid);
             grids.push((res, sphere, grid, values));
         }
         // Cannot fail: the grid was pushed just above when it was not there.
         let (_, _, grid, ref_values) = grids.iter().find(|g| g.0 == res && g.1 == sphere).expect("grid just added");
         for (named, fit) in exp.encoders.iter().zip(&fitted) {
-            let scores = score_fit(named.encoder.as_ref(), fit.as_ref(), grid, ref_values, *metric);
+            let test = {
+                let _s = settings.span("render (encoder eval)");
+                evaluate(fit.as_ref(), &grid.normals)
+            };
+            let scores = {
+                let _s = settings.span("score");
+                score_values(named.encoder.as_ref(), &test, grid, ref_values, *metric)
+            };
             let diagnostics = fit
                 .diagnostics()
                 .iter()
@@ -475,7 +499,6 @@ fn run_case<'d>(exp: &Experiment, data: &'d MapData, case: &'d Case) -> (Vec<Row
 
 /// Evaluates a fit at every normal: E/π, in parallel, in the normals' order.
 pub fn evaluate(fit: &dyn Fitted, normals: &[DVec3]) -> Vec<Rgb> {
-    let _s = crate::io::profile::span("render (encoder eval)");
     normals.par_iter().with_min_len(256).map(|&n| fit.irradiance(n)).collect()
 }
 
@@ -502,7 +525,6 @@ pub fn score_values(
     reference: &[Rgb],
     metric: Metric,
 ) -> Scores {
-    let _s = crate::io::profile::span("score");
     let clamp = metric == Metric::Probulator && encoder.peer_clamps();
     match metric {
         Metric::Exact => score(reference, test, &grid.weights, clamp),
@@ -552,7 +574,7 @@ mod tests {
                 assert!((got - want).abs().max_element() < 1e-8, "N={n} n'={np}: {got} vs {want}");
             }
         }
-        let rows = run_map(&exp, &map);
+        let rows = run_map(&exp, &map, &RunSettings::default());
         assert_eq!(rows.len(), 36);
         for r in &rows {
             let rho: f64 = r.effects.split("albedo=").nth(1).unwrap().trim_end_matches(')').parse().unwrap();

@@ -31,6 +31,7 @@
 
 use crate::envmap::search::SearchPath;
 use crate::envmap::{EnvMap, LatLong};
+use crate::io::profile::{self, Profile};
 use crate::math::colour::Rgb;
 use crate::pipeline::experiment::{Experiment, ExperimentFile};
 use crate::pipeline::runner::{cases, score_fit, Case, CaseData, MapData};
@@ -343,9 +344,9 @@ fn time_slow(mut f: impl FnMut()) -> f64 {
     median_ns_with(&mut f, Duration::from_millis(1), Duration::from_millis(50))
 }
 
-/// Runs a sweep on one in-memory map.
-pub fn sweep_map(sweep: &Sweep, map: &EnvMap) -> Result<Vec<SweepRow>> {
-    sweep_map_with(sweep, map, &|v| Ok(sweep.experiment_at(v)?.encoders))
+/// Runs a sweep on one in-memory map, its phases timed on `profile` if one is given.
+pub fn sweep_map(sweep: &Sweep, map: &EnvMap, profile: Option<&Profile>) -> Result<Vec<SweepRow>> {
+    sweep_map_with(sweep, map, &|v| Ok(sweep.experiment_at(v)?.encoders), profile)
 }
 
 /// [`sweep_map`] with the encoders of an `encoder.KEY` value built by `encoders_at` (the
@@ -354,6 +355,7 @@ pub fn sweep_map_with(
     sweep: &Sweep,
     map: &EnvMap,
     encoders_at: &dyn Fn(&toml::Value) -> Result<Vec<crate::encoders::NamedEncoder>>,
+    profile: Option<&Profile>,
 ) -> Result<Vec<SweepRow>> {
     let exp = &sweep.exp;
     let full = MapData::new(map);
@@ -368,6 +370,7 @@ pub fn sweep_map_with(
             res_label: format!("{}x{}", grid.resolution.0, grid.resolution.1),
             grid,
             rows: &mut rows,
+            profile,
         };
         match &sweep.knob {
             Knob::RefResolution | Knob::PolarNodes => at.reference_knob()?,
@@ -388,6 +391,7 @@ struct CaseSweep<'a> {
     grid: OutputGrid,
     res_label: String,
     rows: &'a mut Vec<SweepRow>,
+    profile: Option<&'a Profile>,
 }
 
 impl CaseSweep<'_> {
@@ -424,7 +428,7 @@ impl CaseSweep<'_> {
     fn reference_knob(&mut self) -> Result<()> {
         let (sweep, map, exp) = (self.sweep, self.map, &self.sweep.exp);
         let conv = {
-            let _s = crate::io::profile::span("sweep: converged reference");
+            let _s = profile::span(self.profile, "sweep: converged reference");
             CaseData::new(self.full, self.case, sweep.converged_polar_nodes).reference_on(&self.grid)
         };
         let converged_label = self.converged_label();
@@ -442,7 +446,7 @@ impl CaseSweep<'_> {
             let data = MapData::new(input);
             let cd = CaseData::new(&data, self.case, q);
             let values = {
-                let _s = crate::io::profile::span("sweep: swept reference");
+                let _s = profile::span(self.profile, "sweep: swept reference");
                 cd.reference_on(&self.grid)
             };
             let s = score(&conv, &values, &self.grid.weights, false);
@@ -463,7 +467,7 @@ impl CaseSweep<'_> {
     /// The time of the reference at a reference knob's value, and what was timed.
     fn time_reference(&self, input: &EnvMap, q: usize) -> (f64, String) {
         let (case, grid, res_label) = (self.case, &self.grid, &self.res_label);
-        let _timing = crate::io::profile::span("sweep: timing repeats");
+        let _timing = profile::span(self.profile, "sweep: timing repeats");
         if self.sweep.knob == Knob::RefResolution {
             let t = time_slow(|| {
                 let m = crate::envmap::moments::RowMoments::new(input);
@@ -544,8 +548,9 @@ impl CaseSweep<'_> {
     }
 }
 
-/// Runs a sweep over the maps the search path finds; returns rows and the missing maps.
-pub fn run(sweep: &Sweep, search: &SearchPath) -> Result<(Vec<SweepRow>, Vec<String>)> {
+/// Runs a sweep over the maps the search path finds, its phases timed on `profile` if one is
+/// given; returns rows and the missing maps.
+pub fn run(sweep: &Sweep, search: &SearchPath, profile: Option<&Profile>) -> Result<(Vec<SweepRow>, Vec<String>)> {
     let (mut rows, mut missing) = (Vec::new(), Vec::new());
     let progress =
         crate::io::progress::Progress::new(sweep.exp.maps.len() as u64, &format!("sweep {}: maps", sweep.name));
@@ -560,7 +565,7 @@ pub fn run(sweep: &Sweep, search: &SearchPath) -> Result<(Vec<SweepRow>, Vec<Str
             }
             Err(crate::envmap::search::OpenError::Load(e)) => return Err(e.into()),
         };
-        rows.extend(sweep_map(sweep, &map)?);
+        rows.extend(sweep_map(sweep, &map, profile)?);
         progress.inc();
     }
     progress.finish();
@@ -622,7 +627,7 @@ mod tests {
         )
         .unwrap();
         let map = generated()[5].map(64);
-        let rows = sweep_map(&s, &map).unwrap();
+        let rows = sweep_map(&s, &map, None).unwrap();
         let refs: Vec<f64> = rows.iter().filter(|r| r.encoder == "reference").map(|r| r.rmse).collect();
         assert_eq!(refs.len(), 4);
         assert!(refs[0] > refs[1] && refs[1] > refs[2], "{refs:?}");
@@ -641,7 +646,7 @@ mod tests {
     fn ref_resolution_sweep_orders_errors() {
         let s = sweep("knob = 'ref_resolution'\nvalues = ['8x4', '32x16', 'full', '512x256']\nmaps = ['x']\nencoders = ['sh2']\nresolution = [32, 16]").unwrap();
         let map = generated()[3].map(128);
-        let rows = sweep_map(&s, &map).unwrap();
+        let rows = sweep_map(&s, &map, None).unwrap();
         let refs: Vec<(String, f64)> =
             rows.iter().filter(|r| r.encoder == "reference").map(|r| (r.value.clone(), r.rmse)).collect();
         assert_eq!(refs.len(), 3, "512x256 is larger than the map and skipped: {refs:?}");
@@ -653,7 +658,7 @@ mod tests {
     fn out_resolution_sweep_converges() {
         let s = sweep("knob = 'out_resolution'\nvalues = ['8x4', '32x16', '128x64']\nmaps = ['x']\nencoders = ['sh1']")
             .unwrap();
-        let rows = sweep_map(&s, &generated()[3].map(128)).unwrap();
+        let rows = sweep_map(&s, &generated()[3].map(128), None).unwrap();
         let r: Vec<f64> = rows.iter().map(|r| r.rmse).collect();
         assert!((r[0] - r[2]).abs() > (r[1] - r[2]).abs(), "{r:?}");
         assert!(rows.iter().all(|r| r.encoder == "sh1"));
@@ -687,10 +692,11 @@ mod tests {
         let mut s =
             sweep("knob = 'polar_nodes'\nvalues = [2]\nmaps = ['x']\nencoders = ['sh0', 'sh1', 'sh2']").unwrap();
         let map = generated()[3].map(64);
-        let direct: Vec<f64> = crate::pipeline::runner::run_map(&s.exp, &map).iter().map(|r| r.scores.rmse).collect();
+        let direct: Vec<f64> =
+            crate::pipeline::runner::run_map(&s.exp, &map, &Default::default()).iter().map(|r| r.scores.rmse).collect();
         s.knob = Knob::EncoderKey("bands".into());
         s.values = (0..3).map(toml::Value::Integer).collect();
-        let rows = sweep_map_with(&s, &map, &build).unwrap();
+        let rows = sweep_map_with(&s, &map, &build, None).unwrap();
         assert_eq!(rows.len(), 3);
         for (r, want) in rows.iter().zip(&direct) {
             assert_eq!(r.encoder, "bands");

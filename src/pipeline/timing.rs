@@ -13,25 +13,12 @@
 //! for slow ones), so the pass stays small next to scoring. Measurements run on the calling thread, one at a time, after the
 //! parallel scoring has finished. They are wall-clock figures on a shared machine: they vary
 //! run to run, which is why the regression check ignores [`TIMING_COLUMNS`](crate::pipeline::table::TIMING_COLUMNS).
-//! `--no-timing` leaves the columns empty.
+//! `--no-timing` leaves the columns empty (`RunSettings::timing`).
 
 use crate::encoders::encoder::{Encoder, FitInput};
 use glam::DVec3;
 use std::hint::black_box;
-use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
-
-static DISABLED: AtomicBool = AtomicBool::new(false);
-
-/// Turns the timing pass on or off for this process (the `--no-timing` flag).
-pub fn set_enabled(on: bool) {
-    DISABLED.store(!on, Ordering::Relaxed);
-}
-
-/// Whether the timing pass runs (on unless [`set_enabled`] turned it off).
-pub fn enabled() -> bool {
-    !DISABLED.load(Ordering::Relaxed)
-}
 
 /// A batch must last at least this long.
 const MIN_BATCH: Duration = Duration::from_micros(25);

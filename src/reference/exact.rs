@@ -22,18 +22,9 @@ use rayon::prelude::*;
 use std::f64::consts::{FRAC_1_PI, TAU};
 
 /// Default Gauss–Legendre nodes per row piece. Chosen from the convergence study in the tests
-/// and `probelab reference-convergence`: 2 nodes agree with 8 to better than 1e-7 relative on
+/// and the polar-nodes sweep (`experiments/sweeps/polar_nodes.toml`): 2 nodes agree with 8 to better than 1e-7 relative on
 /// the generated scenes at 256×128.
 pub const DEFAULT_POLAR_NODES: usize = 2;
-
-/// References built with at least one cap so far in this process (instrumentation: the test
-/// that an undeclared effect costs nothing counts them).
-static CAPPED_REFERENCES: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
-
-/// How many [`Reference`]s with at least one cap this process has built.
-pub fn capped_reference_count() -> usize {
-    CAPPED_REFERENCES.load(std::sync::atomic::Ordering::Relaxed)
-}
 
 /// The exact irradiance of one map under a fixed set of visibility caps.
 pub struct Reference<'a> {
@@ -136,9 +127,6 @@ impl<'a> Reference<'a> {
     /// cap of `masks` (empty: the whole sphere), integrating each row piece with `polar_nodes`
     /// Gauss–Legendre nodes.
     pub fn new(moments: &'a RowMoments<'a>, masks: Vec<Cap>, polar_nodes: usize) -> Self {
-        if !masks.is_empty() {
-            CAPPED_REFERENCES.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-        }
         let rule = gauss_legendre(polar_nodes.max(1));
         let grid = LatLong::new(moments.width(), moments.height());
         let mut mask_breaks = [0.0f64; 8];

@@ -129,22 +129,10 @@ pub fn project(map: &EnvMap) -> Sh9 {
     sum_rows(rows)
 }
 
-/// Masked projections run so far in this process (instrumentation: the test that an undeclared
-/// effect costs nothing counts them).
-static MASKED_PROJECTIONS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
-
-/// How many [`project_visible`] calls with at least one cap this process has made.
-pub fn masked_projection_count() -> usize {
-    MASKED_PROJECTIONS.load(std::sync::atomic::Ordering::Relaxed)
-}
-
 /// The L2 SH projection of the light inside every cap of `masks` (the visible radiance under
 /// hemisphere or cone effects). Rows no cap boundary crosses are integrated exactly; the others
 /// with `polar_nodes` Gauss–Legendre nodes per piece between cap breakpoints.
 pub fn project_visible(moments: &RowMoments, masks: &[Cap], polar_nodes: usize) -> Sh9 {
-    if !masks.is_empty() {
-        MASKED_PROJECTIONS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-    }
     let grid = crate::envmap::LatLong::new(moments.width(), moments.height());
     let rule = gauss_legendre(polar_nodes.max(1));
     let breaks: Vec<f64> = masks.iter().flat_map(|c| c.breakpoints()).collect();

@@ -5,6 +5,7 @@
 use crate::envmap::search::SearchPath;
 use crate::pipeline::experiment::Experiment;
 use crate::pipeline::runner::{self, RunReport};
+use crate::pipeline::settings::RunSettings;
 use crate::regression::baseline::TABLE;
 use crate::regression::check::{compare_with_baseline, select, ExperimentCheck, MapPolicy, Selection};
 use crate::regression::provenance::{self, Provenance};
@@ -52,6 +53,7 @@ pub fn bless(
     search: &SearchPath,
     out: &Path,
     (names, rewrite): (&[String], Rewrite),
+    settings: &RunSettings,
     compared: &mut dyn FnMut(&ExperimentCheck) -> Result<()>,
 ) -> Result<Blessed> {
     let (exps, _) = select(root, names, Selection::All)?;
@@ -59,7 +61,7 @@ pub fn bless(
     let mut staged = Vec::new();
     let mut skipped = Vec::new();
     for exp in &exps {
-        let report = runner::run(exp, search)?;
+        let report = runner::run(exp, search, settings)?;
         if !report.missing.is_empty() {
             if !names.is_empty() {
                 bail!(

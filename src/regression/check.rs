@@ -10,6 +10,7 @@ use crate::envmap::load::sha256_hex;
 use crate::envmap::search::SearchPath;
 use crate::pipeline::experiment::{list_experiments, Experiment};
 use crate::pipeline::runner::{self, MapInfo, RunReport};
+use crate::pipeline::settings::RunSettings;
 use crate::regression::baseline::{self, Comparison, Table, TABLE};
 pub use crate::regression::finding::Finding;
 use crate::regression::missing::MissingMaps;
@@ -275,6 +276,8 @@ pub struct CheckRequest<'a> {
     pub selection: Selection,
     /// What a missing map does.
     pub policy: MapPolicy,
+    /// How the experiments are run (the timing pass, the profile).
+    pub settings: RunSettings<'a>,
 }
 
 /// `probelab check`: checks the selected experiments against their baselines. A map not on
@@ -308,7 +311,7 @@ pub fn check_experiments(
     };
     for exp in &exps {
         let t = std::time::Instant::now();
-        let report = runner::run(exp, search)?;
+        let report = runner::run(exp, search, &request.settings)?;
         let c = compare_with_baseline(&out.join(&exp.name), exp, &report, &tolerances, request.policy)?;
         checked(&c, t.elapsed().as_secs_f64())?;
         all.maps.extend(report.maps);

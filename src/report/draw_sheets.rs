@@ -7,6 +7,7 @@ use super::maps::MapUse;
 use super::names::file_safe;
 use super::options::Options;
 use super::{png, sheet};
+use crate::io::profile;
 use crate::io::progress::Progress;
 use crate::pipeline::experiment::Experiment;
 use anyhow::Result;
@@ -59,16 +60,19 @@ pub(super) fn experiment_sheets(
         .par_iter()
         .map(|m| -> Result<String> {
             let map = {
-                let _s = crate::io::profile::span("report: decode");
+                let _s = profile::span(opts.profile, "report: decode");
                 opts.search.load(m)?
             };
-            let (sheet, _) = sheet::experiment_sheet(exp, &map, table.as_ref(), opts.sheet_scale)?;
+            let (sheet, _) = sheet::experiment_sheet(exp, &map, table.as_ref(), opts.sheet_scale, opts.profile)?;
             let name = format!("sheet_{}.png", file_safe(m));
             let image = {
-                let _s = crate::io::profile::span("report: draw");
+                let _s = profile::span(opts.profile, "report: draw");
                 sheet.draw()?
             };
-            png::write_png(&dir.join(&name), &image)?;
+            {
+                let _s = profile::span(opts.profile, "report: PNG encode");
+                png::write_png(&dir.join(&name), &image)?;
+            }
             progress.log(format!("wrote {}", dir.join(&name).display()));
             progress.inc();
             Ok(name)

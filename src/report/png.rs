@@ -10,7 +10,6 @@ use std::path::Path;
 pub fn png_bytes(img: &RgbImage) -> Result<Vec<u8>> {
     use image::codecs::png::{CompressionType, FilterType, PngEncoder};
     use image::ImageEncoder;
-    let _s = crate::io::profile::span("report: PNG encode");
     let mut out = Vec::new();
     PngEncoder::new_with_quality(&mut out, CompressionType::Default, FilterType::Adaptive).write_image(
         img.as_raw(),

@@ -41,10 +41,17 @@ fn check_catches_a_changed_band_scale() {
     let i = exp.encoders.iter().position(|e| e.name == "sh1").expect("generated_scenes has sh1");
     exp.encoders[i] = NamedEncoder { name: "sh1".into(), encoder: Box::new(BrokenSh1) };
     let search = SearchPath::new(vec![repo().join("envmaps")]);
-    let report = crate::pipeline::runner::run(&exp, &search).unwrap();
+    let report = crate::pipeline::runner::run(&exp, &search, &Default::default()).unwrap();
     let tolerances = Tolerances::load(&repo()).unwrap();
-    let c = compare_with_baseline(&repo().join("results/generated_scenes"), &exp, &report, &tolerances, false).unwrap();
-    let report_text = c.report();
+    let c = compare_with_baseline(
+        &repo().join("results/generated_scenes"),
+        &exp,
+        &report,
+        &tolerances,
+        crate::regression::check::MapPolicy::RequireAll,
+    )
+    .unwrap();
+    let report_text = crate::ops::check::text::experiment(&c);
     assert!(!c.passed());
     let mut maps = std::collections::BTreeSet::new();
     for f in &c.findings {

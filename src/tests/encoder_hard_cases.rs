@@ -734,7 +734,7 @@ fn tiny_hard_maps_score_finite_through_the_pipeline() {
     for text in &exps {
         let exp = Experiment::parse(text, Path::new("hard.toml")).unwrap();
         for m in &maps {
-            let rows = crate::pipeline::runner::run_map(&exp, m);
+            let rows = crate::pipeline::runner::run_map(&exp, m, &Default::default());
             assert!(!rows.is_empty());
             for r in &rows {
                 let s = &r.scores;

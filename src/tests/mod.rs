@@ -8,6 +8,7 @@
 mod band_scale_check;
 mod claim_ids;
 mod common;
+mod effects_cost;
 mod encoder_hard_cases;
 mod encoder_properties;
 mod envmap_load;

@@ -14,11 +14,12 @@ use anyhow::Context;
 use probelab::api::{unit_normal, DVec3, Map, Surface, Value};
 use probelab::ops::eval::{self as evaluate, EvalMaps, EvalOptions};
 use probelab::ops::fit::{self as fitting, encoder_ids, FitOptions};
-use probelab::ops::{Env, MapSource, Quiet, SearchPath, Texels};
+use probelab::ops::{Env, MapSource, Quiet, RunSettings, SearchPath, Texels};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::{PyByteArray, PyBytes};
 use std::path::Path;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 pyo3::create_exception!(
     probelab,
@@ -33,15 +34,20 @@ fn py_err(e: anyhow::Error) -> PyErr {
     Error::new_err(format!("{e:#}"))
 }
 
+/// Whether `eval` runs the timing pass (`set_timing`): the Python module's setting, as
+/// `--no-timing` is the command line's; the library keeps none.
+static TIMING: AtomicBool = AtomicBool::new(true);
+
 /// What a workflow is given from Python: the root, its search path (`<root>/envmaps`, then
-/// `PROBELAB_ENVMAPS`), no notes, and no refusal of long work (a Python program decides that
-/// itself).
+/// `PROBELAB_ENVMAPS`), no notes, no refusal of long work (a Python program decides that
+/// itself), and the module's timing setting.
 fn env(root: &str) -> Env<'static> {
     Env {
         root: root.into(),
         search: SearchPath::from_env(Path::new(root).join("envmaps")),
         allow_long: true,
         notes: &Quiet,
+        settings: RunSettings { timing: TIMING.load(Ordering::Relaxed), profile: None },
     }
 }
 
@@ -242,10 +248,10 @@ fn encoders() -> Vec<(&'static str, &'static str)> {
 }
 
 /// Whether `eval` measures `fit_ns` and `eval_ns` (the command line's `--no-timing` is
-/// `set_timing(False)`); process-wide.
+/// `set_timing(False)`); for this Python process.
 #[pyfunction]
 fn set_timing(on: bool) {
-    evaluate::set_timing(on);
+    TIMING.store(on, Ordering::Relaxed);
 }
 
 /// The module `probelab._core`.

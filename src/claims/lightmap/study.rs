@@ -34,7 +34,6 @@ pub const BOUNCE_EXPERIMENT: &str = "lightmap_self_bounce";
 /// `fig2`, `fig2_curve`, `blend`, `blend_curve`, `hhd_roundtrip`, `probe_leak`,
 /// `self_bounce_quadrature`, and the strips.
 pub fn measure(search: &SearchPath, experiments: &Path) -> Result<Study> {
-    crate::pipeline::timing::set_enabled(false);
     let (fig2, fig2_curve) = fig2_measures();
     let (blend, blend_curve, strips) = blend_measures(search)?;
     let leaks = leak::measure(search, &Experiment::load(&experiments.join(format!("{LEAK_EXPERIMENT}.toml")))?)?;

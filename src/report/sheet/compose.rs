@@ -11,6 +11,7 @@ use super::render::{Sheet, SheetRow};
 use super::thumbnail::latlong_thumbnail;
 use crate::encoders::encoder::Fitted;
 use crate::envmap::EnvMap;
+use crate::io::profile::{self, Profile};
 use crate::math::colour::{luminance, Rgb};
 use crate::pipeline::experiment::Experiment;
 use crate::pipeline::runner::{cases, evaluate, score_fit, Case, CaseData, MapData};
@@ -45,12 +46,14 @@ pub fn representative_case(all: &[Case]) -> usize {
 /// source the bilinear error reached 2.7% of the local value at 256x128 and 0.66% at 512x256,
 /// visible on the error spheres; so it is not done.)
 /// At `scale` N the discs are [`DISC`]·N pixels across, each pixel's normal evaluated, and
-/// the thumbnail is filtered at [`THUMB_W`]·N; the figures do not depend on the scale.
+/// the thumbnail is filtered at [`THUMB_W`]·N; the figures do not depend on the scale. The
+/// reference and the encoders' evaluation are timed on `timed_on` (`--profile`), if given.
 pub fn experiment_sheet(
     exp: &Experiment,
     map: &EnvMap,
     table: Option<&CsvTable>,
     scale: u32,
+    timed_on: Option<&Profile>,
 ) -> Result<(Sheet, SheetScores)> {
     ensure!((1..=MAX_SCALE).contains(&scale), "sheet scale {scale}: must be 1 to {MAX_SCALE}");
     let data = MapData::new(map);
@@ -70,11 +73,11 @@ pub fn experiment_sheet(
     let views = case_views(case);
     let discs: Vec<Disc> = views.iter().map(|v| Disc::new(v, (scale * DISC) as usize)).collect();
     let reference: Vec<Vec<Rgb>> = {
-        let _s = crate::io::profile::span("report: reference (sheets)");
+        let _s = profile::span(timed_on, "report: reference (sheets)");
         discs.iter().map(|d| cd.reference_many(&d.normals)).collect()
     };
     let values: Vec<Vec<Vec<Rgb>>> = {
-        let _s = crate::io::profile::span("report: encoder eval (sheets)");
+        let _s = profile::span(timed_on, "report: encoder eval (sheets)");
         fitted.iter().map(|f| discs.iter().map(|d| evaluate(f.as_ref(), &d.normals)).collect()).collect()
     };
     let (tone, error) = sheet_scales(&reference, &figures, table.and_then(experiment_error_range));
