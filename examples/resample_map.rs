@@ -5,13 +5,12 @@
 //! cargo run --release --example resample_map -- SOURCE.exr WIDTHxHEIGHT OUT.exr
 //! ```
 //!
-//! Smaller targets are averaged down (`envmap::resample::downsample`, as the shared maps were
-//! made), larger ones take the nearest texel (`envmap::resample::nearest`). The output is a
-//! half-float ZIP OpenEXR, the format of most published HDRIs. Prints `wrote OUT (WxH)`.
+//! Smaller targets are averaged down (as the shared maps were made), larger ones take the
+//! nearest texel ([`probelab::Map::resized`]). The output is a half-float ZIP OpenEXR, the
+//! format of most published HDRIs ([`probelab::Map::write_exr_half`]). Prints `wrote OUT (WxH)`.
 
 use anyhow::{bail, Context};
-use probelab::envmap::{load, resample};
-use std::path::Path;
+use probelab::Map;
 
 fn main() -> anyhow::Result<()> {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -22,10 +21,10 @@ fn main() -> anyhow::Result<()> {
         .split_once('x')
         .and_then(|(w, h)| Some((w.parse::<usize>().ok()?, h.parse::<usize>().ok()?)))
         .context("WIDTHxHEIGHT: two whole numbers, e.g. 4096x2048")?;
-    let map = load::load(Path::new(src))?;
-    let resized = resample::resized(&map, w, h).map_err(anyhow::Error::msg)?;
+    let map = Map::load(src, ".")?;
+    let resized = map.resized(w, h)?;
     drop(map);
-    load::write_exr_half(Path::new(out), &resized)?;
+    resized.write_exr_half(out)?;
     println!("wrote {out} ({w}x{h})");
     Ok(())
 }

@@ -75,6 +75,19 @@ impl Map {
         Ok(crate::envmap::load::write_exr(path.as_ref(), &self.map)?)
     }
 
+    /// Writes the map as a half-float ZIP OpenEXR, the format of most published HDRIs (values
+    /// round to the nearest half), atomically like [`Map::write_exr`].
+    pub fn write_exr_half(&self, path: impl AsRef<Path>) -> Result<()> {
+        Ok(crate::envmap::load::write_exr_half(path.as_ref(), &self.map)?)
+    }
+
+    /// The map at another 2:1 size: averaged down, solid-angle weighted, to a smaller grid (as
+    /// the shared maps were made), or the nearest texel up to a larger one.
+    pub fn resized(&self, width: usize, height: usize) -> Result<Map> {
+        let map = crate::envmap::resample::resized(&self.map, width, height).map_err(anyhow::Error::msg)?;
+        Ok(Map { map })
+    }
+
     /// The texels: linear RGB radiance, row-major, row 0 at the zenith, the centre column
     /// looking along −Z (`docs/conventions.md` §1); [`Map::size`] gives (W, H).
     pub fn texels(&self) -> &[[f32; 3]] {

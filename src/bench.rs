@@ -7,8 +7,9 @@
 
 pub use crate::encoders::encoder::{FitInput, Fitted, Params};
 pub use crate::encoders::stored::Stored;
+pub use crate::encoders::zh3::model::{solved, Solved};
 pub use crate::encoders::zh3::solve::{Formulation, SolveStats, SolverSettings, Zonal};
-pub use crate::encoders::zh3::{solved, AxisRule, Solved};
+pub use crate::encoders::zh3::AxisRule;
 pub use crate::encoders::{build, REGISTRY};
 pub use crate::envmap::load::{load as load_map, write_exr_half};
 pub use crate::envmap::moments::RowMoments;
@@ -20,7 +21,8 @@ pub use crate::math::colour::Rgb;
 pub use crate::math::sh::{constant, Sh9};
 pub use crate::math::sh_rotation::{uniform_rotation, ShRotation};
 pub use crate::math::stats::Summary;
-pub use crate::pipeline::probeset::{probe_rmse, SphereRule, Synth};
+pub use crate::pipeline::probeset::score::{probe_rmse, SphereRule};
+pub use crate::pipeline::probeset::synth::Synth;
 pub use crate::pipeline::runner::cone_centre;
 pub use crate::reference::domain::{fibonacci_sphere, Domain};
 pub use crate::reference::exact::{Reference, DEFAULT_POLAR_NODES};

@@ -31,14 +31,21 @@
 //! coefficients follow its §2. `docs/library.md` is the guide; `examples/fit_map.rs` and
 //! `examples/compare.rs` use only this surface.
 //!
-//! # Internals
+//! # The surface
 //!
-//! The other modules are public for the binary (`src/commands/`, which owns the terminal), the
-//! tests and the benches: internal, with no stability promise, and documented like the surface
-//! (every public item has a doc comment: `deny(missing_docs)` below refuses one without). The library never
-//! prints: long work reports through [`io::progress`], everything else is returned. The layers,
-//! what each may use, and the module map are in `ARCHITECTURE.md`, which `tests/architecture.rs`
-//! checks against the code.
+//! - [`api`] (its types re-exported here): maps, the exact reference, fitting and evaluating
+//!   any encoder by id, stored coefficients, scores, an experiment from its text.
+//! - [`ops`]: the workflows, one function per command (`eval`, `fit`, `run`, `check`,
+//!   `bless`, `claims`, `report`, `reproduce`, `probes`, `merge`, `sweep`, `maps`, ...), each
+//!   taking an [`ops::Env`] and an options struct and returning a typed outcome with its
+//!   renderings. The binary and the Python package are thin layers over these.
+//! - [`encoders`]: the `Encoder` trait and the registry, for people who add an encoding.
+//! - [`progress`]: the trait through which long work reports its steps.
+//!
+//! Everything else is internal (crate-private). The library never prints: long work reports
+//! through [`progress`], the rest is returned. Every public item is documented
+//! (`deny(missing_docs)` below). The layers, what each may use, and the module map are in
+//! `ARCHITECTURE.md`, which `tests/architecture.rs` checks against the code.
 
 #![deny(missing_docs)]
 
@@ -58,18 +65,24 @@ pub use glam::DVec3;
 #[doc = include_str!("../docs/library.md")]
 pub mod library_guide {}
 
-// The internal layers (ARCHITECTURE.md): reachable for the binary, the tests and the benches;
-// no stability promise.
-pub mod claims;
+/// The `Encoder` trait and the registry, for people who add an encoding.
 pub mod encoders;
-pub mod envmap;
-pub mod io;
-pub mod math;
+/// The workflows, one function per command (what the binary and the Python package run).
 pub mod ops;
-pub mod pipeline;
-pub mod reference;
-pub mod regression;
-pub mod report;
+/// Progress reporting: the trait a front end implements to show long work (the binary draws
+/// terminal bars).
+pub use io::progress;
+
+// The internal layers (ARCHITECTURE.md): crate-private; the binary, the Python package, the
+// examples and the tests under `tests/` use the surface above.
+pub(crate) mod claims;
+pub(crate) mod envmap;
+pub(crate) mod io;
+pub(crate) mod math;
+pub(crate) mod pipeline;
+pub(crate) mod reference;
+pub(crate) mod regression;
+pub(crate) mod report;
 
 #[cfg(feature = "bench")]
 pub mod bench;

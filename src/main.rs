@@ -38,7 +38,7 @@ fn main() {
 fn quiet_caught_decoder_panics() {
     let previous = std::panic::take_hook();
     std::panic::set_hook(Box::new(move |info| {
-        if !probelab::envmap::load::in_guarded_decoder() {
+        if !probelab::ops::in_guarded_decoder() {
             previous(info);
         }
     }));

@@ -4,11 +4,11 @@
 
 use super::output;
 use anyhow::Result;
+use probelab::ops::bless::Rewrite;
 use probelab::ops::bless::{self, BlessOptions};
 use probelab::ops::check::text::experiment;
+use probelab::ops::check::ExperimentCheck;
 use probelab::ops::Env;
-use probelab::regression::bless::Rewrite;
-use probelab::regression::check::ExperimentCheck;
 use std::path::PathBuf;
 
 /// `probelab bless`.

@@ -7,8 +7,8 @@ use super::output;
 use super::terminal::outln;
 use anyhow::Result;
 use probelab::ops::check::{self, text, CheckOptions};
+use probelab::ops::check::{ExperimentCheck, MapPolicy, Selection};
 use probelab::ops::{claims, Env};
-use probelab::regression::check::{ExperimentCheck, MapPolicy, Selection};
 use std::path::PathBuf;
 
 /// `probelab check`.

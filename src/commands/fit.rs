@@ -4,7 +4,7 @@
 //! the JSON document are `ops::fit`, shared with the Python package.
 
 use super::output;
-use anyhow::{bail, Context, Result};
+use anyhow::{bail, Result};
 use probelab::api::Surface;
 use probelab::ops::fit::{self, FitOptions};
 use probelab::ops::{Env, MapSource};
@@ -32,21 +32,10 @@ pub fn run(a: Args, env: &Env) -> Result<i32> {
     }
     let surface = match &a.normal {
         None => Surface::Sphere,
-        Some(text) => Surface::Normal(parse_normal(text)?),
+        Some(text) => Surface::Normal(fit::parse_normal(text)?),
     };
     let fitted = fit::fit(env, &FitOptions { map: MapSource::Named(a.map), encoders: a.encoders, surface })?;
     let text = if a.format == "json" { fitted.to_json()? } else { fitted.to_csv()? };
     output::write(text.as_bytes())?;
     Ok(0)
-}
-
-/// A surface normal `x,y,z`: three numbers, checked by `api::unit_normal`.
-fn parse_normal(text: &str) -> Result<glam::DVec3> {
-    let shown = probelab::math::echo::value(text);
-    let bad = || anyhow::anyhow!("--normal '{shown}': expected x,y,z, three finite numbers (e.g. 0,1,0)");
-    let v: Vec<f64> = text.split(',').map(|p| p.trim().parse::<f64>()).collect::<Result<_, _>>().map_err(|_| bad())?;
-    let [x, y, z] = v[..] else {
-        return Err(bad());
-    };
-    probelab::api::unit_normal(glam::DVec3::new(x, y, z)).with_context(|| format!("--normal '{shown}'"))
 }

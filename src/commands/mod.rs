@@ -141,7 +141,7 @@ pub fn main_with(cli: Cli) -> Result<i32> {
         Command::Sweep(a) => sweep::run(a, &env),
     };
     // What writes found beside their targets, left by writers no longer running.
-    for p in probelab::io::atomic::take_removed() {
+    for p in probelab::ops::take_removed() {
         terminal::noteln!("removed {} (left by a killed run whose process is gone)", p.display());
     }
     if let Some(p) = &profile {

@@ -50,9 +50,9 @@ pub fn write_fmt(args: fmt::Arguments) -> Result<(), StdoutError> {
 }
 
 /// Writes formatted text to stderr, ignoring any error (what `noteln!` calls); above the
-/// progress bars, when they are drawn ([`probelab::io::progress::suspend`]).
+/// progress bars, when they are drawn ([`probelab::progress::suspend`]).
 pub fn note_fmt(args: fmt::Arguments) {
-    probelab::io::progress::suspend(|| {
+    probelab::progress::suspend(|| {
         let _ = std::io::stderr().lock().write_fmt(args);
     });
 }

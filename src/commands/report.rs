@@ -16,7 +16,7 @@ pub struct Args {
     /// Draw the comparison sheets N times larger (1 to 8): discs evaluated at N times
     /// the pixels, text and thumbnail at N times their size. Charts are unchanged.
     #[arg(long, default_value_t = 1, value_name = "N",
-          value_parser = clap::value_parser!(u32).range(1..=probelab::report::sheet::MAX_SCALE as i64))]
+          value_parser = clap::value_parser!(u32).range(1..=probelab::ops::report::MAX_SCALE as i64))]
     scale: u32,
 }
 

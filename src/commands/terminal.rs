@@ -7,7 +7,7 @@
 //! installed and the log stays quiet.
 
 use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
-use probelab::io::progress::{Sink, Task};
+use probelab::progress::{Sink, Task};
 use std::io::IsTerminal;
 use std::time::Duration;
 
@@ -51,7 +51,7 @@ fn interactive() -> bool {
 /// Installs the terminal bars as the library's progress sink, when stderr is a terminal.
 pub fn install_progress() {
     if interactive() {
-        probelab::io::progress::install(Box::new(Bars(MultiProgress::with_draw_target(ProgressDrawTarget::stderr()))));
+        probelab::progress::install(Box::new(Bars(MultiProgress::with_draw_target(ProgressDrawTarget::stderr()))));
     }
 }
 

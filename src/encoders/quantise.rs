@@ -154,6 +154,7 @@ pub fn decode_sh(bytes: &[u8]) -> Result<Sh9> {
 /// Quantises a radiance SH through band `max_band` (1 or 2): its serialised form
 /// ([`encode_sh`]), decoded ([`decode_sh`]). Returns the decoded radiance SH (higher bands
 /// zero).
+#[cfg(test)]
 pub fn quantise_sh(sh: &Sh9, max_band: usize) -> Sh9 {
     decode_sh(&encode_sh(sh, max_band)).expect("encode_sh writes 13 or 28 bytes")
 }

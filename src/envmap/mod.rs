@@ -20,7 +20,7 @@ pub mod resample;
 pub mod search;
 
 pub use latlong::LatLong;
-pub use map::{EnvMap, MapError, Texel};
+pub use map::{EnvMap, Texel};
 
 /// Maps at least this many texels wide show progress while they are decoded and while the
 /// exact reference runs over them.

@@ -197,6 +197,7 @@ impl<'m> RowMoments<'m> {
     }
 
     /// Row j's prefix, newly allocated (see [`Self::fill`] to reuse one).
+    #[cfg(test)]
     pub fn prefix(&self, j: usize) -> RowPrefix {
         let mut row = RowPrefix::new();
         self.fill(j, &mut row);

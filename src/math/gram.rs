@@ -56,6 +56,7 @@ pub fn cone_gram(c: f64) -> Mat9 {
 
 /// The Gram matrix over the hemisphere z ≥ 0 (FORMULAS §9): ½·I plus G\[0,2\] = √3/4,
 /// G\[1,5\] = G\[3,7\] = 3√5/16, G\[2,6\] = √15/16.
+#[cfg(test)]
 pub fn hemisphere_gram() -> Mat9 {
     cone_gram(0.0)
 }
@@ -99,6 +100,7 @@ pub fn rotate(f: &Sh9, r: DMat3) -> Sh9 {
 
 /// The matrix D of [`rotate`]: rotate(f, r)_i = Σ_j D\[i\]\[j\]·f_j. Equivalently Y(Rω) = D·Y(ω);
 /// D is orthogonal and block diagonal by band.
+#[cfg(test)]
 pub fn rotation_matrix(r: DMat3) -> Mat9 {
     let mut d = [[0.0; N_SH]; N_SH];
     for j in 0..N_SH {
@@ -133,6 +135,7 @@ pub fn multiply(f: &Sh9, g: &Mat9) -> Sh9 {
 
 /// The Gram of the cap of cos α = c about `axis`, in world space: D·G·Dᵀ with D the rotation
 /// taking +z to the axis.
+#[cfg(test)]
 pub fn rotated_gram(c: f64, axis: DVec3) -> Mat9 {
     let d = rotation_matrix(frame_from_z(axis));
     let g = cone_gram(c);

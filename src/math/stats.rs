@@ -164,6 +164,7 @@ const E_MAX: i32 = 64;
 const BUCKETS: usize = (E_MAX - E_MIN) as usize * SUB;
 
 /// The bound on the relative error of [`Sketch::quantile`] for values in [2⁻⁶⁴, 2⁶⁴).
+#[cfg(test)]
 pub const SKETCH_RELATIVE_ERROR: f64 = 1.0 / (2 * SUB) as f64;
 
 /// A mergeable quantile sketch of non-negative values (see the module doc).

@@ -7,7 +7,8 @@
 pub mod text;
 
 use super::Env;
-use crate::regression::bless::{self, Blessed, Rewrite};
+pub use crate::regression::bless::Rewrite;
+use crate::regression::bless::{self, Blessed};
 use crate::regression::check::{select, ExperimentCheck, Selection};
 use crate::regression::claims::{self, ClaimsMode, ClaimsRun};
 use anyhow::Result;

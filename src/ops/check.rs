@@ -8,8 +8,8 @@ pub mod json;
 pub mod text;
 
 use super::Env;
-use crate::regression::check::{check_experiments, select, CheckRequest, Checked, ExperimentCheck};
-use crate::regression::check::{MapPolicy, Selection};
+use crate::regression::check::{check_experiments, select, CheckRequest, Checked};
+pub use crate::regression::check::{ExperimentCheck, MapPolicy, Selection};
 use crate::regression::claims::{self, ClaimsMode, ClaimsRun};
 use anyhow::Result;
 use std::path::PathBuf;

@@ -154,3 +154,15 @@ impl Fitted {
         Ok(String::from_utf8(w.into_inner().context("writing CSV")?)?)
     }
 }
+
+/// A surface normal given as text `x,y,z` (the command line's `--normal`): three finite numbers,
+/// checked by `api::unit_normal`; an error echoes the text as given.
+pub fn parse_normal(text: &str) -> Result<DVec3> {
+    let shown = crate::math::echo::value(text);
+    let bad = || anyhow::anyhow!("--normal '{shown}': expected x,y,z, three finite numbers (e.g. 0,1,0)");
+    let v: Vec<f64> = text.split(',').map(|p| p.trim().parse::<f64>()).collect::<Result<_, _>>().map_err(|_| bad())?;
+    let [x, y, z] = v[..] else {
+        return Err(bad());
+    };
+    crate::api::unit_normal(DVec3::new(x, y, z)).with_context(|| format!("--normal '{shown}'"))
+}

@@ -6,6 +6,8 @@
 pub mod text;
 
 use super::Env;
+/// The largest `--scale` of the comparison sheets.
+pub use crate::report::sheet::MAX_SCALE;
 use crate::report::Generated;
 use anyhow::Result;
 use std::path::{Path, PathBuf};

@@ -220,6 +220,7 @@ fn map_work(
 
 /// The estimate of running `exp` on maps of the given sizes (width, height), with the timing
 /// pass.
+#[cfg(test)]
 pub fn experiment_on(exp: &Experiment, sizes: &[(usize, usize)]) -> Estimate {
     experiment_timed(exp, sizes, true)
 }

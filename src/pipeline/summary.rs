@@ -47,17 +47,6 @@ pub fn match_key(r: &Row) -> (&str, &str, &str, &str) {
     (&r.map, &r.domain, &r.metric, &r.effects)
 }
 
-/// A ratio that never prints as NaN/Inf: 0/0 is 1 (a tie), x/0 is reported as `None`.
-pub fn ratio(a: f64, b: f64) -> Option<f64> {
-    if b > 0.0 {
-        Some(a / b)
-    } else if a == 0.0 {
-        Some(1.0)
-    } else {
-        None
-    }
-}
-
 /// The baseline floor: rows whose baseline `rel_rmse` (rmse / RMS of the reference) is below
 /// this are left out of the ratio statistics and counted. 1e-6 = the baseline is exact to a
 /// part per million, which only rounding and the polar quadrature reach (a constant map's

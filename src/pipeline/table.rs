@@ -179,6 +179,7 @@ pub const NUMERIC_COLUMNS: &[&str] = &[
 ];
 
 /// Writes the rows to `path` atomically.
+#[cfg(test)]
 pub fn write_csv(path: &Path, rows: &[Row]) -> Result<()> {
     crate::io::atomic::write(path, &to_csv(rows)?)
 }

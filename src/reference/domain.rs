@@ -65,14 +65,6 @@ impl Domain {
             }
         }
     }
-
-    /// The surface normal, if any.
-    pub fn normal(&self) -> Option<DVec3> {
-        match self {
-            Domain::Sphere => None,
-            Domain::Hemisphere { normal } => Some(*normal),
-        }
-    }
 }
 
 /// The rotation taking +Y (the lat-long pole) to `n`.

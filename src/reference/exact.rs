@@ -169,6 +169,7 @@ impl<'a> Reference<'a> {
     }
 
     /// The visibility caps this reference integrates under (empty: the whole sphere).
+    #[cfg(test)]
     pub fn caps(&self) -> &[Cap] {
         &self.masks
     }

@@ -12,10 +12,13 @@
 //! The SH of a light symmetric about an axis a is zonal: with z_l = ∫ f(ω·a)·Y_l0 dω its
 //! coefficients are c_lm = z_l·√(4π/(2l+1))·Y_lm(a) (FORMULAS §2 basis).
 
+#[cfg(test)]
 use crate::math::cap::Cap;
 use crate::math::colour::Rgb;
 use crate::math::sh::{band_of, basis, constant, delta_light, Sh9};
-use glam::{DQuat, DVec3};
+#[cfg(test)]
+use glam::DQuat;
+use glam::DVec3;
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
 /// One analytic light.
@@ -50,6 +53,7 @@ pub enum Light {
         c1: Rgb,
     },
     /// A directional (delta) light π·facing·δ(ω − dir) (unit dir): E/π facing it is `facing`.
+    #[cfg_attr(not(test), allow(dead_code, reason = "the unit tests' delta lights"))]
     Delta {
         /// Unit direction the light arrives from.
         dir: DVec3,
@@ -91,21 +95,25 @@ fn zonal(axis: DVec3, z: [f64; 3], c: Rgb) -> Sh9 {
 }
 
 /// The angle between two unit vectors, accurate near 0 and π.
+#[cfg(test)]
 fn angle(a: DVec3, b: DVec3) -> f64 {
     2.0 * ((a - b).length() * 0.5).clamp(0.0, 1.0).asin()
 }
 
 /// The half-angle of a visibility cap.
+#[cfg(test)]
 fn half_angle_of(m: &Cap) -> f64 {
     m.cos.clamp(-1.0, 1.0).acos()
 }
 
 /// Whether the cap of half-angle `half` about `axis` lies inside the mask (to 1e-12 rad).
+#[cfg(test)]
 fn inside(m: &Cap, axis: DVec3, half: f64) -> bool {
     angle(axis, m.axis) + half <= half_angle_of(m) + 1e-12
 }
 
 /// Whether the cap of half-angle `half` about `axis` lies outside the mask (to 1e-12 rad).
+#[cfg(test)]
 fn outside(m: &Cap, axis: DVec3, half: f64) -> bool {
     angle(axis, m.axis) >= half_angle_of(m) + half - 1e-12
 }
@@ -170,6 +178,7 @@ impl Light {
     ///
     /// Panics on a configuration with no closed form here (a construction error): a cap
     /// straddling a mask, ambient under masks that are not nested, a gradient under a mask.
+    #[cfg(test)]
     pub fn visible(&self, masks: &[Cap]) -> Option<Light> {
         if masks.is_empty() {
             return Some(self.clone());
@@ -205,6 +214,7 @@ impl Light {
 
     /// The light turned by the rotation q (the lighting g(ω) = f(q⁻¹ω)). Panics on a gradient,
     /// which is about +y only.
+    #[cfg(test)]
     pub fn rotated(&self, q: DQuat) -> Light {
         match self {
             Light::Ambient(c) => Light::Ambient(*c),
@@ -220,6 +230,7 @@ impl Light {
     }
 
     /// The light with its radiance (a delta: its E/π facing it) scaled by k.
+    #[cfg(test)]
     pub fn scaled(&self, k: f64) -> Light {
         match self {
             Light::Ambient(c) => Light::Ambient(*c * k),
@@ -245,16 +256,19 @@ impl Lighting {
     }
 
     /// The light that passes the masks ([`Light::visible`]).
+    #[cfg(test)]
     pub fn visible(&self, masks: &[Cap]) -> Lighting {
         Lighting(self.0.iter().filter_map(|l| l.visible(masks)).collect())
     }
 
     /// The lighting turned by q ([`Light::rotated`]).
+    #[cfg(test)]
     pub fn rotated(&self, q: DQuat) -> Lighting {
         Lighting(self.0.iter().map(|l| l.rotated(q)).collect())
     }
 
     /// The lighting scaled by k.
+    #[cfg(test)]
     pub fn scaled(&self, k: f64) -> Lighting {
         Lighting(self.0.iter().map(|l| l.scaled(k)).collect())
     }

@@ -11,7 +11,9 @@ use crate::math::cap::Cap;
 use crate::math::colour::Rgb;
 use crate::math::quadrature::{for_each_polar_node, gauss_legendre};
 use crate::math::sh::Sh9;
-use crate::reference::lighting::{cap_irradiance, Light, Lighting};
+#[cfg(test)]
+use crate::reference::lighting::cap_irradiance;
+use crate::reference::lighting::{Light, Lighting};
 use glam::DVec3;
 use std::f64::consts::{PI, TAU};
 
@@ -267,6 +269,7 @@ impl TiltedLight {
     ///
     /// The bound is rmse_D + ε/√12 (Minkowski; I as the channels' RMS); the map's cells and
     /// the output grid are not in it (tests/lightmap_claims.rs compares both).
+    #[cfg(test)]
     pub fn hhd_rmse_bound(&self) -> f64 {
         let sigma = self.radius_deg.to_radians();
         let s2 = sigma.sin().powi(2);

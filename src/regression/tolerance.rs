@@ -52,6 +52,7 @@ pub struct Rule {
     /// Whether the column is not compared at all; None leaves it unchanged.
     pub ignore: Option<bool>,
     /// Why the rule exists, for readers.
+    #[allow(dead_code, reason = "accepted in tolerances.toml for readers; the comparison never reads it")]
     pub why: Option<String>,
 }
 

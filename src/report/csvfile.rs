@@ -87,11 +87,6 @@ impl CsvTable {
         }
     }
 
-    /// The text in row `row`, column `col`.
-    pub fn str(&self, row: usize, col: usize) -> &str {
-        &self.rows[row][col]
-    }
-
     /// Whether every row holds the same value in column `col`.
     pub fn is_constant(&self, col: usize) -> bool {
         self.rows.windows(2).all(|w| w[0][col] == w[1][col])

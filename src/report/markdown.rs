@@ -238,6 +238,7 @@ pub fn claims_table(t: &CsvTable) -> Result<String> {
 
 /// Relative file links and image sources in Markdown text (`](target)` and `src="target"`),
 /// without anchors and external URLs.
+#[cfg(test)]
 pub fn local_links(md: &str) -> Vec<String> {
     let mut out = Vec::new();
     let mut rest = md;

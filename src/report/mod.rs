@@ -61,5 +61,4 @@ pub mod text;
 pub mod tone;
 
 pub use generate::generate;
-pub use names::{file_safe, CLAIMS_CSV, PAGE, PROVENANCE_PAGE};
 pub use options::{Generated, Options};

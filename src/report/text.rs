@@ -81,12 +81,14 @@ impl Label {
         self
     }
     /// The label right-aligned on its x.
+    #[cfg(test)]
     pub fn right(mut self) -> Self {
         self.anchor = HPos::Right;
         self
     }
     /// The box the label's line takes: (x0, y0, x1, y1) in pixels, x from its measured width
     /// and anchor, y from its top to one size below (ascent and descent of the font's line).
+    #[cfg(test)]
     pub fn bounds(&self) -> (i32, i32, i32, i32) {
         glyphs::line_box(&self.text, self.size, self.bold, (self.anchor, VPos::Top), (self.x, self.y))
     }

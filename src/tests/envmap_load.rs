@@ -2,7 +2,8 @@
 //! each triggered by a file generated in a temporary folder; and the shared maps load.
 
 use super::repository::{repo, shared_envmaps, PAPER_PROBES};
-use crate::envmap::load::{load, write_exr, LoadError, MAX_HEIGHT, MAX_WIDTH};
+use crate::envmap::header::{MAX_HEIGHT, MAX_WIDTH};
+use crate::envmap::load::{load, write_exr, LoadError};
 use crate::envmap::EnvMap;
 use exr::math::RoundingMode;
 use exr::prelude::*;

@@ -4,7 +4,9 @@
 
 use super::common::*;
 use crate::encoders::encoder::Fitted;
-use crate::encoders::lightmap::fit::{fit, solve, Colours, Direction, FitSpec, FitTarget, Gram};
+use crate::encoders::lightmap::fit::search::solve;
+use crate::encoders::lightmap::fit::target::{FitDomain, FitTarget};
+use crate::encoders::lightmap::fit::{fit, Colours, Direction, FitSpec, Gram};
 use crate::encoders::lightmap::lune::{Angle, Moments};
 use crate::encoders::lightmap::{linear_sh_of, Basis, Model};
 use crate::math::colour::Rgb;
@@ -146,7 +148,7 @@ fn h2_ambient_plus_tilted_light_is_exactly_hhd() {
         let input = Input::new(&lights, Some(&Surface::hemisphere(n)));
         let target = Exact { a: amb, s: e / PI, tau_l: t };
         let i_z = input.exact_at_normal.unwrap();
-        let dom = crate::encoders::lightmap::fit::FitDomain::new(Gram::Hemisphere);
+        let dom = FitDomain::new(Gram::Hemisphere);
         let g = Domain::Hemisphere { normal: DVec3::Z }.output_grid((256, 128));
         let truth = |v: DVec3| amb * (0.5 * (1.0 + v.z)) + e / PI * v.dot(DVec3::new(t.sin(), 0.0, t.cos())).max(0.0);
         let mut errs = Vec::new();

@@ -15,7 +15,7 @@ fn nested_arrays(depth: usize) -> String {
 fn claims_and_report_plans_refuse_toml_nested_deeper_than_32() {
     // Claims declarations and report plans go through the same parser.
     let deep = format!("title = 'T'\nx = {}\n", nested_arrays(33));
-    let e = crate::claims::declaration::parse("p", &deep, Path::new("claims/p.toml")).err().unwrap();
+    let e = crate::claims::declaration::parse::parse("p", &deep, Path::new("claims/p.toml")).err().unwrap();
     assert!(format!("{e:#}").starts_with("claims/p.toml:2: nested deeper than 32 levels"), "{e:#}");
     let e = crate::report::plans::parse_plans(&deep, Path::new("report/papers.toml")).err().unwrap();
     assert!(format!("{e:#}").starts_with("report/papers.toml:2: nested deeper than 32 levels"), "{e:#}");

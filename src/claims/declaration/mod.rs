@@ -56,14 +56,13 @@ mod file;
 mod kind;
 mod load;
 mod paper;
-mod parse;
+pub(crate) mod parse;
 mod validate_check;
 
 pub use check::{CheckDecl, Source, Statistic, Test};
 pub use kind::{Kind, UNTESTABLE};
 pub use load::{load_papers, DIR};
-pub use paper::{ClaimDecl, Paper, SAYS_MAX};
-pub use parse::parse;
+pub use paper::{ClaimDecl, Paper};
 
 #[cfg(test)]
 mod tests;

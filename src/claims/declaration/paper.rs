@@ -55,6 +55,7 @@ pub struct ClaimDecl {
 
 impl ClaimDecl {
     /// The primary check: the one that decides the verdict.
+    #[cfg(test)]
     pub fn primary(&self) -> &CheckDecl {
         // Cannot fail: `parse` refuses a claim without exactly one primary check.
         self.checks.iter().find(|k| k.primary).expect("validated: one primary check")

@@ -1,5 +1,7 @@
 //! The declarations' parser and loader: what each key accepts and refuses.
 
+use super::paper::SAYS_MAX;
+use super::parse::parse;
 use super::*;
 use anyhow::Result;
 use std::path::Path;

@@ -81,7 +81,7 @@ fn judge_equal(pairs: &Pairs, tolerance: f64, abs_tolerance: f64, left_out: &str
             } else {
                 f64::INFINITY
             };
-            RowValue { label: p.label.clone(), map: p.map.clone(), value: rel, pass: rel <= tolerance }
+            RowValue { label: p.label.clone(), value: rel, pass: rel <= tolerance }
         })
         .collect();
     // Cannot fail: `values` has one entry per pair, and no pairs returned above.
@@ -97,12 +97,7 @@ fn judge_equal(pairs: &Pairs, tolerance: f64, abs_tolerance: f64, left_out: &str
 fn map_values(sum: &Summary, pass: &dyn Fn(f64) -> bool) -> Vec<RowValue> {
     sum.maps
         .iter()
-        .map(|g| RowValue {
-            label: wording::map_label(&g.map, g.rows),
-            map: g.map.clone(),
-            value: g.ratio,
-            pass: pass(g.ratio),
-        })
+        .map(|g| RowValue { label: wording::map_label(&g.map, g.rows), value: g.ratio, pass: pass(g.ratio) })
         .collect()
 }
 
@@ -124,7 +119,7 @@ fn judge_ratio(k: &CheckDecl, base: &str, pairs: &Pairs, left_out: &str) -> Judg
         pairs
             .iter()
             .zip(&ratios)
-            .map(|((p, _, _), &r)| RowValue { label: p.label.clone(), map: p.map.clone(), value: r, pass: pass(r) })
+            .map(|((p, _, _), &r)| RowValue { label: p.label.clone(), value: r, pass: pass(r) })
             .collect()
     };
     let (status, values, headline) = match k.test {

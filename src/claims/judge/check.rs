@@ -70,10 +70,8 @@ fn judge_bound(k: &CheckDecl, set: &str, maps_judged: usize, picked: &[Picked], 
         _ => unreachable!("needs_baseline covers the other tests"),
     };
     let ok = |v: f64| if upper { v <= bound } else { v >= bound };
-    let values: Vec<RowValue> = vals
-        .iter()
-        .map(|(p, v)| RowValue { label: p.label.clone(), map: p.map.clone(), value: *v, pass: ok(*v) })
-        .collect();
+    let values: Vec<RowValue> =
+        vals.iter().map(|(p, v)| RowValue { label: p.label.clone(), value: *v, pass: ok(*v) }).collect();
     // Cannot fail: `values` has one entry per `vals`, and an empty `vals` returned above.
     let worst = values
         .iter()
@@ -103,10 +101,8 @@ fn judge_exact(
     value: f64,
     excluded: usize,
 ) -> SetOutcome {
-    let values: Vec<RowValue> = vals
-        .iter()
-        .map(|(p, v)| RowValue { label: p.label.clone(), map: p.map.clone(), value: *v, pass: *v == value })
-        .collect();
+    let values: Vec<RowValue> =
+        vals.iter().map(|(p, v)| RowValue { label: p.label.clone(), value: *v, pass: *v == value }).collect();
     let passing = values.iter().filter(|v| v.pass).count();
     let off: Vec<&str> = values.iter().filter(|v| !v.pass).map(|v| v.label.as_str()).collect();
     let (headline, figure) = wording::exact(&k.column, &k.encoder, value, (passing, values.len()), &off, excluded);

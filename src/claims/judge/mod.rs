@@ -23,10 +23,8 @@ mod scope;
 mod verdict;
 mod wording;
 
-pub use check::judge_check;
-pub use outcome::{CheckOutcome, ClaimOutcome, Evidence, RowValue, SetOutcome, Status, Verdict};
-pub use scope::KEY_COLUMNS;
-pub use verdict::{decide, judge_claim};
+pub use outcome::{CheckOutcome, ClaimOutcome, Evidence, Status};
+pub use verdict::judge_claim;
 pub use wording::{fmt3, set_label};
 
 #[cfg(test)]

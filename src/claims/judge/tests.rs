@@ -1,8 +1,10 @@
 //! The claims engine's unit tests: verdict words per kind, context checks, the per-map
 //! aggregation, bounds and equality, untestable evidence.
 
-use super::*;
-use crate::claims::declaration::{parse, Kind, Paper};
+use super::outcome::*;
+use super::verdict::*;
+use crate::claims::declaration::parse::parse;
+use crate::claims::declaration::{Kind, Paper};
 use std::path::Path;
 
 /// A paper with one claim of `kind` and the given checks; maps m1..m4 (m1, m2 the "paper"

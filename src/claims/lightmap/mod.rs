@@ -33,6 +33,4 @@ mod roundtrip;
 pub mod strip;
 mod study;
 
-pub use fig2_tables::fig2_measures;
-pub use roundtrip::{hhd_roundtrip, ROUNDTRIP_SAMPLES};
-pub use study::{measure, Study, BOUNCE_EXPERIMENT, LEAK_EXPERIMENT};
+pub use study::measure;

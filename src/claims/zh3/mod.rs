@@ -22,5 +22,5 @@ mod geomerics;
 mod quantisation;
 mod run;
 
-pub use declared::{maps, PAPER};
-pub use run::{measure, MapsUsed};
+pub use declared::maps;
+pub use run::measure;

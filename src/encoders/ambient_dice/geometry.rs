@@ -107,12 +107,6 @@ impl Geometry {
         (face.vertices, bezier_weights(face, b))
     }
 
-    /// The linear basis at unit `n`: the face's vertices and their barycentrics.
-    pub fn linear(&self, n: DVec3) -> ([usize; 3], [f64; 3]) {
-        let (face, b) = self.locate(n);
-        (face.vertices, b)
-    }
-
     /// The cosine SRBF lobes at unit `n`, one per vertex.
     pub fn srbf(&self, n: DVec3) -> [f64; 12] {
         self.vertices.map(|v| {

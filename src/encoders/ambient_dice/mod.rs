@@ -74,7 +74,4 @@ mod geometry;
 mod tests;
 mod variant;
 
-pub use design::FIT_GRID;
-pub use encoder::{build_ambient_dice, build_ambient_dice_srbf, build_ambient_dice_ycocg, AmbientDiceEncoder, DiceFit};
-pub use geometry::{geometry, Face, Geometry};
-pub use variant::Variant;
+pub use encoder::{build_ambient_dice, build_ambient_dice_srbf, build_ambient_dice_ycocg};

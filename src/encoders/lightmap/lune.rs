@@ -104,12 +104,15 @@ pub struct Moments {
 /// zero elsewhere) of a region (module docs): its moments are Y(a + c, b)·A(a, c). The fits'
 /// inner loop needs only these ten numbers per tilt.
 #[derive(Clone, Copy, Debug, Default)]
+#[cfg(test)]
 pub struct Angular(pub [[f64; 4]; 4]);
 
+#[cfg(test)]
 impl Angular {
     /// Hemisphere ∩ {n·d ≥ 0}, d tilted by θ ∈ [0, π]: α ∈ [0, β], β = π − θ, with
     /// sin β = sin θ, cos β = −cos θ, written out from `antiderivatives`.
     #[inline]
+    #[cfg(test)]
     pub fn hemisphere_lune(theta: Angle) -> Self {
         const THIRD: f64 = 1.0 / 3.0;
         let (b, s, c) = (PI - theta.a, theta.sin, -theta.cos);
@@ -128,6 +131,7 @@ impl Angular {
     /// s = sin θ, c = cos θ) A00 = π, A10 = 2s, A01 = 2c, A20 = A02 = π/2, A11 = 0,
     /// A30 = 2s − 2s³/3, A03 = 2c − 2c³/3, A21 = 2c³/3, A12 = 2s³/3.
     #[inline]
+    #[cfg(test)]
     pub fn sphere_half(theta: Angle) -> Self {
         let (s, c) = (theta.sin, theta.cos);
         let (s3, c3) = (2.0 / 3.0 * (s * s * s), 2.0 / 3.0 * (c * c * c));
@@ -143,6 +147,7 @@ impl Angular {
 
 /// The angular-integral pairs of the clamped-cosine integrals [`Clamped`]:
 /// g_i = sin θ·A(CLAMPED_PAIRS\[i\].0) + cos θ·A(CLAMPED_PAIRS\[i\].1).
+#[cfg(test)]
 pub const CLAMPED_PAIRS: [((usize, usize), (usize, usize)); 6] =
     [((1, 0), (0, 1)), ((2, 0), (1, 1)), ((1, 1), (0, 2)), ((3, 0), (2, 1)), ((1, 2), (0, 3)), ((2, 1), (1, 2))];
 
@@ -230,18 +235,21 @@ impl Moments {
     /// The hemisphere z ≥ 0 where n·d ≥ 0, d tilted by θ ∈ [0, π] towards +x (equal to
     /// `of_range` over α ∈ [0, π − θ], tested).
     #[inline]
+    #[cfg(test)]
     pub fn hemisphere_lune(theta: Angle) -> Self {
         Self::from_angular(&Angular::hemisphere_lune(theta))
     }
 
     /// The half-sphere n·d ≥ 0, d tilted by θ towards +x (equal to `of_range` over
     /// α ∈ [−θ, π − θ], tested).
+    #[cfg(test)]
     pub fn sphere_half(theta: Angle) -> Self {
         Self::from_angular(&Angular::sphere_half(theta))
     }
 
     /// The moments Y(a + c, b)·A(a, c) (module docs) of a region's angular integrals.
     #[inline]
+    #[cfg(test)]
     pub fn from_angular(t: &Angular) -> Self {
         let mut m = [[[0.0; 4]; 4]; 4];
         for a in 0..4 {

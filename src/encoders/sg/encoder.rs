@@ -31,12 +31,9 @@ pub struct SgFit {
 
 impl SgFit {
     /// The RGB amplitude of each lobe, in the order of [`SgFit::lobes`].
+    #[cfg(test)]
     pub fn amplitudes(&self) -> &[Rgb] {
         &self.amplitudes
-    }
-    /// The lobes (axes and sharpness).
-    pub fn lobes(&self) -> &[Lobe] {
-        &self.lobes
     }
 }
 

@@ -87,6 +87,7 @@ impl Design {
     }
 
     /// The Gram matrix AᵀA.
+    #[cfg(test)]
     pub fn gram(&self) -> &DMatrix<f64> {
         &self.gram
     }

@@ -143,6 +143,7 @@ pub fn irradiance(lobes: &[Lobe], amplitudes: &[Rgb], rule: IrradianceRule, n: D
 }
 
 /// The radiance Σ_k μ_k·e^{λ_k(p_k·v−1)} of the lobes at unit direction v.
+#[cfg(test)]
 pub fn radiance(lobes: &[Lobe], amplitudes: &[Rgb], v: DVec3) -> Rgb {
     lobes.iter().zip(amplitudes).map(|(l, &mu)| mu * l.weight(v)).sum()
 }

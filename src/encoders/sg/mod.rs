@@ -43,10 +43,7 @@ pub mod fit;
 pub mod lobes;
 mod variant;
 
-pub use encoder::{
-    build_ls, build_ls_ambient, build_naive, build_nnls, build_nnra, build_ra, SgFit, SphericalGaussians,
-};
-pub use variant::{peer_lobes, Variant, COSINE_SHARPNESS_LS, COSINE_SHARPNESS_NAIVE, LOBE_COUNT, LOBE_SHARPNESS};
+pub use encoder::{build_ls, build_ls_ambient, build_naive, build_nnls, build_nnra, build_ra};
 
 #[cfg(test)]
 mod tests;

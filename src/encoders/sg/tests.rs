@@ -1,5 +1,7 @@
 //! The SG encoders' unit tests.
 
+use super::encoder::*;
+use super::variant::*;
 use super::*;
 use crate::encoders::encoder::{Encoder, Fitted};
 use crate::math::colour::Rgb;

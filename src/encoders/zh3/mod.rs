@@ -43,7 +43,7 @@
 
 mod build;
 mod encoder;
-mod model;
+pub(crate) mod model;
 mod serialise;
 pub mod solve;
 
@@ -52,9 +52,7 @@ pub use build::{
     build_hallucinate_sphere, build_solved_channel, build_solved_shared, build_stored_channel, build_stored_shared,
     configured,
 };
-pub use encoder::{Zh3Encoder, Zh3Fit};
-pub use model::{hallucinate, solved, stored, AxisRule, Solved, Zh3};
-pub use serialise::{decode_zh3, encode_zh3};
+pub use model::{hallucinate, stored, AxisRule};
 
 #[cfg(test)]
 mod tests;

@@ -1,6 +1,8 @@
 //! ZH3's unit tests: zonal lights exact when stored, the shader's hallucination, ratios,
 //! degenerate inputs, stored scalars, quantised and serialised forms, the registry's encoder.
 
+use super::model::*;
+use super::serialise::*;
 use super::*;
 use crate::encoders::build;
 use crate::encoders::encoder::{Encoder, FitInput, Fitted};

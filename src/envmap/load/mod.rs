@@ -32,9 +32,8 @@ mod size;
 mod watch;
 mod write;
 
-pub use super::header::{MAX_HEIGHT, MAX_WIDTH};
 pub use error::LoadError;
 pub use guard::in_guarded_decoder;
 pub use hash::{sha256_hex, sha256_hex_of};
 pub use read::{dimensions, load};
-pub use write::{write_exr, write_exr_half, WriteError};
+pub use write::{write_exr, write_exr_half};

@@ -35,9 +35,7 @@ mod toml_file;
 mod validate;
 
 pub use catalog::{list_experiments, resolve, NOT_A_CHECKOUT};
-pub use file::{EffectEntry, EncoderEntry, ExperimentFile};
-pub use lines::find_line;
-pub use model::{DomainKind, Effect, Experiment, MAX_CASES};
+pub use file::ExperimentFile;
+pub use model::{DomainKind, Effect, Experiment};
 pub use resolution::parse_resolution;
-pub use toml_file::{parse_toml, MAX_TOML_DEPTH};
-pub use validate::check_surface_encoders;
+pub use toml_file::parse_toml;

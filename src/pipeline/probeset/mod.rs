@@ -15,6 +15,3 @@ pub mod score;
 pub mod shard;
 pub mod state;
 pub mod synth;
-
-pub use score::{probe_rmse, SphereRule, SUMMARY_TIMING_COLUMNS};
-pub use synth::Synth;

@@ -62,6 +62,7 @@ impl SphereRule {
         SphereRule { label: format!("{nz}x{nphi}"), nodes, basis }
     }
     /// The default: 6×12, exact for outputs in SH bands ≤ 5.
+    #[cfg(any(test, feature = "bench"))]
     pub fn standard() -> Self {
         Self::product_gauss(6, 12)
     }
@@ -430,9 +431,6 @@ pub const SUMMARY_COLUMNS: &[&str] = &[
     "reference",
     "source",
 ];
-
-/// Summary columns that vary from run to run (timings, memory, shard bookkeeping).
-pub const SUMMARY_TIMING_COLUMNS: &[&str] = &["probes_per_s", "encoder_s", "wall_s", "peak_mem_mib", "shards"];
 
 #[cfg(test)]
 pub(super) mod tests {

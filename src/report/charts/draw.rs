@@ -19,8 +19,10 @@ pub enum Outcome {
         /// The caption the report prints under it.
         caption: String,
         /// Every text the PNG drew, with its box (for the layout checks).
+        #[cfg_attr(not(test), allow(dead_code, reason = "read by the layout tests"))]
         text: Vec<TextBox>,
         /// The boxes of the data marks labels must not cover (the cost charts' points).
+        #[cfg_attr(not(test), allow(dead_code, reason = "read by the layout tests"))]
         marks: Vec<(i32, i32, i32, i32)>,
     },
     /// Not drawn: why (no data, a single point, …).

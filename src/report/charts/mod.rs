@@ -35,6 +35,6 @@ mod tests;
 
 pub use bars::rmse_bars;
 pub use blending::{blend_charts, is_blend};
-pub use cost::{cost_points, error_vs_cost, pareto_front, place_labels, Cost, CostPoints};
+pub use cost::{error_vs_cost, Cost};
 pub use draw::Outcome;
-pub use sweeps::{is_sweep, knob_value, sweep_charts};
+pub use sweeps::{is_sweep, sweep_charts};

@@ -110,7 +110,6 @@ pub fn experiment_sheet(
     };
     let scores = SheetScores {
         case_label: case.domain_label.clone(),
-        effects: case.effects_label.clone(),
         figures: names.into_iter().zip(figures).collect(),
         source,
     };

@@ -23,11 +23,10 @@ impl From<&Scores> for RowFigures {
 }
 
 /// What a sheet drew: the case and each encoder's figures, and where they came from.
+#[cfg_attr(not(test), allow(dead_code, reason = "the unit tests read what each sheet figure came from"))]
 pub struct SheetScores {
     /// The case drawn: its domain label (`sphere`, `hemisphere:+y`).
     pub case_label: String,
-    /// The case's effects label, as in the table's `effects` column.
-    pub effects: String,
     /// Each encoder's name and figures, in the experiment's order.
     pub figures: Vec<(String, RowFigures)>,
     /// "table.csv" or "computed".

@@ -29,11 +29,6 @@ mod render;
 mod tests;
 mod thumbnail;
 
-pub use compose::{experiment_sheet, representative_case};
-pub use figures::{figures_from_table, RowFigures, SheetScores};
-pub use layout::{
-    label_width, SheetLayout, BAR_H, BAR_W, CELL_H, CELL_W, COLHEAD_H, DISC, HEADER_H, HEADER_LINES, LABEL_W, LINE_H,
-    MARGIN, MAX_SCALE, MIN_W, ROW_H, THUMB_H, THUMB_W, VIEW_GAP,
-};
-pub use render::{Sheet, SheetRow};
-pub use thumbnail::latlong_thumbnail;
+pub use compose::experiment_sheet;
+pub use layout::MAX_SCALE;
+pub use layout::{LINE_H, MARGIN};

@@ -1,8 +1,11 @@
 //! The comparison sheets' unit tests: pixels, layout, scales, figures and labels.
 
+use super::compose::*;
+use super::figures::*;
+use super::layout::*;
 use super::layout::{NAME_PX, NOTE_PX};
 use super::render::text_px;
-use super::*;
+use super::render::*;
 use crate::envmap::EnvMap;
 use crate::math::colour::Rgb;
 use crate::pipeline::experiment::Experiment;

@@ -21,6 +21,7 @@ pub struct Colour {
 }
 
 /// Solves the colours at tilt `t` (module docs).
+#[cfg(test)]
 pub fn colours_at(spec: &FitSpec, domain: &FitDomain, target: &dyn FitTarget, i_z: Rgb, t: Angle) -> Colour {
     let md = &domain.moments;
     let mc = domain.lune(t);
@@ -231,6 +232,7 @@ pub(super) fn nnls2(gaa: f64, gad: f64, gdd: f64, ba: f64, bd: f64) -> (f64, f64
 }
 
 /// The IrradZ line I = I_z·(g + w·u), g = f_d/d_z, u = f_a − g, w ∈ [0, 1].
+#[cfg(test)]
 pub(super) fn irradz(gaa: f64, gad: f64, gdd: f64, ba: f64, bd: f64, i_z: f64, dz: f64) -> (f64, f64, f64) {
     if i_z <= 0.0 || dz <= 0.0 {
         return (0.0, 0.0, 0.0);

@@ -47,14 +47,12 @@
 
 mod bake;
 mod least_squares;
-mod search;
+pub(crate) mod search;
 mod spec;
-mod target;
+pub(crate) mod target;
 #[cfg(test)]
 mod tests;
 
-pub use bake::{fit, FitResult};
-pub use least_squares::{colours_at, Colour, ThetaObjective};
-pub use search::{solve, Solved, MAX_GOLDEN_STEPS};
+pub use bake::fit;
+pub use search::MAX_GOLDEN_STEPS;
 pub use spec::{Colours, Direction, FitSpec, Gram};
-pub use target::{FitDomain, FitTarget, Frame, QuadraticTarget};

@@ -1,11 +1,14 @@
 //! The direction search: golden section over the tilt θ of d from N (and the best of the
 //! bracket's end point, θ = 0 and the linear θ), or the linear direction alone.
 
+#[cfg(test)]
 use super::super::lune::Angle;
+#[cfg(test)]
 use crate::math::colour::Rgb;
 
 use super::least_squares::*;
 use super::spec::*;
+#[cfg(test)]
 use super::target::*;
 
 /// The solved direction and colours in the frame.
@@ -26,6 +29,7 @@ pub(super) const INV_PHI: f64 = 0.618_033_988_749_894_9;
 
 /// Chooses θ (linear or golden section, module docs) and solves the colours, for any target
 /// (each θ by [`colours_at`]).
+#[cfg(test)]
 pub fn solve(spec: &FitSpec, domain: &FitDomain, target: &dyn FitTarget, i_z: Rgb, theta_lin: f64) -> Solved {
     let at = |th: f64| colours_at(spec, domain, target, i_z, Angle::new(th));
     solve_by(spec, theta_lin, |th| at(th).objective, at)

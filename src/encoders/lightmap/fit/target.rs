@@ -51,6 +51,7 @@ impl Frame {
 }
 
 /// The fit target's inner products over the domain D, in the tangent frame.
+#[cfg(test)]
 pub trait FitTarget {
     /// (∫_D q, ∫_D z·q).
     fn plain(&self) -> [Rgb; 2];
@@ -106,12 +107,14 @@ impl QuadraticTarget {
     }
 
     /// q at a tangent-space unit vector.
+    #[cfg(test)]
     pub fn eval(&self, n: DVec3) -> Rgb {
         let v = [1.0, n.x, n.y, n.z, n.x * n.x, n.y * n.y, n.z * n.z, n.x * n.y, n.x * n.z, n.y * n.z];
         (0..10).map(|j| self.coef[j] * v[j]).sum()
     }
 }
 
+#[cfg(test)]
 impl FitTarget for QuadraticTarget {
     fn plain(&self) -> [Rgb; 2] {
         self.plain
@@ -151,6 +154,7 @@ impl FitDomain {
     }
     /// The moments of the part of the domain where n·d ≥ 0, for d tilted by `t` from N.
     #[inline]
+    #[cfg(test)]
     pub fn lune(&self, t: Angle) -> Moments {
         match self.gram {
             Gram::Hemisphere => Moments::hemisphere_lune(t),

@@ -39,8 +39,6 @@ mod solver;
 mod tests;
 mod zonal;
 
-pub use problem::{l2_band, AxisProblem, Formulation, Target};
-pub use solver::{solve, Solution, SolveStats, SolverSettings};
-pub use zonal::{
-    band2, band2_with_jacobian, hallucinated_k, tetrahedron_axes, zonal_fit, Curve, Zonal, FOUR_PI_OVER_5,
-};
+pub use problem::{l2_band, Formulation, Target};
+pub use solver::{solve, SolveStats, SolverSettings};
+pub use zonal::{band2, hallucinated_k, zonal_fit, Curve, Zonal};

@@ -115,14 +115,6 @@ impl Target {
         out
     }
 
-    /// The zonal coefficient of channel c for L1 vector `v` and unit axis `a`.
-    pub fn zonal_coefficient(&self, c: usize, v: DVec3, a: DVec3) -> f64 {
-        match self.zonal {
-            Zonal::Stored => zonal_fit(a, &self.t2[c]),
-            Zonal::Hallucinated(curve) => hallucinated_k(self.l0[c], v, a, curve),
-        }
-    }
-
     /// The objective at L1 vectors `x` (3 numbers per channel, xyz), and its gradient when
     /// `grad` is given (same layout).
     pub fn eval(&self, x: &[f64], grad: Option<&mut [f64]>) -> f64 {
