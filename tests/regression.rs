@@ -61,8 +61,12 @@ fn table_number(v: f64) -> String {
 /// The columns that key a table's row (docs/regression.md): compared as text, never as numbers.
 const KEY_COLUMNS: [&str; 5] = ["map", "encoder", "domain", "effects", "metric"];
 
-/// The rules of `tolerances.toml`, in order: (columns or every column, class, ignore, rel, abs).
-fn tolerance_rules() -> Vec<(Option<Vec<String>>, Option<String>, bool, f64, f64)> {
+/// A rule of `tolerances.toml`: (its columns, or every column; its class; ignore; rel; abs),
+/// NaN for a number the rule leaves unset.
+type Rule = (Option<Vec<String>>, Option<String>, bool, f64, f64);
+
+/// The rules of `tolerances.toml`, in order.
+fn tolerance_rules() -> Vec<Rule> {
     let t = toml_of(&repo().join("tolerances.toml"));
     let rules = t["rule"].as_array().unwrap();
     rules

@@ -96,7 +96,7 @@ impl Sh25 {
     }
 
     /// Bands 0–2 as an [`Sh9`].
-    pub fn to_sh9(&self) -> Sh9 {
+    pub fn to_sh9(self) -> Sh9 {
         Sh9(std::array::from_fn(|i| self.0[i]))
     }
 

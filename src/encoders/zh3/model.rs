@@ -47,7 +47,7 @@ pub struct Zh3 {
 
 impl Zh3 {
     /// Expands to an irradiance SH3.
-    pub fn to_sh(&self) -> Sh9 {
+    pub fn to_sh(self) -> Sh9 {
         let mut s = Sh9::ZERO;
         s[0] = self.l0;
         for c in 0..3 {

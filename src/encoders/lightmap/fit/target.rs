@@ -45,7 +45,7 @@ impl Frame {
         self.e1 * t.sin + self.e3 * t.cos
     }
     /// World → tangent coordinates.
-    pub fn to_tangent(&self, w: DVec3) -> DVec3 {
+    pub fn to_tangent(self, w: DVec3) -> DVec3 {
         DVec3::new(w.dot(self.e1), w.dot(self.e2), w.dot(self.e3))
     }
 }
