@@ -122,8 +122,9 @@ fn writer_errors_name_their_target() {
 }
 
 /// A killed `probes --save` left `.NAME.tmp-PID` beside its target, outside any results
-/// folder, for good. Any write into a folder now removes the temporary files there of writers
-/// no longer running, and says so; a running writer's stays.
+/// folder, for good. A lone output file's workflow now removes, before writing it, the
+/// temporary files in its folder of writers no longer running, and says so; a running
+/// writer's stays.
 #[test]
 fn stale_temporaries_beside_any_target_are_removed() {
     let s = Scratch::new();

@@ -140,10 +140,6 @@ pub fn main_with(cli: Cli) -> Result<i32> {
         Command::Merge(a) => merge::run(a, &env),
         Command::Sweep(a) => sweep::run(a, &env),
     };
-    // What writes found beside their targets, left by writers no longer running.
-    for p in probelab::ops::take_removed() {
-        terminal::noteln!("removed {} (left by a killed run whose process is gone)", p.display());
-    }
     if let Some(p) = &profile {
         terminal::note(&p.report(started.elapsed().as_secs_f64()));
     }

@@ -8,16 +8,17 @@
 //! - [`write()`] (bytes), [`write_with`] (streamed through a buffer) and [`write_set`] (several
 //!   files of one folder, all or none: a baseline's table and provenance) build on it.
 //!
-//! The temporary names are the ones [`crate::io::folder::remove_stale`] recognises, so what a
-//! killed writer leaves is removed by the next writer of the same folder.
+//! The writer removes nothing but its own temporary file, and remembers nothing between
+//! writes. The temporary names are the ones [`crate::io::folder::remove_stale`] recognises: what
+//! a killed writer leaves is removed by the workflow that writes the folder next, which is
+//! handed the paths removed and reports them (`ops::Env::writing` for an output folder under
+//! its lock, `ops::Env::remove_stale_beside` for a lone output file).
 
 use anyhow::{bail, Context, Result};
-use std::collections::HashSet;
 use std::fs::{File, OpenOptions};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
-use std::sync::Mutex;
 
 /// A new temporary file beside a target path, not yet in place. Dropping it without
 /// [`Staged::commit`] removes the temporary file.
@@ -32,9 +33,10 @@ impl Staged {
     /// Creates a uniquely named temporary file in the folder of `target` (`.NAME.tmp-PID-N`).
     /// The folder must exist.
     pub fn beside(target: &Path) -> std::io::Result<Staged> {
+        // N, counted per process so two stages of one process never share a name: the one
+        // static of the writer, which names files and remembers nothing about them.
         static COUNTER: AtomicU64 = AtomicU64::new(0);
         let dir = folder_of(target);
-        sweep_once(dir);
         let name = target.file_name().unwrap_or(target.as_os_str()).to_string_lossy();
         let mut last = None;
         for _ in 0..16 {
@@ -81,27 +83,6 @@ impl Staged {
 /// so every caller's message says which file, however it wraps it.
 fn named(target: &Path, step: &str, e: std::io::Error) -> std::io::Error {
     std::io::Error::new(e.kind(), format!("{}: {step}: {e}", target.display()))
-}
-
-/// Removes, once per folder and process, the temporary files writers that are gone left in
-/// `dir` (`io::folder::remove_stale_in`), and records them for [`take_removed`]. Best effort:
-/// a folder that cannot be listed is the write's own error to report.
-fn sweep_once(dir: &Path) {
-    static SWEPT: Mutex<Option<HashSet<PathBuf>>> = Mutex::new(None);
-    let key = std::path::absolute(dir).unwrap_or_else(|_| dir.to_path_buf());
-    if SWEPT.lock().unwrap_or_else(|p| p.into_inner()).get_or_insert_with(HashSet::new).insert(key) {
-        let gone = crate::io::folder::remove_stale_in(dir).unwrap_or_default();
-        REMOVED.lock().unwrap_or_else(|p| p.into_inner()).extend(gone);
-    }
-}
-
-/// The stale temporary files removed by writes since the last call.
-static REMOVED: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
-
-/// The temporary files of writers no longer running that writes of this process removed
-/// (beside each target, before writing it), since the last call: for the binary to report.
-pub fn take_removed() -> Vec<PathBuf> {
-    std::mem::take(&mut *REMOVED.lock().unwrap_or_else(|p| p.into_inner()))
 }
 
 impl Drop for Staged {
@@ -318,27 +299,17 @@ mod tests {
         assert!(e.contains(&busy.display().to_string()), "{e}");
     }
 
-    /// A write removes the temporary files beside its target that writers no longer running
-    /// left, and hands them over once; a running process's temporary file stays.
+    /// A write removes nothing but its own temporary file: another writer's, even one whose
+    /// process is gone, stays for the workflow to remove (`io::folder::remove_stale`).
     #[test]
-    fn a_write_removes_the_stale_temporaries_beside_it() {
+    fn a_write_leaves_other_temporaries_alone() {
         let d = tempfile::tempdir().unwrap();
         let gone = crate::io::folder::pid_of_a_finished_process();
-        let mut alive = std::process::Command::new("sleep").arg("30").spawn().unwrap();
-        let stale = [d.path().join(format!(".t.csv.tmp-{gone}")), d.path().join(format!(".u.csv.tmp-{gone}-7"))];
-        let live = d.path().join(format!(".t.csv.tmp-{}", alive.id()));
-        for f in stale.iter().chain([&live]) {
-            std::fs::write(f, b"x").unwrap();
-        }
+        let stale = d.path().join(format!(".t.csv.tmp-{gone}"));
+        std::fs::write(&stale, b"x").unwrap();
         write(&d.path().join("t.csv"), b"new").unwrap();
-        let removed = take_removed();
-        alive.kill().unwrap();
-        alive.wait().unwrap();
-        for f in &stale {
-            assert!(!f.exists() && removed.contains(f), "{} {removed:?}", f.display());
-        }
-        assert!(live.exists(), "a running writer's temporary file stays");
-        assert!(!removed.contains(&live));
+        assert!(stale.exists());
+        assert_eq!(std::fs::read_dir(d.path()).unwrap().count(), 2, "the target and the stale file");
     }
 
     #[test]

@@ -4,7 +4,9 @@
 //! files behind: `.NAME.tmp-PID-N` (a [`crate::io::atomic::Staged`] file), `.NAME.tmp-PID` (the
 //! same, as older versions named them) and `.NAME.old-PID` (the previous version a
 //! [`crate::io::atomic::write_set`] keeps until every rename is done). Under the lock
-//! [`remove_stale`] deletes those whose process is gone.
+//! [`remove_stale`] deletes those whose process is gone; beside a lone output file no lock
+//! covers, [`remove_stale_in`] does the same in its folder. Both return what they removed, for
+//! the workflow to report.
 
 use anyhow::{Context, Result};
 use std::path::{Path, PathBuf};
@@ -79,8 +81,9 @@ pub fn remove_stale(dir: &Path) -> Result<Vec<std::path::PathBuf>> {
     Ok(removed)
 }
 
-/// [`remove_stale`] in `dir` alone (not its subfolders): what every atomic write does beside
-/// its target (`io::atomic`), so any folder written into is cleaned, not only `results/`.
+/// [`remove_stale`] in `dir` alone (not its subfolders): for the folder of an output file that
+/// no locked output folder holds (`probes --out`, `--save`, `merge --out`), so any folder
+/// written into is cleaned, not only `results/`. Call it before the write.
 pub fn remove_stale_in(dir: &Path) -> Result<Vec<std::path::PathBuf>> {
     let (mut removed, _) = remove_stale_here(dir)?;
     removed.sort();
@@ -161,6 +164,30 @@ mod tests {
         for f in &kept {
             assert!(d.path().join(f).exists(), "{f}");
         }
+    }
+
+    /// In one folder alone: the leftovers of a process that is gone are removed and returned; a
+    /// running process's temporary file and the subfolders stay.
+    #[test]
+    fn stale_temporary_files_beside_a_target_are_removed() {
+        let d = tempfile::tempdir().unwrap();
+        let gone = pid_of_a_finished_process();
+        let mut alive = std::process::Command::new("sleep").arg("30").spawn().unwrap();
+        let stale = [d.path().join(format!(".t.csv.tmp-{gone}")), d.path().join(format!(".u.csv.tmp-{gone}-7"))];
+        let live = d.path().join(format!(".t.csv.tmp-{}", alive.id()));
+        let below = d.path().join(format!("x/.t.csv.tmp-{gone}"));
+        std::fs::create_dir(d.path().join("x")).unwrap();
+        for f in stale.iter().chain([&live, &below]) {
+            std::fs::write(f, b"x").unwrap();
+        }
+        let removed = remove_stale_in(d.path()).unwrap();
+        let live_stays = live.exists();
+        alive.kill().unwrap();
+        alive.wait().unwrap();
+        assert_eq!(removed, stale);
+        assert!(stale.iter().all(|f| !f.exists()));
+        assert!(live_stays, "a running writer's temporary file stays");
+        assert!(below.exists(), "a subfolder is not this folder");
     }
 
     #[test]

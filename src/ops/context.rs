@@ -1,7 +1,8 @@
 //! What every workflow is given ([`Env`]): the repository root, the map search path,
 //! `--allow-long`, and where the lines for the user go while it works ([`Notes`]); and what
 //! every writing workflow does first: refuse a folder that is not a checkout, take the output
-//! folder's lock, refuse outputs that would overwrite inputs, refuse work estimated too long.
+//! folder's lock, refuse outputs that would overwrite inputs, refuse work estimated too long,
+//! remove (and note) the temporary files killed runs left where it writes.
 
 use crate::envmap::search::SearchPath;
 use crate::io::distinct::{refuse_overwrite, Named};
@@ -101,10 +102,24 @@ impl Env<'_> {
     /// killed runs left there, saying so (`io::folder`).
     pub fn writing(&self, out: &Path) -> Result<folder::DirLock> {
         let lock = folder::lock(out, true, || self.waiting(out))?;
-        for p in folder::remove_stale(out)? {
+        self.removed(&folder::remove_stale(out)?);
+        Ok(lock)
+    }
+
+    /// Before writing a lone output file that no locked output folder holds (`probes --out`,
+    /// `--save`, `merge --out`): removes the temporary files that killed runs left in its folder,
+    /// saying so (`io::folder::remove_stale_in`). Best effort: a folder that cannot be listed is
+    /// the write's own error to report.
+    pub fn remove_stale_beside(&self, target: &Path) {
+        let dir = target.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
+        self.removed(&folder::remove_stale_in(dir).unwrap_or_default());
+    }
+
+    /// Notes each stale temporary file removed.
+    fn removed(&self, paths: &[PathBuf]) {
+        for p in paths {
             self.notes.note(&format!("removed {} (left by a killed run whose process is gone)", p.display()));
         }
-        Ok(lock)
     }
 
     /// The shared lock of a workflow that only reads an output folder (none when it does not

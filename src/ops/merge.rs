@@ -24,7 +24,8 @@ pub struct Merged {
 }
 
 /// `probelab merge`: the output checked distinct from the shard files, the shards merged (a
-/// warning about them, then the file written, said through `env.notes`).
+/// warning about them, then the file written, said through `env.notes`; before it, the
+/// temporary files killed runs left beside it removed and noted).
 pub fn merge(env: &Env, o: &MergeOptions) -> Result<Merged> {
     let inputs: Vec<Named> = o.files.iter().map(|p| Named { role: "a shard file", path: p }).collect();
     let outputs: Vec<Named> = o.out.iter().map(|p| Named { role: "--out", path: p }).collect();
@@ -34,6 +35,7 @@ pub fn merge(env: &Env, o: &MergeOptions) -> Result<Merged> {
         env.notes.note(&w);
     }
     if let Some(out) = &o.out {
+        env.remove_stale_beside(out);
         crate::io::atomic::write(out, stats.to_toml()?.as_bytes())?;
         env.notes.note(&format!("wrote {}", out.display()));
     }

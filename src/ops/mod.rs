@@ -29,7 +29,6 @@ pub use crate::encoders::DEFAULT_IDS as DEFAULT_ENCODERS;
 pub use crate::envmap::load::in_guarded_decoder;
 /// The map search path every workflow reads maps from (`<root>/envmaps`, then `PROBELAB_ENVMAPS`).
 pub use crate::envmap::search::SearchPath;
-pub use crate::io::atomic::take_removed;
 pub use crate::io::profile::Profile;
 pub use crate::pipeline::settings::RunSettings;
 pub use context::{Env, Notes, Quiet};

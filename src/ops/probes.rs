@@ -63,7 +63,8 @@ pub struct ProbesRun {
 }
 
 /// `probelab probes`: outputs checked distinct from the input, the job run (its notes, then
-/// the statistics file written, said through `env.notes`).
+/// the statistics file written, said through `env.notes`). Before each output file is written,
+/// the temporary files killed runs left beside it are removed and noted.
 pub fn probes(env: &Env, o: &ProbesOptions) -> Result<ProbesRun> {
     let outputs = [("--out", &o.out), ("--save", &o.save)];
     let outputs: Vec<Named> =
@@ -87,11 +88,15 @@ pub fn probes(env: &Env, o: &ProbesOptions) -> Result<ProbesRun> {
         chunk: o.chunk,
         save: o.save.as_deref(),
     };
+    if let Some(save) = &o.save {
+        env.remove_stale_beside(save);
+    }
     let done = job::run(&job, &env.search)?;
     for n in &done.notes {
         env.notes.note(n);
     }
     if let Some(out) = &o.out {
+        env.remove_stale_beside(out);
         crate::io::atomic::write(out, done.stats.to_toml()?.as_bytes())?;
         env.notes.note(&format!("wrote {}", out.display()));
     }
