@@ -52,8 +52,8 @@ impl Map {
         Ok(Map { map })
     }
 
-    /// Loads a map on the search path `search` (the command line's).
-    #[doc(hidden)]
+    /// Loads a map by name or path on a given search path ([`crate::ops::SearchPath`], e.g. the
+    /// command line's: `<root>/envmaps`, then `PROBELAB_ENVMAPS`).
     pub fn load_on(search: &SearchPath, name: &str) -> Result<Map> {
         Ok(Map { map: search.load(name)? })
     }
@@ -95,8 +95,7 @@ impl Map {
     }
 
     /// The map as the internal layers hold it (for `ops`).
-    #[doc(hidden)]
-    pub fn env_map(&self) -> &EnvMap {
+    pub(crate) fn env_map(&self) -> &EnvMap {
         &self.map
     }
 

@@ -314,8 +314,24 @@ fn architecture_md() -> String {
 }
 
 /// What the table says against what the code does: errors, one line each.
+/// The crate root's re-exports of a layer's module (`pub use io::progress;` in `lib.rs`): the
+/// name, and the layer it belongs to. A path through one is a use of that layer.
+fn root_reexports() -> BTreeMap<String, String> {
+    let lib = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("src/lib.rs")).unwrap();
+    code_of(&lib)
+        .lines()
+        .filter_map(|l| l.trim().strip_prefix("pub use ")?.strip_suffix(';'))
+        .filter_map(|p| {
+            let segs: Vec<&str> = p.split("::").collect();
+            (segs.len() == 2 && segs.iter().all(|s| s.chars().all(|c| c.is_alphanumeric() || c == '_')))
+                .then(|| (segs[1].to_string(), segs[0].to_string()))
+        })
+        .collect()
+}
+
 fn layer_errors(table: &[Layer], krate: &Crate) -> Vec<String> {
     let mut errors = Vec::new();
+    let aliases = root_reexports();
     // What each layer's code uses, with one example place per use.
     let mut used: BTreeMap<String, BTreeMap<String, String>> = BTreeMap::new();
     for (file, code) in &krate.files {
@@ -325,8 +341,10 @@ fn layer_errors(table: &[Layer], krate: &Crate) -> Vec<String> {
         };
         let uses = used.entry(layer.clone()).or_default();
         for p in crate_paths(code) {
-            if p[0] != layer {
-                uses.entry(p[0].clone()).or_insert_with(|| format!("src/{}: crate::{}", file.display(), p.join("::")));
+            let used_layer = aliases.get(&p[0]).unwrap_or(&p[0]);
+            if *used_layer != layer {
+                uses.entry(used_layer.clone())
+                    .or_insert_with(|| format!("src/{}: crate::{}", file.display(), p.join("::")));
             }
         }
     }
