@@ -20,7 +20,6 @@ mod reference_closed_forms;
 mod reference_oracle;
 mod repository;
 mod run_estimates;
-mod shared_maps;
 mod surface_encoders;
 mod table_values;
 mod tilted_light_bound;

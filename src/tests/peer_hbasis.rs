@@ -3,7 +3,7 @@
 //! read its source (`docs/peer_encodings.md`). Needs the shared maps. The parity of the peer's
 //! other encodings runs through the binary: `tests/peer_parity.rs`.
 
-use super::shared_maps::{shared_envmaps, PAPER_PROBES};
+use super::repository::{shared_envmaps, PAPER_PROBES};
 
 /// The peer's H-basis figures (H4, H6), reproduced from its definition to confirm how we read
 /// its source. This is no encoder of ours: the peer's figure is the clamped *radiance*

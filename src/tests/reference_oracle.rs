@@ -5,7 +5,7 @@
 //! resampled to widths that are not multiples of the grid's, on grids finer than the map, and
 //! on every shared map when `PROBELAB_ENVMAPS` is set.
 
-use super::shared_maps::shared_envmaps;
+use super::repository::shared_envmaps;
 use crate::envmap::moments::RowMoments;
 use crate::envmap::{load, resample, EnvMap, LatLong};
 use crate::math::colour::Rgb;
