@@ -4,7 +4,7 @@
 //!
 //! Encoders do no IO and cannot fail: a degenerate input (no light, no direction) must fall
 //! back to a documented answer, never NaN. The contract every registered encoder is tested
-//! against (`tests/encoder_hard_cases.rs`, on 34 named hard cases): finite output; black in,
+//! against (`src/tests/encoder_hard_cases.rs`, on 34 named hard cases): finite output; black in,
 //! black out; no direction (L1 = 0, or an L1 whose square underflows) → no worse than pure ambient
 //! (the band-0 answer); a loose sanity bound everywhere; and each promise below that the
 //! encoder makes.
@@ -227,7 +227,7 @@ pub trait Encoder: Send + Sync {
     }
 
     // Promises. Each is false (or `None`) unless the encoder overrides it, and each one an
-    // encoder makes is checked for it on every hard case (`tests/encoder_hard_cases.rs`) and on
+    // encoder makes is checked for it on every hard case (`src/tests/encoder_hard_cases.rs`) and on
     // random lighting (`tests/encoder_properties.rs`). Promise only what holds for every input,
     // including the degenerate ones.
 

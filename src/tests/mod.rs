@@ -12,6 +12,7 @@ mod effects_cost;
 mod encoder_hard_cases;
 mod encoder_properties;
 mod envmap_load;
+mod hard_case_catalogue;
 mod hdr_exposure;
 mod lightmap_exact_cases;
 mod map_identity;
