@@ -5,37 +5,10 @@
 
 use super::repository::repo;
 use crate::envmap::{identity, known, load};
-use std::path::PathBuf;
+#[path = "../../tests/common/peer_probes.rs"]
+mod peer_probes;
 
-const PEER: [(&str, &str); 5] = [
-    ("ennis", "ennis_256x128"),
-    ("grace", "grace_256x128"),
-    ("pisa", "pisa_256x128"),
-    ("uffizi", "uffizi_256x128"),
-    ("wells", "wells_probulator"),
-];
-
-/// The folders of `PROBELAB_ENVMAPS`.
-fn shared_dirs() -> Vec<PathBuf> {
-    let v = std::env::var_os("PROBELAB_ENVMAPS").unwrap_or_default();
-    std::env::split_paths(&v).filter(|p| !p.as_os_str().is_empty()).collect()
-}
-
-/// The folder holding the peer's five `.hdr` probes: a `PROBELAB_ENVMAPS` folder, or its
-/// `probulator_hdr/` (the layout of the shared maps). Panics when there is none: the test runs
-/// because the shared maps were declared present.
-fn peer_dir() -> PathBuf {
-    shared_dirs()
-        .into_iter()
-        .flat_map(|d| [d.clone(), d.join("probulator_hdr")])
-        .find(|d| PEER.iter().all(|(h, _)| d.join(format!("{h}.hdr")).is_file()))
-        .expect("PROBELAB_ENVMAPS names no folder holding Probulator's ennis/grace/pisa/uffizi/wells.hdr")
-}
-
-/// A map file of the shared folders.
-fn shared_file(name: &str) -> PathBuf {
-    shared_dirs().into_iter().map(|d| d.join(name)).find(|p| p.is_file()).unwrap_or_else(|| panic!("{name} missing"))
-}
+use peer_probes::{peer_dir, shared_file, PEER};
 
 /// Each `.hdr` has the pixel sha256 of the `.exr` it was decoded into, and that of the known
 /// table; the files themselves differ.
