@@ -6,6 +6,7 @@
 mod common;
 
 use common::harness::{map_from_fn, probelab, repo};
+use common::hdr_files::hdr_with;
 use std::fs;
 use std::path::Path;
 use std::process::Output;
@@ -155,19 +156,6 @@ fn a_map_larger_than_the_memory_limit_is_refused_before_decoding() {
     assert!(err.contains("m.exr: a 8x4 map needs 416 bytes") && err.contains("PROBELAB_MAP_MEMORY"), "{err}");
     let out = probelab().args(["eval", path.to_str().unwrap()]).env("PROBELAB_MAP_MEMORY", "416").output().unwrap();
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-}
-
-/// A Radiance file of 8x4 texels, each (1, 2, 3) but texel 0, which is (0.5, 0.25, 4): values
-/// RGBE stores exactly. `header` lines go after the signature line.
-fn hdr_with(path: &Path, header: &str) {
-    use image::codecs::hdr::HdrEncoder;
-    let px: Vec<image::Rgb<f32>> =
-        (0..32).map(|k| image::Rgb(if k == 0 { [0.5, 0.25, 4.0] } else { [1.0, 2.0, 3.0] })).collect();
-    let mut bytes = Vec::new();
-    HdrEncoder::new(&mut bytes).encode(&px, 8, 4).unwrap();
-    let at = bytes.iter().position(|&b| b == b'\n').unwrap() + 1;
-    bytes.splice(at..at, header.bytes());
-    fs::write(path, bytes).unwrap();
 }
 
 /// A bad `EXPOSURE=` is refused through the binary; what a good one does to the pixels is

@@ -2,22 +2,11 @@
 //! pixels are divided by their product as Radiance does, and an exposure of 1 changes nothing.
 //! A bad exposure is refused through the binary (`tests/map_headers.rs`).
 
-use crate::envmap::load::load;
-use std::fs;
-use std::path::Path;
+#[path = "../../tests/common/hdr_files.rs"]
+mod hdr_files;
 
-/// A Radiance file of 8x4 texels, each (1, 2, 3) but texel 0, which is (0.5, 0.25, 4): values
-/// RGBE stores exactly. `header` lines go after the signature line.
-fn hdr_with(path: &Path, header: &str) {
-    use image::codecs::hdr::HdrEncoder;
-    let px: Vec<image::Rgb<f32>> =
-        (0..32).map(|k| image::Rgb(if k == 0 { [0.5, 0.25, 4.0] } else { [1.0, 2.0, 3.0] })).collect();
-    let mut bytes = Vec::new();
-    HdrEncoder::new(&mut bytes).encode(&px, 8, 4).unwrap();
-    let at = bytes.iter().position(|&b| b == b'\n').unwrap() + 1;
-    bytes.splice(at..at, header.bytes());
-    fs::write(path, bytes).unwrap();
-}
+use crate::envmap::load::load;
+use hdr_files::hdr_with;
 
 #[test]
 fn hdr_exposure_divides_the_pixels_as_radiance_does() {

@@ -5,5 +5,6 @@
 #![allow(dead_code, unused_imports)] // each test binary uses a different part
 
 pub mod harness;
+pub mod hdr_files;
 pub mod peer_probes;
 pub mod shared_maps;
