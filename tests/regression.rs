@@ -498,7 +498,7 @@ fn a_number_at_its_tolerance_passes_check(c: &Cycle, table0: &str, edge: &Tolera
     write_provenance_sha(&c.base);
     let (code, so, _) = c.run(&["check", e]);
     assert_eq!(code, Some(0), "{so}");
-    assert!(so.contains("1 within tolerance"), "{so}");
+    assert!(so.contains("1 of them different but within tolerance"), "{so}");
 }
 
 /// `run` refuses to overwrite the moved baseline. Returns its provenance.

@@ -114,8 +114,12 @@ fn an_experiment_missing_some_maps_is_checked_on_the_others_and_never_rewritten(
     assert!(out.status.success(), "{stdout}{stderr}");
     assert_eq!(summary_line(&stdout), "x: skipped, 0 of 2 maps (missing: a, b)");
     // Each missing map once, with the fix once; one closing line of what was not reproduced.
-    assert!(stderr.contains("  a (read by 1 experiment(s))\n  b (read by 1 experiment(s))\n"), "{stderr}");
-    assert_eq!(stderr.matches("PROBELAB_ENVMAPS").count(), 1, "{stderr}");
+    assert!(stdout.contains("  a (read by 1 experiment(s))\n  b (read by 1 experiment(s))\n"), "{stdout}");
+    assert_eq!(stdout.matches("PROBELAB_ENVMAPS").count(), 1, "{stdout}");
+    // What it found is on stdout, ending with where the report is; stderr has no result line.
+    assert!(stdout.trim_end().ends_with("REPORT.md"), "{stdout}");
+    assert!(stdout.contains("claims: none declared"), "{stdout}");
+    assert!(!stderr.contains("wrote ") && !stderr.contains("PROBELAB_ENVMAPS"), "{stderr}");
     assert!(
         stdout.contains("not reproduced here: 2 map(s) missing (a, b): 1 experiment(s) skipped, 0 run"),
         "{stdout}"

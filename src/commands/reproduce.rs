@@ -4,7 +4,6 @@
 
 use super::context::refused_exit;
 use super::output;
-use super::terminal::note;
 use anyhow::Result;
 use probelab::ops::reproduce::ReproduceOptions;
 use probelab::ops::{claims, report, reproduce, Env};
@@ -18,13 +17,15 @@ pub struct Args {
     out: Option<PathBuf>,
 }
 
+/// What it found goes to stdout, in one piece at the end: the claims' findings, the report
+/// written, each missing map once (the committed pages never say it) and the closing summary.
+/// Stderr carries only what happens while it runs: progress, and the notes of its steps.
 pub fn run(a: Args, env: &Env) -> Result<i32> {
     let outcome = reproduce::reproduce(env, &ReproduceOptions { out: a.out })?;
-    output::write(claims::text::report(&outcome.claims).as_bytes())?;
-    note(&report::text::lines(&outcome.report));
-    // What this machine lacked: each missing map once, then one line in the summary (the
-    // committed pages never say it).
-    note(&outcome.missing.notes(&env.search));
-    output::write(reproduce::text::summary(&outcome).as_bytes())?;
+    let mut text = claims::text::report(&outcome.claims);
+    text += &report::text::lines(&outcome.report);
+    text += &outcome.missing.notes(&env.search);
+    text += &reproduce::text::summary(&outcome);
+    output::write(text.as_bytes())?;
     Ok(refused_exit(&outcome.refused()))
 }

@@ -83,6 +83,18 @@ pub struct ClaimsRun {
     /// The blending strips of the lightmap study, for the report layer to draw (empty when
     /// the measurements were not taken).
     pub strips: Vec<BlendStrip>,
+    /// Every claim as judged, in the declarations' order.
+    pub verdicts: Vec<Judged>,
+}
+
+/// One claim as judged: its verdict and the evidence tables it read.
+pub struct Judged {
+    /// The claim's id (`Z1`, `H3`, …).
+    pub id: String,
+    /// Its verdict word (CLAIMS.csv's `verdict`).
+    pub verdict: String,
+    /// The evidence files its checks read, relative to the results folder, each once.
+    pub evidence: Vec<String>,
 }
 
 impl ClaimsRun {
@@ -102,13 +114,38 @@ fn committed_verdicts(results: &Path) -> Vec<(String, String)> {
     t.rows.iter().map(|r| (r[i].clone(), r[v].clone())).collect()
 }
 
+/// Each claim's verdict with the evidence files its declaration reads.
+fn judged(papers: &[Paper], outcomes: &[(String, crate::claims::judge::ClaimOutcome)]) -> Vec<Judged> {
+    let declared = |id: &str| papers.iter().flat_map(|p| &p.claims).find(|c| c.id == id);
+    outcomes
+        .iter()
+        .map(|(_, o)| {
+            let mut evidence: Vec<String> = Vec::new();
+            for check in declared(&o.id).map(|c| c.checks.as_slice()).unwrap_or_default() {
+                let path = check.source.path().to_string_lossy().replace('\\', "/");
+                if !evidence.contains(&path) {
+                    evidence.push(path);
+                }
+            }
+            Judged { id: o.id.clone(), verdict: o.verdict.word().to_string(), evidence }
+        })
+        .collect()
+}
+
 /// Runs the measurements (when their maps are here), writes those that are new or unmoved
 /// (all of them under [`ClaimsMode::Bless`]), then judges every claim and, unless
 /// [`ClaimsMode::Check`], writes CLAIMS.csv and the evidence pages.
 pub fn run(root: &Path, search: &SearchPath, results: &Path, mode: ClaimsMode) -> Result<ClaimsRun> {
     let papers: Vec<Paper> = load_papers(&root.join("experiments"))?;
-    let mut run =
-        ClaimsRun { mode, written: vec![], moved: vec![], skipped: None, verdicts_changed: vec![], strips: vec![] };
+    let mut run = ClaimsRun {
+        mode,
+        written: vec![],
+        moved: vec![],
+        skipped: None,
+        verdicts_changed: vec![],
+        strips: vec![],
+        verdicts: vec![],
+    };
     let (bless, write_verdicts) = (mode == ClaimsMode::Bless, mode != ClaimsMode::Check);
     if papers.is_empty() {
         run.skipped = Some("no claims declared in experiments/claims/".into());
@@ -133,6 +170,7 @@ pub fn run(root: &Path, search: &SearchPath, results: &Path, mode: ClaimsMode) -
     }
     let outcomes = verdicts::judge_all(results, &papers);
     let old = committed_verdicts(results);
+    run.verdicts = judged(&papers, &outcomes);
     for (_, o) in &outcomes {
         let new = o.verdict.word().to_string();
         let before = old.iter().find(|(id, _)| id == &o.id).map(|(_, v)| v.clone()).unwrap_or_else(|| "-".into());

@@ -50,7 +50,8 @@ pub fn stderr_ok(out: &Output) -> String {
 
 /// Rows of CSV text as (header → value) maps.
 pub fn parse_csv(text: &str) -> Vec<HashMap<String, String>> {
-    let mut r = csv::Reader::from_reader(text.as_bytes());
+    // A leading `# …` line is a comment (the probe summary's source), as pandas' `comment="#"`.
+    let mut r = csv::ReaderBuilder::new().comment(Some(b'#')).from_reader(text.as_bytes());
     let h: Vec<String> = r.headers().unwrap().iter().map(String::from).collect();
     r.records().map(|rec| h.iter().cloned().zip(rec.unwrap().iter().map(String::from)).collect()).collect()
 }

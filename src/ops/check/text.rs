@@ -35,8 +35,9 @@ pub fn experiment(c: &ExperimentCheck) -> String {
     s
 }
 
-/// The counts of a verdict line: rows and numbers compared, with which baseline, and how many
-/// within tolerance or ignored.
+/// The counts of a verdict line: rows and numbers compared, with which baseline, how many of
+/// those differ within tolerance, and how many more cells were not compared at all (columns
+/// the tolerances ignore, such as timings: never counted among the numbers compared).
 fn counts(c: &ExperimentCheck) -> String {
     let from = match &c.baseline {
         Some(p) => format!(
@@ -49,7 +50,8 @@ fn counts(c: &ExperimentCheck) -> String {
     };
     let n = &c.comparison;
     format!(
-        "{} rows, {} numbers compared with the {from} in {}; {} within tolerance, {} ignored",
+        "{} rows, {} numbers compared with the {from} in {}, {} of them different but within tolerance; {} \
+         cells of ignored columns (timings) not compared",
         n.rows,
         n.numbers,
         c.dir.display(),
@@ -159,5 +161,23 @@ mod tests {
         let report = experiment(&strict);
         assert!(report.contains("x: FAILED: 1 map(s) changed, unrecorded or missing"), "{report}");
         assert!(report.contains("x: map m not found on this machine: its rows were not checked"));
+    }
+
+    #[test]
+    fn the_counts_never_call_a_cell_both_compared_and_ignored() {
+        let comparison = Comparison { rows: 2, numbers: 6, within: 1, ignored: 4, ..Default::default() };
+        let c = ExperimentCheck {
+            experiment: "x".into(),
+            dir: PathBuf::from("results/x"),
+            findings: vec![],
+            comparison,
+            baseline: None,
+            maps: 1,
+            unchecked_rows: 0,
+        };
+        let line = counts(&c);
+        assert!(line.starts_with("2 rows, 6 numbers compared with the baseline in results/x"), "{line}");
+        assert!(line.contains("1 of them different but within tolerance; 4 cells of ignored columns"), "{line}");
+        assert!(!line.contains("4 ignored"), "{line}");
     }
 }

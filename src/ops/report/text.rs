@@ -1,4 +1,4 @@
-//! What `report` (and the end of `reproduce`) says on stderr: the report written and the
+//! What `report` says on stderr (and `reproduce` on stdout, with its summary): the report written and the
 //! pictures drawn, the sheets kept for want of maps, and each map found in another file.
 
 use crate::report::Generated;

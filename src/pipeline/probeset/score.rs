@@ -352,13 +352,16 @@ impl SetStats {
         self.shards.len() == self.shard_count
     }
 
-    /// The summary table (CSV): one row per encoder. Documented in docs/scale.md.
+    /// The summary table (CSV): one row per encoder, after one comment line `# source: …`
+    /// naming the probe set (its palette of maps can run to hundreds of characters, which
+    /// repeated in a column on every row would make the table unreadable in a terminal).
+    /// Documented in docs/scale.md.
     pub fn summary_csv(&self) -> Result<Vec<u8>> {
         let num = crate::pipeline::table::num;
         // A statistic over no valid probe is empty, never 0.
         let opt = |v: Option<f64>| v.map(num).unwrap_or_default();
         let sh1 = self.encoders.iter().find(|e| e.name == crate::encoders::BASELINE).and_then(|e| e.rmse.mean());
-        let mut w = csv::Writer::from_writer(Vec::new());
+        let mut w = csv::Writer::from_writer(format!("# source: {}\n", self.source.replace('\n', " ")).into_bytes());
         w.write_record(SUMMARY_COLUMNS)?;
         let shards = if self.complete() {
             format!("all {}", self.shard_count)
@@ -396,7 +399,6 @@ impl SetStats {
                 "solid-angle".into(),
                 "E/pi".into(),
                 REFERENCE.into(),
-                self.source.clone(),
             ])?;
         }
         w.into_inner().map_err(|e| anyhow::anyhow!("csv: {e}"))
@@ -429,7 +431,6 @@ pub const SUMMARY_COLUMNS: &[&str] = &[
     "weighting",
     "units",
     "reference",
-    "source",
 ];
 
 #[cfg(test)]
@@ -622,7 +623,7 @@ pub(super) mod tests {
         assert!(sh0.rmse.mean() > sh1.rmse.mean());
         assert!(sh1.rmse.mean().is_some());
         let csv = String::from_utf8(s.summary_csv().unwrap()).unwrap();
-        assert!(csv.starts_with(&SUMMARY_COLUMNS.join(",")));
+        assert!(csv.starts_with(&format!("# source: {}\n{}", s.source, SUMMARY_COLUMNS.join(","))), "{csv}");
         assert!(csv.contains("\nsh2,3000,0,"), "{csv}");
     }
 }
