@@ -345,13 +345,10 @@ impl Experiment {
         let search = SearchPath::from_env(root.as_ref().join("envmaps"));
         let report = crate::pipeline::runner::run(&self.exp, &search, &Default::default())?;
         if !report.missing.is_empty() {
-            let why: Vec<String> =
-                report.missing.iter().zip(&report.missing_why).map(|(m, w)| format!("{m} ({w})")).collect();
             bail!(
-                "experiment {}: map(s) not found: {}\nSearched: {}",
+                "experiment {}: map(s) not found: {}",
                 self.exp.name,
-                why.join(", "),
-                search.describe()
+                search.missing_maps(&report.missing, &report.missing_why)
             );
         }
         Ok(report.rows)

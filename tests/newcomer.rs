@@ -74,12 +74,40 @@ fn check_passes_on_the_maps_here_and_says_once_what_it_could_not_check() {
     assert_eq!(out.status.code(), Some(0), "{}", text(&out).0);
 }
 
+/// Whether `text` opens a parenthesis inside another (`(a (b))`), which reads badly in a message.
+fn nests_parentheses(text: &str) -> bool {
+    let mut depth = 0i32;
+    for c in text.chars() {
+        match c {
+            '(' if depth >= 1 => return true,
+            '(' => depth += 1,
+            ')' => depth = (depth - 1).max(0),
+            _ => {}
+        }
+    }
+    false
+}
+
 #[test]
 fn typos_get_the_nearest_name() {
     let out = probelab().args(["eval", "gen_sky_su", "--encoders", "sh1", "--resolution", "8x4"]).run();
     let (_, se) = text(&out);
     assert_eq!(out.status.code(), Some(2), "{se}");
-    assert!(se.contains("gen_sky_su (no file of that name on the search path (did you mean 'gen_sky_sun'?))"), "{se}");
+    assert!(se.contains("gen_sky_su (no file of that name on the search path; did you mean 'gen_sky_sun'?)"), "{se}");
+    assert!(!nests_parentheses(&se), "{se}");
+
+    // A path is read as given: it says so, and lists no folder it was never looked up in.
+    let out = probelab().args(["eval", "envmaps/nope.exr", "--encoders", "sh1", "--resolution", "8x4"]).run();
+    let (_, se) = text(&out);
+    assert_eq!(out.status.code(), Some(2), "{se}");
+    assert!(se.contains("envmaps/nope.exr (no such file)"), "{se}");
+    assert!(!se.contains("Searched") && !nests_parentheses(&se), "{se}");
+
+    // A difference of case alone gets the name meant.
+    let out = probelab().args(["eval", "gen_sky_sun", "--encoders", "SH2", "--resolution", "8x4"]).run();
+    let (_, se) = text(&out);
+    assert_eq!(out.status.code(), Some(2), "{se}");
+    assert!(se.contains("unknown encoder 'SH2' (did you mean 'sh2'?)"), "{se}");
 
     let out = probelab().args(["eval", "gen_sky_sun", "--encoders", "sh1,sh22", "--resolution", "8x4"]).run();
     let (_, se) = text(&out);

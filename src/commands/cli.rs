@@ -99,7 +99,7 @@ pub fn main_with(cli: Cli) -> Result<i32> {
         root: cli.root,
         allow_long: cli.allow_long,
         notes: &terminal::Stderr,
-        settings: RunSettings { timing: !cli.no_timing, profile: profile.as_ref() },
+        settings: RunSettings { timing: !cli.no_timing, profile: profile.as_ref(), cancel: None },
     };
     let done = match cli.command {
         Command::Run(a) => run::run(a, &env),

@@ -293,6 +293,8 @@ mod tests {
         assert!(e.contains("unknown encoder 'sh9'") && e.contains("sh1"), "{e}");
         let e = build_list("sh1,sh22").err().unwrap().to_string();
         assert!(e.contains("unknown encoder 'sh22' (did you mean 'sh2'?); valid"), "{e}");
+        let e = build_list("SH2").err().unwrap().to_string();
+        assert!(e.contains("unknown encoder 'SH2' (did you mean 'sh2'?); valid"), "{e}");
         let mut t = toml::Table::new();
         t.insert("bogus".into(), toml::Value::Integer(1));
         let e = format!("{:#}", build("sh1", None, t).err().unwrap());

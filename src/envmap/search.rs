@@ -55,9 +55,34 @@ pub enum SearchError {
         /// For a known map: how to get it.
         get: Option<String>,
     },
+    /// A path (a name with a folder in it), which is read as given and never looked up in the
+    /// folders, names no file.
+    #[error("map '{name}' not found ({NO_SUCH_FILE}; a path is read as given, not looked up in the map folders)")]
+    NoSuchFile {
+        /// The path asked for.
+        name: String,
+    },
     /// The name is empty.
     #[error("empty map name")]
     EmptyName,
+}
+
+/// Why a map given as a path is missing ([`SearchError::reason`]).
+pub const NO_SUCH_FILE: &str = "no such file";
+
+/// Whether a map name is looked up in the search path's folders (a plain name is; a path with
+/// a folder in it is read as given): what decides whether a not-found message lists them.
+pub fn looked_up(name: &str) -> bool {
+    crate::io::name::is_plain(name)
+}
+
+/// One missing map with why, for a list of them: `name (why)`, a suggestion inside `why`
+/// (`… (did you mean 'x'?)`) set after a semicolon, so the parentheses never nest.
+pub fn missing_item(name: &str, why: &str) -> String {
+    match why.find(SUGGESTION) {
+        Some(i) => format!("{name} ({}; {})", &why[..i], why[i + 2..].trim_end_matches(')')),
+        None => format!("{name} ({why})"),
+    }
 }
 
 /// The part of the not-found message after the folders searched.
@@ -84,6 +109,7 @@ impl SearchError {
                 format!("{NO_FILE}{after_name}")
             }
             SearchError::NotFound { .. } => NO_FILE.to_string(),
+            SearchError::NoSuchFile { .. } => NO_SUCH_FILE.to_string(),
             SearchError::EmptyName => "empty map name".to_string(),
         }
     }
@@ -204,6 +230,9 @@ impl SearchPath {
 
     /// The error for a map none of whose candidates was taken.
     fn not_found(&self, name: &str, rejected: Vec<String>) -> SearchError {
+        if !looked_up(name) && rejected.is_empty() {
+            return SearchError::NoSuchFile { name: name.to_string() };
+        }
         let searched = if self.dirs.is_empty() {
             "(no folders)".to_string()
         } else {
@@ -297,6 +326,18 @@ impl SearchPath {
             return Ok(map);
         }
         Err(self.not_found(name, rejected).into())
+    }
+
+    /// The maps not found, each with why ([`missing_item`]), then the folders searched
+    /// (`\nSearched: …`) when one of them was looked up there: a path is read as given.
+    pub fn missing_maps(&self, missing: &[String], why: &[String]) -> String {
+        let list: Vec<String> = missing.iter().zip(why).map(|(m, w)| missing_item(m, w)).collect();
+        let searched = if missing.iter().any(|m| looked_up(m)) {
+            format!("\nSearched: {}", self.describe())
+        } else {
+            String::new()
+        };
+        format!("{}{searched}", list.join(", "))
     }
 
     /// [`SearchPath::open`], with any error as an `anyhow` error.
@@ -429,7 +470,7 @@ mod tests {
         let msg = format!("{:#}", sp.load(through.to_str().unwrap()).unwrap_err());
         assert!(msg.contains("inner.exr: cannot"), "{msg}");
         let msg = sp.resolve(t.path().join("nothing.exr").to_str().unwrap()).unwrap_err().to_string();
-        assert!(msg.contains("not found (no such file)"), "{msg}");
+        assert!(msg.contains("not found (no such file;"), "{msg}");
     }
 
     #[test]
@@ -450,9 +491,13 @@ mod tests {
         );
         assert!(msg.starts_with(&expected), "{msg}");
         assert!(msg.contains("docs/maps.md"), "{msg}");
-        // A path-like name that does not exist says so, and still lists the folders.
+        // A path that does not exist says so, and lists no folder: it was not looked up there.
         let msg = sp.resolve("sub/nope.exr").unwrap_err().to_string();
-        assert!(msg.contains("'sub/nope.exr' not found (no such file)"), "{msg}");
+        assert!(msg.contains("'sub/nope.exr' not found (no such file; a path is read as given"), "{msg}");
+        assert!(!msg.contains("searched") && !msg.contains(&a.display().to_string()), "{msg}");
+        // A file name without a folder is looked up, and the folders are listed.
+        let msg = sp.resolve("nope.exr").unwrap_err().to_string();
+        assert!(msg.contains("'nope.exr' not found (no such file); searched: "), "{msg}");
         assert!(msg.contains(&format!("{} (missing)", gone.display())), "{msg}");
         assert_eq!(sp.resolve(""), Err(SearchError::EmptyName));
     }
@@ -491,5 +536,13 @@ mod tests {
         assert!(msg.contains("magic"), "{msg}");
         let msg = format!("{:#}", sp.load("missing").unwrap_err());
         assert!(msg.contains("map 'missing' not found"), "{msg}");
+    }
+
+    #[test]
+    fn a_list_of_missing_maps_never_nests_parentheses() {
+        let why = format!("{NO_FILE} (did you mean 'gen_cone'?)");
+        assert_eq!(missing_item("gen_cnoe", &why), format!("gen_cnoe ({NO_FILE}; did you mean 'gen_cone'?)"));
+        assert_eq!(missing_item("a", NO_SUCH_FILE), "a (no such file)");
+        assert!(looked_up("nope.exr") && looked_up("nope") && !looked_up("envmaps/nope.exr"));
     }
 }

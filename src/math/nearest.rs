@@ -1,26 +1,30 @@
 //! "Did you mean": the nearest of some known names to a name that was not found, by the
 //! normalised Damerau–Levenshtein similarity of the `strsim` crate. Used for map names, encoder
-//! ids and experiment names, so a typo is answered with the name meant.
+//! ids and experiment names, so a typo is answered with the name meant. Names are compared
+//! without regard to case (`SH2` is one edit from nothing but `sh2`), since every name probelab
+//! knows is matched exactly and a difference of case alone is the commonest slip.
 
 /// The least similarity (0 to 1) a name must have to be suggested.
 const MIN_SIMILARITY: f64 = 0.7;
 
 /// The known name most similar to `name` (the first of equals, in the order given), when it
-/// is similar enough to be a typo of it: a similarity of at least 0.7, or `name` a prefix of it
-/// (an unfinished name). `None` when nothing is close, or when `name` is itself known.
+/// is similar enough to be a typo of it: a similarity of at least 0.7 between the lower-cased
+/// names, or `name` a prefix of it (an unfinished name). `None` when nothing is close, or when
+/// `name` is itself known.
 pub fn nearest<'a, I, S>(name: &str, known: I) -> Option<String>
 where
     I: IntoIterator<Item = &'a S>,
     S: AsRef<str> + 'a + ?Sized,
 {
     let mut best: Option<(f64, &str)> = None;
+    let lower = name.to_lowercase();
     for k in known {
         let k = k.as_ref();
         if k == name {
             return None;
         }
-        let mut score = strsim::normalized_damerau_levenshtein(name, k);
-        if name.len() >= 3 && k.starts_with(name) {
+        let mut score = strsim::normalized_damerau_levenshtein(&lower, &k.to_lowercase());
+        if name.len() >= 3 && k.to_lowercase().starts_with(&lower) {
             score = score.max(MIN_SIMILARITY);
         }
         if score >= MIN_SIMILARITY && best.is_none_or(|(b, _)| score > b) {
@@ -59,5 +63,9 @@ mod tests {
         assert_eq!(nearest("sh22", &ids).as_deref(), Some("sh2"));
         assert_eq!(did_you_mean("sh22", &ids), " (did you mean 'sh2'?)");
         assert_eq!(did_you_mean("xyz", &ids), "");
+        // A difference of case alone is the nearest of all.
+        assert_eq!(nearest("SH2", &ids).as_deref(), Some("sh2"));
+        assert_eq!(nearest("Gen_Cone", &maps).as_deref(), Some("gen_cone"));
+        assert_eq!(nearest("ENNIS", &maps).as_deref(), Some("ennis_256x128"));
     }
 }

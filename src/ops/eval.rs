@@ -83,7 +83,8 @@ impl Evaluated {
 /// is refused unless `env.allow_long` (`Env::refuse_long_experiments`), then every map is found
 /// on `env.search` (one not found is an error naming it, why, and the folders searched) and
 /// scored. A map in memory: its texels are checked first, then the options, and it is scored
-/// with the same experiment.
+/// with the same experiment. Either fails with [`crate::pipeline::settings::Cancelled`] when
+/// `env.settings.cancel` was set while it ran.
 pub fn eval(env: &Env, o: &EvalOptions) -> Result<Evaluated> {
     match &o.maps {
         EvalMaps::Named(maps) => {
@@ -91,9 +92,7 @@ pub fn eval(env: &Env, o: &EvalOptions) -> Result<Evaluated> {
             env.refuse_long_experiments(std::slice::from_ref(&exp))?;
             let report = runner::run(&exp, &env.search, &env.settings)?;
             if !report.missing.is_empty() {
-                let why: Vec<String> =
-                    report.missing.iter().zip(&report.missing_why).map(|(m, w)| format!("{m} ({w})")).collect();
-                bail!("map(s) not found: {}\nSearched: {}", why.join(", "), env.search.describe());
+                bail!("map(s) not found: {}", env.search.missing_maps(&report.missing, &report.missing_why));
             }
             Ok(Evaluated { rows: report.rows, maps: report.maps.iter().map(MapEntry::from_info).collect() })
         }
@@ -101,6 +100,7 @@ pub fn eval(env: &Env, o: &EvalOptions) -> Result<Evaluated> {
             let map = texels.open()?;
             let exp = experiment(vec![map.name().to_string()], o)?;
             let rows = runner::run_map(&exp, map.env_map(), &env.settings);
+            env.settings.check_cancelled()?;
             Ok(Evaluated { rows, maps: vec![MapEntry::from_map(&texels.name, map.env_map())] })
         }
     }

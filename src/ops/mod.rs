@@ -30,6 +30,6 @@ pub use crate::envmap::load::in_guarded_decoder;
 /// The map search path every workflow reads maps from (`<root>/envmaps`, then `PROBELAB_ENVMAPS`).
 pub use crate::envmap::search::SearchPath;
 pub use crate::io::profile::Profile;
-pub use crate::pipeline::settings::RunSettings;
+pub use crate::pipeline::settings::{Cancel, Cancelled, RunSettings};
 pub use context::{Env, Notes, Quiet};
 pub use source::{MapSource, Texels};

@@ -241,6 +241,7 @@ pub fn run(exp: &Experiment, search: &SearchPath, settings: &RunSettings) -> Res
             exposure: map.exposure,
         });
         rows.extend(run_map(exp, &map, settings));
+        settings.check_cancelled()?;
         progress.inc();
     }
     progress.finish();
@@ -340,8 +341,14 @@ impl<'a> CaseData<'a> {
     /// The reference E/π on an output grid (the fast lat-long path where it applies), with the
     /// self-bounce as in [`CaseData::reference_many`].
     pub fn reference_on(&self, grid: &OutputGrid) -> Vec<Rgb> {
+        self.reference_on_until(grid, &|| false)
+    }
+
+    /// [`Self::reference_on`], checking `stop` between the map's rows (on the lat-long path):
+    /// once it says stop, the values mean nothing.
+    pub fn reference_on_until(&self, grid: &OutputGrid, stop: &(dyn Fn() -> bool + Sync)) -> Vec<Rgb> {
         let mut v = match grid.latlong {
-            Some(ll) => self.reference.irradiance_latlong(ll),
+            Some(ll) => self.reference.irradiance_latlong_until(ll, stop),
             None => self.reference.irradiance_many(&grid.normals),
         };
         self.add_self_bounce(&grid.normals, &mut v);
@@ -365,7 +372,9 @@ impl<'a> CaseData<'a> {
     }
 }
 
-/// Scores every encoder of the experiment on one in-memory map.
+/// Scores every encoder of the experiment on one in-memory map. With `settings.cancel` set
+/// while it runs, the work stops early and the rows mean nothing: the caller checks
+/// [`RunSettings::check_cancelled`] before using them.
 pub fn run_map(exp: &Experiment, map: &EnvMap, settings: &RunSettings) -> Vec<Row> {
     let data = {
         let _s = settings.span("row moments + SH projection");
@@ -398,12 +407,15 @@ fn fill_timing(
     rows: &mut [Vec<Row>],
     settings: &RunSettings,
 ) {
-    if !settings.timing {
+    if !settings.timing || settings.cancelled() {
         return;
     }
     let _span = settings.span("timing pass");
     let progress = (cases.len() > 1).then(|| Progress::new(cases.len() as u64, "timing pass: cases"));
     for ((case, (inputs, light)), rows) in cases.iter().zip(inputs).zip(rows.iter_mut()) {
+        if settings.cancelled() {
+            return;
+        }
         let input = inputs.fit_input(case, Some(light));
         let normals = timing::subsample(&case.domain.output_grid(exp.resolution).normals, timing::EVAL_NORMALS);
         for named in &exp.encoders {
@@ -451,7 +463,7 @@ fn run_case<'d>(
         if !grids.iter().any(|g| g.0 == res && g.1 == sphere) {
             let grid = domain.output_grid(res);
             let _s = settings.span("reference");
-            let values = cd.reference_on(&grid);
+            let values = cd.reference_on_until(&grid, &|| settings.cancelled());
             grids.push((res, sphere, grid, values));
         }
         // Cannot fail: the grid was pushed just above when it was not there.

@@ -344,6 +344,13 @@ impl<'a> Reference<'a> {
     /// ([`crate::reference::row_convolution`], any map and grid widths); with caps this is
     /// [`Self::irradiance_many`].
     pub fn irradiance_latlong(&self, out: LatLong) -> Vec<Rgb> {
+        self.irradiance_latlong_until(out, &|| false)
+    }
+
+    /// [`Self::irradiance_latlong`], checking `stop` between the map's rows: once it says
+    /// stop, the rest is skipped and the values mean nothing (the caller that asked discards
+    /// them).
+    pub fn irradiance_latlong_until(&self, out: LatLong, stop: &(dyn Fn() -> bool + Sync)) -> Vec<Rgb> {
         if !self.masks.is_empty() || out.width == 0 || out.height == 0 {
             let normals: Vec<DVec3> = (0..out.height)
                 .flat_map(|j| (0..out.width).map(move |i| (i, j)))
@@ -351,7 +358,7 @@ impl<'a> Reference<'a> {
                 .collect();
             return self.irradiance_many(&normals);
         }
-        row_convolution::irradiance_latlong(self.moments, &self.rule, out)
+        row_convolution::irradiance_latlong(self.moments, &self.rule, out, stop)
     }
 }
 

@@ -31,7 +31,12 @@ const CHUNKS: usize = 8;
 
 /// E/π at the centres of the lat-long grid `out` (row-major), for the map whose moments are
 /// given, with no caps, integrating each row piece with the Gauss–Legendre `rule`.
-pub(crate) fn irradiance_latlong(moments: &RowMoments, rule: &[(f64, f64)], out: LatLong) -> Vec<Rgb> {
+pub(crate) fn irradiance_latlong(
+    moments: &RowMoments,
+    rule: &[(f64, f64)],
+    out: LatLong,
+    stop: &(dyn Fn() -> bool + Sync),
+) -> Vec<Rgb> {
     let plan = Plan::new(moments.width(), moments.dtheta(), out.width);
     let rows = moments.height();
     let chunks = CHUNKS.min(rows);
@@ -44,6 +49,10 @@ pub(crate) fn irradiance_latlong(moments: &RowMoments, rule: &[(f64, f64)], out:
             let mut prefix = RowPrefix::new();
             let mut phased = Phased::new(&plan);
             for j in (c * per)..((c + 1) * per).min(rows) {
+                if stop() {
+                    // Asked to stop: the sum is left partial, and the caller discards it.
+                    break;
+                }
                 moments.fill(j, &mut prefix);
                 phased.fill(moments, &prefix, &plan);
                 let (p0, p1) = (PI * j as f64 / rows as f64, PI * (j + 1) as f64 / rows as f64);

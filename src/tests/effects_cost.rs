@@ -22,7 +22,7 @@ fn experiment(extra: &str) -> Experiment {
 /// pass (a separate pass after scoring) prepares each case again: only the scoring pass counts.
 fn cost(exp: &Experiment, map: &EnvMap) -> (u64, u64) {
     let profile = Profile::new();
-    let settings = RunSettings { timing: false, profile: Some(&profile) };
+    let settings = RunSettings { timing: false, profile: Some(&profile), cancel: None };
     let rows = run_map(exp, map, &settings);
     assert!(!rows.is_empty());
     (profile.calls(CAPPED_CASE_SETUP), profile.calls("case setup"))

@@ -7,6 +7,8 @@ seen from the front (-Z, the map's centre column) and from the back (+Z). Runs h
 (MPLBACKEND=Agg); the figure is written to --out.
 
     python bindings/python/examples/compare_encoders.py [--map PATH] [--out error_spheres.png]
+
+Needs matplotlib: pip install "./bindings/python[examples]".
 """
 
 from __future__ import annotations

@@ -6,7 +6,9 @@
 //! shapes and types, and documents the API.
 //!
 //! Every function that does real work releases the GIL (`Python::detach`) while it runs, so
-//! Python threads and Dask workers run in parallel. Errors are `probelab.Error` (a
+//! Python threads and Dask workers run in parallel. `eval` runs its work on a thread of its own
+//! and checks for signals meanwhile, so Ctrl-C stops it between chunks of work (`interruptible`).
+//! Errors are `probelab.Error` (a
 //! `ValueError`) carrying the command line's message, the `{:#}` form `probelab` prints after
 //! `error: `.
 
@@ -14,12 +16,13 @@ use anyhow::Context;
 use probelab::api::{unit_normal, DVec3, Map, Surface, Value};
 use probelab::ops::eval::{self as evaluate, EvalMaps, EvalOptions};
 use probelab::ops::fit::{self as fitting, encoder_ids, FitOptions};
-use probelab::ops::{Env, MapSource, Quiet, RunSettings, SearchPath, Texels};
+use probelab::ops::{Cancel, Env, MapSource, Quiet, RunSettings, SearchPath, Texels};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::{PyByteArray, PyBytes};
 use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
 
 pyo3::create_exception!(
     probelab,
@@ -42,13 +45,64 @@ static TIMING: AtomicBool = AtomicBool::new(true);
 /// `PROBELAB_ENVMAPS`), no notes, no refusal of long work (a Python program decides that
 /// itself), and the module's timing setting.
 fn env(root: &str) -> Env<'static> {
+    env_until(root, None)
+}
+
+/// [`env`], with the work checking `cancel` between chunks.
+fn env_until<'a>(root: &str, cancel: Option<&'a Cancel>) -> Env<'a> {
     Env {
         root: root.into(),
         search: SearchPath::from_env(Path::new(root).join("envmaps")),
         allow_long: true,
         notes: &Quiet,
-        settings: RunSettings { timing: TIMING.load(Ordering::Relaxed), profile: None },
+        settings: RunSettings { timing: TIMING.load(Ordering::Relaxed), profile: None, cancel },
     }
+}
+
+/// How often the calling thread looks for a signal while the work runs.
+const SIGNAL_POLL: Duration = Duration::from_millis(50);
+
+/// Runs `work` on a thread of its own while the calling thread, without the GIL but for a
+/// moment every [`SIGNAL_POLL`], checks for signals (`Python::check_signals`: on the main
+/// thread, where Python handles them). When one raises (Ctrl-C: `KeyboardInterrupt`), `cancel`
+/// is set, the work stops at its next chunk (the library checks it between chunks; it knows
+/// nothing of Python), and the exception is raised once the work has stopped.
+fn interruptible<T: Send>(
+    py: Python<'_>,
+    cancel: &Cancel,
+    work: impl FnOnce() -> anyhow::Result<T> + Send,
+) -> PyResult<T> {
+    let done = AtomicBool::new(false);
+    std::thread::scope(|s| {
+        let handle = s.spawn(|| {
+            let out = work();
+            done.store(true, Ordering::Release);
+            out
+        });
+        while !py.detach(|| wait(&done, SIGNAL_POLL)) {
+            if let Err(signal) = py.check_signals() {
+                cancel.cancel();
+                py.detach(|| drop(handle.join()));
+                return Err(signal);
+            }
+        }
+        match handle.join() {
+            Ok(out) => out.map_err(py_err),
+            Err(_) => Err(Error::new_err("internal error: the work panicked")),
+        }
+    })
+}
+
+/// Waits up to `limit` for `done`; whether it is set.
+fn wait(done: &AtomicBool, limit: Duration) -> bool {
+    let start = Instant::now();
+    while !done.load(Ordering::Acquire) {
+        if start.elapsed() >= limit {
+            return false;
+        }
+        std::thread::sleep(Duration::from_millis(2));
+    }
+    true
 }
 
 /// The map of `map`: a `str` (a name or path) or a tuple `(name, width, height, bytes)` of
@@ -96,7 +150,9 @@ fn load_map<'py>(
     Ok((map.name().to_string(), w, h, texels))
 }
 
-/// `probelab eval`'s document on one map, as its JSON text (`--format json`, docs/json.md).
+/// `probelab eval`'s output on one map, as text: its JSON document (`format` "json",
+/// docs/json.md) or its CSV table (`format` "csv", byte for byte what `probelab eval` prints).
+/// Ctrl-C stops it ([`interruptible`]).
 #[pyfunction]
 #[allow(clippy::too_many_arguments)]
 fn eval(
@@ -108,13 +164,23 @@ fn eval(
     metric: String,
     resolution: String,
     polar_nodes: usize,
+    format: String,
 ) -> PyResult<String> {
     let maps = match source(map)? {
         MapSource::Named(name) => EvalMaps::Named(vec![name]),
         MapSource::Texels(texels) => EvalMaps::Texels(texels),
     };
     let options = EvalOptions { maps, encoders, domain, metric, resolution, polar_nodes };
-    py.detach(|| evaluate::eval(&env(&root), &options)?.to_json()).map_err(py_err)
+    let cancel = Cancel::default();
+    let env = env_until(&root, Some(&cancel));
+    interruptible(py, &cancel, || {
+        let evaluated = evaluate::eval(&env, &options)?;
+        match format.as_str() {
+            "csv" => Ok(String::from_utf8(evaluated.to_csv()?)?),
+            "json" => evaluated.to_json(),
+            other => anyhow::bail!("format '{other}': expected csv or json"),
+        }
+    })
 }
 
 /// The flattened stored coefficients of one fit: per component, its name (`L1_0.g`, `d.x`,

@@ -104,3 +104,29 @@ def test_encoders_lists_what_the_cli_lists():
     assert [[k, v] for k, v in ours.items()] == [[k, v.strip()] for k, v in theirs]
     assert "zh3_hallucinate" in ours and len(ours) > 40
 
+
+
+def test_eval_csv_is_the_cli_csv_byte_for_byte(tmp_path):
+    probelab.set_timing(False)
+    paths = [str(m) for m in MAPS[:2]]
+    theirs = cli("--no-timing", "eval", paths[0], "--encoders", "sh1,sh2,hhd_search_hemi", "--domain", "hemisphere:+y")
+    assert theirs.returncode == 0, theirs.stderr
+    ours = probelab.eval_csv(paths[0], ["sh1", "sh2", "hhd_search_hemi"], domain="hemisphere:+y")
+    assert ours == theirs.stdout
+    # Written as a user would, the file is the command line's bytes (diagnostics and all).
+    out = tmp_path / "scores.csv"
+    with open(out, "w", newline="") as f:
+        f.write(ours)
+    assert out.read_bytes() == theirs.stdout.encode()
+    # From an array named as the file's stem: the same text.
+    assert probelab.eval_csv(probelab.load_map(paths[0]), "sh1,sh2,hhd_search_hemi", domain="hemisphere:+y", name=MAPS[0].stem) == ours
+    # Several maps: one table, as one eval over them.
+    both = cli("--no-timing", "eval", *paths, "--encoders", "sh1")
+    assert probelab.concat_csv(probelab.eval_csv(p, "sh1") for p in paths) == both.stdout
+
+
+def test_a_string_of_encoders_is_read_as_the_command_line_reads_it():
+    one = probelab.eval(str(MAPS[0]), encoders="sh1")
+    assert [r["encoder"] for r in one] == ["sh1"]
+    two = probelab.eval(str(MAPS[0]), encoders="sh1,sh2")
+    assert [r["encoder"] for r in two] == ["sh1", "sh2"]

@@ -1,15 +1,17 @@
 """docs/scale-out.md's recipes, run as they stand in a scratch folder whose ``maps/`` holds the
-committed CC0 maps: the Dask one (``dask.bag`` over ``probelab.eval`` on a LocalCluster of two
-worker processes) and the GNU parallel one; their rows equal one ``probelab eval`` over all
-the maps."""
+committed CC0 maps: the Dask one (``dask.bag`` over ``probelab.eval_csv`` on a LocalCluster of
+two worker processes), written to a ``.py`` file and run as a script, as a user pastes it; and
+the GNU parallel one. Their tables equal one ``probelab eval`` over all the maps."""
 
 from __future__ import annotations
 
 import csv
+import json
 import io
 import os
 import shutil
 import subprocess
+import sys
 
 import pytest
 
@@ -41,20 +43,27 @@ def by_key(rows):
     return sorted(rows, key=lambda r: (r["map"], r["encoder"]))
 
 
-def test_the_dask_recipe_on_a_local_cluster_of_two_workers_gives_the_cli_rows(maps_folder):
+def test_the_dask_recipe_run_as_a_script_gives_the_cli_table(maps_folder):
     pytest.importorskip("distributed", reason="dask[distributed] is a test requirement (pyproject.toml)")
     code = recipe("dask", "python")
-    assert "LocalCluster(n_workers=2" in code
-    scope: dict = {}
-    exec(compile(code, str(DOC), "exec"), scope)
-    rows, encoders = scope["rows"], scope["encoders"]
-    paths = [str(maps_folder / "maps" / m.name) for m in CC0_MAPS]
-    theirs = cli_rows("--no-timing", "eval", *paths, "--encoders", ",".join(encoders), "--format", "json")
-    assert len(rows) == len(theirs) == len(CC0_MAPS) * len(encoders)
-    # Every number within 1e-12 relative, text equal (the timing columns aside: wall-clock).
-    assert_rows_agree(by_key(rows), by_key(theirs), skip=())
-    with open("scores.csv", newline="") as f:
-        assert [r["rmse"] for r in csv.DictReader(f)] == [str(r["rmse"]) for r in rows]
+    assert "LocalCluster(n_workers=2" in code and 'if __name__ == "__main__":' in code
+    # As a user runs it: the block pasted into a file, run by the interpreter (worker processes
+    # then import that file again, which only the __main__ guard makes safe).
+    script = maps_folder / "score.py"
+    script.write_text(code)
+    run = subprocess.run([sys.executable, str(script)], cwd=maps_folder, capture_output=True, text=True, timeout=900)
+    assert run.returncode == 0, run.stderr
+    encoders = ["sh1", "sh2", "zh3_hallucinate", "geomerics"]
+    assert json.dumps(encoders) in code
+    paths = sorted(f"maps/{m.name}" for m in CC0_MAPS)
+    theirs = subprocess.run([str(binary()), "eval", *paths, "--encoders", ",".join(encoders)], cwd=maps_folder, capture_output=True, text=True)
+    assert theirs.returncode == 0, theirs.stderr
+    ours = (maps_folder / "scores.csv").read_text()
+    # The same header, rows and cells, as text (the timing columns aside: wall-clock).
+    table = lambda text: [{k: v for k, v in r.items() if k not in ("fit_ns", "eval_ns")} for r in csv.DictReader(io.StringIO(text))]
+    assert ours.split("\n", 1)[0] == theirs.stdout.split("\n", 1)[0]
+    assert len(table(ours)) == len(CC0_MAPS) * len(encoders)
+    assert table(ours) == table(theirs.stdout)
 
 
 def test_the_gnu_parallel_recipe_gives_the_cli_rows(maps_folder):

@@ -103,3 +103,41 @@ def test_bad_normals_are_refused(normals, words):
 def test_bad_surface_normals_are_refused():
     assert "normal: 2 component(s)" in raises(probelab.fit, GOOD, ["sh1"], normal=(0, 1))
     assert "surface normal: (0, 0, 0): a normal must be three finite numbers of length at least 1e-6" in raises(probelab.fit, GOOD, ["sh1"], normal=(0, 0, 0))
+
+
+@pytest.mark.parametrize(
+    "kwargs, words",
+    [
+        ({"resolution": (16.9, 8.9)}, "resolution width: 16.9 is not a whole number"),
+        ({"resolution": (16.0, 8)}, "resolution width: 16.0 is not a whole number"),
+        ({"resolution": (16, True)}, "resolution height: True is not a whole number"),
+        ({"resolution": 16}, "resolution: 16; expected (W, H)"),
+        ({"polar_nodes": 2.5}, "polar_nodes: 2.5 is not a whole number"),
+        ({"encoders": [b"sh1"]}, "encoders: b'sh1' is bytes, not a str id"),
+        ({"encoders": 1}, "encoders: expected a str or a list of str ids, not int"),
+    ],
+)
+def test_arguments_of_the_wrong_kind_are_refused_not_converted(kwargs, words):
+    assert words in raises(probelab.eval, GOOD, **kwargs)
+    assert words in raises(probelab.eval_csv, GOOD, **kwargs)
+
+
+def test_a_numpy_integer_resolution_is_taken():
+    (row,) = probelab.eval(GOOD, "sh1", resolution=(np.int64(16), np.int32(8)))
+    assert row["resolution"] == "16x8"
+
+
+@pytest.mark.parametrize("value", ["no", "", 0, 1, None])
+def test_set_timing_takes_only_a_bool(value):
+    assert "not a bool" in raises(probelab.set_timing, value)
+
+
+def test_an_explicit_path_that_does_not_exist_lists_no_folder():
+    message = raises(probelab.load_map, "envmaps/nope.exr")
+    assert "'envmaps/nope.exr' not found (no such file; a path is read as given" in message
+    assert "searched" not in message.lower()
+
+
+def test_concat_csv_refuses_tables_that_do_not_match():
+    assert "header differs" in raises(probelab.concat_csv, ["a,b\n1,2\n", "a,c\n1,2\n"])
+    assert "no tables" in raises(probelab.concat_csv, [])

@@ -1,7 +1,8 @@
 """probelab from Python: compact diffuse-lighting encodings scored against an exact reference.
 
 The same Rust core as the ``probelab`` command line, with the same numbers: :func:`eval` gives
-the rows ``probelab eval --format json`` prints, :func:`fit` the document ``probelab fit``
+the rows ``probelab eval --format json`` prints, :func:`eval_csv` the very text of the CSV
+``probelab eval`` prints (and :func:`concat_csv` joins such tables), :func:`fit` the document ``probelab fit``
 prints, :func:`reference` the exact irradiance at any normals, :func:`load_map` a map's texels.
 
 Units and directions (``docs/conventions.md`` section 1): every irradiance is **E/pi** (a
@@ -15,21 +16,36 @@ the command line reads, so ``eval(load_map(path))`` scores exactly what ``eval(p
 Errors are :class:`Error` (a :class:`ValueError`) carrying the command line's message; option
 names in messages (``--encoders``, ``--domain``, ``--metric``, ``--resolution``, ``--normal``)
 are the keyword arguments of the same names. Long work releases the GIL, so threads and Dask
-workers run in parallel.
+workers run in parallel; Ctrl-C stops a running :func:`eval` or :func:`eval_csv` within a
+fraction of a second (``KeyboardInterrupt``), on the main thread, where Python handles signals.
 """
 
 from __future__ import annotations
 
 import json
+from collections import abc
+import numbers
 import os
-from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
+from typing import Any, Dict, Iterable, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
 from . import _core
 from ._core import Error
 
-__all__ = ["Error", "load_map", "eval", "fit", "encoders", "reference", "irradiance", "set_timing", "COLUMNS"]
+__all__ = [
+    "Error",
+    "load_map",
+    "eval",
+    "eval_csv",
+    "concat_csv",
+    "fit",
+    "encoders",
+    "reference",
+    "irradiance",
+    "set_timing",
+    "COLUMNS",
+]
 __version__ = "0.1.0"
 
 #: The columns of a result row, in the CSV's order (``docs/tables.md``).
@@ -89,12 +105,14 @@ def eval(
     Args:
         map: a file path or map name (as :func:`load_map`), or an (H, W, 3) array of linear RGB
             radiance (W = 2 H, finite and non-negative; converted to float32, the map's type).
-        encoders: encoder ids (:func:`encoders`), a list or a comma-separated string.
+        encoders: encoder ids (:func:`encoders`): a list of ``str``, or one ``str`` read as the
+            command line's ``--encoders`` (``"sh1"`` is one id, ``"sh1,sh2"`` two).
         metric: ``"exact"`` (solid-angle weighted, against the exact reference) or
             ``"probulator"`` (the peer tool's per-pixel mean).
         domain: ``"sphere"``, or ``"hemisphere:AXIS"`` with AXIS one of +x -x +y -y +z -z (the
             surface normal N).
-        resolution: the output lat-long grid (W, H) the scores are estimated on.
+        resolution: the output lat-long grid (W, H) the scores are estimated on: two whole
+            numbers (a float such as 16.9 is refused, never truncated).
         polar_nodes: Gauss-Legendre nodes per row piece of the reference.
         name: the map's name in the rows when ``map`` is an array (default ``"array"``).
         root: the folder whose ``envmaps/`` is searched first for a map name.
@@ -103,22 +121,97 @@ def eval(
         The ``rows`` of the ``probelab.eval/1`` document (``docs/json.md``): one dict per
         (encoder, orientation) with the CSV's columns (:data:`COLUMNS`, in order,
         ``docs/tables.md``): text columns as ``str``, scores as ``float``, ``stored_scalars``
-        as ``int``, ``diagnostics`` as a dict of numbers, and ``None`` where the CSV cell is empty (``at_normal_abs_err`` without a
-        surface normal; ``fit_ns``/``eval_ns`` after ``set_timing(False)``).
+        as ``int``, ``diagnostics`` as a dict of numbers, and ``None`` where the CSV cell is
+        empty (``at_normal_abs_err`` without a surface normal; ``fit_ns``/``eval_ns`` after
+        ``set_timing(False)``). These are values, not the CSV's cell texts: for the very text
+        ``probelab eval`` prints, use :func:`eval_csv`.
     """
-    if isinstance(encoders, str):
-        encoders = [encoders]
-    width, height = resolution
-    text = _core.eval(
+    text = _eval_text("json", map, encoders, metric, domain, resolution, polar_nodes, name, root)
+    return [_row(r) for r in json.loads(text)["rows"]]
+
+
+def eval_csv(
+    map: MapLike,
+    encoders: Union[Sequence[str], str] = ("sh1", "sh2"),
+    metric: str = "exact",
+    domain: str = "sphere",
+    resolution: Tuple[int, int] = (256, 128),
+    *,
+    polar_nodes: int = _core.DEFAULT_POLAR_NODES,
+    name: Optional[str] = None,
+    root: Union[str, "os.PathLike[str]"] = ".",
+) -> str:
+    """The CSV table ``probelab eval`` prints for the same map and options, as its exact text
+    (header line first, ``\n`` line ends): write it with ``open(path, "w", newline="")`` and
+    the file is byte for byte the command line's. The arguments are :func:`eval`'s; join the
+    tables of several maps with :func:`concat_csv`."""
+    return _eval_text("csv", map, encoders, metric, domain, resolution, polar_nodes, name, root)
+
+
+def concat_csv(tables: Iterable[str]) -> str:
+    """One CSV table from several of :func:`eval_csv`'s, in the order given: the header once,
+    then every table's rows, as ``probelab eval`` prints them for all those maps at once. Every
+    table must have the same header line."""
+    out: List[str] = []
+    header: Optional[str] = None
+    for k, table in enumerate(tables):
+        if not isinstance(table, str):
+            raise Error(f"concat_csv: table {k} is {type(table).__name__}, not the str eval_csv returns")
+        first, _, rows = table.partition("\n")
+        if header is None:
+            header = first
+            out.append(first + "\n")
+        elif first != header:
+            raise Error(f"concat_csv: table {k}'s header differs from the first table's: {first!r}")
+        out.append(rows)
+    if header is None:
+        raise Error("concat_csv: no tables")
+    return "".join(out)
+
+
+def _eval_text(fmt, map, encoders, metric, domain, resolution, polar_nodes, name, root) -> str:
+    """``_core.eval``'s text in format ``fmt`` ("json" or "csv"), the arguments checked."""
+    width, height = _resolution(resolution)
+    return _core.eval(
         _source(map, name),
         os.fspath(root),
-        ",".join(encoders),
+        _encoder_ids(encoders),
         domain,
         metric,
-        f"{int(width)}x{int(height)}",
-        int(polar_nodes),
+        f"{width}x{height}",
+        _whole("polar_nodes", polar_nodes),
+        fmt,
     )
-    return [_row(r) for r in json.loads(text)["rows"]]
+
+
+def _encoder_ids(encoders: Union[Sequence[str], str]) -> str:
+    """The ``--encoders`` value: a ``str`` is taken as the command line takes it (one id, or
+    ids separated by commas); a list or tuple must hold only ``str`` ids."""
+    if isinstance(encoders, str):
+        return encoders
+    if isinstance(encoders, (bytes, bytearray)) or not isinstance(encoders, abc.Sequence):
+        raise Error(f"encoders: expected a str or a list of str ids, not {type(encoders).__name__}")
+    for e in encoders:
+        if not isinstance(e, str):
+            raise Error(f"encoders: {e!r} is {type(e).__name__}, not a str id")
+    return ",".join(encoders)
+
+
+def _whole(what: str, value: Any) -> int:
+    """``value`` as an int when it is a whole number (int or numpy integer, not bool); any
+    other value, a float such as 16.9 or 16.0 included, is refused rather than truncated."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral):
+        raise Error(f"{what}: {value!r} is not a whole number (expected an int)")
+    return int(value)
+
+
+def _resolution(resolution: Any) -> Tuple[int, int]:
+    """``(W, H)`` as two ints; anything else is refused, naming the value."""
+    try:
+        width, height = resolution
+    except (TypeError, ValueError):
+        raise Error(f"resolution: {resolution!r}; expected (W, H), two whole numbers") from None
+    return _whole("resolution width", width), _whole("resolution height", height)
 
 
 def _row(obj: Dict[str, Any]) -> Dict[str, Any]:
@@ -144,7 +237,7 @@ def fit(
 
     Args:
         map: a file path, map name or (H, W, 3) array, as for :func:`eval`.
-        encoders: encoder ids, a list or a comma-separated string.
+        encoders: encoder ids, as for :func:`eval`.
         normal: the surface normal N (x, y, z), world space, +Y up; the fit is then to the
             light above N's horizon. Without it the fit is a probe's, on the whole sphere (the
             encoders that need N are refused).
@@ -161,9 +254,7 @@ def fit(
         entries of role ``stored``, each value's components in order: ``stored_scalars`` of
         them), with ``names`` (``L1_0.g``, ``d.x``, ``ratio``) and ``units`` aligned to it.
     """
-    if isinstance(encoders, str):
-        encoders = [encoders]
-    text, flat = _core.fit(_source(map, name), os.fspath(root), ",".join(encoders), _normal(normal))
+    text, flat = _core.fit(_source(map, name), os.fspath(root), _encoder_ids(encoders), _normal(normal))
     doc = json.loads(text)
     fits = {}
     for f, (names, units, values) in zip(doc["fits"], flat):
@@ -257,5 +348,9 @@ def _normal(normal: Optional[Sequence[float]]) -> Optional[Tuple[float, float, f
 
 def set_timing(on: bool) -> None:
     """Whether :func:`eval` measures ``fit_ns`` and ``eval_ns`` (on by default, as the command
-    line; ``set_timing(False)`` is its ``--no-timing``). Process-wide."""
+    line; ``set_timing(False)`` is its ``--no-timing``). Process-wide. ``on`` must be a bool
+    (``True``/``False``; a numpy bool is taken too): ``set_timing("no")`` is refused, not read
+    as true."""
+    if not isinstance(on, (bool, np.bool_)):
+        raise Error(f"set_timing: {on!r} is {type(on).__name__}, not a bool (True or False)")
     _core.set_timing(bool(on))

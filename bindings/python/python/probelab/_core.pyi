@@ -18,9 +18,10 @@ def load_map(name: str, root: str) -> Tuple[str, int, int, bytearray]:
     """(name, width, height, little-endian float32 RGB texels, row 0 at the zenith)."""
 
 def eval(
-    map: _Source, root: str, encoders: str, domain: str, metric: str, resolution: str, polar_nodes: int
+    map: _Source, root: str, encoders: str, domain: str, metric: str, resolution: str, polar_nodes: int, format: str
 ) -> str:
-    """``probelab eval --format json``'s text on one map."""
+    """``probelab eval --format json``'s text (``format`` "json") or its CSV (``format`` "csv") on one map;
+    Ctrl-C stops it."""
 
 def fit(
     map: _Source, root: str, encoders: str, normal: Optional[Tuple[float, float, float]]

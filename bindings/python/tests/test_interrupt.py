@@ -1,0 +1,58 @@
+"""Ctrl-C stops a long ``eval``: SIGINT sent to a Python process in the middle of an evaluation
+raises ``KeyboardInterrupt`` there within a small part of the evaluation's own time, instead of
+after it. The bound is relative to the same evaluation's full time, measured on this machine
+first, so the test holds on a loaded machine."""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import time
+
+import pytest
+
+# A long evaluation: the exact reference of a 512x1024 map on a 1024x512 output grid.
+SCRIPT = """
+import sys, time
+import numpy as np
+import probelab
+probelab.set_timing(False)
+light = np.full((512, 1024, 3), 0.5, dtype=np.float32)
+light[40:60, 100:140] = 50.0
+print("ready", flush=True)
+start = time.monotonic()
+try:
+    probelab.eval(light, ["sh1"], resolution=(1024, 512))
+except KeyboardInterrupt:
+    print(f"interrupted {time.monotonic() - start:.3f}", flush=True)
+    sys.exit(3)
+print(f"finished {time.monotonic() - start:.3f}", flush=True)
+"""
+
+
+def start() -> subprocess.Popen:
+    p = subprocess.Popen([sys.executable, "-c", SCRIPT], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    assert p.stdout.readline().strip() == "ready", p.stderr.read()
+    return p
+
+
+@pytest.mark.skipif(os.name != "posix", reason="SIGINT to a child process is POSIX")
+def test_sigint_stops_a_long_eval_well_before_its_end():
+    full = start()
+    out, err = full.communicate(timeout=900)
+    assert full.returncode == 0 and out.startswith("finished"), err
+    t_full = float(out.split()[1])
+    assert t_full > 0.5, f"the evaluation took {t_full} s: too short to interrupt in its middle"
+
+    run = start()
+    time.sleep(0.2 * t_full)
+    sent = time.monotonic()
+    run.send_signal(signal.SIGINT)
+    out, err = run.communicate(timeout=900)
+    latency = time.monotonic() - sent
+    assert run.returncode == 3 and out.startswith("interrupted"), (run.returncode, out, err)
+    # Stopped within a small part of the whole: the work checks between rows of the map.
+    assert latency < 0.4 * t_full, f"SIGINT took {latency:.2f} s to stop an evaluation of {t_full:.2f} s"
+    assert float(out.split()[1]) < 0.7 * t_full, out
