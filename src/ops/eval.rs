@@ -98,6 +98,7 @@ pub fn eval(env: &Env, o: &EvalOptions) -> Result<Evaluated> {
         }
         EvalMaps::Texels(texels) => {
             let map = texels.open()?;
+            env.settings.check_cancelled()?;
             let exp = experiment(vec![map.name().to_string()], o)?;
             let rows = runner::run_map(&exp, map.env_map(), &env.settings);
             env.settings.check_cancelled()?;

@@ -380,6 +380,9 @@ pub fn run_map(exp: &Experiment, map: &EnvMap, settings: &RunSettings) -> Vec<Ro
         let _s = settings.span("row moments + SH projection");
         MapData::new(map)
     };
+    if settings.cancelled() {
+        return Vec::new();
+    }
     let all = cases(exp);
     // Per case, so that a map of many cases shows its progress and the time left.
     let progress = (all.len() > 1).then(|| Progress::new(all.len() as u64, &format!("{}: cases", map.name)));
