@@ -17,6 +17,7 @@
 //! whatever the two widths (a W that is a multiple of w is the case q = 1), and a grid finer
 //! than the map works the same way.
 
+use crate::reference::antipode;
 use crate::envmap::moments::{sin_versin, RowMoments, RowPrefix};
 use crate::envmap::{LatLong, PROGRESS_WIDTH};
 use crate::io::progress::Progress;
@@ -30,17 +31,21 @@ use std::f64::consts::{FRAC_1_PI, PI};
 const CHUNKS: usize = 8;
 
 /// E/π at the centres of the lat-long grid `out` (row-major), for the map whose moments are
-/// given, with no caps, integrating each row piece with the Gauss–Legendre `rule`.
-pub(crate) fn irradiance_latlong(moments: &RowMoments, rule: &[(f64, f64)], out: LatLong) -> Vec<Rgb> {
+/// given, with no caps, integrating each row piece with the Gauss–Legendre `rule`; the lower
+/// rows mirrored from the upper ones (`antipode`). Also returns the indices whose mirrored
+/// value cancelled ([`antipode::CANCELLED`]): the caller computes those normals on their own.
+pub(crate) fn irradiance_latlong(moments: &RowMoments, rule: &[(f64, f64)], out: LatLong) -> (Vec<Rgb>, Vec<usize>) {
     let plan = Plan::new(moments.width(), moments.dtheta(), out.width);
     let rows = moments.height();
+    // The rows below come from their antipodes (`antipode`): E/π(−n) = E/π(n) − n·M₁/π.
+    let top = antipode::direct_rows(out);
     let chunks = CHUNKS.min(rows);
     let per = rows.div_ceil(chunks);
     let progress = (moments.width() >= PROGRESS_WIDTH).then(|| Progress::new(rows as u64, "exact reference"));
     let partials: Vec<Vec<f64>> = (0..chunks)
         .into_par_iter()
         .map(|c| {
-            let mut acc = vec![0.0f64; out.height * out.width * 3];
+            let mut acc = vec![0.0f64; top * out.width * 3];
             let mut prefix = RowPrefix::new();
             let mut phased = Phased::new(&plan);
             for j in (c * per)..((c + 1) * per).min(rows) {
@@ -57,7 +62,7 @@ pub(crate) fn irradiance_latlong(moments: &RowMoments, rule: &[(f64, f64)], out:
             acc
         })
         .collect();
-    let mut total = vec![0.0f64; out.height * out.width * 3];
+    let mut total = vec![0.0f64; top * out.width * 3];
     for p in &partials {
         for (t, v) in total.iter_mut().zip(p) {
             *t += v;
@@ -71,7 +76,8 @@ pub(crate) fn irradiance_latlong(moments: &RowMoments, rule: &[(f64, f64)], out:
             row[c + plan.q * t] = Rgb::new(v[0], v[1], v[2]) * FRAC_1_PI;
         }
     }
-    values
+    let cancelled = antipode::mirror(moments, rule, out, &mut values);
+    (values, cancelled)
 }
 
 /// Greatest common divisor.
