@@ -144,7 +144,9 @@ mod tests {
         let map = EnvMap::from_fn("t", 40, 20, |i, j| [(i % 5) as f32 + 0.2, (j * j) as f32 * 0.1, 1.0]).unwrap();
         let rm = RowMoments::new(&map);
         let r = Reference::new(&rm, vec![], 2);
-        for out in [LatLong::new(16, 9), LatLong::new(15, 8), LatLong::new(17, 7), LatLong::new(2, 1), LatLong::new(40, 20)] {
+        for out in
+            [LatLong::new(16, 9), LatLong::new(15, 8), LatLong::new(17, 7), LatLong::new(2, 1), LatLong::new(40, 20)]
+        {
             assert_eq!(direct_rows(out) < out.height, out.width % 2 == 0 && out.height > 1);
             let fast = r.irradiance_latlong(out);
             for j in 0..out.height {
