@@ -341,8 +341,9 @@ impl<'a> Reference<'a> {
 
     /// E/π at the centres of a lat-long grid of normals (world orientation, row-major). With
     /// no caps every output row is a circular convolution of each input row
-    /// ([`crate::reference::row_convolution`], any map and grid widths); with caps this is
-    /// [`Self::irradiance_many`].
+    /// ([`crate::reference::row_convolution`], any map and grid widths), the lower half mirrored
+    /// from the upper (`reference::antipode`) except where that difference cancels, which is
+    /// [`Self::irradiance_many`]; with caps this is [`Self::irradiance_many`].
     pub fn irradiance_latlong(&self, out: LatLong) -> Vec<Rgb> {
         self.irradiance_latlong_until(out, &|| false)
     }
@@ -358,7 +359,12 @@ impl<'a> Reference<'a> {
                 .collect();
             return self.irradiance_many(&normals);
         }
-        row_convolution::irradiance_latlong(self.moments, &self.rule, out, stop)
+        let (mut values, cancelled) = row_convolution::irradiance_latlong(self.moments, &self.rule, out, stop);
+        let normals: Vec<DVec3> = cancelled.iter().map(|&k| out.direction(k % out.width, k / out.width)).collect();
+        for (k, v) in cancelled.into_iter().zip(self.irradiance_many(&normals)) {
+            values[k] = v;
+        }
+        values
     }
 }
 

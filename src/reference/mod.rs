@@ -9,6 +9,7 @@
 //! What this layer may use: the layer table of ARCHITECTURE.md (checked by
 //! `tests/architecture.rs`).
 
+pub(crate) mod antipode;
 pub mod domain;
 pub mod exact;
 pub mod lighting;

@@ -22,6 +22,7 @@ use crate::envmap::{LatLong, PROGRESS_WIDTH};
 use crate::io::progress::Progress;
 use crate::math::colour::Rgb;
 use crate::math::quadrature::for_each_polar_node;
+use crate::reference::antipode;
 use rayon::prelude::*;
 use std::f64::consts::{FRAC_1_PI, PI};
 
@@ -29,34 +30,72 @@ use std::f64::consts::{FRAC_1_PI, PI};
 /// the result does not depend on the thread count.
 const CHUNKS: usize = 8;
 
+/// A mirrored row where more than 1/`DENSE` of the values cancelled is convolved directly:
+/// a normal on its own (`Reference::irradiance_many`) costs about four columns of a row.
+const DENSE: usize = 8;
+
 /// E/π at the centres of the lat-long grid `out` (row-major), for the map whose moments are
-/// given, with no caps, integrating each row piece with the Gauss–Legendre `rule`.
+/// given, with no caps, integrating each row piece with the Gauss–Legendre `rule`; the lower
+/// rows mirrored from the upper ones (`antipode`). A mirrored row where many values cancelled
+/// ([`antipode::CANCELLED`], the dark side of a single light) is convolved directly instead;
+/// the indices of the other cancelled values are returned, for the caller to compute those
+/// normals on their own. `stop` is checked between the map's rows: once it says stop, the rest
+/// is skipped and the values mean nothing (the caller that asked discards them).
 pub(crate) fn irradiance_latlong(
     moments: &RowMoments,
     rule: &[(f64, f64)],
     out: LatLong,
     stop: &(dyn Fn() -> bool + Sync),
-) -> Vec<Rgb> {
+) -> (Vec<Rgb>, Vec<usize>) {
     let plan = Plan::new(moments.width(), moments.dtheta(), out.width);
+    let mut values = vec![Rgb::ZERO; out.height * out.width];
+    let top: Vec<usize> = (0..antipode::direct_rows(out)).collect();
+    convolve(moments, rule, out, &plan, &top, &mut values, stop);
+    let cancelled = antipode::mirror(moments, rule, out, &mut values);
+    let w = out.width;
+    let mut per_row = vec![0usize; out.height];
+    for &k in &cancelled {
+        per_row[k / w] += 1;
+    }
+    let dense = |j: usize| per_row[j] * DENSE > w;
+    let redo: Vec<usize> = (0..out.height).filter(|&j| dense(j)).collect();
+    if !redo.is_empty() {
+        convolve(moments, rule, out, &plan, &redo, &mut values, stop);
+    }
+    let rest = cancelled.into_iter().filter(|&k| !dense(k / w)).collect();
+    (values, rest)
+}
+
+/// Convolves every input row into the output rows `rows_out` of `values` (E/π, row-major).
+fn convolve(
+    moments: &RowMoments,
+    rule: &[(f64, f64)],
+    out: LatLong,
+    plan: &Plan,
+    rows_out: &[usize],
+    values: &mut [Rgb],
+    stop: &(dyn Fn() -> bool + Sync),
+) {
     let rows = moments.height();
     let chunks = CHUNKS.min(rows);
     let per = rows.div_ceil(chunks);
     let progress = (moments.width() >= PROGRESS_WIDTH).then(|| Progress::new(rows as u64, "exact reference"));
+    let n = rows_out.len() * out.width * 3;
     let partials: Vec<Vec<f64>> = (0..chunks)
         .into_par_iter()
         .map(|c| {
-            let mut acc = vec![0.0f64; out.height * out.width * 3];
+            let mut acc = vec![0.0f64; n];
             let mut prefix = RowPrefix::new();
-            let mut phased = Phased::new(&plan);
+            let mut phased = Phased::new(plan);
             for j in (c * per)..((c + 1) * per).min(rows) {
                 if stop() {
                     // Asked to stop: the sum is left partial, and the caller discards it.
                     break;
                 }
                 moments.fill(j, &mut prefix);
-                phased.fill(moments, &prefix, &plan);
+                phased.fill(moments, &prefix, plan);
                 let (p0, p1) = (PI * j as f64 / rows as f64, PI * (j + 1) as f64 / rows as f64);
-                for (jo, acc) in acc.chunks_exact_mut(out.width * 3).enumerate() {
+                for (&jo, acc) in rows_out.iter().zip(acc.chunks_exact_mut(out.width * 3)) {
                     plan.add_row(&phased, rule, out.phi_centre(jo), (p0, p1), acc);
                 }
                 if let Some(p) = &progress {
@@ -66,21 +105,20 @@ pub(crate) fn irradiance_latlong(
             acc
         })
         .collect();
-    let mut total = vec![0.0f64; out.height * out.width * 3];
+    let mut total = vec![0.0f64; n];
     for p in &partials {
         for (t, v) in total.iter_mut().zip(p) {
             *t += v;
         }
     }
     // From class-major order (class c, member t, channel) to row-major columns i = c + q·t.
-    let mut values = vec![Rgb::ZERO; out.height * out.width];
-    for (row, classes) in values.chunks_exact_mut(out.width).zip(total.chunks_exact(out.width * 3)) {
+    for (&jo, classes) in rows_out.iter().zip(total.chunks_exact(out.width * 3)) {
+        let row = &mut values[jo * out.width..][..out.width];
         for (k, v) in classes.chunks_exact(3).enumerate() {
             let (c, t) = (k / plan.g, k % plan.g);
             row[c + plan.q * t] = Rgb::new(v[0], v[1], v[2]) * FRAC_1_PI;
         }
     }
-    values
 }
 
 /// Greatest common divisor.
