@@ -116,11 +116,14 @@ fn values_md(s: &mut String, k: &CheckOutcome) {
         d.test,
         Test::RatioStat { .. }
             | Test::RatioSummary
+            | Test::RatioEither
+            | Test::MedianAtLeast { .. }
             | Test::RatioEvery { per_map: true, .. }
             | Test::RatioSome { per_map: true, .. }
     );
     let what = match d.test {
         Test::Equal { .. } => "relative difference".to_string(),
+        Test::MedianAtLeast { .. } => format!("per-map median {}", d.column),
         _ if per_map => "per-map ratio (geometric mean of its rows)".to_string(),
         _ if d.test.needs_baseline() => "ratio".to_string(),
         _ => d.column.clone(),
@@ -168,6 +171,14 @@ pub fn test_text(d: &CheckDecl) -> String {
              no criterion{floor}",
             d.encoder
         ),
+        Test::RatioEither => format!(
+            "some map's {} / {base} {col} ratio (geometric mean of its rows) < 1 and some > 1 (either wins \
+             somewhere){floor}",
+            d.encoder
+        ),
+        Test::MedianAtLeast { bound } => {
+            format!("median over maps of each map's median {col} of {} ≥ {}", d.encoder, fmt3(*bound))
+        }
         Test::EveryAtMost { bound } => format!("every {col} of {} ≤ {}", d.encoder, fmt3(*bound)),
         Test::EveryAtLeast { bound } => format!("every {col} of {} ≥ {}", d.encoder, fmt3(*bound)),
         Test::EveryEqual { value } => format!("every {col} of {} = {}", d.encoder, fmt3(*value)),

@@ -74,6 +74,16 @@ pub fn parse(key: &str, text: &str, origin: &Path) -> Result<Paper> {
     if let Some(m) = measurement_maps.iter().enumerate().find(|(i, m)| measurement_maps[..*i].contains(m)) {
         bail!("{}: [measurements] maps: '{}' appears twice", origin.display(), echo(m.1));
     }
+    for (set, maps) in &f.map_sets {
+        if let Some(m) = maps.iter().find(|m| crate::claims::judge::is_constructed(m)) {
+            bail!(
+                "{}: [map_sets] {}: '{}' is a constructed scene; scenes are judged apart, in the set 'scenes'",
+                origin.display(),
+                echo(set),
+                echo(m)
+            );
+        }
+    }
     let mut claims = Vec::new();
     for c in f.claim {
         let id = c.id.clone();
