@@ -61,9 +61,11 @@ impl<'a> Scope<'a> {
         Ok(Scope { t, k, population, enc_col, val_col, map_col, filters, keys })
     }
 
-    /// Whether a row passes the filters and lies on the set's and the check's maps.
-    fn in_scope(&self, r: &[String]) -> bool {
-        self.filters.iter().all(|(c, allowed)| allowed.contains(&r[*c]))
+    /// Whether a row passes the filters and lies on the set's and the check's maps. A
+    /// baseline row is not held to a filter on the encoder column (which picks the judged
+    /// encoders, as in `encoder = "*"` with `where = { encoder = [...] }`).
+    fn in_scope(&self, r: &[String], baseline: bool) -> bool {
+        self.filters.iter().all(|(c, allowed)| (baseline && *c == self.enc_col) || allowed.contains(&r[*c]))
             && self.map_col.is_none_or(|m| {
                 self.population.holds(&r[m])
                     && self.k.maps.as_ref().is_none_or(|s| s.contains(&r[m]))
@@ -73,7 +75,8 @@ impl<'a> Scope<'a> {
     /// The judged cell of a row of `encoder` (`*`: any) in scope; None for other rows, an
     /// error for a cell that is not a number.
     fn cell(&self, r: &[String], encoder: &str) -> Option<Result<Cell>> {
-        if (encoder != "*" && r[self.enc_col] != encoder) || !self.in_scope(r) {
+        let baseline = encoder != self.k.encoder;
+        if (encoder != "*" && r[self.enc_col] != encoder) || !self.in_scope(r, baseline) {
             return None;
         }
         let cell = r[self.val_col].trim();
@@ -111,9 +114,13 @@ impl<'a> Scope<'a> {
         let mut picked = Vec::new();
         for r in &self.t.rows {
             if let Some(value) = self.value(r, &self.k.encoder, "") {
+                let label = match self.k.encoder.as_str() {
+                    "*" => format!("{} · {}", r[self.enc_col], self.label(r)),
+                    _ => self.label(r),
+                };
                 picked.push(Picked {
                     row: r,
-                    label: self.label(r),
+                    label,
                     map: self.map_col.map(|m| r[m].clone()).unwrap_or_default(),
                     value: value?,
                 });
