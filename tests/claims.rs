@@ -45,11 +45,11 @@ fn a_failing_claim_is_reported_as_failing() {
         "experiments/claims/t.toml",
         "title='T'\nauthors='A'\nvenue='V'\norder=1\n\
          [[claim]]\nid='X1'\nsays='a beats b by half'\npaper_figure='p'\ncriterion='a/b < 0.5 on every map'\n\
-         kind='measured'\nfixed='before data'\ndiffers='d'\n\
+         kind='measured'\nfixed='before data'\ndiffers='d'\nquote='the paper states 0.5'\nthreshold_from='paper: 0.5'\n\
          [[claim.check]]\nname='a/b'\ntable='exp'\nencoder='a'\nbaseline='b'\ntest='ratio_every'\nbelow=0.7\n\
          role='primary'\n\
          [[claim]]\nid='X2'\nsays='needs data'\npaper_figure='p'\ncriterion='c'\n\
-         kind='identity'\nfixed='before data'\ndiffers='d'\n\
+         kind='identity'\nfixed='before data'\ndiffers='d'\nquote='q'\nthreshold_from='rounding'\n\
          [[claim.check]]\nname='missing'\ntable='nothing_here'\nencoder='a'\ntest='every_at_most'\nbound=1\n\
          role='primary'\n",
     );

@@ -34,6 +34,8 @@ pub(super) struct ClaimFile {
     pub(super) statement: Option<String>,
     pub(super) paper_figure: String,
     pub(super) criterion: String,
+    pub(super) quote: String,
+    pub(super) threshold_from: String,
     pub(super) kind: String,
     pub(super) fixed: String,
     pub(super) differs: String,

@@ -5,6 +5,7 @@ use super::check::{CheckDecl, Test};
 use super::file::PaperFile;
 use super::kind::Kind;
 use super::paper::{ClaimDecl, Paper, SAYS_MAX};
+use super::threshold::{check_quantifier, check_threshold, ThresholdFrom};
 use crate::math::echo::value as echo;
 use anyhow::{bail, Context, Result};
 use std::path::Path;
@@ -114,12 +115,22 @@ pub fn parse(key: &str, text: &str, origin: &Path) -> Result<Paper> {
         let checks = c.check.into_iter().map(|k| k.validate(&id, &f.map_sets)).collect::<Result<Vec<_>>>();
         let checks = checks.with_context(at)?;
         check_primary(kind, &checks).with_context(at)?;
+        if c.quote.trim().is_empty() {
+            bail!("{}: 'quote' is empty: quote the paper's sentence verbatim", at());
+        }
+        let threshold_from = ThresholdFrom::parse(&c.threshold_from).with_context(at)?;
+        // Cannot fail: check_primary found exactly one.
+        let primary = checks.iter().find(|k| k.primary).expect("one primary");
+        check_threshold(kind, &threshold_from, &c.quote, primary).with_context(at)?;
+        check_quantifier(kind, &c.quote, primary).with_context(at)?;
         claims.push(ClaimDecl {
             statement: c.statement.unwrap_or_else(|| c.says.clone()),
             id,
             says: c.says,
             paper_figure: c.paper_figure,
             criterion: c.criterion,
+            quote: c.quote,
+            threshold_from,
             kind,
             fixed: c.fixed,
             differs: c.differs,
