@@ -102,7 +102,8 @@ fn margins(o: &ClaimOutcome) -> String {
     const SHOWN: usize = 20;
     if failing.is_empty() {
         // Cannot fail: `values` is non-empty.
-        let closest = w.values.iter().min_by(|a, b| (a.value - t).abs().total_cmp(&(b.value - t).abs())).expect("non-empty");
+        let closest =
+            w.values.iter().min_by(|a, b| (a.value - t).abs().total_cmp(&(b.value - t).abs())).expect("non-empty");
         return format!(
             " Every value on {} meets {rel} {}; the closest is {} at {} ({}).",
             set_label(w),
@@ -112,7 +113,11 @@ fn margins(o: &ClaimOutcome) -> String {
             margin(closest.value, t)
         );
     }
-    let more = if failing.len() > SHOWN { format!(", and {} more (listed below)", failing.len() - SHOWN) } else { String::new() };
+    let more = if failing.len() > SHOWN {
+        format!(", and {} more (listed below)", failing.len() - SHOWN)
+    } else {
+        String::new()
+    };
     format!(
         " On {}, {} of {} disagree{}: {}{more}.",
         set_label(w),

@@ -166,7 +166,10 @@ fn a_threshold_comes_from_the_paper_or_is_a_direction() {
     let e = format!("{:#}", quoted("measured", q, "direction", "test='ratio_every'\nbelow=0.9").unwrap_err());
     assert!(e.contains("not a direction"), "{e}");
     // A quoted word without a number cannot carry a threshold.
-    let e = format!("{:#}", quoted("measured", q, "paper: clear improvement", "test='ratio_every'\nbelow=0.9").unwrap_err());
+    let e = format!(
+        "{:#}",
+        quoted("measured", q, "paper: clear improvement", "test='ratio_every'\nbelow=0.9").unwrap_err()
+    );
     assert!(e.contains("states no number"), "{e}");
     // "more than halves" states 0.5, in the quote's own words.
     assert!(quoted("measured", q, "paper: more than halves", "test='ratio_every'\nbelow=0.5").is_ok());
@@ -199,7 +202,8 @@ fn the_sentences_quantifier_sets_the_population_rule() {
     assert!(quoted("measured", all, "direction", every).is_ok());
     let e = format!("{:#}", quoted("measured", all, "direction", median).unwrap_err());
     assert!(e.contains("every case"), "{e}");
-    for hedge in ["a shared axis usually produces better results", "Tends to over-brighten", "most of the leak is gone"] {
+    for hedge in ["a shared axis usually produces better results", "Tends to over-brighten", "most of the leak is gone"]
+    {
         let e = format!("{:#}", quoted("measured", hedge, "direction", every).unwrap_err());
         assert!(e.contains("hedges"), "{hedge}: {e}");
         assert!(quoted("measured", hedge, "direction", median).is_ok(), "{hedge}");

@@ -146,10 +146,8 @@ pub(super) fn check_quantifier(kind: Kind, quote: &str, primary: &CheckDecl) -> 
         return Ok(());
     }
     if let Some(p) = has(&HEDGES) {
-        let median = matches!(
-            primary.test,
-            Test::RatioStat { statistic: Statistic::Median, .. } | Test::MedianAtLeast { .. }
-        );
+        let median =
+            matches!(primary.test, Test::RatioStat { statistic: Statistic::Median, .. } | Test::MedianAtLeast { .. });
         if !median {
             bail!(
                 "the quote hedges (\"{p}\"): the direction on most maps decides (ratio_stat with statistic = \

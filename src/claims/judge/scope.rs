@@ -66,10 +66,9 @@ impl<'a> Scope<'a> {
     /// encoders, as in `encoder = "*"` with `where = { encoder = [...] }`).
     fn in_scope(&self, r: &[String], baseline: bool) -> bool {
         self.filters.iter().all(|(c, allowed)| (baseline && *c == self.enc_col) || allowed.contains(&r[*c]))
-            && self.map_col.is_none_or(|m| {
-                self.population.holds(&r[m])
-                    && self.k.maps.as_ref().is_none_or(|s| s.contains(&r[m]))
-            })
+            && self
+                .map_col
+                .is_none_or(|m| self.population.holds(&r[m]) && self.k.maps.as_ref().is_none_or(|s| s.contains(&r[m])))
     }
 
     /// The judged cell of a row of `encoder` (`*`: any) in scope; None for other rows, an

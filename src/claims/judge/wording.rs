@@ -159,7 +159,12 @@ pub(super) struct BoundFigures<'a> {
 
 /// `median_at_least`'s headline: the median of the per-map values against the bound, and how
 /// many maps meet it alone.
-pub(super) fn median_bound(col: &str, (median, bound): (f64, f64), (passing, of): (usize, usize), noun: &str) -> String {
+pub(super) fn median_bound(
+    col: &str,
+    (median, bound): (f64, f64),
+    (passing, of): (usize, usize),
+    noun: &str,
+) -> String {
     format!(
         "per-map median {col} {}{} ≥ {} ({passing}/{of} {noun}s ≥ {})",
         fmt3(median),
