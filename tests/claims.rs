@@ -95,3 +95,21 @@ fn results_hold_no_absolute_paths() {
         }
     }
 }
+
+/// Every figure a claim shows beside its paragraph is a committed file under `results/`, so a
+/// fresh clone's evidence pages show it without any map.
+#[test]
+fn every_claims_figure_is_a_file_under_results() {
+    let mut n = 0;
+    for paper in ["zh3", "hemi", "brief2018"] {
+        let text = std::fs::read_to_string(repo().join(format!("experiments/claims/{paper}.toml"))).unwrap();
+        for line in text.lines().filter(|l| l.starts_with("figure = ")) {
+            let image = line.split("image = \"").nth(1).and_then(|r| r.split('"').next()).unwrap();
+            assert!(repo().join("results").join(image).is_file(), "{paper}: {image}");
+            let page = std::fs::read_to_string(repo().join(format!("results/claims/{paper}.md"))).unwrap();
+            assert!(page.contains(&format!("](../{image})")), "{paper}: {image} is not on the page");
+            n += 1;
+        }
+    }
+    assert!(n >= 6, "H2, H3, H5, H8, H9 and Z2 each show a figure ({n} found)");
+}

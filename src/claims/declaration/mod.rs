@@ -25,6 +25,7 @@
 //! | `threshold_from`  | string | where the primary's threshold comes from: `paper: <words of the quote that state the number>`, `direction` (a word decides only its direction: a ratio against 1, a sign), `rounding` (an identity) or `none` (an anchor); see `threshold.rs` for the rule, and the quantifier rule the quote sets |
 //! | `fixed`           | string | when the criterion was fixed: `before data`, or `after data: <reason>` |
 //! | `differs`         | string | why our figure and the paper's may differ (population, metric, maps, resolution), for the page's "What we found" |
+//! | `figure`          | table  | optional: `image` (a committed `.png` under `results/`, plain names) and `caption` (what to look at): one figure of ours beside the paragraph, for a claim whose paper evidence is an image |
 //! | `[[claim.check]]` | tables | the checks: exactly one with `role = "primary"`, which alone decides the verdict; the others are context, shown under it |
 //!
 //! | key (`[[claim.check]]`) | type | meaning |

@@ -123,7 +123,22 @@ pub fn parse(key: &str, text: &str, origin: &Path) -> Result<Paper> {
         let primary = checks.iter().find(|k| k.primary).expect("one primary");
         check_threshold(kind, &threshold_from, &c.quote, primary).with_context(at)?;
         check_quantifier(kind, &c.quote, primary).with_context(at)?;
+        let figure = match c.figure {
+            None => None,
+            Some(f) => {
+                let plain = f.image.split('/').all(|p| crate::io::name::check(p).is_ok());
+                if !plain || !f.image.ends_with(".png") || f.caption.trim().is_empty() {
+                    bail!(
+                        "{}: figure '{}': a .png under results/ named by plain folder and file names, with a caption",
+                        at(),
+                        echo(&f.image)
+                    );
+                }
+                Some((f.image, f.caption))
+            }
+        };
         claims.push(ClaimDecl {
+            figure,
             statement: c.statement.unwrap_or_else(|| c.says.clone()),
             id,
             says: c.says,
