@@ -63,6 +63,31 @@ fn table_name(table: &str, text: &str, origin: &Path) -> Result<()> {
     }
 }
 
+/// Refuses a declared map set that names a constructed scene: scenes are judged apart.
+fn no_scene_in_map_sets(sets: &std::collections::BTreeMap<String, Vec<String>>, origin: &Path) -> Result<()> {
+    for (set, maps) in sets {
+        if let Some(m) = maps.iter().find(|m| crate::claims::population::is_constructed(m)) {
+            bail!(
+                "{}: [map_sets] {}: '{}' is a constructed scene; scenes are judged apart, in the set 'scenes'",
+                origin.display(),
+                echo(set),
+                echo(m)
+            );
+        }
+    }
+    Ok(())
+}
+
+/// A claim's figure: a `.png` under `results/` named by plain folder and file names, with a
+/// caption.
+fn figure(image: String, caption: String) -> Result<(String, String)> {
+    let plain = image.split('/').all(|p| crate::io::name::check(p).is_ok());
+    if !plain || !image.ends_with(".png") || caption.trim().is_empty() {
+        bail!("figure '{}': a .png under results/ named by plain folder and file names, with a caption", echo(&image));
+    }
+    Ok((image, caption))
+}
+
 /// Parses one declaration file's text; `key` is its stem, `origin` names it in errors.
 pub fn parse(key: &str, text: &str, origin: &Path) -> Result<Paper> {
     let f: PaperFile = crate::pipeline::experiment::parse_toml(text, origin)
@@ -75,16 +100,7 @@ pub fn parse(key: &str, text: &str, origin: &Path) -> Result<Paper> {
     if let Some(m) = measurement_maps.iter().enumerate().find(|(i, m)| measurement_maps[..*i].contains(m)) {
         bail!("{}: [measurements] maps: '{}' appears twice", origin.display(), echo(m.1));
     }
-    for (set, maps) in &f.map_sets {
-        if let Some(m) = maps.iter().find(|m| crate::claims::judge::is_constructed(m)) {
-            bail!(
-                "{}: [map_sets] {}: '{}' is a constructed scene; scenes are judged apart, in the set 'scenes'",
-                origin.display(),
-                echo(set),
-                echo(m)
-            );
-        }
-    }
+    no_scene_in_map_sets(&f.map_sets, origin)?;
     let mut claims = Vec::new();
     for c in f.claim {
         let id = c.id.clone();
@@ -123,20 +139,7 @@ pub fn parse(key: &str, text: &str, origin: &Path) -> Result<Paper> {
         let primary = checks.iter().find(|k| k.primary).expect("one primary");
         check_threshold(kind, &threshold_from, &c.quote, primary).with_context(at)?;
         check_quantifier(kind, &c.quote, primary).with_context(at)?;
-        let figure = match c.figure {
-            None => None,
-            Some(f) => {
-                let plain = f.image.split('/').all(|p| crate::io::name::check(p).is_ok());
-                if !plain || !f.image.ends_with(".png") || f.caption.trim().is_empty() {
-                    bail!(
-                        "{}: figure '{}': a .png under results/ named by plain folder and file names, with a caption",
-                        at(),
-                        echo(&f.image)
-                    );
-                }
-                Some((f.image, f.caption))
-            }
-        };
+        let figure = c.figure.map(|f| figure(f.image, f.caption)).transpose().with_context(at)?;
         claims.push(ClaimDecl {
             figure,
             statement: c.statement.unwrap_or_else(|| c.says.clone()),

@@ -272,7 +272,7 @@ fn check_on(on: &[String], sets: &BTreeMap<String, Vec<String>>, at: &str) -> Re
         bail!("claim {at}: on = [] judges nothing");
     }
     for s in on {
-        if s != "all" && s != crate::claims::judge::SCENES && !sets.contains_key(s) {
+        if s != "all" && s != crate::claims::population::SCENES && !sets.contains_key(s) {
             bail!("claim {at}: on names map set '{s}', which [map_sets] does not declare", s = echo(&s.to_string()));
         }
     }

@@ -6,7 +6,7 @@
 
 use crate::claims::declaration::{CheckDecl, Statistic, Test};
 use crate::claims::judge::outcome::{RowValue, SetOutcome, Status};
-use crate::claims::judge::population::noun;
+use crate::claims::population::noun;
 use crate::claims::judge::scope::{Picked, Scope};
 use crate::claims::judge::wording;
 use crate::claims::ratios::{self, Summary};

@@ -5,7 +5,7 @@
 use crate::claims::declaration::{CheckDecl, Paper, Test};
 use crate::claims::judge::baseline::judge_against_baseline;
 use crate::claims::judge::outcome::{CheckOutcome, Evidence, RowValue, SetOutcome, Status};
-use crate::claims::judge::population::{noun, Population, ALL};
+use crate::claims::population::{noun, Population, ALL};
 use crate::claims::judge::scope::{Picked, Scope};
 use crate::claims::judge::wording;
 use crate::claims::ratios;

@@ -19,13 +19,11 @@
 mod baseline;
 mod check;
 mod outcome;
-mod population;
 mod scope;
 mod verdict;
 mod wording;
 
 pub use outcome::{CheckOutcome, ClaimOutcome, Evidence, Status};
-pub use population::{is_constructed, SCENES};
 pub use verdict::judge_claim;
 pub use wording::{fmt3, set_label};
 

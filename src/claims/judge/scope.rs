@@ -3,7 +3,7 @@
 
 use crate::claims::declaration::CheckDecl;
 use crate::claims::judge::outcome::Evidence;
-use crate::claims::judge::population::Population;
+use crate::claims::population::Population;
 use crate::math::echo::value as echo;
 use anyhow::{bail, Context, Result};
 use std::collections::HashMap;

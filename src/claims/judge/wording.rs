@@ -68,7 +68,7 @@ impl ClaimOutcome {
 /// alone.
 pub fn set_label(s: &SetOutcome) -> String {
     if s.maps > 0 {
-        format!("{} ({})", s.set, n_maps(s.maps, super::population::noun(&s.set)))
+        format!("{} ({})", s.set, n_maps(s.maps, crate::claims::population::noun(&s.set)))
     } else {
         s.set.clone()
     }
