@@ -45,11 +45,11 @@ fn a_failing_claim_is_reported_as_failing() {
         "experiments/claims/t.toml",
         "title='T'\nauthors='A'\nvenue='V'\norder=1\n\
          [[claim]]\nid='X1'\nsays='a beats b by half'\npaper_figure='p'\ncriterion='a/b < 0.5 on every map'\n\
-         kind='measured'\nfixed='before data'\ndiffers='d'\n\
+         kind='measured'\nfixed='before data'\ndiffers='d'\nquote='the paper states 0.5'\nthreshold_from='paper: 0.5'\n\
          [[claim.check]]\nname='a/b'\ntable='exp'\nencoder='a'\nbaseline='b'\ntest='ratio_every'\nbelow=0.7\n\
          role='primary'\n\
          [[claim]]\nid='X2'\nsays='needs data'\npaper_figure='p'\ncriterion='c'\n\
-         kind='identity'\nfixed='before data'\ndiffers='d'\n\
+         kind='identity'\nfixed='before data'\ndiffers='d'\nquote='q'\nthreshold_from='rounding'\n\
          [[claim.check]]\nname='missing'\ntable='nothing_here'\nencoder='a'\ntest='every_at_most'\nbound=1\n\
          role='primary'\n",
     );
@@ -94,4 +94,22 @@ fn results_hold_no_absolute_paths() {
             }
         }
     }
+}
+
+/// Every figure a claim shows beside its paragraph is a committed file under `results/`, so a
+/// fresh clone's evidence pages show it without any map.
+#[test]
+fn every_claims_figure_is_a_file_under_results() {
+    let mut n = 0;
+    for paper in ["zh3", "hemi", "brief2018"] {
+        let text = std::fs::read_to_string(repo().join(format!("experiments/claims/{paper}.toml"))).unwrap();
+        for line in text.lines().filter(|l| l.starts_with("figure = ")) {
+            let image = line.split("image = \"").nth(1).and_then(|r| r.split('"').next()).unwrap();
+            assert!(repo().join("results").join(image).is_file(), "{paper}: {image}");
+            let page = std::fs::read_to_string(repo().join(format!("results/claims/{paper}.md"))).unwrap();
+            assert!(page.contains(&format!("](../{image})")), "{paper}: {image} is not on the page");
+            n += 1;
+        }
+    }
+    assert!(n >= 6, "H2, H3, H5, H8, H9 and Z2 each show a figure ({n} found)");
 }

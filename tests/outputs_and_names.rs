@@ -179,7 +179,7 @@ fn names_never_leave_their_folder() {
         format!(
             "title='T'\nauthors='A'\nvenue='V'\norder=1\n\
              [[claim]]\nid='X1'\nsays='s'\npaper_figure='p'\ncriterion='c'\n\
-             kind='measured'\nfixed='before data'\ndiffers='d'\n\
+             kind='measured'\nfixed='before data'\ndiffers='d'\nquote='the paper states 0.5'\nthreshold_from='paper: 0.5'\n\
              [[claim.check]]\nname='n'\ntable='{table}'\nencoder='a'\ntest='every_at_most'\nbound=1\n\
              role='primary'\n"
         )
@@ -188,7 +188,7 @@ fn names_never_leave_their_folder() {
     for table in ["measure:../../x", "../x", "measure:.hidden"] {
         s.write("experiments/claims/t.toml", claim(table));
         let out = s.run(&["claims"]);
-        refused(&out, &["experiments/claims/t.toml:15: key 'table'", "not a plain name"]);
+        refused(&out, &["experiments/claims/t.toml:17: key 'table'", "not a plain name"]);
     }
     std::fs::remove_file(s.path().join("experiments/claims/t.toml")).unwrap();
     s.write("experiments/claims/a b.toml", claim("exp"));

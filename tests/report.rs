@@ -346,7 +346,7 @@ fn provenance_page_lists_every_map(res: &Path) {
 /// Claims: fixture declarations (two papers, out of file order) and a fixture CLAIMS.csv.
 fn claims_at_a_glance_in_paper_order(scratch: &Scratch, res: &Path) {
     let root = scratch.path();
-    const KIND: &str = "kind = \"measured\"\nfixed = \"before data\"\ndiffers = \"d\"\n";
+    const KIND: &str = "kind = \"measured\"\nfixed = \"before data\"\ndiffers = \"d\"\nquote = \"q 0.5\"\nthreshold_from = \"paper: 0.5\"\n";
     write(
         &root.join("experiments/claims/zz_first.toml"),
         &("title = \"Paper One\"\nauthors = \"A. Author\"\nvenue = \"Conf 1\"\norder = 1\n\
@@ -362,7 +362,7 @@ fn claims_at_a_glance_in_paper_order(scratch: &Scratch, res: &Path) {
         &root.join("experiments/claims/aa_second.toml"),
         "title = \"Paper Two\"\nauthors = \"B. Author\"\nvenue = \"Conf 2\"\norder = 2\n\
          [[claim]]\nid = \"Q1\"\nsays = \"the second paper's claim\"\npaper_figure = \"27%\"\ncriterion = \"-\"\n\
-         kind = \"anchor\"\nfixed = \"after data: a production figure\"\ndiffers = \"d\"\n\
+         kind = \"anchor\"\nfixed = \"after data: a production figure\"\ndiffers = \"d\"\nquote = \"q\"\nthreshold_from = \"none\"\n\
          [[claim.check]]\nname = \"c\"\ntable = \"a_sphere\"\nencoder = \"sh2\"\nbaseline = \"sh1\"\n\
          test = \"ratio_summary\"\nrole = \"primary\"\n",
     );

@@ -4,7 +4,7 @@
 //! which decides, and the context checks, which never change the verdict, each with its
 //! figure per map set and its per-map or per-row values.
 
-use crate::claims::declaration::{CheckDecl, ClaimDecl, Kind, Test};
+use crate::claims::declaration::{CheckDecl, ClaimDecl, Kind, Test, ThresholdFrom};
 use crate::claims::judge::{fmt3, set_label, CheckOutcome, ClaimOutcome, Status};
 use std::fmt::Write as _;
 
@@ -30,21 +30,101 @@ pub fn kind_text(kind: Kind) -> &'static str {
     }
 }
 
-/// The "What we found" paragraph: the paper's words and figure, ours, the verdict and why
-/// the two may differ.
+/// The "What we found" paragraph: the paper's sentence verbatim, its figure, ours, the
+/// verdict, every map that disagrees with its margin (or, when none does, the closest one),
+/// where the threshold comes from and why the two may differ.
 pub fn found_md(c: &ClaimDecl, o: &ClaimOutcome) -> String {
     let why = o.verdict.why();
     format!(
-        "**What we found.** The paper says: {} (its figure: {}). We measure {}. Verdict: **{}**{} — {} {} claim. \
-         Why the two may differ: {}\n",
-        c.statement.trim_end_matches('.'),
+        "**What we found.** The paper says: \"{}\" (its figure: {}). We measure {}. Verdict: **{}**{} — {} {} \
+         claim; its threshold: {}.{} Why the two may differ: {}\n",
+        c.quote,
         c.paper_figure,
         o.our_figure(),
         o.verdict.word(),
         if why.is_empty() { String::new() } else { format!(" ({why})") },
         if c.kind == Kind::Measured { "a" } else { "an" },
         c.kind.as_str(),
+        threshold_words(&c.threshold_from),
+        margins(o),
         c.differs
+    )
+}
+
+/// Where the threshold comes from, in words.
+fn threshold_words(t: &ThresholdFrom) -> String {
+    match t {
+        ThresholdFrom::Paper(w) => format!("the paper's own number (\"{w}\")"),
+        ThresholdFrom::Direction => "the direction the paper's words assert, its size shown".into(),
+        ThresholdFrom::Rounding => "rounding (an identity)".into(),
+        ThresholdFrom::None => "none (an anchor)".into(),
+    }
+}
+
+/// The primary's threshold as (relation, value), when it has one.
+fn threshold(t: &Test) -> Option<(&'static str, f64)> {
+    match *t {
+        Test::RatioEvery { below, .. } | Test::RatioSome { below, .. } => Some(("<", below)),
+        Test::RatioStat { max: Some(m), .. } => Some(("≤", m)),
+        Test::RatioStat { min: Some(m), .. } => Some(("≥", m)),
+        Test::EveryAtLeast { bound } | Test::MedianAtLeast { bound } => Some(("≥", bound)),
+        Test::EveryAtMost { bound } => Some(("≤", bound)),
+        Test::EveryEqual { value } => Some(("=", value)),
+        Test::Equal { tolerance, .. } => Some(("≤", tolerance)),
+        _ => None,
+    }
+}
+
+/// How far a value is from the threshold: relative to it (as a percentage) unless it is zero.
+fn margin(v: f64, t: f64) -> String {
+    if t == 0.0 || t.abs() <= 1e-6 {
+        format!("by {}", fmt3((v - t).abs()))
+    } else {
+        format!("by {:.1}%", 100.0 * (v - t).abs() / t.abs())
+    }
+}
+
+/// Every value of the primary (its widest set) that disagrees, with its margin; when none
+/// does, the one closest to the threshold.
+fn margins(o: &ClaimOutcome) -> String {
+    let Some(p) = o.checks.iter().find(|k| k.decl.primary) else { return String::new() };
+    let Some((rel, t)) = threshold(&p.decl.test) else { return String::new() };
+    let Some(w) = p.sets.iter().max_by_key(|s| s.values.len()) else { return String::new() };
+    if w.values.is_empty() || matches!(w.status, Status::Untestable(_)) {
+        return String::new();
+    }
+    let failing: Vec<String> = w
+        .values
+        .iter()
+        .filter(|v| !v.pass)
+        .map(|v| format!("{} {} ({rel} {} missed {})", v.label, fmt3(v.value), fmt3(t), margin(v.value, t)))
+        .collect();
+    const SHOWN: usize = 20;
+    if failing.is_empty() {
+        // Cannot fail: `values` is non-empty.
+        let closest =
+            w.values.iter().min_by(|a, b| (a.value - t).abs().total_cmp(&(b.value - t).abs())).expect("non-empty");
+        return format!(
+            " Every value on {} meets {rel} {}; the closest is {} at {} ({}).",
+            set_label(w),
+            fmt3(t),
+            closest.label,
+            fmt3(closest.value),
+            margin(closest.value, t)
+        );
+    }
+    let more = if failing.len() > SHOWN {
+        format!(", and {} more (listed below)", failing.len() - SHOWN)
+    } else {
+        String::new()
+    };
+    format!(
+        " On {}, {} of {} disagree{}: {}{more}.",
+        set_label(w),
+        failing.len(),
+        w.values.len(),
+        if failing.len() == 1 { "s" } else { "" },
+        failing.iter().take(SHOWN).cloned().collect::<Vec<_>>().join("; ")
     )
 }
 
@@ -58,10 +138,15 @@ pub fn detail_md(c: &ClaimDecl, o: &ClaimOutcome) -> String {
         if o.verdict.why().is_empty() { String::new() } else { format!(" — {}", o.verdict.why()) }
     );
     let _ = writeln!(s, "{}", found_md(c, o));
+    if let Some((image, caption)) = &c.figure {
+        let _ = writeln!(s, "![{caption}](../{image})\n\n*Figure (ours):* {caption}\n");
+    }
     let _ = writeln!(s, "- **Paper:** {}", c.statement);
+    let _ = writeln!(s, "- **The paper's words:** \"{}\"", c.quote);
     let _ = writeln!(s, "- **Paper's figure:** {}", c.paper_figure);
     let _ = writeln!(s, "- **Evidence kind:** {}", kind_text(c.kind));
     let _ = writeln!(s, "- **Criterion:** {}", c.criterion);
+    let _ = writeln!(s, "- **Threshold from:** {}", c.threshold_from.text());
     let _ = writeln!(s, "- **Criterion fixed:** {}\n", c.fixed);
     let ordered = o.checks.iter().filter(|k| k.decl.primary).chain(o.checks.iter().filter(|k| !k.decl.primary));
     for k in ordered {
@@ -116,11 +201,14 @@ fn values_md(s: &mut String, k: &CheckOutcome) {
         d.test,
         Test::RatioStat { .. }
             | Test::RatioSummary
+            | Test::RatioEither
+            | Test::MedianAtLeast { .. }
             | Test::RatioEvery { per_map: true, .. }
             | Test::RatioSome { per_map: true, .. }
     );
     let what = match d.test {
         Test::Equal { .. } => "relative difference".to_string(),
+        Test::MedianAtLeast { .. } => format!("per-map median {}", d.column),
         _ if per_map => "per-map ratio (geometric mean of its rows)".to_string(),
         _ if d.test.needs_baseline() => "ratio".to_string(),
         _ => d.column.clone(),
@@ -168,6 +256,14 @@ pub fn test_text(d: &CheckDecl) -> String {
              no criterion{floor}",
             d.encoder
         ),
+        Test::RatioEither => format!(
+            "some map's {} / {base} {col} ratio (geometric mean of its rows) < 1 and some > 1 (either wins \
+             somewhere){floor}",
+            d.encoder
+        ),
+        Test::MedianAtLeast { bound } => {
+            format!("median over maps of each map's median {col} of {} ≥ {}", d.encoder, fmt3(*bound))
+        }
         Test::EveryAtMost { bound } => format!("every {col} of {} ≤ {}", d.encoder, fmt3(*bound)),
         Test::EveryAtLeast { bound } => format!("every {col} of {} ≥ {}", d.encoder, fmt3(*bound)),
         Test::EveryEqual { value } => format!("every {col} of {} = {}", d.encoder, fmt3(*value)),

@@ -12,9 +12,11 @@ use std::path::Path;
 pub const CSV: &str = "CLAIMS.csv";
 
 /// The columns of `CLAIMS.csv`: `kind` is the claim's evidence kind, which allows its
-/// `verdict` word; `our_figure` the primary check's headline (and any context declared
+/// `verdict` word; `threshold_from` where the primary's threshold comes from (the paper's
+/// words, `direction`, `rounding` or `none`); `our_figure` the primary check's headline (and any context declared
 /// `beside`), its aggregation named.
-pub const COLUMNS: [&str; 8] = ["id", "kind", "verdict", "paper_figure", "our_figure", "criterion", "maps", "detail"];
+pub const COLUMNS: [&str; 9] =
+    ["id", "kind", "verdict", "paper_figure", "our_figure", "criterion", "threshold_from", "maps", "detail"];
 
 /// Reads one evidence table under `results` (the reason as text when it cannot).
 pub fn evidence(results: &Path, s: &Source) -> std::result::Result<Evidence, String> {
@@ -56,6 +58,7 @@ pub fn claims_csv(papers: &[Paper], outcomes: &[(String, ClaimOutcome)]) -> Resu
             &c.paper_figure,
             &o.our_figure(),
             &c.criterion,
+            &c.threshold_from.text(),
             &o.maps(),
             &detail_link(key, &o.id),
         ])?;

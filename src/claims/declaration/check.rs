@@ -70,6 +70,16 @@ pub enum Test {
         /// The bound, in the judged column's units (`bound`).
         bound: f64,
     },
+    /// `median_at_least`: the median over maps of each map's median value is at least the
+    /// bound (the direction on most maps, a hedge's population rule); the count of maps at or
+    /// beyond the bound is shown.
+    MedianAtLeast {
+        /// The bound, in the judged column's units (`bound`).
+        bound: f64,
+    },
+    /// `ratio_either`: some per-map ratio is below 1 and some is above 1 (either one wins
+    /// somewhere); no threshold beyond the direction.
+    RatioEither,
     /// `every_equal`: every value is exactly the bound (a count, a size in bytes).
     EveryEqual {
         /// The value every row must have (`bound`).
@@ -87,7 +97,10 @@ pub enum Test {
 impl Test {
     /// Whether the test compares the encoder with a baseline.
     pub fn needs_baseline(&self) -> bool {
-        !matches!(self, Test::EveryAtMost { .. } | Test::EveryAtLeast { .. } | Test::EveryEqual { .. })
+        !matches!(
+            self,
+            Test::EveryAtMost { .. } | Test::EveryAtLeast { .. } | Test::EveryEqual { .. } | Test::MedianAtLeast { .. }
+        )
     }
 }
 

@@ -34,11 +34,22 @@ pub(super) struct ClaimFile {
     pub(super) statement: Option<String>,
     pub(super) paper_figure: String,
     pub(super) criterion: String,
+    pub(super) quote: String,
+    pub(super) threshold_from: String,
     pub(super) kind: String,
     pub(super) fixed: String,
     pub(super) differs: String,
+    pub(super) figure: Option<FigureFile>,
     #[serde(default)]
     pub(super) check: Vec<CheckFile>,
+}
+
+/// `figure`: one committed image of ours shown beside the claim's paragraph.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct FigureFile {
+    pub(super) image: String,
+    pub(super) caption: String,
 }
 
 /// One `[[claim.check]]`.

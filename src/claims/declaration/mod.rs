@@ -20,9 +20,12 @@
 //! | `statement`       | string | the claim in full (optional; defaults to `says`) |
 //! | `paper_figure`    | string | the paper's own figure for it, as text (≤ 110 characters, like `says`: the report never cuts a cell) |
 //! | `kind`            | string | the evidence kind ([`Kind`]): `identity` (true by derivation or construction: `holds (identity)` or `fails`), `measured` (a general statement over maps or scenes: `holds`, `partly`, `fails`), `example` (stated for one case: `reproduced` or `not reproduced`), `anchor` (the paper's figure comes from a population we do not have: `not comparable`) |
-//! | `criterion`       | string | when it counts as holding, in words that mirror the paper's, and why any band was chosen; for an `anchor`, why it is not comparable |
+//! | `criterion`       | string | when it counts as holding, in words that mirror the paper's; for an `anchor`, why it is not comparable |
+//! | `quote`           | string | the paper's sentence, verbatim, hedges included (fragments joined by " … ") |
+//! | `threshold_from`  | string | where the primary's threshold comes from: `paper: <words of the quote that state the number>`, `direction` (a word decides only its direction: a ratio against 1, a sign), `rounding` (an identity) or `none` (an anchor); see `threshold.rs` for the rule, and the quantifier rule the quote sets |
 //! | `fixed`           | string | when the criterion was fixed: `before data`, or `after data: <reason>` |
 //! | `differs`         | string | why our figure and the paper's may differ (population, metric, maps, resolution), for the page's "What we found" |
+//! | `figure`          | table  | optional: `image` (a committed `.png` under `results/`, plain names) and `caption` (what to look at): one figure of ours beside the paragraph, for a claim whose paper evidence is an image |
 //! | `[[claim.check]]` | tables | the checks: exactly one with `role = "primary"`, which alone decides the verdict; the others are context, shown under it |
 //!
 //! | key (`[[claim.check]]`) | type | meaning |
@@ -57,12 +60,14 @@ mod kind;
 mod load;
 mod paper;
 pub(crate) mod parse;
+mod threshold;
 mod validate_check;
 
 pub use check::{CheckDecl, Source, Statistic, Test};
 pub use kind::{Kind, UNTESTABLE};
 pub use load::{load_papers, DIR};
 pub use paper::{ClaimDecl, Paper};
+pub use threshold::ThresholdFrom;
 
 #[cfg(test)]
 mod tests;

@@ -2,6 +2,7 @@
 
 use super::check::CheckDecl;
 use super::kind::Kind;
+use super::threshold::ThresholdFrom;
 use std::collections::BTreeMap;
 
 /// The longest `says` and `paper_figure` phrases (the report's at-a-glance table never cuts a
@@ -43,12 +44,19 @@ pub struct ClaimDecl {
     pub paper_figure: String,
     /// When the claim counts as holding, in words that mirror the paper's (`criterion`).
     pub criterion: String,
+    /// The paper's own sentence, verbatim, hedges included (`quote`; fragments joined by " … ").
+    pub quote: String,
+    /// Where the primary's threshold comes from (`threshold_from`).
+    pub threshold_from: ThresholdFrom,
     /// The evidence kind (`kind`), which decides the verdict words.
     pub kind: Kind,
     /// When the criterion was fixed (`fixed`): `before data` or `after data: <reason>`.
     pub fixed: String,
     /// Why our figure and the paper's may differ (`differs`).
     pub differs: String,
+    /// One committed image of ours beside the paragraph (`figure`), for a claim whose paper
+    /// evidence is an image: its path under `results/` and its caption (what to look at).
+    pub figure: Option<(String, String)>,
     /// The checks (`[[claim.check]]`): exactly one primary, the others context.
     pub checks: Vec<CheckDecl>,
 }

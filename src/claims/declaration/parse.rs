@@ -5,6 +5,7 @@ use super::check::{CheckDecl, Test};
 use super::file::PaperFile;
 use super::kind::Kind;
 use super::paper::{ClaimDecl, Paper, SAYS_MAX};
+use super::threshold::{check_quantifier, check_threshold, ThresholdFrom};
 use crate::math::echo::value as echo;
 use anyhow::{bail, Context, Result};
 use std::path::Path;
@@ -62,6 +63,31 @@ fn table_name(table: &str, text: &str, origin: &Path) -> Result<()> {
     }
 }
 
+/// Refuses a declared map set that names a constructed scene: scenes are judged apart.
+fn no_scene_in_map_sets(sets: &std::collections::BTreeMap<String, Vec<String>>, origin: &Path) -> Result<()> {
+    for (set, maps) in sets {
+        if let Some(m) = maps.iter().find(|m| crate::claims::population::is_constructed(m)) {
+            bail!(
+                "{}: [map_sets] {}: '{}' is a constructed scene; scenes are judged apart, in the set 'scenes'",
+                origin.display(),
+                echo(set),
+                echo(m)
+            );
+        }
+    }
+    Ok(())
+}
+
+/// A claim's figure: a `.png` under `results/` named by plain folder and file names, with a
+/// caption.
+fn figure(image: String, caption: String) -> Result<(String, String)> {
+    let plain = image.split('/').all(|p| crate::io::name::check(p).is_ok());
+    if !plain || !image.ends_with(".png") || caption.trim().is_empty() {
+        bail!("figure '{}': a .png under results/ named by plain folder and file names, with a caption", echo(&image));
+    }
+    Ok((image, caption))
+}
+
 /// Parses one declaration file's text; `key` is its stem, `origin` names it in errors.
 pub fn parse(key: &str, text: &str, origin: &Path) -> Result<Paper> {
     let f: PaperFile = crate::pipeline::experiment::parse_toml(text, origin)
@@ -74,6 +100,7 @@ pub fn parse(key: &str, text: &str, origin: &Path) -> Result<Paper> {
     if let Some(m) = measurement_maps.iter().enumerate().find(|(i, m)| measurement_maps[..*i].contains(m)) {
         bail!("{}: [measurements] maps: '{}' appears twice", origin.display(), echo(m.1));
     }
+    no_scene_in_map_sets(&f.map_sets, origin)?;
     let mut claims = Vec::new();
     for c in f.claim {
         let id = c.id.clone();
@@ -104,12 +131,24 @@ pub fn parse(key: &str, text: &str, origin: &Path) -> Result<Paper> {
         let checks = c.check.into_iter().map(|k| k.validate(&id, &f.map_sets)).collect::<Result<Vec<_>>>();
         let checks = checks.with_context(at)?;
         check_primary(kind, &checks).with_context(at)?;
+        if c.quote.trim().is_empty() {
+            bail!("{}: 'quote' is empty: quote the paper's sentence verbatim", at());
+        }
+        let threshold_from = ThresholdFrom::parse(&c.threshold_from).with_context(at)?;
+        // Cannot fail: check_primary found exactly one.
+        let primary = checks.iter().find(|k| k.primary).expect("one primary");
+        check_threshold(kind, &threshold_from, &c.quote, primary).with_context(at)?;
+        check_quantifier(kind, &c.quote, primary).with_context(at)?;
+        let figure = c.figure.map(|f| figure(f.image, f.caption)).transpose().with_context(at)?;
         claims.push(ClaimDecl {
+            figure,
             statement: c.statement.unwrap_or_else(|| c.says.clone()),
             id,
             says: c.says,
             paper_figure: c.paper_figure,
             criterion: c.criterion,
+            quote: c.quote,
+            threshold_from,
             kind,
             fixed: c.fixed,
             differs: c.differs,

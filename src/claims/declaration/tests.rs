@@ -9,7 +9,7 @@ use std::path::Path;
 fn paper(claim: &str) -> Result<Paper> {
     let text = format!(
         "title='T'\nauthors='A'\nvenue='V'\norder=1\n[map_sets]\npaper=['m1']\n[[claim]]\nid='X1'\nsays='s'\n\
-         paper_figure='p'\ncriterion='c'\nkind='measured'\nfixed='before data'\ndiffers='d'\n{claim}"
+         paper_figure='p'\ncriterion='c'\nkind='measured'\nfixed='before data'\ndiffers='d'\nquote='the paper states 0.5'\nthreshold_from='paper: 0.5'\n{claim}"
     );
     parse("t", &text, Path::new("t.toml"))
 }
@@ -26,7 +26,7 @@ fn table_names_stay_in_their_folder() {
         let e = err(&format!(
             "[[claim.check]]\nname='n'\ntable='{table}'\nencoder='a'\ntest='every_at_most'\nbound=1\nrole='primary'"
         ));
-        assert!(e.starts_with("t.toml:17: key 'table':") && e.contains("not a plain name"), "{table}: {e}");
+        assert!(e.starts_with("t.toml:19: key 'table':") && e.contains("not a plain name"), "{table}: {e}");
     }
 }
 
@@ -78,7 +78,7 @@ fn bad_declarations_name_the_claim_and_key() {
     let anchor = |check: &str| {
         let text = format!(
             "title='T'\nauthors='A'\nvenue='V'\norder=1\n[[claim]]\nid='X1'\nsays='s'\npaper_figure='p'\n\
-             criterion='c'\nkind='anchor'\nfixed='after data: the band was set on our maps'\ndiffers='d'\n{check}"
+             criterion='c'\nkind='anchor'\nfixed='after data: the band was set on our maps'\ndiffers='d'\nquote='q'\nthreshold_from='none'\n{check}"
         );
         parse("t", &text, Path::new("t.toml"))
     };
@@ -93,7 +93,7 @@ fn bad_declarations_name_the_claim_and_key() {
     ] {
         let text = format!(
             "title='T'\nauthors='A'\nvenue='V'\norder=1\n[[claim]]\nid='X1'\nsays='s'\npaper_figure='p'\n\
-             criterion='c'\nkind='measured'\nfixed='before data'\ndiffers='d'\n{base}test='every_at_most'\nbound=1"
+             criterion='c'\nkind='measured'\nfixed='before data'\ndiffers='d'\nquote='the paper states 0.5'\nthreshold_from='paper: 0.5'\n{base}test='every_at_most'\nbound=1"
         );
         let line = text.lines().find(|l| l.starts_with(&format!("{key}="))).unwrap().to_string();
         let e = format!("{:#}", parse("t", &text.replace(&line, bad), Path::new("t.toml")).unwrap_err());
@@ -105,7 +105,7 @@ fn bad_declarations_name_the_claim_and_key() {
     let long = "x".repeat(SAYS_MAX + 1);
     let text = format!(
         "title='T'\nauthors='A'\nvenue='V'\norder=1\n[[claim]]\nid='X1'\nsays='{long}'\npaper_figure='p'\n\
-         criterion='c'\nkind='measured'\nfixed='before data'\ndiffers='d'\n{base}test='every_at_most'\nbound=1"
+         criterion='c'\nkind='measured'\nfixed='before data'\ndiffers='d'\nquote='the paper states 0.5'\nthreshold_from='paper: 0.5'\n{base}test='every_at_most'\nbound=1"
     );
     assert!(format!("{:#}", parse("t", &text, Path::new("t.toml")).unwrap_err()).contains("'says' has"));
 }
@@ -115,7 +115,7 @@ fn measurement_maps_keep_their_order_and_are_checked() {
     let with = |maps: &str| {
         let text = format!(
             "title='T'\nauthors='A'\nvenue='V'\norder=1\n[measurements]\n{maps}\n[[claim]]\nid='X1'\nsays='s'\n\
-             paper_figure='p'\ncriterion='c'\nkind='measured'\nfixed='before data'\ndiffers='d'\n\
+             paper_figure='p'\ncriterion='c'\nkind='measured'\nfixed='before data'\ndiffers='d'\nquote='the paper states 0.5'\nthreshold_from='paper: 0.5'\n\
              [[claim.check]]\nname='n'\ntable='e'\nencoder='a'\ntest='every_at_most'\nbound=1\nrole='primary'"
         );
         parse("t", &text, Path::new("t.toml"))
@@ -143,4 +143,79 @@ fn check_names_are_bounded() {
     let e = err(&check(&"n".repeat(SAYS_MAX + 1)));
     assert!(e.contains(&format!("'name' has {} characters (at most {SAYS_MAX})", SAYS_MAX + 1)), "{e}");
     assert!(!e.contains(&"n".repeat(41)), "the name is echoed cut: {e}");
+}
+
+/// A claim of `kind` with the given quote, threshold_from and primary check keys.
+fn quoted(kind: &str, quote: &str, from: &str, test: &str) -> Result<Paper> {
+    let text = format!(
+        "title='T'\nauthors='A'\nvenue='V'\norder=1\n[[claim]]\nid='X1'\nsays='s'\npaper_figure='p'\ncriterion='c'\n\
+         kind='{kind}'\nfixed='before data'\ndiffers='d'\nquote='{quote}'\nthreshold_from='{from}'\n\
+         [[claim.check]]\nname='n'\ntable='exp'\nencoder='a'\nbaseline='b'\n{test}\nrole='primary'\n"
+    );
+    parse("t", &text, Path::new("t.toml"))
+}
+
+/// The threshold rule: a number decides only when the paper states it in the quoted words; a
+/// word decides only its direction (a ratio against 1); rounding is for identities, none for
+/// anchors.
+#[test]
+fn a_threshold_comes_from_the_paper_or_is_a_direction() {
+    let q = "ZH3 is a clear improvement in every case; it more than halves the error";
+    // "clear" is a word: ratio < 1 is its direction; 0.9 is a threshold the paper never states.
+    assert!(quoted("measured", q, "direction", "test='ratio_every'").is_ok());
+    let e = format!("{:#}", quoted("measured", q, "direction", "test='ratio_every'\nbelow=0.9").unwrap_err());
+    assert!(e.contains("not a direction"), "{e}");
+    // A quoted word without a number cannot carry a threshold.
+    let e = format!(
+        "{:#}",
+        quoted("measured", q, "paper: clear improvement", "test='ratio_every'\nbelow=0.9").unwrap_err()
+    );
+    assert!(e.contains("states no number"), "{e}");
+    // "more than halves" states 0.5, in the quote's own words.
+    assert!(quoted("measured", q, "paper: more than halves", "test='ratio_every'\nbelow=0.5").is_ok());
+    let e = format!("{:#}", quoted("measured", q, "paper: at most half", "test='ratio_every'\nbelow=0.5").unwrap_err());
+    assert!(e.contains("does not contain"), "{e}");
+    // A direction of a median is a band with one end at 1; a sign allows a rounding floor.
+    let hedge = "it usually helps";
+    assert!(quoted("measured", hedge, "direction", "test='ratio_stat'\nstatistic='median'\nmax=1").is_ok());
+    assert!(quoted("measured", hedge, "direction", "test='ratio_stat'\nstatistic='median'\nmax=0.8").is_err());
+    // Rounding is an identity's; an anchor has none, and only an anchor.
+    assert!(quoted("measured", "q", "rounding", "test='ratio_every'").is_err());
+    assert!(quoted("identity", "q", "rounding", "test='equal'").is_ok());
+    assert!(quoted("anchor", "q", "none", "test='ratio_summary'").is_ok());
+    assert!(quoted("anchor", "q", "direction", "test='ratio_summary'").is_err());
+    assert!(quoted("measured", "q", "none", "test='ratio_every'").is_err());
+    assert!(quoted("measured", "q", "from our data", "test='ratio_every'").is_err());
+}
+
+/// The quantifier rule: "For example" makes an example; "in every case" needs every case; a
+/// hedge is decided by the per-map median. Identities are exempt.
+#[test]
+fn the_sentences_quantifier_sets_the_population_rule() {
+    let every = "test='ratio_every'";
+    let median = "test='ratio_stat'\nstatistic='median'\nmax=1";
+    let example = "For example, if blue has a high weight, this is very obvious visually";
+    let e = format!("{:#}", quoted("measured", example, "direction", every).unwrap_err());
+    assert!(e.contains("is an example"), "{e}");
+    assert!(quoted("example", example, "direction", median).is_ok());
+    let all = "a clear improvement over linear SH in every case";
+    assert!(quoted("measured", all, "direction", every).is_ok());
+    let e = format!("{:#}", quoted("measured", all, "direction", median).unwrap_err());
+    assert!(e.contains("every case"), "{e}");
+    for hedge in ["a shared axis usually produces better results", "Tends to over-brighten", "most of the leak is gone"]
+    {
+        let e = format!("{:#}", quoted("measured", hedge, "direction", every).unwrap_err());
+        assert!(e.contains("hedges"), "{hedge}: {e}");
+        assert!(quoted("measured", hedge, "direction", median).is_ok(), "{hedge}");
+    }
+    // A derivation holds in every case, whatever the sentence's wording.
+    assert!(quoted("identity", "to give an example, it should be scaled by ¼", "rounding", "test='equal'").is_ok());
+}
+
+/// A declared map set may not name a constructed scene: scenes are judged apart.
+#[test]
+fn a_map_set_never_names_a_constructed_scene() {
+    let text = "title='T'\nauthors='A'\nvenue='V'\norder=1\n[map_sets]\npaper=['m1','gen_tilted_light']\n";
+    let e = format!("{:#}", parse("t", text, Path::new("t.toml")).unwrap_err());
+    assert!(e.contains("constructed scene"), "{e}");
 }

@@ -117,7 +117,22 @@ impl CheckFile {
                 )?;
                 Ok(Test::RatioSummary)
             }
-            "every_at_most" | "every_at_least" | "every_equal" => self.bound_test(at),
+            "every_at_most" | "every_at_least" | "every_equal" | "median_at_least" => self.bound_test(at),
+            "ratio_either" => {
+                self.unused(
+                    at,
+                    &[
+                        ("below", self.below.is_some()),
+                        ("statistic", self.statistic.is_some()),
+                        ("min", self.min.is_some()),
+                        ("max", self.max.is_some()),
+                        ("bound", self.bound.is_some()),
+                        ("tolerance", self.tolerance.is_some()),
+                        ("abs_tolerance", self.abs_tolerance.is_some()),
+                    ],
+                )?;
+                Ok(Test::RatioEither)
+            }
             "equal" => {
                 self.unused(
                     at,
@@ -136,7 +151,7 @@ impl CheckFile {
                 })
             }
             t => bail!(
-                "claim {at}: test '{t}' (expected ratio_every, ratio_some, ratio_stat, ratio_summary, every_at_most, every_at_least, every_equal or equal)",
+                "claim {at}: test '{t}' (expected ratio_every, ratio_some, ratio_either, ratio_stat, ratio_summary, every_at_most, every_at_least, every_equal, median_at_least or equal)",
                 t = echo(t)
             ),
         }
@@ -198,7 +213,8 @@ impl CheckFile {
         Ok(Test::RatioStat { statistic, min, max })
     }
 
-    /// `every_at_most` / `every_at_least` / `every_equal`: the `bound`; no baseline.
+    /// `every_at_most` / `every_at_least` / `every_equal` / `median_at_least`: the `bound`; no
+    /// baseline.
     fn bound_test(&self, at: &str) -> Result<Test> {
         self.unused(
             at,
@@ -218,6 +234,7 @@ impl CheckFile {
         Ok(match self.test.as_str() {
             "every_at_most" => Test::EveryAtMost { bound },
             "every_at_least" => Test::EveryAtLeast { bound },
+            "median_at_least" => Test::MedianAtLeast { bound },
             _ => Test::EveryEqual { value: bound },
         })
     }
@@ -249,13 +266,13 @@ fn row_filter(filter: BTreeMap<String, toml::Value>, at: &str) -> Result<Vec<(St
     Ok(out)
 }
 
-/// Refuses an empty `on` and a map set that is neither `all` nor one of `sets`.
+/// Refuses an empty `on` and a map set that is neither `all`, `scenes` nor one of `sets`.
 fn check_on(on: &[String], sets: &BTreeMap<String, Vec<String>>, at: &str) -> Result<()> {
     if on.is_empty() {
         bail!("claim {at}: on = [] judges nothing");
     }
     for s in on {
-        if s != "all" && !sets.contains_key(s) {
+        if s != "all" && s != crate::claims::population::SCENES && !sets.contains_key(s) {
             bail!("claim {at}: on names map set '{s}', which [map_sets] does not declare", s = echo(&s.to_string()));
         }
     }

@@ -6,6 +6,7 @@
 
 use crate::claims::declaration::{CheckDecl, Statistic, Test};
 use crate::claims::judge::outcome::{RowValue, SetOutcome, Status};
+use crate::claims::population::noun;
 use crate::claims::judge::scope::{Picked, Scope};
 use crate::claims::judge::wording;
 use crate::claims::ratios::{self, Summary};
@@ -58,7 +59,7 @@ pub(super) fn judge_against_baseline(
     excluded += below_floor + unmatched;
     let (status, values, headline, figure) = match k.test {
         Test::Equal { tolerance, abs_tolerance } => judge_equal(&pairs, tolerance, abs_tolerance, &left_out),
-        _ => judge_ratio(k, base, &pairs, &left_out),
+        _ => judge_ratio(k, (set, base), &pairs, &left_out),
     };
     Ok(SetOutcome { set: set.into(), maps: maps_judged, status, headline, figure, values, excluded })
 }
@@ -105,7 +106,7 @@ fn map_values(sum: &Summary, pass: &dyn Fn(f64) -> bool) -> Vec<RowValue> {
 /// the baseline: per row, then per map (the geometric mean of a map's rows), summarised over
 /// maps by median and geometric mean ([`crate::claims::ratios`]). Every figure names its
 /// aggregation.
-fn judge_ratio(k: &CheckDecl, base: &str, pairs: &Pairs, left_out: &str) -> Judged {
+fn judge_ratio(k: &CheckDecl, (set, base): (&str, &str), pairs: &Pairs, left_out: &str) -> Judged {
     let ratios: Vec<f64> = pairs.iter().map(|(_, a, b)| a / b).collect();
     let group = |p: &Picked| if p.map.is_empty() { p.label.clone() } else { p.map.clone() };
     let keyed: Vec<(String, f64)> = pairs.iter().zip(&ratios).map(|((p, _, _), &r)| (group(p), r)).collect();
@@ -114,7 +115,7 @@ fn judge_ratio(k: &CheckDecl, base: &str, pairs: &Pairs, left_out: &str) -> Judg
     let sum = ratios::per_map(&refs).expect("non-empty pairs");
     let (lo, hi) = ratios.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &x| (l.min(x), h.max(x)));
     let (n, m) = (ratios.len(), sum.maps.len());
-    let noun = if pairs.iter().all(|(p, _, _)| p.map.is_empty()) { "case" } else { "map" };
+    let noun = if pairs.iter().all(|(p, _, _)| p.map.is_empty()) { "case" } else { noun(set) };
     let row_values = |pass: &dyn Fn(f64) -> bool| -> Vec<RowValue> {
         pairs
             .iter()
@@ -137,9 +138,19 @@ fn judge_ratio(k: &CheckDecl, base: &str, pairs: &Pairs, left_out: &str) -> Judg
                 Statistic::Median => sum.median,
                 Statistic::GeoMean => sum.geomean,
             };
-            let ok = min.is_none_or(|m| stat >= m) && max.is_none_or(|m| stat <= m);
-            let headline = wording::ratio_stat(statistic, (stat, ok), (min, max), &sum, noun);
-            (Status::pass_if(ok), map_values(&sum, &|_| ok), headline)
+            let in_band = |r: f64| min.is_none_or(|m| r >= m) && max.is_none_or(|m| r <= m);
+            let ok = in_band(stat);
+            let values = map_values(&sum, &in_band);
+            let count = values.iter().filter(|v| v.pass).count();
+            let headline = wording::ratio_stat(statistic, (stat, ok), (min, max), &sum, (noun, count));
+            (Status::pass_if(ok), values, headline)
+        }
+        Test::RatioEither => {
+            let values = map_values(&sum, &|r| r != 1.0);
+            let below = sum.maps.iter().filter(|g| g.ratio < 1.0).count();
+            let above = sum.maps.iter().filter(|g| g.ratio > 1.0).count();
+            let headline = wording::ratio_either((below, above), &sum, noun);
+            (Status::pass_if(below > 0 && above > 0), values, headline)
         }
         Test::RatioSummary => (Status::Shown, map_values(&sum, &|_| true), wording::ratio_summary(&sum, noun)),
         _ => unreachable!("the other tests returned above"),

@@ -5,15 +5,18 @@
 use crate::claims::declaration::{CheckDecl, Paper, Test};
 use crate::claims::judge::baseline::judge_against_baseline;
 use crate::claims::judge::outcome::{CheckOutcome, Evidence, RowValue, SetOutcome, Status};
+use crate::claims::population::{noun, Population, ALL};
 use crate::claims::judge::scope::{Picked, Scope};
 use crate::claims::judge::wording;
+use crate::claims::ratios;
 use crate::math::echo::value as echo;
 use anyhow::Result;
 
 /// Judges one check on one set of a table.
-fn judge_set(t: &Evidence, k: &CheckDecl, set: &str, set_maps: Option<&[String]>) -> Result<SetOutcome> {
-    let scope = Scope::new(t, k, set_maps)?;
-    if set_maps.is_some() && scope.map_col.is_none() {
+fn judge_set(t: &Evidence, k: &CheckDecl, set: &str, population: Population) -> Result<SetOutcome> {
+    let set_maps = population.named();
+    let scope = Scope::new(t, k, population)?;
+    if set != ALL && scope.map_col.is_none() {
         return Ok(SetOutcome::untestable(set, 0, format!("the table has no map column to select set '{set}'")));
     }
     let picked = scope.picked()?;
@@ -67,6 +70,7 @@ fn judge_bound(k: &CheckDecl, set: &str, maps_judged: usize, picked: &[Picked], 
         Test::EveryAtMost { bound } => (true, bound),
         Test::EveryAtLeast { bound } => (false, bound),
         Test::EveryEqual { value } => return judge_exact(k, set, maps_judged, &vals, value, excluded),
+        Test::MedianAtLeast { bound } => return judge_median(k, set, &vals, bound, excluded),
         _ => unreachable!("needs_baseline covers the other tests"),
     };
     let ok = |v: f64| if upper { v <= bound } else { v >= bound };
@@ -92,6 +96,34 @@ fn judge_bound(k: &CheckDecl, set: &str, maps_judged: usize, picked: &[Picked], 
     SetOutcome { set: set.into(), maps: maps_judged, status, headline, figure, values, excluded }
 }
 
+/// `median_at_least`: a map's value is the median of its rows; the median of the maps' values
+/// is at least `bound` (the direction on most maps). Each map is listed, with whether it alone
+/// meets the bound, and the count is shown.
+fn judge_median(k: &CheckDecl, set: &str, vals: &[(&Picked, f64)], bound: f64, excluded: usize) -> SetOutcome {
+    let mut maps: Vec<(String, Vec<f64>)> = Vec::new();
+    for (p, v) in vals {
+        let m = if p.map.is_empty() { p.label.clone() } else { p.map.clone() };
+        match maps.iter_mut().find(|(n, _)| *n == m) {
+            Some((_, list)) => list.push(*v),
+            None => maps.push((m, vec![*v])),
+        }
+    }
+    let values: Vec<RowValue> = maps
+        .iter()
+        .map(|(m, list)| {
+            let v = ratios::median(list);
+            RowValue { label: wording::map_label(m, list.len()), value: v, pass: v >= bound }
+        })
+        .collect();
+    let per_map: Vec<f64> = values.iter().map(|v| v.value).collect();
+    let median = ratios::median(&per_map);
+    let passing = values.iter().filter(|v| v.pass).count();
+    let headline = wording::median_bound(&k.column, (median, bound), (passing, values.len()), noun(set));
+    let figure = format!("{} of {}: {headline}", k.column, k.encoder);
+    let status = Status::pass_if(median >= bound);
+    SetOutcome { set: set.into(), maps: values.len(), status, headline, figure, values, excluded }
+}
+
 /// `every_equal`: every value is exactly `value`.
 fn judge_exact(
     k: &CheckDecl,
@@ -115,10 +147,10 @@ pub fn judge_check(paper: &Paper, k: &CheckDecl, table: &std::result::Result<Evi
     let sets =
         k.on.iter()
             .map(|set| {
-                let set_maps = (set != "all").then(|| paper.map_sets.get(set).map(|v| v.as_slice()).unwrap_or(&[]));
+                let population = Population::of(set, paper.map_sets.get(set).map(|v| v.as_slice()));
                 let out = match table {
                     Err(why) => Err(why.clone()),
-                    Ok(t) => judge_set(t, k, set, set_maps).map_err(|e| format!("{}: {e:#}", k.source.label())),
+                    Ok(t) => judge_set(t, k, set, population).map_err(|e| format!("{}: {e:#}", k.source.label())),
                 };
                 out.unwrap_or_else(|why| SetOutcome::untestable(set, 0, why))
             })

@@ -3,6 +3,7 @@
 
 use crate::claims::declaration::CheckDecl;
 use crate::claims::judge::outcome::Evidence;
+use crate::claims::population::Population;
 use crate::math::echo::value as echo;
 use anyhow::{bail, Context, Result};
 use std::collections::HashMap;
@@ -36,7 +37,7 @@ pub(super) struct Scope<'a> {
     t: &'a Evidence,
     /// The check.
     pub(super) k: &'a CheckDecl,
-    set_maps: Option<&'a [String]>,
+    population: Population<'a>,
     enc_col: usize,
     val_col: usize,
     /// The map column, if the table has one.
@@ -47,7 +48,7 @@ pub(super) struct Scope<'a> {
 
 impl<'a> Scope<'a> {
     /// The check's columns in `t`; an error names a column the table lacks.
-    pub(super) fn new(t: &'a Evidence, k: &'a CheckDecl, set_maps: Option<&'a [String]>) -> Result<Self> {
+    pub(super) fn new(t: &'a Evidence, k: &'a CheckDecl, population: Population<'a>) -> Result<Self> {
         let enc_col = t.col("encoder").context("the table has no 'encoder' column")?;
         let Some(val_col) = t.col(&k.column) else { bail!("the table has no column '{}'", echo(&k.column)) };
         let map_col = t.col("map");
@@ -57,22 +58,24 @@ impl<'a> Scope<'a> {
             filters.push((c, allowed));
         }
         let keys: Vec<usize> = KEY_COLUMNS.iter().filter_map(|c| t.col(c)).collect();
-        Ok(Scope { t, k, set_maps, enc_col, val_col, map_col, filters, keys })
+        Ok(Scope { t, k, population, enc_col, val_col, map_col, filters, keys })
     }
 
-    /// Whether a row passes the filters and lies on the set's and the check's maps.
-    fn in_scope(&self, r: &[String]) -> bool {
-        self.filters.iter().all(|(c, allowed)| allowed.contains(&r[*c]))
-            && self.map_col.is_none_or(|m| {
-                self.set_maps.is_none_or(|s| s.contains(&r[m]))
-                    && self.k.maps.as_ref().is_none_or(|s| s.contains(&r[m]))
-            })
+    /// Whether a row passes the filters and lies on the set's and the check's maps. A
+    /// baseline row is not held to a filter on the encoder column (which picks the judged
+    /// encoders, as in `encoder = "*"` with `where = { encoder = [...] }`).
+    fn in_scope(&self, r: &[String], baseline: bool) -> bool {
+        self.filters.iter().all(|(c, allowed)| (baseline && *c == self.enc_col) || allowed.contains(&r[*c]))
+            && self
+                .map_col
+                .is_none_or(|m| self.population.holds(&r[m]) && self.k.maps.as_ref().is_none_or(|s| s.contains(&r[m])))
     }
 
     /// The judged cell of a row of `encoder` (`*`: any) in scope; None for other rows, an
     /// error for a cell that is not a number.
     fn cell(&self, r: &[String], encoder: &str) -> Option<Result<Cell>> {
-        if (encoder != "*" && r[self.enc_col] != encoder) || !self.in_scope(r) {
+        let baseline = encoder != self.k.encoder;
+        if (encoder != "*" && r[self.enc_col] != encoder) || !self.in_scope(r, baseline) {
             return None;
         }
         let cell = r[self.val_col].trim();
@@ -110,9 +113,13 @@ impl<'a> Scope<'a> {
         let mut picked = Vec::new();
         for r in &self.t.rows {
             if let Some(value) = self.value(r, &self.k.encoder, "") {
+                let label = match self.k.encoder.as_str() {
+                    "*" => format!("{} · {}", r[self.enc_col], self.label(r)),
+                    _ => self.label(r),
+                };
                 picked.push(Picked {
                     row: r,
-                    label: self.label(r),
+                    label,
                     map: self.map_col.map(|m| r[m].clone()).unwrap_or_default(),
                     value: value?,
                 });

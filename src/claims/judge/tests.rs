@@ -12,7 +12,8 @@ use std::path::Path;
 fn paper(checks: &str, kind: &str) -> Paper {
     let text = format!(
         "title='T'\nauthors='A'\nvenue='V'\norder=1\n[map_sets]\npaper=['m1','m2']\n[[claim]]\nid='X1'\nsays='s'\n\
-         paper_figure='p'\ncriterion='c'\nkind='{kind}'\nfixed='before data'\ndiffers='d'\n{checks}"
+         paper_figure='p'\ncriterion='c'\nkind='{kind}'\nfixed='before data'\ndiffers='d'\nquote='the paper states 0.5'\nthreshold_from='{from}'\n{checks}",
+        from = if kind == "anchor" { "none" } else { "paper: 0.5" }
     );
     parse("t", &text, Path::new("t.toml")).unwrap()
 }
@@ -125,7 +126,7 @@ fn per_map_median_and_geomean_decide_where_the_pooled_ratio_disagrees() {
     let med = judge_on(&format!("{PRIMARY}test='ratio_stat'\nstatistic='median'\nmax=0.5"), "measured", &t);
     assert_eq!(med.verdict, Verdict::Holds, "{}", med.checks[0].sets[0].figure);
     assert!(
-        med.our_figure().starts_with("per-map median 0.425 ≤ 0.500 (geomean 0.482, 4 maps)"),
+        med.our_figure().starts_with("per-map median 0.425 ≤ 0.500 (geomean 0.482; 3/4 maps ≤ 0.500)"),
         "{}",
         med.our_figure()
     );
@@ -169,4 +170,25 @@ fn missing_maps_and_columns_are_untestable() {
     assert!(o.verdict.why().contains("m2"), "{}", o.verdict.why());
     let o = judge(&format!("{PRIMARY}test='ratio_every'\ncolumn='speed'"), "measured");
     assert!(o.verdict.why().contains("no column 'speed'"), "{}", o.verdict.why());
+}
+
+/// Constructed scenes are never pooled with maps: `all` judges the maps only, `scenes` the
+/// scenes only, each labelled with what it holds.
+#[test]
+fn scenes_and_maps_are_judged_apart() {
+    let t = Evidence::parse(
+        b"map,encoder,rmse\nm1,a,0.5\nm1,b,1\nm2,a,0.8\nm2,b,1\ngen_x,a,3\ngen_x,b,1\nconstructed_y,a,0.1\nconstructed_y,b,1\n",
+        Path::new("t.csv"),
+    )
+    .unwrap();
+    let p = "[[claim.check]]\nname='n'\ntable='e'\nencoder='a'\nbaseline='b'\nrole='primary'\ntest='ratio_every'\n";
+    let o = judge_on(&format!("{p}on=['all','scenes']"), "measured", &t);
+    let (all, scenes) = (&o.checks[0].sets[0], &o.checks[0].sets[1]);
+    assert_eq!(all.values.len(), 2, "{:?}", all.values);
+    assert!(all.values.iter().all(|v| v.label.starts_with('m')));
+    assert_eq!(all.status, Status::Pass);
+    assert_eq!(scenes.values.len(), 2);
+    assert_eq!(scenes.status, Status::Fail);
+    assert_eq!(o.maps(), "all (2 maps); scenes (2 constructed scenes)");
+    assert_eq!(o.verdict.word(), "partly");
 }

@@ -64,10 +64,11 @@ impl ClaimOutcome {
     }
 }
 
-/// `paper (5 maps)`; a set without a map column is named alone.
+/// `paper (5 maps)`, `scenes (2 constructed scenes)`; a set without a map column is named
+/// alone.
 pub fn set_label(s: &SetOutcome) -> String {
     if s.maps > 0 {
-        format!("{} ({} map{})", s.set, s.maps, if s.maps == 1 { "" } else { "s" })
+        format!("{} ({})", s.set, n_maps(s.maps, crate::claims::population::noun(&s.set)))
     } else {
         s.set.clone()
     }
@@ -156,6 +157,23 @@ pub(super) struct BoundFigures<'a> {
     pub excluded: usize,
 }
 
+/// `median_at_least`'s headline: the median of the per-map values against the bound, and how
+/// many maps meet it alone.
+pub(super) fn median_bound(
+    col: &str,
+    (median, bound): (f64, f64),
+    (passing, of): (usize, usize),
+    noun: &str,
+) -> String {
+    format!(
+        "per-map median {col} {}{} ≥ {} ({passing}/{of} {noun}s ≥ {})",
+        fmt3(median),
+        if median >= bound { "" } else { ", not" },
+        fmt3(bound),
+        fmt3(bound)
+    )
+}
+
 /// A bound's headline and figure.
 pub(super) fn bound(b: &BoundFigures) -> (String, String) {
     let (col, upper) = (b.col, b.upper);
@@ -233,7 +251,7 @@ pub(super) fn ratio_stat(
     (stat, ok): (f64, bool),
     (min, max): (Option<f64>, Option<f64>),
     sum: &Summary,
-    noun: &str,
+    (noun, in_band): (&str, usize),
 ) -> String {
     let band = match (min, max) {
         (Some(a), Some(b)) => format!("in [{}, {}]", fmt3(a), fmt3(b)),
@@ -246,11 +264,22 @@ pub(super) fn ratio_stat(
         Statistic::GeoMean => format!("median {}", fmt3(sum.median)),
     };
     format!(
-        "per-map {} {}{} {band} ({other}, {})",
+        "per-map {} {}{} {band} ({other}; {in_band}/{} {noun}s {band})",
         if statistic == Statistic::Median { "median" } else { "geomean" },
         fmt3(stat),
         if ok { "" } else { ", not" },
-        n_maps(sum.maps.len(), noun)
+        sum.maps.len()
+    )
+}
+
+/// `ratio_either`'s headline: how many maps are below 1 and how many above, with the per-map
+/// median and geometric mean.
+pub(super) fn ratio_either((below, above): (usize, usize), sum: &Summary, noun: &str) -> String {
+    let m = sum.maps.len();
+    format!(
+        "{below}/{m} {noun}s < 1, {above}/{m} > 1 (per-map median {}, geomean {})",
+        fmt3(sum.median),
+        fmt3(sum.geomean)
     )
 }
 
