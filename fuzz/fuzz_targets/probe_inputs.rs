@@ -46,7 +46,7 @@ fuzz_target!(init: init(), |data: &[u8]| {
     if kind % 4 < 2 {
         let path = dir.join(if kind % 4 == 0 { "p.csv" } else { "p.f32" });
         std::fs::write(&path, rest).unwrap();
-        for shard in ["1/1".to_string(), format!("{}/3", (kind as usize / 4) % 3 + 1)] {
+        for shard in ["0/1".to_string(), format!("{}/3", (kind as usize / 4) % 3)] {
             let o = ProbesOptions {
                 input: ProbeInput::File { path: path.clone(), format: None },
                 encoders: "sh1,sh2".into(),
