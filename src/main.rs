@@ -12,6 +12,11 @@ fn main() {
     // commands': a closed pipe ends quietly (141), any other write error exits 2.
     let cli = match commands::Cli::try_parse() {
         Ok(cli) => cli,
+        Err(e) if e.exit_code() == 0 && output::stdout_closed() => {
+            // --help or --version into a standard output closed at start.
+            output::note_fmt(format_args!("error: {}\n", output::closed_stdout_error()));
+            std::process::exit(2);
+        }
         Err(e) => std::process::exit(match e.print() {
             Ok(()) => e.exit_code(),
             Err(io) => output::failure(&output::StdoutError(io).into()).0,

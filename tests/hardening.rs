@@ -669,3 +669,103 @@ fn audit_jobs_is_bounded() {
     }
     assert_ok(&common::harness::run(&["--jobs", "1024", "encoders"]), "--jobs 1024");
 }
+
+// ---------------------------------------------------------------------------------------------
+// The third round of hostile input: huge texels, a closed stdout, file names that are not text.
+
+/// An 8x4 Radiance file stored flat (no run-length coding) whose every texel is the RGBE bytes
+/// `px`.
+fn flat_hdr(px: [u8; 4]) -> Vec<u8> {
+    [&b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 4 +X 8\n"[..], &px.repeat(32)].concat()
+}
+
+/// A map of 3e38 texels (finite, below f32::MAX) ran once, wrote a baseline with rmse 3.47e31,
+/// and every later `run` or `check` failed at "(fresh table):2:5", naming no file. A `.hdr`
+/// texel with exponent byte 255 (0.5·2^127 = 8.5e37) did the same. Both are refused at load,
+/// naming the file and the texel; a map at the bound, 1e24, runs and checks clean with every
+/// encoder.
+#[test]
+fn texels_above_the_bound_are_refused_at_load_and_the_bound_fits_every_table() {
+    let root = root_with(&[]);
+    let exr = root.path().join("huge.exr");
+    exr::prelude::write_rgb_file(&exr, 8, 4, |x, y| if (x, y) == (3, 1) { (1.0, 3e38f32, 1.0) } else { (1.0, 1.0, 1.0) })
+        .unwrap();
+    let hdr = root.write("huge.hdr", flat_hdr([128, 128, 128, 255]));
+    for (path, at) in [(&exr, "x=3, y=1, channel G"), (&hdr, "x=0, y=0, channel R")] {
+        let out = run(&root, &["eval", path.to_str().unwrap(), "--encoders", "sh1"]);
+        let file = path.display().to_string();
+        assert_refused(&out, &[&file, "above the bound 1e24", at], &file);
+    }
+    // Every encoder on a map at the bound (on a hemisphere, where every encoder is defined):
+    // the tables hold every number, and check reads them.
+    let ids = assert_ok(&common::harness::run(&["encoders"]), "encoders");
+    let ids: Vec<&str> = ids.lines().filter_map(|l| l.split_whitespace().next()).collect();
+    let at = root.path().join("at_bound.exr");
+    exr::prelude::write_rgb_file(&at, 16, 8, |x, y| if x < 4 && y < 2 { (1e24f32, 1e24, 1e24) } else { (1e20, 1e22, 0.0) })
+        .unwrap();
+    let list = ids.iter().map(|i| format!("'{i}'")).collect::<Vec<_>>().join(", ");
+    root.write(
+        "experiments/at_bound.toml",
+        format!(
+            "maps = ['{}']\nencoders = [{list}]\nresolution = [16, 8]\n\
+             domain = 'hemisphere'\norientations = ['up']\neffects = ['hemisphere']\n",
+            at.display()
+        ),
+    );
+    assert_ok(&run_experiments(&root, &["at_bound"]), "run at the bound");
+    assert_ok(&run(&root, &["check", "at_bound"]), "check at the bound");
+}
+
+/// With stdout closed (`>&-`) the Rust runtime put /dev/null in its place: results vanished and
+/// the exit code was 0. Now: exit 2 and "cannot write to standard output" (on Linux, where the
+/// closed descriptor is noted before the runtime starts). `> /dev/null` still succeeds.
+#[cfg(target_os = "linux")]
+#[test]
+fn a_closed_stdout_exits_2() {
+    for args in [vec!["encoders"], vec!["--help"], vec!["eval", "gen_constant", "--encoders", "sh1", "--resolution", "16x8"]]
+    {
+        let out = Command::new("sh")
+            .arg("-c")
+            .arg("exec \"$@\" >&-")
+            .arg("sh")
+            .arg(env!("CARGO_BIN_EXE_probelab"))
+            .args(&args)
+            .env("PROBELAB_ENVMAPS", repo().join("envmaps"))
+            .output()
+            .unwrap();
+        let err = stderr(&out);
+        assert_eq!(out.status.code(), Some(2), "{args:?} >&-: {err}");
+        assert!(err.contains("error: cannot write to standard output: it was closed"), "{args:?}: {err}");
+        let out = common::harness::probelab().args(&args).stdout(Stdio::null()).output().unwrap();
+        assert_eq!(out.status.code(), Some(0), "{args:?} > /dev/null: {}", stderr(&out));
+    }
+}
+
+/// A file name that is not UTF-8 could not be passed at all (clap's "invalid UTF-8 was
+/// detected", naming no argument), `maps` listed it, and the `--synth` palette skipped it
+/// silently. Each now says the same: refused naming the argument, listed as unusable, and the
+/// palette refuses it naming the file.
+#[cfg(unix)]
+#[test]
+fn file_names_that_are_not_utf8_are_named_everywhere() {
+    use std::os::unix::ffi::OsStrExt;
+    let root = root_with(&[]);
+    let maps = root.path().join("maps");
+    std::fs::create_dir_all(&maps).unwrap();
+    let name = std::ffi::OsStr::from_bytes(b"caf\xe9_256x128.exr");
+    let path = maps.join(name);
+    std::fs::copy(repo().join("envmaps/gen_constant.exr"), &path).unwrap();
+    let out = common::harness::probelab().arg("eval").arg(&path).args(["--encoders", "sh1"]).output().unwrap();
+    let err = stderr(&out);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(err.contains("<MAPS>") && err.contains("is not valid UTF-8") && err.contains("rename the file"), "{err}");
+    let out = common::harness::probelab().arg("run").arg(maps.join(std::ffi::OsStr::from_bytes(b"\xff.toml"))).output();
+    let err = stderr(&out.unwrap());
+    assert!(err.contains("<EXPERIMENTS>") && err.contains("is not valid UTF-8"), "{err}");
+    let listed = common::harness::probelab().arg("maps").env("PROBELAB_ENVMAPS", &maps).output().unwrap();
+    let text = assert_ok(&listed, "maps");
+    assert!(text.contains("caf\u{fffd}_256x128.exr (its name is not valid UTF-8"), "{text}");
+    let synth = ["probes", "--synth", "4", "--encoders", "sh1"];
+    let out = common::harness::probelab().args(synth).env("PROBELAB_ENVMAPS", &maps).output().unwrap();
+    assert_refused(&out, &["caf\u{fffd}_256x128.exr: its name is not valid UTF-8"], "probes --synth");
+}

@@ -1,5 +1,7 @@
 //! Map headers that would make a decoder allocate more than the file holds, windows that are
-//! not the lat-long sphere, Radiance `EXPOSURE=`, and which files `maps` considers. Every file
+//! not the lat-long sphere, Radiance `EXPOSURE=`, `COLORCORR=`, `PRIMARIES=`, `PIXASPECT=` and
+//! line ends, EXR chromaticities, pixel aspect and channel names, and which files `maps`
+//! considers. Every file
 //! is made in a temporary folder; every refusal goes through the binary (`probelab eval FILE`):
 //! exit 2, an error naming the file and the limit or rule, nothing on stdout.
 
@@ -203,4 +205,171 @@ fn maps_considers_regular_files_with_either_extension_in_any_case() {
     // The FIFO itself, named as a map, is refused without opening it.
     #[cfg(unix)]
     refused(&maps.join("x.exr"), &["is not a regular file"]);
+}
+
+/// An 8x4 EXR map of one colour, with its image attributes (chromaticities, pixel aspect) set
+/// by `attributes`.
+fn exr_with(path: &Path, rgb: (f32, f32, f32), attributes: impl FnOnce(&mut exr::prelude::ImageAttributes)) {
+    use exr::prelude::WritableImage;
+    let channels = exr::prelude::SpecificChannels::rgb(move |_: exr::prelude::Vec2<usize>| rgb);
+    let layer = exr::prelude::Layer::new(
+        (8, 4),
+        exr::prelude::LayerAttributes::default(),
+        exr::prelude::Encoding::UNCOMPRESSED,
+        channels,
+    );
+    let mut image = exr::prelude::Image::from_layer(layer);
+    attributes(&mut image.attributes);
+    image.write().to_file(path).unwrap();
+}
+
+/// ACES AP0 (SMPTE ST 2065-1) as an EXR `chromaticities` attribute.
+fn ap0() -> exr::prelude::attribute::Chromaticities {
+    use exr::prelude::Vec2;
+    exr::prelude::attribute::Chromaticities {
+        red: Vec2(0.7347, 0.2653),
+        green: Vec2(0.0, 1.0),
+        blue: Vec2(0.0001, -0.077),
+        white: Vec2(0.32168, 0.33767),
+    }
+}
+
+/// An EXR in ACES AP0 primaries once gave the numbers of Rec.709. It is converted: the texels
+/// are the published AP0 → Rec.709 (Bradford) matrix times the file's values (products worked
+/// out by hand below), the conversion is recorded in the table's provenance, and a colour
+/// outside Rec.709's gamut is refused naming its pixel. A pixel aspect other than 1 is refused.
+#[test]
+fn exr_primaries_are_converted_to_rec709_and_recorded() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("aces.exr");
+    exr_with(&path, (0.2, 0.3, 0.4), |a| a.chromaticities = Some(ap0()));
+    let map = probelab::Map::load(path.to_str().unwrap(), repo()).unwrap();
+    // The published matrix (six decimals) [2.521686 -1.134130 -0.387556; -0.276479 1.372719
+    // -0.096240; -0.015378 -0.152975 1.168353] x (0.2, 0.3, 0.4):
+    let want = [0.0090758, 0.3180239, 0.4183731];
+    for (got, want) in map.texels()[0].iter().zip(want) {
+        assert!((f64::from(*got) - want).abs() < 2e-6, "{:?} against {want:?}", map.texels()[0]);
+    }
+    // Recorded in provenance.
+    let exp = dir.path().join("aces_run.toml");
+    fs::write(&exp, format!("maps = [{:?}]\nencoders = [\"sh1\"]\n", path.to_str().unwrap())).unwrap();
+    let root = dir.path().to_str().unwrap();
+    let out = probelab().args(["--no-timing", "--root", root, "run", exp.to_str().unwrap()]).output().unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let prov = fs::read_to_string(dir.path().join("results/aces_run/provenance.toml")).unwrap();
+    assert!(
+        prov.contains("colour = \"converted from primaries R(0.7347,0.2653) G(0,1) B(0.0001,-0.077) white(0.32168,0.33767) to Rec.709"),
+        "{prov}"
+    );
+    // Pure AP0 red has a negative green in Rec.709: refused, not clipped.
+    let red = dir.path().join("aces_red.exr");
+    exr_with(&red, (1.0, 0.0, 0.0), |a| a.chromaticities = Some(ap0()));
+    refused(&red, &["not Rec.709", "pixel x=0, y=0 is outside Rec.709's gamut", "G = -2.76"]);
+    // Rec.709 chromaticities change nothing.
+    let same = dir.path().join("rec709.exr");
+    let rec709 = exr::prelude::attribute::Chromaticities {
+        red: exr::prelude::Vec2(0.64, 0.33),
+        green: exr::prelude::Vec2(0.30, 0.60),
+        blue: exr::prelude::Vec2(0.15, 0.06),
+        white: exr::prelude::Vec2(0.3127, 0.3290),
+    };
+    exr_with(&same, (0.2, 0.3, 0.4), |a| a.chromaticities = Some(rec709));
+    let map = probelab::Map::load(same.to_str().unwrap(), repo()).unwrap();
+    assert_eq!(map.texels()[0], [0.2, 0.3, 0.4]);
+    let wide = dir.path().join("wide_pixels.exr");
+    exr_with(&wide, (0.2, 0.3, 0.4), |a| a.pixel_aspect = 2.0);
+    refused(&wide, &["pixel aspect ratio 2", "square in angle"]);
+}
+
+/// Radiance's `COLORCORR=` is applied as `EXPOSURE=` is, per channel (the pixel values are
+/// divided by the products); `PRIMARIES=` other than Rec.709 are converted (AP0 makes the
+/// file's colours leave Rec.709's gamut: refused at pixel 0,0); `PIXASPECT=` must be 1; CR LF
+/// line ends are refused as a text-mode copy.
+#[test]
+fn radiance_colour_variables_and_line_ends() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("cc.hdr");
+    hdr_with(&path, "EXPOSURE=2\nCOLORCORR=2 4 0.5\nCOLORCORR=1 2 1\n");
+    let map = probelab::Map::load(path.to_str().unwrap(), repo()).unwrap();
+    // Divided by 2·2, 2·8, 2·0.5: texel 0 is (0.5, 0.25, 4), the others (1, 2, 3).
+    assert_eq!(map.texels()[0], [0.125, 0.015625, 4.0]);
+    assert_eq!(map.texels()[1], [0.25, 0.125, 3.0]);
+    for bad in ["COLORCORR=1 1\n", "COLORCORR=1 0 1\n", "COLORCORR=1 nan 1\n", "PRIMARIES=0.64 0.33\n"] {
+        hdr_with(&path, bad);
+        refused(&path, &["Radiance header line 2:", "expected"]);
+    }
+    hdr_with(&path, "PRIMARIES=0.640 0.330 0.300 0.600 0.150 0.060 0.3127 0.3290\n");
+    let map = probelab::Map::load(path.to_str().unwrap(), repo()).unwrap();
+    assert_eq!(map.texels()[1], [1.0, 2.0, 3.0]);
+    hdr_with(&path, "PRIMARIES=0.7347 0.2653 0 1 0.0001 -0.077 0.32168 0.33767\n");
+    refused(&path, &["not Rec.709", "pixel x=0, y=0 is outside Rec.709's gamut"]);
+    hdr_with(&path, "PIXASPECT=1.0\n");
+    assert!(probelab::Map::load(path.to_str().unwrap(), repo()).is_ok());
+    hdr_with(&path, "PIXASPECT=0.5\n");
+    refused(&path, &["Radiance header line 2: PIXASPECT=0.5", "square in angle"]);
+    hdr_with(&path, "");
+    let bytes = fs::read(&path).unwrap();
+    let at = bytes.iter().position(|&b| b == b'\n').unwrap();
+    fs::write(&path, [&bytes[..at], b"\r", &bytes[at..]].concat()).unwrap();
+    refused(&path, &["Radiance header line 1 ends in CR LF", "converted as text"]);
+}
+
+/// Two channels named R: the first used to win. Refused, naming the channel. An EXR with the
+/// multi-part bit set on a single-part file was reported as truncated; it is now said so.
+#[test]
+fn ambiguous_channels_and_a_stray_multipart_bit_are_named() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("two_r.exr");
+    {
+        use exr::prelude::*;
+        let channel = |name: &str| AnyChannel::new(name, FlatSamples::F32(vec![1.0; 32]));
+        let list = SmallVec::from_vec(vec![channel("B"), channel("G"), channel("R"), channel("S")]);
+        let layer = Layer::new((8, 4), LayerAttributes::default(), Encoding::UNCOMPRESSED, AnyChannels::sort(list));
+        Image::from_layer(layer).write().to_file(&path).unwrap();
+    }
+    let mut bytes = fs::read(&path).unwrap();
+    let at = bytes.windows(3).position(|w| w == b"\0S\0").unwrap() + 1;
+    bytes[at] = b'R';
+    fs::write(&path, bytes).unwrap();
+    refused(&path, &["channel 'R' appears 2 times", "ambiguous"]);
+
+    let flagged = dir.path().join("flagged.exr");
+    small_exr(&flagged);
+    let mut bytes = fs::read(&flagged).unwrap();
+    bytes[5] |= 0x10;
+    fs::write(&flagged, bytes).unwrap();
+    refused(&flagged, &["multi-part bit (0x1000) is set", "lacks the attributes every part"]);
+}
+
+/// 100,000 attributes (2 MB) were refused only after the run-time estimate's header parse had
+/// taken 80 MB. The header is now read under its limits first, by every path: `eval` and `run`
+/// refuse the file with their address space capped at 48 MiB (the earlier parse failed to
+/// allocate there and aborted).
+#[cfg(unix)]
+#[test]
+fn a_hundred_thousand_attributes_are_refused_in_bounded_memory() {
+    let dir = tempfile::tempdir().unwrap();
+    let good = dir.path().join("good.exr");
+    small_exr(&good);
+    let many: Vec<u8> =
+        (0..100_000).flat_map(|k| attribute(&format!("a{k}"), "int", &7i32.to_le_bytes())).collect();
+    let path = dir.path().join("attrs.exr");
+    fs::write(&path, with_attributes(&fs::read(&good).unwrap(), &many)).unwrap();
+    let exp = dir.path().join("attrs_run.toml");
+    fs::write(&exp, format!("maps = [{:?}]\nencoders = [\"sh1\"]\n", path.to_str().unwrap())).unwrap();
+    let root = dir.path().to_str().unwrap();
+    for args in [vec!["eval", path.to_str().unwrap(), "--encoders", "sh1"], vec!["--root", root, "run", exp.to_str().unwrap()]] {
+        let out = std::process::Command::new("sh")
+            .arg("-c")
+            .arg("ulimit -v 49152 && exec \"$@\"")
+            .arg("sh")
+            .arg(env!("CARGO_BIN_EXE_probelab"))
+            .args(&args)
+            .env_remove("PROBELAB_ENVMAPS")
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
+        assert!(err.contains("more than the limit of 1024 attributes"), "{args:?}: {err}");
+    }
 }

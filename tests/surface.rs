@@ -10,7 +10,7 @@
 //! - `api` has no hidden hatch (`#[doc(hidden)]`).
 //! - Exit codes are the binary's: no library file names one.
 //! - A command file never imports another command's file: shared parts live in
-//!   `commands/{terminal,output,context}.rs`.
+//!   `commands/{terminal,output,context,args}.rs`.
 //! - Only `benches/` names the `bench` feature's re-exports.
 
 use std::path::{Path, PathBuf};
@@ -49,7 +49,7 @@ const SURFACE: &[&str] = &[
 ];
 
 /// The binary's files that every command may share.
-const SHARED_COMMAND_FILES: &[&str] = &["terminal", "output", "context", "mod"];
+const SHARED_COMMAND_FILES: &[&str] = &["terminal", "output", "context", "args", "mod"];
 
 fn repo() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))

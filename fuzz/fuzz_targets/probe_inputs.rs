@@ -1,16 +1,17 @@
-//! Fuzz target: probe files (CSV and raw f32, `probelab::pipeline::probeset::format`) and shard
-//! state files (`SetStats::load`, then `merge` with itself and with a valid state), on arbitrary
-//! bytes. The first byte picks what the rest is read as.
+//! Fuzz target: probe files (CSV and raw f32) and shard state files on arbitrary bytes, through
+//! the workflows the commands call (`probelab::ops::probes` on a file, whole and as a shard;
+//! `probelab::ops::merge` of a state). The first byte picks what the rest is read
+//! as. The library's internals are crate-private, so this goes through `ops`.
 //!
 //! Any outcome is fine except a panic, an error that does not name the file, or an accepted
-//! input that breaks the promises: every probe finite, every statistic of a loaded or merged
-//! state finite, a merged state's probe count the checked sum of its shards'.
+//! input whose summary holds a NaN or an infinity.
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use probelab::pipeline::probeset::format::{read_all, Format, ProbeReader};
-use probelab::pipeline::probeset::score::SetStats;
-use probelab::pipeline::probeset::shard::Shard;
+use probelab::ops::merge::{merge, MergeOptions};
+use probelab::ops::probes::{probes, ProbeInput, ProbesOptions};
+use probelab::ops::{Env, Quiet, RunSettings, SearchPath};
+use probelab::Error;
 use std::path::PathBuf;
 use std::sync::OnceLock;
 
@@ -22,54 +23,52 @@ fn init() {
     DIR.set(dir).unwrap();
 }
 
-fn check_state(s: &SetStats) {
-    for e in &s.encoders {
-        for sum in [&e.rmse, &e.rel_rmse] {
-            assert!(sum.mean().is_none_or(f64::is_finite));
-            assert!(sum.count == 0 || (sum.min.is_finite() && sum.max.is_finite() && sum.min <= sum.max));
-            for q in [0.0, 0.5, 0.95, 1.0] {
-                assert!(sum.quantile(q).is_none_or(f64::is_finite));
-            }
-        }
-    }
-    let csv = s.summary_csv().expect("summary of a loaded state");
-    let text = String::from_utf8(csv).unwrap();
+/// A summary's text holds no NaN or infinity.
+fn finite(csv: Result<Vec<u8>, Error>) {
+    let text = String::from_utf8(csv.expect("the summary of an accepted input")).unwrap();
     assert!(!text.contains("NaN") && !text.contains("inf"), "{text}");
 }
 
 fuzz_target!(init: init(), |data: &[u8]| {
     let Some((&kind, rest)) = data.split_first() else { return };
     let dir = DIR.get().unwrap();
-    match kind % 4 {
-        0 | 1 => {
-            let (name, format) = if kind % 4 == 0 { ("p.csv", Format::Csv) } else { ("p.f32", Format::F32) };
-            let path = dir.join(name);
-            std::fs::write(&path, rest).unwrap();
-            match read_all(&path, None) {
-                Ok(probes) => assert!(probes.iter().all(|p| p.is_finite())),
-                Err(e) => assert!(format!("{e:#}").starts_with(&path.display().to_string()), "{e:#}"),
-            }
-            // A shard of it: the same outcome class, never a panic.
-            let shard = Shard { index: (kind as usize / 4) % 3, count: 3 };
-            if let Ok(mut r) = ProbeReader::open(&path, format, shard) {
-                while let Ok(Some(c)) = r.next_chunk(5) {
-                    assert!(c.iter().all(|p| p.is_finite()));
-                }
+    let env = Env {
+        root: dir.clone(),
+        search: SearchPath::new(Vec::new()),
+        allow_long: false,
+        notes: &Quiet,
+        settings: RunSettings { timing: false, profile: None },
+    };
+    let named = |e: &Error, path: &PathBuf| {
+        let msg = format!("{e:#}");
+        assert!(msg.contains(&path.display().to_string()), "{msg}");
+    };
+    if kind % 4 < 2 {
+        let path = dir.join(if kind % 4 == 0 { "p.csv" } else { "p.f32" });
+        std::fs::write(&path, rest).unwrap();
+        for shard in ["0/1".to_string(), format!("{}/3", (kind as usize / 4) % 3)] {
+            let o = ProbesOptions {
+                input: ProbeInput::File { path: path.clone(), format: None },
+                encoders: "sh1,sh2".into(),
+                shard,
+                quadrature: "6x12".into(),
+                chunk: 5,
+                out: None,
+                save: None,
+            };
+            match probes(&env, &o) {
+                Ok(run) => finite(run.summary_csv()),
+                Err(e) => named(&e, &path),
             }
         }
-        _ => {
-            let path = dir.join("s.toml");
-            std::fs::write(&path, rest).unwrap();
-            match SetStats::load(&path) {
-                Ok(s) => {
-                    check_state(&s);
-                    let mut twice = s.clone();
-                    if twice.merge(&s).is_ok() {
-                        check_state(&twice);
-                        assert_eq!(Some(twice.probes), s.probes.checked_mul(2));
-                    }
-                }
-                Err(e) => assert!(format!("{e:#}").starts_with(&path.display().to_string()), "{e:#}"),
+    } else {
+        let path = dir.join("s.toml");
+        std::fs::write(&path, rest).unwrap();
+        match merge(&env, &MergeOptions { files: vec![path.clone()], out: None }) {
+            Ok(m) => finite(m.summary_csv()),
+            Err(e) => {
+                let msg = format!("{e:#}");
+                assert!(msg.contains(&path.display().to_string()) || msg.contains("shard"), "{msg}");
             }
         }
     }

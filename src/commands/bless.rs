@@ -15,6 +15,7 @@ use std::path::PathBuf;
 #[derive(clap::Args, Debug)]
 pub struct Args {
     /// Experiment names or files (default: every experiment).
+    #[arg(value_parser = super::args::file_name())]
     experiments: Vec<String>,
     /// Rewrite even when nothing moved (refreshes provenance and ignored columns).
     #[arg(long)]

@@ -15,6 +15,7 @@ use std::path::PathBuf;
 #[derive(clap::Args, Debug)]
 pub struct Args {
     /// Experiment names or files (default: every experiment with `ci = true`).
+    #[arg(value_parser = super::args::file_name())]
     experiments: Vec<String>,
     /// Also check the experiments marked `ci = false` (the full check).
     #[arg(long)]

@@ -11,7 +11,7 @@ use probelab::ops::Env;
 #[derive(clap::Args, Debug)]
 pub struct Args {
     /// Map names (on the search path) or file paths.
-    #[arg(required = true)]
+    #[arg(value_parser = super::args::file_name(), required = true)]
     maps: Vec<String>,
     /// Comma-separated encoder ids (see `probelab encoders`).
     #[arg(long, default_value = probelab::ops::DEFAULT_ENCODERS)]

@@ -13,6 +13,7 @@ use probelab::ops::{Env, MapSource};
 #[derive(clap::Args, Debug)]
 pub struct Args {
     /// Map name (on the search path) or file path.
+    #[arg(value_parser = super::args::file_name())]
     map: String,
     /// Comma-separated encoder ids (see `probelab encoders`).
     #[arg(long)]

@@ -12,6 +12,7 @@ use std::path::PathBuf;
 #[derive(clap::Args, Debug)]
 pub struct Args {
     /// Map names (on the search path) or file paths.
+    #[arg(value_parser = super::args::file_name())]
     maps: Vec<String>,
     /// A probe file in the format of `probes --input`/`--save`: L2 radiance SH, 27 numbers
     /// per probe, coefficient-major RGB (c0.r c0.g c0.b c1.r … c8.b; FORMULAS §2), as CSV

@@ -7,6 +7,10 @@
 //!   [`StdoutError`] and the command ends quietly with exit [`BROKEN_PIPE_EXIT`] (141, what a
 //!   shell reports for a process ended by SIGPIPE, so `set -o pipefail` sees an incomplete run).
 //! - stdout fails otherwise (`> /dev/full`): `error: cannot write to standard output: …`, exit 2.
+//! - stdout was closed when the process started (`>&-`): the same, exit 2. The Rust runtime
+//!   puts `/dev/null` on a closed standard stream before `main`, so every write would succeed
+//!   and the results vanish with exit 0; on Linux a function in `.init_array`, which runs
+//!   before the runtime, notes whether descriptor 1 was open ([`stdout_closed`]).
 //! - stderr fails: the notes are lost, nothing else changes (there is nowhere to report it);
 //!   the exit code still tells.
 //!
@@ -15,6 +19,36 @@
 
 use std::fmt;
 use std::io::Write;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+/// Whether descriptor 1 was closed when the process started (set before `main`).
+static STDOUT_CLOSED: AtomicBool = AtomicBool::new(false);
+
+/// Run by the C runtime before Rust's (which would open `/dev/null` on a closed descriptor 1).
+#[cfg(target_os = "linux")]
+#[used]
+#[link_section = ".init_array"]
+static NOTE_CLOSED_STDOUT: extern "C" fn() = note_closed_stdout;
+
+/// Notes whether descriptor 1 is closed: `/proc/self/fd` lists the open descriptors (when
+/// `/proc` is not mounted nothing is noted).
+#[cfg(target_os = "linux")]
+extern "C" fn note_closed_stdout() {
+    let fds = std::path::Path::new("/proc/self/fd");
+    if fds.is_dir() && std::fs::symlink_metadata(fds.join("1")).is_err() {
+        STDOUT_CLOSED.store(true, Ordering::Relaxed);
+    }
+}
+
+/// Whether standard output was closed when the process started (`>&-`; noted on Linux only).
+pub fn stdout_closed() -> bool {
+    STDOUT_CLOSED.load(Ordering::Relaxed)
+}
+
+/// The error every write to a standard output closed at start gives.
+pub fn closed_stdout_error() -> StdoutError {
+    StdoutError(std::io::Error::other("it was closed when probelab started (>&-); the output would be lost"))
+}
 
 /// The exit code of a command whose stdout reader went away (128 + SIGPIPE).
 pub const BROKEN_PIPE_EXIT: i32 = 141;
@@ -40,6 +74,9 @@ impl std::error::Error for StdoutError {}
 
 /// Writes `bytes` to stdout and flushes them.
 pub fn write(bytes: &[u8]) -> Result<(), StdoutError> {
+    if stdout_closed() {
+        return Err(closed_stdout_error());
+    }
     let mut out = std::io::stdout().lock();
     out.write_all(bytes).and_then(|()| out.flush()).map_err(StdoutError)
 }

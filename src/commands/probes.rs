@@ -27,7 +27,7 @@ pub struct Args {
     seed: u64,
     /// Comma-separated maps whose SH3 seed synthetic probes (default: every *_256x128 map on
     /// the search path; the generated scenes when there is none).
-    #[arg(long)]
+    #[arg(long, value_parser = super::args::file_name())]
     palette: Option<String>,
     /// Comma-separated encoder ids, or `all` (sh1 is always added: it is the baseline).
     #[arg(long, default_value = probelab::ops::DEFAULT_ENCODERS)]

@@ -12,7 +12,7 @@ use std::path::PathBuf;
 #[derive(clap::Args, Debug)]
 pub struct Args {
     /// Experiment TOML files, or names of experiments in <root>/experiments/ (`sh_baseline`).
-    #[arg(required = true)]
+    #[arg(value_parser = super::args::file_name(), required = true)]
     experiments: Vec<String>,
     /// Output folder (default: <root>/results).
     #[arg(long)]

@@ -7,11 +7,13 @@
 //! [`MAX_HEIGHT`] (checked before anything else about the windows); the map must fit the memory
 //! limit ([`memory_limit`]); and the offset table must lie inside the file with every entry
 //! pointing into the file past it. Radiance ([`hdr`]): the header, through the resolution
-//! line, is at most [`MAX_HDR_HEADER_BYTES`]; its `EXPOSURE=` values are read (Radiance's rule:
-//! the file's pixel values are the radiance times their product); the size is held to the same
-//! limits. A header this module cannot make sense of is left to the decoder, whose error says
+//! line, is at most [`MAX_HDR_HEADER_BYTES`], its lines end in LF (not CR LF); its `EXPOSURE=`
+//! and `COLORCORR=` values are read (Radiance's rule: the file's pixel values are the radiance
+//! times their product, per channel for `COLORCORR`), its `PRIMARIES=` line, and `PIXASPECT=`
+//! must be 1; the size is held to the same limits. A header this module cannot make sense of is left to the decoder, whose error says
 //! what is wrong; every refusal here says which limit or rule the file breaks.
 
+use crate::math::primaries::Chromaticities;
 use std::io::{self, BufRead, Read};
 
 /// Largest accepted map width in pixels. A header claiming more is refused before any
@@ -46,6 +48,9 @@ pub enum HeaderError {
         /// Where the limit was reached.
         what: String,
     },
+    /// The version field marks a multi-part file, but a part lacks what every part of one has.
+    #[error("the OpenEXR version field's multi-part bit (0x1000) is set, but the header lacks the attributes every part of a multi-part file has (name, type, chunkCount): the bit is wrong (a single-part file with a stray flag) or the header is corrupt")]
+    MultiPartBit,
     /// The OpenEXR header holds more attributes than [`MAX_EXR_ATTRIBUTES`].
     #[error("OpenEXR header holds more than the limit of {MAX_EXR_ATTRIBUTES} attributes; refusing to read it")]
     TooManyAttributes,
@@ -121,13 +126,24 @@ pub enum HeaderError {
         /// The first byte after the table.
         first: u64,
     },
-    /// An `EXPOSURE=` value is not a positive finite number, or their product is not.
-    #[error("Radiance header line {line}: EXPOSURE={value}: expected a positive finite number (the product of every EXPOSURE value must be one too)")]
-    Exposure {
+    /// A header variable (`EXPOSURE=`, `COLORCORR=`, `PRIMARIES=`, `PIXASPECT=`) breaks its
+    /// rule.
+    #[error("Radiance header line {line}: {name}={value}: {rule}")]
+    Variable {
         /// The header line (1-based).
         line: usize,
+        /// The variable's name.
+        name: String,
         /// The value as written (cut to 40 characters).
         value: String,
+        /// The rule it breaks.
+        rule: &'static str,
+    },
+    /// A Radiance header line ends in CR LF.
+    #[error("Radiance header line {line} ends in CR LF: a Radiance file's lines end in LF alone. The file was converted as text (a text-mode transfer or a git checkout with CRLF line ends), which also corrupts its binary pixels; get it again as a binary file")]
+    CrLf {
+        /// The header line (1-based).
+        line: usize,
     },
     /// The memory limit's environment variable is not a number of bytes.
     #[error("{MEMORY_LIMIT_VAR}={value}: expected a number of bytes (a whole number)")]
@@ -171,6 +187,9 @@ struct ExrFields {
     compression: Option<u8>,
     /// Tile width, tile height and level mode byte.
     tiles: Option<(u32, u32, u8)>,
+    /// Which of the attributes every part of a multi-part file must have (`name`, `type`,
+    /// `chunkCount`) this part has, one bit each.
+    part_attributes: u8,
 }
 
 /// A reader that counts the bytes taken and reports the end of the file as truncation.
@@ -243,6 +262,9 @@ pub fn exr(reader: &mut impl Read, len: u64) -> Result<Option<(usize, usize)>, H
         if count == 0 && multi {
             break; // the empty header that ends a multi-part file's list
         }
+        if multi && fields.part_attributes != 0b111 {
+            return Err(HeaderError::MultiPartBit);
+        }
         parts.push(fields);
         if !multi {
             break;
@@ -307,7 +329,11 @@ fn exr_part(r: &mut Counted<'_, impl Read>, attributes: &mut usize) -> Result<(E
                 let x = u32::from_le_bytes([b[0], b[1], b[2], b[3]]);
                 fields.tiles = Some((x, u32::from_le_bytes([b[4], b[5], b[6], b[7]]), b[8]));
             }
-            _ => r.skip(size as u64, WHAT)?,
+            _ => {
+                let bit = [&b"name"[..], b"type", b"chunkCount"].iter().position(|n| *n == name.as_slice());
+                fields.part_attributes |= bit.map_or(0, |k| 1 << k);
+                r.skip(size as u64, WHAT)?
+            }
         }
     }
 }
@@ -427,14 +453,74 @@ pub struct HdrHeader {
     pub size: Option<(usize, usize)>,
     /// The product of the header's `EXPOSURE=` values (1 without any).
     pub exposure: f64,
+    /// The per-channel product of the header's `COLORCORR=` values (1, 1, 1 without any):
+    /// Radiance applies them as it applies `EXPOSURE`, one factor per primary.
+    pub colorcorr: [f64; 3],
+    /// The `PRIMARIES=` line's chromaticities, when there is one (none: Rec.709).
+    pub primaries: Option<Chromaticities>,
 }
+
+impl HdrHeader {
+    /// Reads one header variable line into the header (`EXPOSURE=`, `COLORCORR=`,
+    /// `PRIMARIES=`, `PIXASPECT=`; other lines are comments or commands Radiance keeps).
+    fn variable(&mut self, line: usize, text: &str) -> Result<(), HeaderError> {
+        let Some((name, value)) = text.split_once('=') else { return Ok(()) };
+        let bad = |rule: &'static str| HeaderError::Variable {
+            line,
+            name: name.to_string(),
+            value: crate::math::echo::value(value),
+            rule,
+        };
+        let numbers = |n: usize| -> Option<Vec<f64>> {
+            let v: Vec<f64> = value.split_whitespace().map(|w| w.parse::<f64>().ok()).collect::<Option<_>>()?;
+            (v.len() == n && v.iter().all(|x| x.is_finite())).then_some(v)
+        };
+        let positive = |v: &f64| *v > 0.0;
+        match name {
+            "EXPOSURE" => {
+                let e = numbers(1).filter(|v| positive(&v[0])).map(|v| v[0] * self.exposure);
+                self.exposure = e.filter(|e| e.is_finite() && *e > 0.0).ok_or(bad(POSITIVE_PRODUCT))?;
+            }
+            "COLORCORR" => {
+                let v = numbers(3).filter(|v| v.iter().all(positive)).ok_or(bad(THREE_POSITIVE))?;
+                let c: [f64; 3] = std::array::from_fn(|k| self.colorcorr[k] * v[k]);
+                self.colorcorr = c.iter().all(|x| x.is_finite() && *x > 0.0).then_some(c).ok_or(bad(THREE_POSITIVE))?;
+            }
+            "PRIMARIES" => {
+                let v = numbers(8).ok_or(bad(EIGHT_NUMBERS))?;
+                let pair = |k: usize| [v[2 * k], v[2 * k + 1]];
+                self.primaries = Some(Chromaticities { primaries: [pair(0), pair(1), pair(2)], white: pair(3) });
+            }
+            "PIXASPECT" => {
+                let square = numbers(1).is_some_and(|v| (v[0] - 1.0).abs() <= 1e-6);
+                if !square {
+                    return Err(bad(SQUARE_PIXELS));
+                }
+            }
+            _ => {}
+        }
+        Ok(())
+    }
+}
+
+/// The rule an `EXPOSURE=` value breaks.
+const POSITIVE_PRODUCT: &str =
+    "expected a positive finite number (the product of every EXPOSURE value must be one too)";
+/// The rule a `COLORCORR=` value breaks.
+const THREE_POSITIVE: &str =
+    "expected three positive finite numbers, one per primary (their products over every COLORCORR line too)";
+/// The rule a `PRIMARIES=` value breaks.
+const EIGHT_NUMBERS: &str = "expected eight finite numbers: red, green, blue and white x y";
+/// The rule a `PIXASPECT=` value breaks.
+const SQUARE_PIXELS: &str = "a lat-long map's texels are square in angle (width = 2 x height); \
+     a pixel aspect other than 1 would stretch the sphere, so the map is refused";
 
 /// Reads a Radiance header from `reader` (at the file's start) through the resolution line, at most [`MAX_HDR_HEADER_BYTES`]: the product of its
 /// `EXPOSURE=` values, and the size (within [`MAX_WIDTH`] x [`MAX_HEIGHT`] and the memory
 /// limit). A header that ends early is left to the decoder.
 pub fn hdr(reader: &mut impl BufRead) -> Result<HdrHeader, HeaderError> {
     let mut limited = reader.take(MAX_HDR_HEADER_BYTES);
-    let mut exposure = 1.0f64;
+    let mut head = HdrHeader { size: None, exposure: 1.0, colorcorr: [1.0; 3], primaries: None };
     let mut line = Vec::new();
     let mut in_header = true;
     let mut number = 0;
@@ -447,27 +533,24 @@ pub fn hdr(reader: &mut impl BufRead) -> Result<HdrHeader, HeaderError> {
                 let what = format!("no resolution line within the first {MAX_HDR_HEADER_BYTES} bytes");
                 return Err(HeaderError::TooLong { format: "Radiance HDR", limit: MAX_HDR_HEADER_BYTES, what });
             }
-            return Ok(HdrHeader { size: None, exposure }); // cut short: the decoder says so
+            return Ok(head); // cut short: the decoder says so
+        }
+        if line.ends_with(b"\r\n") {
+            return Err(HeaderError::CrLf { line: number });
         }
         let text = String::from_utf8_lossy(&line);
-        let text = text.trim_end_matches(['\n', '\r']);
+        let text = text.trim_end_matches('\n');
         if in_header {
             in_header = !text.is_empty();
-            if let Some(v) = text.strip_prefix("EXPOSURE=") {
-                let value = v.trim().parse::<f64>().ok().filter(|e| e.is_finite() && *e > 0.0);
-                exposure *= value.unwrap_or(f64::NAN);
-                if !(exposure.is_finite() && exposure > 0.0) {
-                    return Err(HeaderError::Exposure { line: number, value: crate::math::echo::value(v) });
-                }
-            }
+            head.variable(number, text)?;
             continue;
         }
-        let size = resolution(text);
-        if let Some((w, h)) = size {
+        head.size = resolution(text);
+        if let Some((w, h)) = head.size {
             check_size(w as u64, h as u64)?;
             check_memory(w as u64, h as u64)?;
         }
-        return Ok(HdrHeader { size, exposure });
+        return Ok(head);
     }
 }
 

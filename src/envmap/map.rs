@@ -1,5 +1,6 @@
 //! The map: [`EnvMap`], a lat-long grid of linear RGB texels, checked on construction (2:1,
-//! every value finite and non-negative), and [`MapError`], what construction refuses.
+//! every value finite, non-negative and at most [`MAX_TEXEL`]), and [`MapError`], what
+//! construction refuses.
 //! Orientation and geometry: [`super::latlong`] (FORMULAS §1).
 
 use super::latlong::LatLong;
@@ -7,6 +8,14 @@ use std::path::PathBuf;
 
 /// Linear RGB radiance of one texel, as stored (f32 keeps 1024×512 maps at 6 MiB).
 pub type Texel = [f32; 3];
+
+/// The largest texel value a map may hold: 1e24. Every number a table holds (an error, a
+/// coefficient, a mean) is the map's radiance times a factor the encoders keep small (the
+/// hard-case sanity bound: an rmse at most twice the RMS irradiance), and a table's numbers
+/// lie within ±1e30 (`pipeline::table_cells::MAX_CELL`); 1e24 leaves a factor of a million
+/// between them. Real radiance, even the sun's in absolute units, is below 1e10. A map of
+/// 3e38 texels once ran, wrote a baseline with rmse 3.47e31, and every later check refused it.
+pub const MAX_TEXEL: f32 = 1e24;
 
 /// A lat-long environment map of linear RGB radiance.
 #[derive(Clone, Debug)]
@@ -23,6 +32,10 @@ pub struct EnvMap {
     /// file's pixel values were divided by to give radiance (Radiance's rule); 1 for any other
     /// map.
     pub exposure: f64,
+    /// What was done to the file's colour beyond the exposure, for provenance: a Radiance
+    /// `COLORCORR=` undone, primaries other than Rec.709 converted (`envmap::load`); empty
+    /// when nothing was.
+    pub colour: String,
     width: usize,
     height: usize,
     texels: Vec<Texel>,
@@ -49,11 +62,11 @@ pub enum MapError {
         /// Number of texels given.
         got: usize,
     },
-    /// Some texel values are NaN, infinite or negative.
+    /// Some texel values are NaN, infinite, negative or above [`MAX_TEXEL`].
     #[error("{count} texel value(s) are {kind} (first at pixel x={x}, y={y}, channel {channel})")]
     BadTexels {
-        /// Which kind of bad value: "NaN", "infinite" or "negative" (the first kind found, in that
-        /// order).
+        /// Which kind of bad value: "NaN", "infinite", "negative" or "above the bound 1e24 …"
+        /// (the first kind found, in that order).
         kind: &'static str,
         /// How many channel values are of that kind.
         count: usize,
@@ -68,7 +81,7 @@ pub enum MapError {
 
 impl EnvMap {
     /// Builds a map from row-major texels (row 0 = zenith), checking the 2:1 aspect and that
-    /// every value is finite and non-negative.
+    /// every value is finite, non-negative and at most [`MAX_TEXEL`].
     pub fn new(name: impl Into<String>, width: usize, height: usize, texels: Vec<Texel>) -> Result<Self, MapError> {
         if height == 0 || width != 2 * height {
             return Err(MapError::Aspect { width, height });
@@ -80,6 +93,10 @@ impl EnvMap {
             ("NaN", (|v: f32| v.is_nan()) as fn(f32) -> bool),
             ("infinite", |v: f32| v.is_infinite()),
             ("negative", |v: f32| v < 0.0),
+            (
+                "above the bound 1e24 (a map's texels are at most 1e24, so that every table's numbers stay within ±1e30)",
+                |v: f32| v > MAX_TEXEL,
+            ),
         ] {
             let mut first = None;
             let mut count = 0usize;
@@ -107,6 +124,7 @@ impl EnvMap {
             sha256: None,
             pixel_sha256: None,
             exposure: 1.0,
+            colour: String::new(),
             width,
             height,
             texels,
@@ -185,5 +203,19 @@ mod tests {
         let mut t = vec![[1.0f32; 3]; 8];
         t[0][0] = -1.0;
         assert!(matches!(EnvMap::new("a", 4, 2, t), Err(MapError::BadTexels { kind: "negative", .. })));
+    }
+
+    /// The bound holds at 1e24 exactly (as f32) and refuses the next f32 up, and 3e38 (below
+    /// f32::MAX: the value that once wrote an unreadable baseline), naming the texel.
+    #[test]
+    fn texels_above_the_bound_are_refused_with_their_pixel() {
+        let at = 1e24f32;
+        assert!(EnvMap::new("a", 4, 2, vec![[at; 3]; 8]).is_ok());
+        for big in [f32::from_bits(at.to_bits() + 1), 3e38] {
+            let mut t = vec![[1.0f32; 3]; 8];
+            t[6][2] = big;
+            let e = EnvMap::new("a", 4, 2, t).unwrap_err().to_string();
+            assert!(e.contains("above the bound 1e24") && e.contains("x=2, y=1, channel B"), "{e}");
+        }
     }
 }

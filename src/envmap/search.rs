@@ -378,6 +378,11 @@ pub fn has_map_extension(path: &Path) -> bool {
     path.extension().is_some_and(|x| x.eq_ignore_ascii_case("exr") || x.eq_ignore_ascii_case("hdr"))
 }
 
+/// What is said of a map file whose name is not UTF-8, wherever one is met (`maps`, the
+/// `--synth` palette, the command line): map names are text in tables, so no command uses it.
+pub const NOT_UTF8: &str =
+    "its name is not valid UTF-8: maps are named in tables by their file names, which must be text; rename the file";
+
 /// The files of `dir` named `stem` with a map extension: `STEM.exr`, then `STEM.hdr`, then the
 /// same extensions in any other case (`STEM.EXR`, as `maps` lists them), each in name order.
 fn map_files_named(dir: &Path, stem: &str) -> Vec<PathBuf> {

@@ -161,6 +161,9 @@ pub struct MapInfo {
     /// The product of the `.hdr` file's `EXPOSURE=` values its pixels were divided by (1 for
     /// every other map; `EnvMap::exposure`).
     pub exposure: f64,
+    /// What was done to the file's colour beyond the exposure (`EnvMap::colour`; empty when
+    /// nothing).
+    pub colour: String,
 }
 
 /// What a run produced.
@@ -239,6 +242,7 @@ pub fn run(exp: &Experiment, search: &SearchPath, settings: &RunSettings) -> Res
             sha256: map.sha256.clone().unwrap_or_default(),
             pixel_sha256: map.pixel_sha256.clone().unwrap_or_default(),
             exposure: map.exposure,
+            colour: map.colour.clone(),
         });
         rows.extend(run_map(exp, &map, settings));
         settings.check_cancelled()?;

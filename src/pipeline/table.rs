@@ -87,7 +87,9 @@ pub fn num(v: f64) -> String {
 }
 
 impl Row {
-    /// Fails, naming the row and the column, if any number of the row is NaN or infinite.
+    /// Fails, naming the row and the column, if any number of the row is NaN or infinite, or
+    /// is one a table may not hold (`pipeline::table_cells`, the bound every table read back
+    /// is held to): such a table is never printed nor kept as a baseline.
     pub fn check_finite(&self) -> Result<()> {
         let s = &self.scores;
         let cells = [
@@ -102,7 +104,14 @@ impl Row {
             ("fit_ns", self.fit_ns),
             ("eval_ns", self.eval_ns),
         ];
-        if let Some((col, Some(v))) = cells.iter().find(|(_, v)| v.is_some_and(|v| !v.is_finite())) {
+        let fault = |(col, v): &(&str, Option<f64>)| -> Option<String> {
+            let v = (*v)?;
+            if !v.is_finite() {
+                return Some(format!("{col} is {v}, not a finite number"));
+            }
+            crate::pipeline::table_cells::fault(col, &num(v)).map(|why| format!("{col}: {why}"))
+        };
+        if let Some(why) = cells.iter().find_map(fault) {
             let case = [&self.orientation_set, &self.effects]
                 .iter()
                 .filter(|t| !t.is_empty())
@@ -110,8 +119,7 @@ impl Row {
                 .collect::<Vec<_>>()
                 .join(", ");
             bail!(
-                "map '{}', encoder '{}'{}: {col} is {v}, not a finite number; no table is written \
-                 (a setting or the map is out of range)",
+                "map '{}', encoder '{}'{}: {why}; no table is written (a setting or the map is out of range)",
                 self.map,
                 self.encoder,
                 if case.is_empty() { String::new() } else { format!(" ({case})") }

@@ -105,7 +105,9 @@ pub fn compare_with_baseline(
 ) -> Result<ExperimentCheck> {
     let mut findings = Vec::new();
     let fresh_bytes = crate::pipeline::table::to_csv(&report.rows)?;
-    let fresh = Table::parse(&fresh_bytes, Path::new("(fresh table)"))?;
+    // The fresh table is not on disk: errors name the file it would be compared with.
+    let fresh_origin = PathBuf::from(format!("{} (this run's table, not written)", dir.join(TABLE).display()));
+    let fresh = Table::parse(&fresh_bytes, &fresh_origin)?;
     let mut skip: Vec<String> = Vec::new();
     for (k, m) in report.missing.iter().enumerate() {
         let why = report.missing_why.get(k).cloned().unwrap_or_else(|| "not on the search path".into());

@@ -99,6 +99,10 @@ pub struct MapRecord {
     /// written only when it is not 1, so the provenance of every other map reads as before.
     #[serde(default = "exposure_one", skip_serializing_if = "is_exposure_one")]
     pub exposure: f64,
+    /// What was done to the file's colour beyond the exposure (a `COLORCORR=` undone, other
+    /// primaries converted to Rec.709); written only when something was.
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    pub colour: String,
     /// The reference method the map was scored against.
     pub reference: String,
 }
@@ -113,13 +117,17 @@ fn is_exposure_one(e: &f64) -> bool {
     *e == 1.0
 }
 
-/// A map's size as the provenance pages show it: `WxH`, and its exposure when it is not 1.
-pub fn size_and_exposure(width: usize, height: usize, exposure: f64) -> String {
-    if exposure == 1.0 {
-        format!("{width}x{height}")
-    } else {
-        format!("{width}x{height}, EXPOSURE={exposure} (the file's pixel values divided by it)")
+/// A map's size as the provenance pages show it: `WxH`, its exposure when it is not 1, and
+/// what was done to its colour, if anything.
+pub fn size_and_exposure(width: usize, height: usize, exposure: f64, colour: &str) -> String {
+    let mut text = format!("{width}x{height}");
+    if exposure != 1.0 {
+        text += &format!(", EXPOSURE={exposure} (the file's pixel values divided by it)");
     }
+    if !colour.is_empty() {
+        text += &format!(", {colour}");
+    }
+    text
 }
 
 impl Provenance {
@@ -180,6 +188,7 @@ impl Provenance {
                     width: m.width,
                     height: m.height,
                     exposure: m.exposure,
+                    colour: m.colour.clone(),
                     reference: report
                         .rows
                         .iter()
@@ -323,6 +332,7 @@ mod tests {
                 width: 4,
                 height: 2,
                 exposure: 1.0,
+                colour: String::new(),
                 reference: "exact".into(),
             }],
         };
@@ -340,7 +350,12 @@ mod tests {
         q.maps[0].exposure = 4.0;
         std::fs::write(&f, q.to_toml().unwrap()).unwrap();
         assert_eq!(Provenance::read(&f).unwrap().maps[0].exposure, 4.0);
-        assert_eq!(size_and_exposure(4, 2, 1.0), "4x2");
-        assert_eq!(size_and_exposure(4, 2, 4.0), "4x2, EXPOSURE=4 (the file's pixel values divided by it)");
+        assert_eq!(size_and_exposure(4, 2, 1.0, ""), "4x2");
+        assert_eq!(size_and_exposure(4, 2, 4.0, ""), "4x2, EXPOSURE=4 (the file's pixel values divided by it)");
+        assert_eq!(size_and_exposure(4, 2, 1.0, "COLORCORR=2 1 1"), "4x2, COLORCORR=2 1 1");
+        assert!(!text.contains("colour"), "{text}");
+        q.maps[0].colour = "COLORCORR=2 1 1".into();
+        std::fs::write(&f, q.to_toml().unwrap()).unwrap();
+        assert_eq!(Provenance::read(&f).unwrap().maps[0].colour, "COLORCORR=2 1 1");
     }
 }

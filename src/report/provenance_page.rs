@@ -134,7 +134,7 @@ pub(super) fn maps_part(md: &mut String, named: &BTreeMap<String, Vec<String>>, 
             let first = recorded.entry(r.name.clone()).or_insert_with(|| {
                 (
                     r.file.clone(),
-                    crate::regression::provenance::size_and_exposure(r.width, r.height, r.exposure),
+                    crate::regression::provenance::size_and_exposure(r.width, r.height, r.exposure, &r.colour),
                     r.sha256.clone(),
                 )
             });

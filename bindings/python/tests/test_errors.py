@@ -81,6 +81,19 @@ def test_bad_texels_are_refused_naming_the_first(value, kind):
     assert raises(probelab.reference, a, [[0, 1, 0]]).startswith("map 'array': 2 texel value(s)")
 
 
+def test_texels_above_the_bound_are_refused_as_on_the_command_line():
+    """3e38 (below the f32 maximum) once ran and wrote tables no later check could read; the
+    bound 1e24 holds for arrays as for files."""
+    a = GOOD.copy()
+    a[3, 5, 1] = 3e38
+    message = raises(probelab.eval, a, ["sh1"], name="mine")
+    assert message.startswith("map 'mine': 1 texel value(s) are above the bound 1e24")
+    assert message.endswith("(first at pixel x=5, y=3, channel G)")
+    b = GOOD.copy()
+    b[0, 0, 0] = np.float32(1e24)
+    probelab.eval(b, ["sh1"])
+
+
 def test_not_a_map_at_all():
     assert "not list" in raises(probelab.eval, [[1, 2, 3]])
     assert "name= names an array" in raises(probelab.eval, str(CC0_MAPS[0]), name="x")

@@ -135,6 +135,34 @@ pub enum LoadError {
         /// The layer names that each have R, G and B, quoted and comma-separated.
         layers: String,
     },
+    /// The file's primaries cannot be converted to Rec.709, or a pixel falls outside its gamut.
+    #[error("{}: its colour primaries {primaries} (not Rec.709) cannot be converted: {why}", .path.display())]
+    Primaries {
+        /// The map file being loaded.
+        path: PathBuf,
+        /// The chromaticities the file states.
+        primaries: String,
+        /// Why not.
+        why: String,
+    },
+    /// Two channels of the file have one name.
+    #[error("{}: channel '{channel}' appears {count} times in the channel list; which one is meant is ambiguous, so the file is refused", .path.display())]
+    DuplicateChannel {
+        /// The map file being loaded.
+        path: PathBuf,
+        /// The channel's name (cut to 40 characters).
+        channel: String,
+        /// How many channels have that name.
+        count: usize,
+    },
+    /// The pixel aspect ratio is not 1.
+    #[error("{}: pixel aspect ratio {aspect}: a lat-long map's texels are square in angle (width = 2 x height); a pixel aspect other than 1 would stretch the sphere, so the map is refused", .path.display())]
+    PixelAspect {
+        /// The map file being loaded.
+        path: PathBuf,
+        /// The file's pixel aspect ratio.
+        aspect: f32,
+    },
     /// A colour channel holds unsigned integers.
     #[error("{}: channel {channel} holds 32-bit unsigned integer samples; only half and float channels are supported", .path.display())]
     IntegerChannel {

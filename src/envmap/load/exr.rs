@@ -1,7 +1,8 @@
 //! Reading an OpenEXR map: the header checked before any pixel is decoded (one flat part,
-//! R, G, B channels of half or float samples at full resolution), then the pixels, every one
-//! stored exactly once ([`super::coverage`]).
+//! square pixels, R, G, B channels of half or float samples at full resolution, no channel
+//! named twice), then the pixels, every one stored exactly once ([`super::coverage`]).
 
+use super::colour::Stated;
 use super::coverage::Coverage;
 use super::error::LoadError;
 use super::format::Decoded;
@@ -9,6 +10,7 @@ use super::guard::guarded;
 use super::size::check_size;
 use super::watch::watched;
 use crate::envmap::header;
+use crate::math::primaries::Chromaticities;
 use exr::prelude::{
     read, ChannelDescription, MetaData, ReadChannels, ReadLayers, ReadSpecificChannel, SampleType, Text, Vec2,
 };
@@ -19,8 +21,9 @@ use std::sync::Arc;
 
 /// Reads an OpenEXR file: header first (validated by [`check_exr_header`]), then the
 /// pixels of the selected R, G, B channels as f32. Returns width, height and row-major
-/// texels (row 0 at the top of the data window).
-pub(super) fn read_exr(path: &Path, file: &mut (impl Read + Seek), len: u64) -> Result<Decoded, LoadError> {
+/// texels (row 0 at the top of the data window), and the primaries the file states (its
+/// `chromaticities` attribute).
+pub(super) fn read_exr(path: &Path, file: &mut (impl Read + Seek), len: u64) -> Result<(Decoded, Stated), LoadError> {
     const FORMAT: &str = "OpenEXR";
     let (mut reader, _) = watched(path, file)?;
     header::exr(&mut reader, len).map_err(|cause| LoadError::Header { path: path.to_path_buf(), cause })?;
@@ -30,6 +33,10 @@ pub(super) fn read_exr(path: &Path, file: &mut (impl Read + Seek), len: u64) -> 
             .map_err(|e| exr_error(path, len, hit_eof.load(Ordering::Relaxed), e))
     })?;
     let (width, height, [r, g, b]) = check_exr_header(path, &meta)?;
+    let primaries = meta.headers[0].shared_attributes.chromaticities.map(|c| {
+        let xy = |v: Vec2<f32>| [f64::from(v.x()), f64::from(v.y())];
+        Chromaticities { primaries: [xy(c.red), xy(c.green), xy(c.blue)], white: xy(c.white) }
+    });
     let progress = (width >= crate::envmap::PROGRESS_WIDTH)
         .then(|| Arc::new(crate::io::progress::Progress::new(height as u64, &format!("decoding {}", path.display()))));
 
@@ -75,12 +82,13 @@ pub(super) fn read_exr(path: &Path, file: &mut (impl Read + Seek), len: u64) -> 
         .pixels
         .finish()
         .map_err(|detail| LoadError::CorruptChunks { path: path.to_path_buf(), detail })?;
-    Ok((width, height, texels))
+    Ok(((width, height, texels), Stated { primaries, ..Stated::default() }))
 }
 
 /// Validates OpenEXR meta data before any pixel is read: no deep data, one part, a size
-/// accepted by [`check_size`], and R, G, B channels (see [`select_rgb`]) holding
-/// full-resolution half or float samples. Returns the size and the three channel names.
+/// accepted by [`check_size`], a pixel aspect ratio of 1, no channel named twice, and R, G, B
+/// channels (see [`select_rgb`]) holding full-resolution half or float samples. Returns the
+/// size and the three channel names.
 pub(super) fn check_exr_header(path: &Path, meta: &MetaData) -> Result<(usize, usize, [Text; 3]), LoadError> {
     let p = || path.to_path_buf();
     if meta.requirements.has_deep_data || meta.headers.iter().any(|h| h.deep) {
@@ -104,7 +112,21 @@ pub(super) fn check_exr_header(path: &Path, meta: &MetaData) -> Result<(usize, u
     };
     let (width, height) = (header.layer_size.width(), header.layer_size.height());
     check_size(path, width, height)?;
+    let aspect = header.shared_attributes.pixel_aspect;
+    if (aspect - 1.0).abs() > 1e-6 || !aspect.is_finite() {
+        return Err(LoadError::PixelAspect { path: p(), aspect });
+    }
     let list = &header.channels.list;
+    // Counted in one pass: a 4 MiB header can list some 200,000 channels.
+    let mut counts = std::collections::HashMap::new();
+    for c in list {
+        *counts.entry(c.name.to_string()).or_insert(0usize) += 1;
+    }
+    if let Some(c) = list.iter().find(|c| counts[&c.name.to_string()] > 1) {
+        let name = c.name.to_string();
+        let (channel, count) = (crate::math::echo::value(&name), counts[&name]);
+        return Err(LoadError::DuplicateChannel { path: p(), channel, count });
+    }
     let chosen = select_rgb(path, list)?;
     for &i in &chosen {
         let c = &list[i];

@@ -1,6 +1,8 @@
-//! Reading a Radiance RGBE (`.hdr`) map: its header first (size limits, `EXPOSURE=`), then the
-//! pixels, divided by the exposure as Radiance defines it.
+//! Reading a Radiance RGBE (`.hdr`) map: its header first (size limits, line ends, `EXPOSURE=`,
+//! `COLORCORR=`, `PRIMARIES=`, `PIXASPECT=`), then the pixels as the file stores them; what
+//! the header states about colour is applied by [`super::colour`].
 
+use super::colour::Stated;
 use super::error::LoadError;
 use super::format::Decoded;
 use super::guard::guarded;
@@ -13,16 +15,16 @@ use std::io::{self, Read, Seek};
 use std::path::Path;
 use std::sync::atomic::Ordering;
 
-/// Reads a Radiance RGBE file: its header first ([`header::hdr`]: size limits, `EXPOSURE=`),
-/// then the pixels with the `image` crate, whose buffer is allocated only after the size was
-/// checked. Returns width, height, row-major texels (row 0 at the top) divided by the product
-/// of the `EXPOSURE=` values as Radiance defines them, and that product.
-pub(super) fn read_hdr(path: &Path, file: &mut (impl Read + Seek), len: u64) -> Result<(Decoded, f64), LoadError> {
+/// Reads a Radiance RGBE file: its header first ([`header::hdr`]), then the pixels with the
+/// `image` crate, whose buffer is allocated only after the size was checked. Returns width,
+/// height, row-major texels (row 0 at the top) as stored, and what the header states about
+/// their colour (exposure, colour correction, primaries).
+pub(super) fn read_hdr(path: &Path, file: &mut (impl Read + Seek), len: u64) -> Result<(Decoded, Stated), LoadError> {
     let (mut reader, _) = watched(path, file)?;
     let head = header::hdr(&mut reader).map_err(|cause| LoadError::Header { path: path.to_path_buf(), cause })?;
     let (reader, hit_eof) = watched(path, file)?;
     let eof = || hit_eof.load(Ordering::Relaxed);
-    let exposure = head.exposure;
+    let stated = Stated { exposure: head.exposure, colorcorr: head.colorcorr, primaries: head.primaries };
     guarded(path, "Radiance HDR", || {
         // Non-strict: `detect` has already seen the "#?" signature, and this also accepts
         // "#?RGBE" files, which the strict mode (requiring "#?RADIANCE") refuses.
@@ -37,15 +39,14 @@ pub(super) fn read_hdr(path: &Path, file: &mut (impl Read + Seek), len: u64) -> 
         })?;
         let mut buf = vec![0u8; bytes];
         decoder.read_image(&mut buf).map_err(|e| hdr_error(path, len, eof(), e))?;
-        let scale = |v: f32| if exposure == 1.0 { v } else { (f64::from(v) / exposure) as f32 };
         let texels = buf
             .chunks_exact(12)
             .map(|px| {
-                let f = |k: usize| scale(f32::from_ne_bytes([px[k], px[k + 1], px[k + 2], px[k + 3]]));
+                let f = |k: usize| f32::from_ne_bytes([px[k], px[k + 1], px[k + 2], px[k + 3]]);
                 [f(0), f(4), f(8)]
             })
             .collect();
-        Ok(((width, height, texels), exposure))
+        Ok(((width, height, texels), stated))
     })
 }
 

@@ -16,10 +16,11 @@
 //! atomically (temporary file in the same directory, then rename).
 //!
 //! The files: `read.rs` (the entry points), `format.rs` (telling the formats apart), `exr.rs`,
-//! `hdr.rs` (the decoders), `size.rs`, `coverage.rs` (what is checked), `watch.rs`
+//! `hdr.rs` (the decoders), `colour.rs` (exposure, colour correction, primaries), `size.rs`, `coverage.rs` (what is checked), `watch.rs`
 //! (truncation), `guard.rs` (decoder panics), `error.rs`, `hash.rs` (the file's sha256),
 //! `write.rs`.
 
+mod colour;
 mod coverage;
 mod error;
 mod exr;

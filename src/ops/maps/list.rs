@@ -4,7 +4,7 @@
 
 use super::super::context::Env;
 use crate::envmap::known::KnownMap;
-use crate::envmap::search::{has_map_extension, ENV_VAR};
+use crate::envmap::search::{has_map_extension, ENV_VAR, NOT_UTF8};
 use anyhow::Result;
 use std::path::{Path, PathBuf};
 
@@ -13,7 +13,8 @@ use std::path::{Path, PathBuf};
 pub struct MapFolder {
     /// The folder.
     pub path: PathBuf,
-    /// The names of its map files, sorted.
+    /// The names of its map files, sorted; one whose name is not UTF-8 is shown with its bad
+    /// bytes replaced and `search::NOT_UTF8` beside it.
     pub files: Vec<String>,
 }
 
@@ -40,7 +41,10 @@ pub fn list(env: &Env) -> Result<MapsListing> {
         let mut files: Vec<String> = entries
             .filter_map(|e| e.ok())
             .filter(|e| is_map_file(&e.path()))
-            .map(|e| e.file_name().to_string_lossy().into_owned())
+            .map(|e| match e.file_name().into_string() {
+                Ok(name) => name,
+                Err(name) => format!("{} ({NOT_UTF8})", name.to_string_lossy()),
+            })
             .collect();
         files.sort();
         folders.push(MapFolder { path: d.clone(), files });

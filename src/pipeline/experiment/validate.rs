@@ -22,6 +22,9 @@ impl Experiment {
         } else {
             f.metrics.iter().map(|m| Metric::parse(m).context("metrics")).collect::<Result<_>>()?
         };
+        if let Some(i) = (1..metrics.len()).find(|&i| metrics[..i].contains(&metrics[i])) {
+            bail!("metrics: '{}' appears twice", crate::math::echo::value(&f.metrics[i]));
+        }
         let domain = match f.domain.as_deref().unwrap_or("sphere") {
             "sphere" => DomainKind::Sphere,
             "hemisphere" => DomainKind::Hemisphere,
@@ -70,8 +73,21 @@ impl Experiment {
     }
 }
 
+/// The longest experiment name, in characters. The name names a folder under `results/` and
+/// files in the report (with a map's name beside it), and a file name holds at most 255 bytes
+/// on common file systems; a 300-character name once ran the whole experiment, then failed at
+/// the write.
+pub const MAX_NAME_CHARS: usize = 100;
+
 /// The experiment's name, if it can name a folder under `results/`.
 fn check_name(name: String) -> Result<String> {
+    if name.chars().count() > MAX_NAME_CHARS {
+        bail!(
+            "name '{}' is {} characters long: at most {MAX_NAME_CHARS} (it names a folder and files under results/)",
+            crate::math::echo::value(&name),
+            name.chars().count()
+        );
+    }
     if name.is_empty() || !name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-') {
         bail!(
             "name '{name}': use letters, digits, '_' or '-' (it names a folder under results/)",
@@ -233,6 +249,11 @@ mod tests {
         assert!(e("maps=['a']\nencoders=['sh1']\neffects=['fog']").contains("unknown effect 'fog'"));
         assert!(e("maps=['a']\nencoders=['sh1']\ndomain='hemisphere'").contains("orientations"));
         assert!(e("maps=['a']\nencoders=['sh1','sh1']").contains("twice"));
+        assert!(e("maps=['a']\nencoders=['sh1']\nmetrics=['exact','exact']").contains("metrics: 'exact' appears twice"));
+        let long = format!("name='{}'\nmaps=['a']\nencoders=['sh1']", "n".repeat(101));
+        assert!(e(&long).contains("is 101 characters long: at most 100"), "{}", e(&long));
+        let ok = format!("name='{}'\nmaps=['a']\nencoders=['sh1']", "n".repeat(100));
+        assert!(parse(&ok).is_ok());
         assert!(e("maps=['a']\nencoders=['sh1']\nmetrics=['l1']").contains("unknown metric"));
     }
 

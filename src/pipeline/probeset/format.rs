@@ -34,8 +34,10 @@ pub const COEFFS: usize = 3 * N_SH;
 pub const DEFAULT_CHUNK: usize = 32_768;
 /// The largest accepted |coefficient| of a probe. Scoring squares sums of coefficients and some
 /// encoders take cubes and ratios of them; 1e30 keeps all of that far inside the f64 range
-/// (1e30³ = 1e90), while real radiance, even a sun, is below 1e10.
-pub const MAX_PROBE_VALUE: f64 = 1e30;
+/// (1e30³ = 1e90), while real radiance, even a sun, is below 1e10. The bound is 1e30 as an f32
+/// holds it (1.0000000150474662e30), in both formats, so that 1e30 written by any tool, in text
+/// or as f32, is accepted (a raw f32 1e30 was once refused).
+pub const MAX_PROBE_VALUE: f64 = 1e30_f32 as f64;
 
 /// The identity of a probe file: its name, size and the sha256 of its bytes. Shards merge only
 /// when their identities are equal, so two files of one size are never taken for one set.
@@ -53,7 +55,7 @@ fn bad_value(x: f64) -> Option<&'static str> {
     if !x.is_finite() {
         Some("is not finite")
     } else if x.abs() > MAX_PROBE_VALUE {
-        Some("is out of range (|value| must be at most 1e30)")
+        Some("is out of range (|value| must be at most 1e30, as f32 rounds it: 1.0000000150474662e30)")
     } else {
         None
     }
@@ -469,5 +471,28 @@ mod tests {
         std::fs::write(&p, b).unwrap();
         assert!(format!("{:#}", read_all(&p, None).err().unwrap()).contains("is not finite"));
         assert!(Format::resolve(Path::new("x.txt"), None).is_err());
+    }
+
+    /// The bound ±1e30 holds the same in both formats: 1e30 as f32 (1.000000015e30) is accepted
+    /// raw and as text, the next f32 up is refused in both.
+    #[test]
+    fn the_bound_is_1e30_as_f32_holds_it_in_both_formats() {
+        let dir = tempfile::tempdir().unwrap();
+        let at = 1e30f32;
+        assert_eq!(f64::from(at), 1.0000000150474662e30);
+        let above = f32::from_bits(at.to_bits() + 1);
+        for (v, ok) in [(at, true), (-at, true), (above, false)] {
+            let raw = dir.path().join("v.f32");
+            std::fs::write(&raw, [v.to_le_bytes().to_vec(), vec![0u8; 104]].concat()).unwrap();
+            let text = dir.path().join("v.csv");
+            std::fs::write(&text, format!("{}{}\n", f64::from(v), ",0".repeat(26))).unwrap();
+            for p in [&raw, &text] {
+                let got = read_all(p, None);
+                assert_eq!(got.is_ok(), ok, "{v:e} in {}: {:?}", p.display(), got.err());
+            }
+        }
+        let text = dir.path().join("w.csv");
+        std::fs::write(&text, format!("1.000000015e30{}\n", ",0".repeat(26))).unwrap();
+        assert!(read_all(&text, None).is_ok());
     }
 }

@@ -118,8 +118,11 @@ pub fn palette(search: &crate::envmap::search::SearchPath, names: Option<&str>) 
             for d in search.dirs() {
                 let Ok(entries) = std::fs::read_dir(d) else { continue };
                 for p in entries.filter_map(|e| e.ok().map(|e| e.path())) {
-                    let ext_ok = p.extension().is_some_and(|x| x == "exr" || x == "hdr");
-                    let stem = p.file_stem().and_then(|s| s.to_str()).unwrap_or("").to_string();
+                    let ext_ok = crate::envmap::search::has_map_extension(&p);
+                    let stem = p.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+                    if ext_ok && stem.ends_with("_256x128") && p.file_name().and_then(|n| n.to_str()).is_none() {
+                        bail!("{}: {}", p.display(), crate::envmap::search::NOT_UTF8);
+                    }
                     if ext_ok && stem.ends_with("_256x128") && !found.iter().any(|f| f.0 == stem) {
                         found.push((stem, p));
                     }
