@@ -5,6 +5,8 @@
 //! nothing else may use it (`tests/architecture.rs`: only `benches/` names it). No stability
 //! promise: these names follow the code.
 
+pub use crate::claims::declaration::parse::parse as parse_claims;
+pub use crate::claims::declaration::{ClaimDecl, Paper};
 pub use crate::encoders::encoder::{FitInput, Fitted, Params};
 pub use crate::encoders::stored::Stored;
 pub use crate::encoders::zh3::model::{solved, Solved};

@@ -1,11 +1,11 @@
-//! Fuzz target: a paper's claims declaration (`probelab::claims::declaration::parse`) on
+//! Fuzz target: a paper's claims declaration (`probelab::bench::parse_claims`, the crate's own parser behind the `bench` feature) on
 //! arbitrary text. Any outcome is fine except a panic (a deep nesting included: it is refused
 //! with its line before the TOML parser sees it) or an error that does not start with the file
 //! name; an accepted declaration has a title and claims with distinct ids.
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use probelab::claims::declaration::parse;
+use probelab::bench::parse_claims as parse;
 use std::path::Path;
 
 fuzz_target!(|data: &[u8]| {
