@@ -1,7 +1,8 @@
 //! The internal kernels the benches time (`benches/`), re-exported only when the `bench` feature
 //! is on (`cargo bench --features bench`). The benches measure the reference, the projection,
 //! each encoder's fit and evaluation, the probe-set kernels and the ZH3 axis solve at the level
-//! where their cost lives, below the public surface; a default build has none of this, and
+//! where their cost lives, below the public surface; the fuzz targets (`fuzz/`) reach the map
+//! loader and the claims parser the same way. A default build has none of this, and
 //! nothing else may use it (`tests/architecture.rs`: only `benches/` names it). No stability
 //! promise: these names follow the code.
 

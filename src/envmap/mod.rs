@@ -21,6 +21,8 @@ pub mod search;
 
 pub use latlong::LatLong;
 pub use map::{EnvMap, Texel};
+#[cfg(test)]
+pub(crate) use map::MAX_TEXEL;
 
 /// Maps at least this many texels wide show progress while they are decoded and while the
 /// exact reference runs over them.

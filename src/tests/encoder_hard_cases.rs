@@ -354,9 +354,11 @@ fn fallback_bound_is_the_error_of_the_mean() {
 /// metrics, CSV) for every registered encoder, on the sphere (both metrics; every encoder that
 /// does not need a surface normal) and on hemispheres about the six axes under the hemisphere
 /// and cone effects (cos α up to 1 − 1e-12): every score is finite and the table never says
-/// "nonfinite".
+/// "nonfinite". The brightest texel is the loader's bound ([`MAX_TEXEL`]); one above it is
+/// refused when the map is made.
 #[test]
 fn tiny_hard_maps_score_finite_through_the_pipeline() {
+    use crate::envmap::MAX_TEXEL;
     use crate::envmap::EnvMap;
     use crate::pipeline::experiment::Experiment;
     use std::path::Path;
@@ -380,11 +382,13 @@ fn tiny_hard_maps_score_finite_through_the_pipeline() {
         map("smallest_2x1", 2, &|i, _| [i as f32, 1.0, 0.0]),
         map("green_zero", 16, &|i, j| [(i + j) as f32 * 0.1, 0.0, 0.3]),
         map("sun_1e6", 16, &|i, j| if (i, j) == (5, 2) { [1e6; 3] } else { [1.0; 3] }),
-        map("near_f32_max", 16, &|i, j| if (i, j) == (3, 3) { [3e38; 3] } else { [0.0; 3] }),
+        map("at_the_texel_bound", 16, &|i, j| if (i, j) == (3, 3) { [MAX_TEXEL; 3] } else { [0.0; 3] }),
         map("all_1e-30", 16, &|_, _| [1e-30; 3]),
         map("subnormal", 16, &|i, j| if (i, j) == (9, 6) { [1e-45; 3] } else { [0.0; 3] }),
         map("horizon_row", 16, &|_, j| if j == 3 { [4.0, 2.0, 1.0] } else { [0.0; 3] }),
     ];
+    let above = EnvMap::from_fn("near_f32_max", 16, 8, &|i, j| if (i, j) == (3, 3) { [3e38; 3] } else { [0.0; 3] });
+    assert!(above.is_err(), "a texel of 3e38 (above the bound {MAX_TEXEL:e}) is refused when the map is made");
     for text in &exps {
         let exp = Experiment::parse(text, Path::new("hard.toml")).unwrap();
         for m in &maps {
