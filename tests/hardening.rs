@@ -688,8 +688,13 @@ fn flat_hdr(px: [u8; 4]) -> Vec<u8> {
 fn texels_above_the_bound_are_refused_at_load_and_the_bound_fits_every_table() {
     let root = root_with(&[]);
     let exr = root.path().join("huge.exr");
-    exr::prelude::write_rgb_file(&exr, 8, 4, |x, y| if (x, y) == (3, 1) { (1.0, 3e38f32, 1.0) } else { (1.0, 1.0, 1.0) })
-        .unwrap();
+    exr::prelude::write_rgb_file(
+        &exr,
+        8,
+        4,
+        |x, y| if (x, y) == (3, 1) { (1.0, 3e38f32, 1.0) } else { (1.0, 1.0, 1.0) },
+    )
+    .unwrap();
     let hdr = root.write("huge.hdr", flat_hdr([128, 128, 128, 255]));
     for (path, at) in [(&exr, "x=3, y=1, channel G"), (&hdr, "x=0, y=0, channel R")] {
         let out = run(&root, &["eval", path.to_str().unwrap(), "--encoders", "sh1"]);
@@ -701,8 +706,13 @@ fn texels_above_the_bound_are_refused_at_load_and_the_bound_fits_every_table() {
     let ids = assert_ok(&common::harness::run(&["encoders"]), "encoders");
     let ids: Vec<&str> = ids.lines().filter_map(|l| l.split_whitespace().next()).collect();
     let at = root.path().join("at_bound.exr");
-    exr::prelude::write_rgb_file(&at, 16, 8, |x, y| if x < 4 && y < 2 { (1e24f32, 1e24, 1e24) } else { (1e20, 1e22, 0.0) })
-        .unwrap();
+    exr::prelude::write_rgb_file(
+        &at,
+        16,
+        8,
+        |x, y| if x < 4 && y < 2 { (1e24f32, 1e24, 1e24) } else { (1e20, 1e22, 0.0) },
+    )
+    .unwrap();
     let list = ids.iter().map(|i| format!("'{i}'")).collect::<Vec<_>>().join(", ");
     root.write(
         "experiments/at_bound.toml",
@@ -722,7 +732,8 @@ fn texels_above_the_bound_are_refused_at_load_and_the_bound_fits_every_table() {
 #[cfg(target_os = "linux")]
 #[test]
 fn a_closed_stdout_exits_2() {
-    for args in [vec!["encoders"], vec!["--help"], vec!["eval", "gen_constant", "--encoders", "sh1", "--resolution", "16x8"]]
+    for args in
+        [vec!["encoders"], vec!["--help"], vec!["eval", "gen_constant", "--encoders", "sh1", "--resolution", "16x8"]]
     {
         let out = Command::new("sh")
             .arg("-c")

@@ -351,14 +351,15 @@ fn a_hundred_thousand_attributes_are_refused_in_bounded_memory() {
     let dir = tempfile::tempdir().unwrap();
     let good = dir.path().join("good.exr");
     small_exr(&good);
-    let many: Vec<u8> =
-        (0..100_000).flat_map(|k| attribute(&format!("a{k}"), "int", &7i32.to_le_bytes())).collect();
+    let many: Vec<u8> = (0..100_000).flat_map(|k| attribute(&format!("a{k}"), "int", &7i32.to_le_bytes())).collect();
     let path = dir.path().join("attrs.exr");
     fs::write(&path, with_attributes(&fs::read(&good).unwrap(), &many)).unwrap();
     let exp = dir.path().join("attrs_run.toml");
     fs::write(&exp, format!("maps = [{:?}]\nencoders = [\"sh1\"]\n", path.to_str().unwrap())).unwrap();
     let root = dir.path().to_str().unwrap();
-    for args in [vec!["eval", path.to_str().unwrap(), "--encoders", "sh1"], vec!["--root", root, "run", exp.to_str().unwrap()]] {
+    for args in
+        [vec!["eval", path.to_str().unwrap(), "--encoders", "sh1"], vec!["--root", root, "run", exp.to_str().unwrap()]]
+    {
         let out = std::process::Command::new("sh")
             .arg("-c")
             .arg("ulimit -v 49152 && exec \"$@\"")

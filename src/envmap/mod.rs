@@ -20,9 +20,9 @@ pub mod resample;
 pub mod search;
 
 pub use latlong::LatLong;
-pub use map::{EnvMap, Texel};
 #[cfg(test)]
 pub(crate) use map::MAX_TEXEL;
+pub use map::{EnvMap, Texel};
 
 /// Maps at least this many texels wide show progress while they are decoded and while the
 /// exact reference runs over them.

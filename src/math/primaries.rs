@@ -99,12 +99,10 @@ mod tests {
     /// linear sRGB/Rec.709 matrix, as renderers' colour-space tables print it to six decimals.
     #[test]
     fn aces_ap0_to_rec709_is_the_published_matrix() {
-        let ap0 = Chromaticities { primaries: [[0.7347, 0.2653], [0.0, 1.0], [0.0001, -0.077]], white: [0.32168, 0.33767] };
-        let published = [
-            [2.521686, -1.134130, -0.387556],
-            [-0.276479, 1.372719, -0.096240],
-            [-0.015378, -0.152975, 1.168353],
-        ];
+        let ap0 =
+            Chromaticities { primaries: [[0.7347, 0.2653], [0.0, 1.0], [0.0001, -0.077]], white: [0.32168, 0.33767] };
+        let published =
+            [[2.521686, -1.134130, -0.387556], [-0.276479, 1.372719, -0.096240], [-0.015378, -0.152975, 1.168353]];
         let m = ap0.to_rec709().unwrap();
         for (i, row) in published.iter().enumerate() {
             for (j, want) in row.iter().enumerate() {

@@ -358,8 +358,8 @@ fn fallback_bound_is_the_error_of_the_mean() {
 /// refused when the map is made.
 #[test]
 fn tiny_hard_maps_score_finite_through_the_pipeline() {
-    use crate::envmap::MAX_TEXEL;
     use crate::envmap::EnvMap;
+    use crate::envmap::MAX_TEXEL;
     use crate::pipeline::experiment::Experiment;
     use std::path::Path;
     let quoted = |e: &[(String, Box<dyn crate::encoders::encoder::Encoder>)]| {

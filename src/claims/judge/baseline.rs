@@ -6,9 +6,9 @@
 
 use crate::claims::declaration::{CheckDecl, Statistic, Test};
 use crate::claims::judge::outcome::{RowValue, SetOutcome, Status};
-use crate::claims::population::noun;
 use crate::claims::judge::scope::{Picked, Scope};
 use crate::claims::judge::wording;
+use crate::claims::population::noun;
 use crate::claims::ratios::{self, Summary};
 use crate::math::echo::value as echo;
 use anyhow::Result;

@@ -5,9 +5,9 @@
 use crate::claims::declaration::{CheckDecl, Paper, Test};
 use crate::claims::judge::baseline::judge_against_baseline;
 use crate::claims::judge::outcome::{CheckOutcome, Evidence, RowValue, SetOutcome, Status};
-use crate::claims::population::{noun, Population, ALL};
 use crate::claims::judge::scope::{Picked, Scope};
 use crate::claims::judge::wording;
+use crate::claims::population::{noun, Population, ALL};
 use crate::claims::ratios;
 use crate::math::echo::value as echo;
 use anyhow::Result;
