@@ -45,6 +45,7 @@ impl Marker {
     ];
 
     /// The marker's name ("circle", "square", "triangle-up", …), as the HTML viewer reads it.
+    #[cfg_attr(not(test), allow(dead_code, reason = "read by the HTML viewer"))]
     pub(crate) fn name(self) -> &'static str {
         match self {
             Marker::Circle => "circle",
@@ -72,6 +73,7 @@ pub(crate) struct EncoderStyle {
 
 impl EncoderStyle {
     /// The colour as `#rrggbb`.
+    #[cfg_attr(not(test), allow(dead_code, reason = "read by the HTML viewer"))]
     pub(crate) fn hex(&self) -> String {
         format!("#{:02x}{:02x}{:02x}", self.rgb[0], self.rgb[1], self.rgb[2])
     }
@@ -81,6 +83,7 @@ impl EncoderStyle {
 pub(crate) const SLOTS: usize = 24;
 
 /// The least WCAG 2 contrast ratio of every colour against white.
+#[cfg_attr(not(test), allow(dead_code, reason = "the floor the tests hold the colours to"))]
 pub(crate) const CONTRAST_FLOOR: f64 = 3.0;
 
 /// Per family (in [`Family::ALL`] order), the hue at three lightness levels: HSL colours of

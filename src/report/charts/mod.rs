@@ -22,19 +22,21 @@
 
 mod axes;
 mod backend;
-mod bars;
 mod blending;
 mod convergence;
 mod cost;
+mod dots;
 mod draw;
+mod heatmap;
 mod lines;
+mod marks;
 mod rows;
 mod sweeps;
 #[cfg(test)]
 mod tests;
 
-pub use bars::rmse_bars;
 pub use blending::{blend_charts, is_blend};
-pub use cost::{error_vs_cost, Cost};
+pub use cost::{error_vs_cost, Cost, CostContext};
+pub use dots::rmse_dots;
 pub use draw::Outcome;
 pub use sweeps::{is_sweep, sweep_charts};
