@@ -5,7 +5,7 @@
 //! Per experiment (`experiments/*.toml`, in file order), then per other folder of `results/`:
 //! - the table (`table.csv`) as a map × encoder rmse pivot, a timing summary when `*_ns`
 //!   columns exist, and the whole table;
-//! - charts: rmse bars, error against `fit_ns` (when that column exists), one convergence
+//! - charts: rmse per encoder and map (dots or a heatmap), error against costs and `fit_ns` (when that column exists), one convergence
 //!   chart per knob of every sweep CSV (any CSV with `knob`, `value`, `rmse` columns), the blending chart of every blending CSV (`t`, `method`, E/π at N);
 //! - comparison sheets (`sheet_<map>.png`), drawn when every map of the experiment is on the
 //!   search path; otherwise the committed sheets are kept and linked, and the page reads the

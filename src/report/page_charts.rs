@@ -1,5 +1,5 @@
 //! A page's results table and charts: each chart written as PNG and, beside it, SVG and linked
-//! ([`ChartsOut`]); the table part (pivot, timing, the whole table, rmse bars, cost charts,
+//! ([`ChartsOut`]); the table part (pivot, timing, the whole table, rmse dots or heatmap, cost charts,
 //! ratios to the baseline); the charts of the folder's sweep and blending CSVs.
 
 use super::charts::{self, Outcome};
@@ -58,7 +58,7 @@ impl ChartsOut<'_> {
     }
 }
 
-/// The results table (pivot, timing, the whole table), the rmse bars and the cost charts, the
+/// The results table (pivot, timing, the whole table), the rmse chart and the cost charts, the
 /// ratios against the baseline; or a note that the experiment has not run.
 pub(super) fn table_part(
     md: &mut String,

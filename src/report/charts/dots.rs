@@ -10,7 +10,7 @@ use super::super::csvfile::CsvTable;
 use super::super::text::{text_width, BODY, FONT, HEADING, TITLE};
 use super::axes::{fitted, grid, log_ticks, short};
 use super::draw::{canvas, pe, Outcome};
-use super::heatmap::heatmap;
+use super::heatmap::{heatmap, Cells};
 use super::marks::draw_marker;
 use super::rows::{distinct, metric_rows, Measure};
 use crate::encoders::encoder::Family;
@@ -117,7 +117,8 @@ pub fn rmse_dots(t: &CsvTable, title: &str, baseline: &[&str]) -> Result<Outcome
     let h = 44 + heights.iter().sum::<u32>();
     if h > MAX_HEIGHT {
         let base = baseline.iter().find_map(|b| encs.iter().position(|e| e == b)).unwrap_or(0);
-        return heatmap(&maps, &encs, &mean, &exact, base, title, &measure, k);
+        let cells = Cells { maps: &maps, encs: &encs, mean: &mean, exact: &exact, order: groups.concat() };
+        return heatmap(&cells, base, title, &measure, k);
     }
     let inexact =
         mean.iter().zip(&exact).flat_map(|(r, x)| r.iter().zip(x).filter(|(_, x)| !**x).filter_map(|(v, _)| *v));

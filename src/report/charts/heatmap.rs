@@ -6,7 +6,6 @@
 
 use super::super::text::{text_width, BODY, FONT, TITLE};
 use super::axes::short;
-use super::dots::panels;
 use super::draw::{canvas, pe, Outcome};
 use super::marks::rgb;
 use super::rows::Measure;
@@ -35,20 +34,19 @@ fn cell(v: Option<f64>, base: Option<f64>, exact: bool, base_exact: bool, is_bas
     }
 }
 
-/// The heatmap of `mean` (per map, per encoder) relative to encoder `base`; `exact` marks
-/// the cells exact to rounding; `k` is the most cases a cell averages.
-#[allow(clippy::too_many_arguments, reason = "the dot plot's own data, handed on whole")]
-pub(super) fn heatmap(
-    maps: &[String],
-    encs: &[String],
-    mean: &[Vec<Option<f64>>],
-    exact: &[Vec<bool>],
-    base: usize,
-    title: &str,
-    measure: &Measure,
-    k: usize,
-) -> Result<Outcome> {
-    let order: Vec<usize> = panels(encs).concat();
+/// What a heatmap shows: the maps, the encoders, the mean rmse per map per encoder, which of
+/// those are exact to rounding, and the encoders' row order.
+pub(super) struct Cells<'a> {
+    pub(super) maps: &'a [String],
+    pub(super) encs: &'a [String],
+    pub(super) mean: &'a [Vec<Option<f64>>],
+    pub(super) exact: &'a [Vec<bool>],
+    pub(super) order: Vec<usize>,
+}
+
+/// The heatmap of `c` relative to encoder `base`; `k` is the most cases a cell averages.
+pub(super) fn heatmap(c: &Cells, base: usize, title: &str, measure: &Measure, k: usize) -> Result<Outcome> {
+    let Cells { maps, encs, mean, exact, order } = c;
     let name_w = encs.iter().map(|e| text_width(e, BODY, false)).max().unwrap_or(0) as i32 + 24;
     let head_w = maps.iter().map(|m| text_width(m, BODY, false)).max().unwrap_or(0) as i32;
     let col = (head_w / 2 + 10).max(text_width("0.00e-0", BODY, false) as i32 + 10);
@@ -90,7 +88,7 @@ pub(super) fn heatmap(
         Ok(())
     })?;
     let mut caption = format!(
-        "{} relative to `{b}` on the same map (the ratio in each cell; `{b}`'s own row gives its RMSE); blue is \
+        "{}; as a ratio to `{b}` on the same map (the ratio in each cell; `{b}`'s own row gives its RMSE); blue is \
          better than `{b}`, red worse, on a log2 scale saturating at {}× either way; \"exact\": rel_rmse under 1e-6 \
          of the reference's RMS; \"—\": `{b}` exact there, no ratio; a row per encoder in family order, a column \
          per map ({} maps × {} encoders, too many for a dot plot)",

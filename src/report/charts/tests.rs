@@ -442,7 +442,7 @@ fn sweep_and_blend_formats() {
     }
 }
 
-/// Every chart the report draws from the committed results — the rmse bars and the four cost
+/// Every chart the report draws from the committed results — the rmse chart and the four cost
 /// charts of every `table.csv`, the charts of every sweep and blending CSV — keeps every text
 /// inside its canvas, no text over another, and no label over a data point.
 #[test]
