@@ -82,6 +82,22 @@ impl Knob {
             Knob::EncoderKey(k) => format!("encoder.{k}"),
         }
     }
+
+    /// The knob as a chart's axis, in words with its unit, and whether its values are sizes
+    /// (widths in px, drawn on a log2 axis).
+    pub fn axis(&self) -> (String, bool) {
+        match self {
+            Knob::RefResolution => ("width W of the reference map (area-averaged to W×H), px".into(), true),
+            Knob::PolarNodes => ("Gauss–Legendre nodes per row piece of the reference".into(), false),
+            Knob::OutResolution => ("width W of the output grid (W×H normals scored), px".into(), true),
+            Knob::EncoderKey(k) => (format!("encoder setting {k} (every encoder of the sweep)"), false),
+        }
+    }
+
+    /// [`Knob::axis`] of a knob named as a sweep file writes it; None for another name.
+    pub fn axis_of(name: &str) -> Option<(String, bool)> {
+        Knob::parse(name).ok().map(|k| k.axis())
+    }
 }
 
 /// A validated sweep.

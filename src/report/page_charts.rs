@@ -1,5 +1,5 @@
 //! A page's results table and charts: each chart written as PNG and, beside it, SVG and linked
-//! ([`ChartsOut`]); the table part (pivot, timing, the whole table, rmse bars, cost charts,
+//! ([`ChartsOut`]); the table part (pivot, timing, the whole table, rmse dots or heatmap, cost charts,
 //! ratios to the baseline); the charts of the folder's sweep and blending CSVs.
 
 use super::charts::{self, Outcome};
@@ -9,7 +9,6 @@ use super::markdown::{self, href};
 use super::names::file_safe;
 use super::png;
 use super::ratios::ratio_pivot;
-use crate::encoders::encoder::Family;
 use anyhow::Result;
 use std::fmt::Write as _;
 use std::path::Path;
@@ -59,7 +58,7 @@ impl ChartsOut<'_> {
     }
 }
 
-/// The results table (pivot, timing, the whole table), the rmse bars and the cost charts, the
+/// The results table (pivot, timing, the whole table), the rmse chart and the cost charts, the
 /// ratios against the baseline; or a note that the experiment has not run.
 pub(super) fn table_part(
     md: &mut String,
@@ -83,12 +82,14 @@ pub(super) fn table_part(
             "<details><summary>The whole table</summary>\n\n{}\n</details>\n",
             markdown::full_table(&t, &link)
         );
+        let baseline = baselines(s);
+        let baseline: Vec<&str> = baseline.iter().map(String::as_str).collect();
         drawn.put(
             "chart_rmse.png".into(),
-            charts::rmse_bars(&t, &format!("{}: RMSE per encoder and map", s.name), &|name| encoder_family(s, name))?,
-            "rmse bars",
+            charts::rmse_dots(&t, &format!("{}: RMSE per encoder and map", s.name), &baseline)?,
+            "rmse per encoder and map",
             None,
-            Some("rmse bars"),
+            Some("RMSE per encoder and map"),
         )?;
         if all.iter().any(|f| f == "summary.csv") {
             if let Some(p) = ratio_pivot(&CsvTable::read(&dir.join("summary.csv"))?)? {
@@ -98,10 +99,12 @@ pub(super) fn table_part(
                 );
             }
         }
+        let per_point = |name: &str| per_point_scalars(s, name);
+        let cx = charts::CostContext { per_point: &per_point, baseline: &baseline };
         for cost in charts::Cost::ALL {
             drawn.put(
                 cost.file().into(),
-                charts::error_vs_cost(&t, cost, &format!("{}: error against {}", s.name, cost.what()))?,
+                charts::error_vs_cost(&t, cost, &format!("{}: error against {}", s.name, cost.what()), &cx)?,
                 &format!("Error against {}", cost.what()),
                 None,
                 Some(format!("Error against {}", cost.what()).as_str()),
@@ -113,11 +116,61 @@ pub(super) fn table_part(
     Ok(())
 }
 
-/// The family an encoder of a section's table declares: the experiment's encoder of that name,
-/// else the registered kind of that id, else [`Family::Other`].
-pub(super) fn encoder_family(s: &Section, name: &str) -> Family {
-    let named = s.exp.as_ref().and_then(|e| e.encoders.iter().find(|n| n.name == name));
-    named.map(|n| n.encoder.family()).or_else(|| crate::encoders::family_of(name)).unwrap_or(Family::Other)
+/// The baselines a section's charts compare against, in order of preference: the experiment's
+/// `[summary] baseline`, then the program's ([`crate::encoders::BASELINE`]).
+fn baselines(s: &Section) -> Vec<String> {
+    let declared = s.exp.as_ref().and_then(|e| e.summary.clone().flatten());
+    declared.into_iter().chain([crate::encoders::BASELINE.to_string()]).collect()
+}
+
+/// The scalars the encoder `name` of a section's experiment keeps per shaded point beside its
+/// probe (a cone, an AO term), read from what it says it stores (`Encoder::storage`) for a fit
+/// on the experiment's domain and cone: the numbers in parentheses after "per probe" of a
+/// "… per point" clause ("27 per probe + cone (4) per point" is 4). The surface normal N is
+/// the surface's own and is not counted. 0 for an encoder with nothing per point, or outside
+/// an experiment.
+pub(super) fn per_point_scalars(s: &Section, name: &str) -> usize {
+    use crate::pipeline::experiment::{DomainKind, Effect};
+    let Some(exp) = &s.exp else { return 0 };
+    let Some(n) = exp.encoders.iter().find(|n| n.name == name) else { return 0 };
+    let sh = crate::math::sh::Sh9::ZERO;
+    let cone = exp.effects.iter().find_map(|e| match e {
+        Effect::Cone { cos_alpha, .. } => Some((glam::DVec3::Y, cos_alpha.first().copied().unwrap_or(0.0))),
+        _ => None,
+    });
+    let input = crate::encoders::FitInput {
+        probe_sh: &sh,
+        visible_sh: &sh,
+        surface_normal: (exp.domain == DomainKind::Hemisphere).then_some(glam::DVec3::Y),
+        cone,
+        exact_at_normal: None,
+        surface_albedo: None,
+        radiance: None,
+    };
+    per_point_in(&n.encoder.storage(&input))
+}
+
+/// The scalars per point in a storage phrase ([`per_point_scalars`]).
+fn per_point_in(storage: &str) -> usize {
+    let Some((_, tail)) = storage.split_once("per probe") else { return 0 };
+    if !tail.contains("per point") {
+        return 0;
+    }
+    tail.split('(').skip(1).filter_map(|p| p.split_once(')')?.0.trim().parse::<usize>().ok()).sum()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::per_point_in;
+
+    #[test]
+    fn per_point_storage_is_read_from_the_phrase() {
+        assert_eq!(per_point_in("27 per probe + cone (4) per point"), 4);
+        assert_eq!(per_point_in("27 per probe + AO (1) per point"), 1);
+        assert_eq!(per_point_in("27 per probe + bent normal, AO (4) per point"), 4);
+        assert_eq!(per_point_in("27 per probe, N per point"), 0);
+        assert_eq!(per_point_in("12 scalars"), 0);
+    }
 }
 
 /// The charts of the folder's sweep and blending CSVs.

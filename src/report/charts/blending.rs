@@ -3,10 +3,11 @@
 use super::super::csvfile::CsvTable;
 use super::super::number::sig;
 use super::draw::{canvas, pe, Outcome};
-use super::lines::{draw_legend, legend_height, legend_width, line_panel, Series};
+use super::lines::{draw_legend, legend_height, legend_width, line_panel, Scale, Series};
 use super::rows::distinct;
 use crate::math::colour::luminance;
 use crate::math::colour::Rgb;
+use crate::report::style::style_of;
 use anyhow::Result;
 use plotters::prelude::*;
 
@@ -83,7 +84,7 @@ impl BlendColumns {
             methods.push("reference".into());
         }
         let first = methods.first().cloned().unwrap_or_default();
-        for (k, m) in methods.into_iter().enumerate() {
+        for m in methods {
             let mut a = Vec::new();
             let mut e = Vec::new();
             let from_column = self.reference.is_some() && m == "reference";
@@ -108,9 +109,10 @@ impl BlendColumns {
                 let over = a.iter().map(|p| (p.1 - hi).max(lo - p.1).max(0.0)).fold(0.0, f64::max);
                 notes.push(format!("{m}: overshoot {}", sig(over, 3)));
             }
-            irr.push(Series { label: m.clone(), colour: k, dashed: false, points: a });
+            let style = style_of(&m);
+            irr.push(Series { label: m.clone(), style, dashed: false, points: a });
             if !e.is_empty() {
-                err.push(Series { label: m, colour: k, dashed: false, points: e });
+                err.push(Series { label: m, style, dashed: false, points: e });
             }
         }
         Ok((irr, err, notes))
@@ -128,10 +130,12 @@ fn blend_chart(set: &str, irr: &[Series], err: &[Series], notes: &[String]) -> R
         draw_legend(root, irr, w as i32)?;
         let root = &root.split_horizontally(w).0;
         let (a, b) = if two { root.split_horizontally(600) } else { (root.clone(), root.clone()) };
-        line_panel(&a, &format!("irradiance at N along t{title}"), "t", "E/π at N (Rec.709 luminance)", irr, true)?;
+        let linear = Scale { linear_y: true, log2_x: false };
+        let x = "blend parameter t (no unit)";
+        line_panel(&a, &format!("irradiance at N along t{title}"), (x, "E/π at N (Rec.709 luminance)"), irr, linear)?;
         if two {
-            let y = "RMSE of E/π (hemisphere about N)";
-            line_panel(&b, &format!("RMSE along t{title}"), "t", y, err, true)?;
+            let y = "RMSE of E/π (hemisphere about N, solid-angle)";
+            line_panel(&b, &format!("RMSE along t{title}"), (x, y), err, linear)?;
         }
         Ok(())
     })?;

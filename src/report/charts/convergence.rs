@@ -5,9 +5,10 @@
 //! the levels stay in the table's unit.
 
 use super::draw::Outcome;
-use super::lines::{panels, Line, Series, MAX_LEGEND};
+use super::lines::{panels, Line, Panels, Series, MAX_LEGEND};
 use super::rows::Measure;
 use crate::math::stats::median;
+use crate::report::style::style_of;
 use anyhow::Result;
 
 /// One encoder's summary: at each knob value (ascending), the median time over its series
@@ -53,32 +54,33 @@ fn summarise(lines: &[Line]) -> Vec<Summary> {
 pub fn convergence_charts(
     knob: &str,
     lines: &[Line],
+    p: &Panels,
     measure: &Measure,
     unplotted: &str,
 ) -> Result<Vec<(String, Outcome)>> {
     let summaries = summarise(lines);
-    let zero = lines.iter().flat_map(|l| &l.points).any(|p| p.1 <= 0.0);
     let mut out = Vec::new();
     for (part, chunk) in summaries.chunks(MAX_LEGEND / 2).enumerate() {
         let mut by_value = Vec::new();
         let mut by_time = Vec::new();
-        for (k, s) in chunk.iter().enumerate() {
+        for s in chunk {
             for (dashed, what) in [(false, format!("median of {}", s.series)), (true, "worst".to_string())] {
                 let y = |p: &(f64, Option<f64>, f64, f64)| if dashed { p.3 } else { p.2 };
                 let label = format!("{}: {what}", s.group);
+                let style = style_of(&s.group);
                 by_value.push(Series {
                     label: label.clone(),
-                    colour: k,
+                    style,
                     dashed,
                     points: s.points.iter().map(|p| (p.0, y(p))).collect(),
                 });
                 let timed: Vec<(f64, f64)> = s.points.iter().filter_map(|p| p.1.map(|t| (t, y(p)))).collect();
                 if !timed.is_empty() {
-                    by_time.push(Series { label, colour: k, dashed, points: timed });
+                    by_time.push(Series { label, style, dashed, points: timed });
                 }
             }
         }
-        let mut o = panels(knob, "RMSE", (&by_value, &by_time), &measure.quantity(), zero)?;
+        let mut o = panels(p, (&by_value, &by_time))?;
         if let Outcome::Drawn { caption, .. } = &mut o {
             *caption = caption_of(knob, lines.len(), measure, unplotted);
         }
@@ -145,7 +147,14 @@ mod tests {
         }
         let measure =
             Measure { unit: "E/π".into(), metric: None, reference: None, weighting: None, resolution: vec![] };
-        let charts = convergence_charts("k", &lines, &measure, "").unwrap();
+        let p = Panels {
+            title: "k: RMSE against k".into(),
+            x_value: "k".into(),
+            x_time: "fit time, ns".into(),
+            y: measure.quantity(),
+            scale: Default::default(),
+        };
+        let charts = convergence_charts("k", &lines, &p, &measure, "").unwrap();
         let names: Vec<&str> = charts.iter().map(|c| c.0.as_str()).collect();
         assert_eq!(names, ["k", "k_part2"]);
         let Outcome::Drawn { text, caption, .. } = &charts[0].1 else { panic!("not drawn") };

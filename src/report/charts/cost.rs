@@ -1,11 +1,18 @@
-//! Error against a cost per encoder — stored scalars, bytes, evaluation and fit time — with
-//! the Pareto front drawn as a staircase, and the labels placed so none overlaps another.
+//! Error against a cost per encoder — everything an encoding stores, bytes, evaluation and fit
+//! time — with the Pareto front drawn as a staircase, and the labels placed so none overlaps
+//! another. y is the geometric mean over maps of the RMSE relative to a baseline encoder on the
+//! same map (named on the axis), so no bright map dominates it. Every point keeps its
+//! encoder's colour and marker ([`crate::report::style`]); the front's are ringed.
 
 use super::super::csvfile::CsvTable;
 use super::super::text::{text_width, BODY, FONT, TITLE};
 use super::axes::{fitted, grid, log_ticks};
+use super::dots::{exact_cells, mean_rmse};
 use super::draw::{canvas, pe, Outcome};
+use super::marks::{draw_marker, rgb};
 use super::rows::{distinct, metric_rows, Measure};
+use crate::pipeline::summary::RATIO_FLOOR_REL_RMSE;
+use crate::report::style::style_of;
 use anyhow::Result;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
@@ -36,7 +43,8 @@ pub enum Cost {
     FitNs,
     /// `eval_ns`: one shaded normal (median over the table's rows).
     EvalNs,
-    /// `stored_scalars`: what the encoding stores per probe or texel.
+    /// `stored_scalars` plus what the encoding keeps per shaded point (a cone, an AO term;
+    /// `Encoder::storage`): everything it stores.
     StoredScalars,
     /// `bytes=` in `diagnostics`: the size of a quantised encoding (only quantised encoders
     /// report it, so only they are drawn).
@@ -62,7 +70,7 @@ impl Cost {
         match self {
             Cost::FitNs => "fit time",
             Cost::EvalNs => "evaluation time per shaded normal",
-            Cost::StoredScalars => "stored scalars",
+            Cost::StoredScalars => "stored scalars (per probe plus per point)",
             Cost::Bytes => "bytes (quantised encoders)",
         }
     }
@@ -71,7 +79,7 @@ impl Cost {
         match self {
             Cost::FitNs => "fit time per probe or texel, ns (median over the rows; log scale)",
             Cost::EvalNs => "evaluation time per shaded normal, ns (median over the rows; log scale)",
-            Cost::StoredScalars => "stored scalars per probe or texel (log scale)",
+            Cost::StoredScalars => "scalars stored per probe or texel plus per shaded point (log scale)",
             Cost::Bytes => "bytes per probe (quantised; log scale)",
         }
     }
@@ -80,7 +88,7 @@ impl Cost {
         match self {
             Cost::FitNs => "median `fit_ns`",
             Cost::EvalNs => "median `eval_ns`",
-            Cost::StoredScalars => "`stored_scalars`",
+            Cost::StoredScalars => "`stored_scalars` plus the scalars kept per shaded point",
             Cost::Bytes => "`bytes` of `diagnostics`",
         }
     }
@@ -127,40 +135,65 @@ pub(super) fn diagnostic(cell: &str, key: &str) -> Option<f64> {
         .and_then(|(_, v)| v.trim().parse().ok())
 }
 
-/// A chart's points, their encoders and the metric they are of.
-pub type CostPoints = (Vec<(f64, f64)>, Vec<String>, Option<String>);
+/// A chart's points (cost, error), their encoders and the baseline the error is relative to.
+pub type CostPoints = (Vec<(f64, f64)>, Vec<String>, String);
 
-/// One point per encoder: (median cost over its rows, mean rmse), for the rows of the chart's
-/// metric; encoders without the cost (or with a cost ≤ 0, which a log axis cannot show) are
-/// left out. Returns the points, their encoders and the metric.
-pub fn cost_points(t: &CsvTable, cost: Cost) -> Result<CostPoints> {
-    let (Some(ec), Some(rc)) = (t.col("encoder"), t.col("rmse")) else { return Ok((vec![], vec![], None)) };
-    let (rows, metric) = metric_rows(t);
+/// What a cost chart needs beside the table: the scalars each encoder keeps per shaded point
+/// (0 for most), and the baselines to try in order (the first in the table is used; else its
+/// first encoder).
+pub struct CostContext<'a> {
+    /// Scalars kept per shaded point by the encoder of this name.
+    pub per_point: &'a dyn Fn(&str) -> usize,
+    /// Candidate baselines, in order of preference.
+    pub baseline: &'a [&'a str],
+}
+
+/// The geometric mean over maps of `e`'s mean rmse relative to the baseline's on the same map,
+/// over the maps where both have a value and the baseline is not exact; a ratio under
+/// [`RATIO_FLOOR_REL_RMSE`] counts as that floor (an exact row would send the mean to 0).
+fn geomean_ratio(mean: &[Vec<Option<f64>>], exact: &[Vec<bool>], e: usize, base: usize) -> Option<f64> {
+    let logs: Vec<f64> = (0..mean.len())
+        .filter(|&m| !exact[m][base])
+        .filter_map(|m| Some((mean[m][e]?, mean[m][base]?)))
+        .filter(|&(_, b)| b > 0.0)
+        .map(|(v, b)| (v / b).max(RATIO_FLOOR_REL_RMSE).ln())
+        .collect();
+    (!logs.is_empty()).then(|| (logs.iter().sum::<f64>() / logs.len() as f64).exp())
+}
+
+/// One point per encoder: (median cost over its rows, the geometric mean over maps of its
+/// RMSE relative to the baseline), for the rows of the chart's metric; encoders without the
+/// cost (or with a cost ≤ 0, which a log axis cannot show) or without a ratio are left out.
+pub fn cost_points(t: &CsvTable, cost: Cost, cx: &CostContext) -> Result<CostPoints> {
+    let (Some(ec), Some(_)) = (t.col("encoder"), t.col("rmse")) else { return Ok((vec![], vec![], String::new())) };
+    let (rows, _) = metric_rows(t);
+    let (_, encs, mean, _) = mean_rmse(t, &rows)?;
+    let exact = exact_cells(t, &rows, &mean)?;
+    let base = cx.baseline.iter().find_map(|b| encs.iter().position(|e| e == b)).unwrap_or(0);
     let mut pts = Vec::new();
     let mut names = Vec::new();
-    for e in distinct(t, &rows, ec) {
+    for (k, e) in encs.iter().enumerate() {
         let mut costs = Vec::new();
-        let (mut sum, mut n) = (0.0, 0usize);
-        for &i in rows.iter().filter(|&&i| t.rows[i][ec] == e) {
+        for &i in rows.iter().filter(|&&i| t.rows[i][ec] == *e) {
             if let Some(v) = cost.value(t, i)? {
                 costs.push(v);
             }
-            if let Some(v) = t.num(i, rc)? {
-                sum += v;
-                n += 1;
-            }
         }
-        if costs.is_empty() || n == 0 {
+        let Some(y) = geomean_ratio(&mean, &exact, k, base) else { continue };
+        if costs.is_empty() {
             continue;
         }
         costs.sort_by(f64::total_cmp);
-        let median = costs[costs.len() / 2];
+        let mut median = costs[costs.len() / 2];
+        if cost == Cost::StoredScalars {
+            median += (cx.per_point)(e) as f64;
+        }
         if median > 0.0 && median.is_finite() {
-            pts.push((median, sum / n as f64));
-            names.push(e);
+            pts.push((median, y));
+            names.push(e.clone());
         }
     }
-    Ok((pts, names, metric))
+    Ok((pts, names, encs.get(base).cloned().unwrap_or_default()))
 }
 
 /// The chart's size.
@@ -170,17 +203,26 @@ const H: u32 = 580;
 const DOT: i32 = 5;
 const LINE: i32 = 15;
 
-/// Error against a cost per encoder (x = the cost, y = mean rmse), log–log on axes fitted to
-/// the points, with the Pareto front (lower cost and lower error both better) drawn as a
-/// staircase and named in the caption; every point labelled, no label over another or over a
-/// point ([`place_labels`]).
-pub fn error_vs_cost(t: &CsvTable, cost: Cost, title: &str) -> Result<Outcome> {
+/// Error against a cost per encoder (x = the cost, y = the geometric mean over maps of the
+/// RMSE relative to the baseline), log–log on axes fitted to the points, with the Pareto front
+/// (lower cost and lower error both better) drawn as a staircase and named in the caption;
+/// every point labelled, no label over another or over a point ([`place_labels`]). Not drawn
+/// when every encoder has the same cost: the page says so instead.
+pub fn error_vs_cost(t: &CsvTable, cost: Cost, title: &str, cx: &CostContext) -> Result<Outcome> {
     if t.col("encoder").is_none() || t.col("rmse").is_none() {
         return Ok(Outcome::Skipped("not drawn: the table has no encoder and rmse columns".into()));
     }
-    let (pts, names, _) = cost_points(t, cost)?;
+    let (pts, names, base) = cost_points(t, cost, cx)?;
     if pts.is_empty() {
         return Ok(Outcome::Skipped(cost.missing(t)));
+    }
+    if pts.len() > 1 && pts.iter().all(|p| p.0 == pts[0].0) {
+        return Ok(Outcome::Skipped(format!(
+            "not drawn: every encoder here has the same {} ({}), so the chart would say nothing; the RMSE chart \
+             compares them",
+            cost.what(),
+            super::axes::tick(pts[0].0)
+        )));
     }
     let front = pareto_front(&pts);
     let (rows, _) = metric_rows(t);
@@ -191,7 +233,7 @@ pub fn error_vs_cost(t: &CsvTable, cost: Cost, title: &str) -> Result<Outcome> {
     let marks = std::cell::RefCell::new(Vec::new());
     let (image, svg, text) = canvas!(W, H, |root| {
         root.fill(&WHITE).map_err(pe)?;
-        let red = RGBColor(200, 30, 30);
+        let red = RGBColor(60, 60, 60);
         title_and_key(root, title, red)?;
         let body = root.split_vertically(56).1;
         let mut chart = ChartBuilder::on(&body)
@@ -209,7 +251,7 @@ pub fn error_vs_cost(t: &CsvTable, cost: Cost, title: &str) -> Result<Outcome> {
             .x_label_formatter(&|_| String::new())
             .y_label_formatter(&|_| String::new())
             .x_desc(cost.axis())
-            .y_desc(format!("mean {}", measure.axis()))
+            .y_desc(format!("RMSE / RMSE of {base}, geometric mean over maps (log)"))
             .label_style((FONT, BODY))
             .axis_desc_style((FONT, BODY))
             .draw()
@@ -236,7 +278,7 @@ pub fn error_vs_cost(t: &CsvTable, cost: Cost, title: &str) -> Result<Outcome> {
         let ec = t.col("encoder").expect("checked"); // cannot fail: checked on entry
         distinct(t, &rows, ec).len() - names.len()
     };
-    let caption = cost_caption(cost, &measure, &on, left_out);
+    let caption = cost_caption(cost, &measure, &on, left_out, &base);
     Ok(Outcome::Drawn { image, svg, caption, text, marks: marks.into_inner() })
 }
 
@@ -249,7 +291,7 @@ fn title_and_key<DB: DrawingBackend>(
     let centre =
         TextStyle::from((FONT, TITLE).into_font().style(FontStyle::Bold)).pos(Pos::new(HPos::Center, VPos::Top));
     root.draw_text(title, &centre, (W as i32 / 2, 8)).map_err(pe)?;
-    let key = "Pareto front (none is both cheaper and more accurate)";
+    let key = "Pareto front, ringed (none is both cheaper and more accurate)";
     let kx = W as i32 - 14 - text_width(key, BODY, false) as i32;
     root.draw(&PathElement::new([(kx - 30, 42), (kx - 6, 42)], red.stroke_width(2))).map_err(pe)?;
     root.draw_text(key, &TextStyle::from((FONT, BODY)).pos(Pos::new(HPos::Left, VPos::Center)), (kx, 42))
@@ -271,10 +313,12 @@ fn staircase(pts: &[(f64, f64)], front: &[usize]) -> Vec<(f64, f64)> {
 
 /// The chart's caption: what x and y are, the encoders on the front (`on`), and how many
 /// encoders had no such cost.
-fn cost_caption(cost: Cost, measure: &Measure, on: &[&str], left_out: usize) -> String {
+fn cost_caption(cost: Cost, measure: &Measure, on: &[&str], left_out: usize, base: &str) -> String {
     format!(
-        "error against {} per encoder: x = {} over the table's rows, y = the mean over them of the {}; Pareto \
-         front (lower cost and lower error both better): {}{}",
+        "error against {} per encoder: x = {} over the table's rows, y = the geometric mean over maps of its \
+         mean {} divided by `{base}`'s on the same map (maps where `{base}` is exact left out; a ratio under 1e-6 \
+         counts as 1e-6); each point in its encoder's colour and marker; Pareto front (lower cost and lower error \
+         both better): {}{}",
         cost.what(),
         cost.source(),
         measure.caption(),
@@ -283,7 +327,8 @@ fn cost_caption(cost: Cost, measure: &Measure, on: &[&str], left_out: usize) -> 
     )
 }
 
-/// Draws the points (red on the front, grey off it) and their labels, placed by
+/// Draws the points (each in its encoder's colour and marker, ringed on the front) and their
+/// labels (in the same colour), placed by
 /// [`place_labels`] off every point and off the front's `segments`, with a leader line when a
 /// label moved off its point's height; returns the points' marker boxes.
 fn draw_points<DB: DrawingBackend>(
@@ -294,14 +339,19 @@ fn draw_points<DB: DrawingBackend>(
     plot: (i32, i32, i32, i32),
     segments: &[(i32, i32, i32, i32)],
 ) -> Result<Vec<(i32, i32, i32, i32)>> {
-    let (red, grey) = (RGBColor(200, 30, 30), RGBColor(90, 90, 90));
-    let dots: Vec<_> = px.iter().map(|&(x, y)| (x - DOT - 1, y - DOT - 1, x + DOT + 1, y + DOT + 1)).collect();
+    let grey = RGBColor(90, 90, 90);
+    let r = DOT + 5;
+    let dots: Vec<_> = px.iter().map(|&(x, y)| (x - r, y - r, x + r, y + r)).collect();
     let widths: Vec<u32> = names.iter().map(|n| text_width(n, BODY, false)).collect();
     let avoid: Vec<_> = dots.iter().chain(segments).copied().collect();
     let boxes = place_labels(px, &widths, LINE, plot, &avoid);
     for (i, name) in names.iter().enumerate() {
-        let c = if front.contains(&i) { red } else { grey };
-        root.draw(&Circle::new(px[i], DOT as u32, c.filled())).map_err(pe)?;
+        let style = style_of(name);
+        let c = rgb(&style);
+        if front.contains(&i) {
+            root.draw(&Circle::new(px[i], DOT as u32 + 4, BLACK.stroke_width(2))).map_err(pe)?;
+        }
+        draw_marker(root, px[i], &style, DOT, true)?;
         let (bx0, by0, bx1, by1) = boxes[i];
         let (x, y) = px[i];
         let cy = (by0 + by1) / 2;

@@ -1,10 +1,10 @@
-//! What a chart is and how it is drawn: the [`Outcome`] (pixels and SVG, or why not), the
-//! Tableau 20 palette, and `canvas!`, which runs one drawing body on both backends.
+//! What a chart is and how it is drawn: the [`Outcome`] (pixels and SVG, or why not), and
+//! `canvas!`, which runs one drawing body on both backends. Colours come from
+//! [`crate::report::style`] only.
 
 pub use super::backend::TextBox;
 use anyhow::anyhow;
 use image::RgbImage;
-use plotters::prelude::*;
 
 /// A drawn chart (the same drawing as pixels and as an SVG document of the same size), or the
 /// reason it was not drawn.
@@ -32,35 +32,6 @@ pub enum Outcome {
 /// A plotters drawing error as an error of this crate.
 pub fn pe<E: std::fmt::Display>(e: E) -> anyhow::Error {
     anyhow!("drawing a chart: {e}")
-}
-
-/// Tableau 20 (the bold ten, then their light partners).
-pub(super) const PALETTE: [(u8, u8, u8); 20] = [
-    (31, 119, 180),
-    (255, 127, 14),
-    (44, 160, 44),
-    (214, 39, 40),
-    (148, 103, 189),
-    (140, 86, 75),
-    (227, 119, 194),
-    (127, 127, 127),
-    (188, 189, 34),
-    (23, 190, 207),
-    (174, 199, 232),
-    (255, 187, 120),
-    (152, 223, 138),
-    (255, 152, 150),
-    (197, 176, 213),
-    (196, 156, 148),
-    (247, 182, 210),
-    (199, 199, 199),
-    (219, 219, 141),
-    (158, 218, 229),
-];
-
-pub(super) fn colour(i: usize) -> RGBColor {
-    let (r, g, b) = PALETTE[i % PALETTE.len()];
-    RGBColor(r, g, b)
 }
 
 /// Draws a w×h chart twice with the same body, once on each backend: into a fresh bitmap

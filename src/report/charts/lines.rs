@@ -1,9 +1,12 @@
-//! Line charts: one panel of series (log axes where the range allows) and the legend column
-//! beside the panels, so a legend never covers data.
+//! Line charts: one panel of series (log axes where the range allows, log2 for sizes) and the
+//! legend column beside the panels, so a legend never covers data. Each series is drawn in its
+//! encoder's colour and marker ([`crate::report::style`]).
 
 use super::super::text::{text_width, BODY, FONT, HEADING};
 use super::axes::{grid, log_ticks, tick};
-use super::draw::{canvas, colour, pe, Outcome};
+use super::draw::{canvas, pe, Outcome};
+use super::marks::{draw_marker, rgb};
+use crate::report::style::EncoderStyle;
 use anyhow::Result;
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -37,10 +40,10 @@ pub(super) fn legend_height(series: &[Series]) -> u32 {
 }
 
 /// Draws the legend in its own column right of the panels (`x0` = the panels' right edge),
-/// so it never covers data: a line sample with a point and the label per series.
+/// so it never covers data: a line sample with the series' marker and the label per series.
 pub(super) fn draw_legend<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, series: &[Series], x0: i32) -> Result<()> {
     for (s, b) in series.iter().zip(legend_boxes(series, x0)) {
-        let c = colour(s.colour);
+        let c = rgb(&s.style);
         let y = (b.1 + b.3) / 2;
         if s.dashed {
             for x in [b.0, b.0 + 8, b.0 + 16] {
@@ -49,7 +52,7 @@ pub(super) fn draw_legend<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, ser
         } else {
             root.draw(&PathElement::new([(b.0, y), (b.0 + 18, y)], c.stroke_width(2))).map_err(pe)?;
         }
-        root.draw(&Circle::new((b.0 + 9, y), 3, c.filled())).map_err(pe)?;
+        draw_marker(root, (b.0 + 9, y), &s.style, 4, true)?;
         let style = TextStyle::from((FONT, BODY).into_font()).color(&BLACK).pos(Pos::new(HPos::Left, VPos::Center));
         root.draw_text(&s.label, &style, (b.0 + 24, y)).map_err(pe)?;
     }
@@ -59,8 +62,8 @@ pub(super) fn draw_legend<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, ser
 /// One series of a line chart.
 pub(super) struct Series {
     pub(super) label: String,
-    /// Palette index, so a label keeps its colour across panels.
-    pub(super) colour: usize,
+    /// The encoder's look ([`crate::report::style::style_of`]), the same in every chart.
+    pub(super) style: EncoderStyle,
     /// Drawn dashed (a second statistic of the same group, beside its solid line).
     pub(super) dashed: bool,
     pub(super) points: Vec<(f64, f64)>,
@@ -83,28 +86,48 @@ fn pad(lo: f64, hi: f64) -> (f64, f64) {
     (lo - d, hi + d)
 }
 
-/// Draws one panel of line series on `area`: log axes where every value is positive and the
-/// range spans at least a factor 20.
+/// How a panel's axes are scaled beyond the default (log where every value is positive and
+/// spans a factor 20).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(super) struct Scale {
+    /// A linear y whatever the range (a value may be zero).
+    pub(super) linear_y: bool,
+    /// x is a size (a map or grid width): a log2 axis ticked at powers of two.
+    pub(super) log2_x: bool,
+}
+
+/// The powers of two from `lo` to `hi`.
+fn powers_of_two(lo: f64, hi: f64) -> Vec<f64> {
+    let (a, b) = (lo.log2().ceil() as i32, hi.log2().floor() as i32);
+    (a..=b).map(|e| 2f64.powi(e)).collect()
+}
+
+/// Draws one panel of line series on `area`, each a line through its points with its marker
+/// on each: log axes where every value is positive and the range spans at least a factor 20,
+/// and a log2 x ticked at powers of two for sizes ([`Scale`]).
 pub(super) fn line_panel<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     title: &str,
-    xdesc: &str,
-    ydesc: &str,
+    (xdesc, ydesc): (&str, &str),
     series: &[Series],
-    force_linear_y: bool,
+    scale: Scale,
 ) -> Result<()> {
     let (xl, xh) = span(series.iter().flat_map(|s| s.points.iter().map(|p| p.0)));
     let (yl, yh) = span(series.iter().flat_map(|s| s.points.iter().map(|p| p.1)));
     if !xl.is_finite() {
         return Ok(());
     }
-    let xlog = xl > 0.0 && xh / xl >= 20.0;
-    let ylog = !force_linear_y && yl > 0.0 && yh / yl >= 20.0;
+    let xlog = xl > 0.0 && (xh / xl >= 20.0 || (scale.log2_x && xh > xl));
+    let ylog = !scale.linear_y && yl > 0.0 && yh / yl >= 20.0;
     let (xp, yp) = (pad(xl, xh), pad(yl, yh));
     let (xb, yb) = ((xl * 0.8, xh * 1.25), (yl * 0.8, yh * 1.25));
     // A log axis gets the ticks of `axes::log_ticks`, drawn by `axes::grid` (plotters' own
     // key points put a label at every 1..9 of a decade, which overlap on a tall range).
-    let xt = if xlog { log_ticks(xb.0, xb.1, 5) } else { Vec::new() };
+    let xt = match (xlog, scale.log2_x) {
+        (true, true) => powers_of_two(xb.0, xb.1),
+        (true, false) => log_ticks(xb.0, xb.1, 5),
+        _ => Vec::new(),
+    };
     let yt = if ylog { log_ticks(yb.0, yb.1, 5) } else { Vec::new() };
     macro_rules! draw {
         ($x:expr, $y:expr) => {{
@@ -134,13 +157,16 @@ pub(super) fn line_panel<DB: DrawingBackend>(
             grid(area, plot, &xt, |v| chart.backend_coord(&(v, yl)).0 - base.0, true)?;
             grid(area, plot, &yt, |v| chart.backend_coord(&(xl, v)).1 - base.1, false)?;
             for s in series {
-                let c = colour(s.colour);
+                let c = rgb(&s.style);
                 if s.dashed {
                     chart.draw_series(DashedLineSeries::new(s.points.clone(), 5, 4, c.stroke_width(2))).map_err(pe)?;
                 } else {
                     chart.draw_series(LineSeries::new(s.points.clone(), c.stroke_width(2))).map_err(pe)?;
                 }
-                chart.draw_series(s.points.iter().map(|p| Circle::new(*p, 3, c.filled()))).map_err(pe)?;
+                for p in &s.points {
+                    let (x, y) = chart.backend_coord(p);
+                    draw_marker(area, (x - base.0, y - base.1), &s.style, 4, !s.dashed)?;
+                }
             }
         }};
     }
@@ -167,25 +193,41 @@ pub(super) struct Line {
     pub(super) points: Vec<(f64, f64, Option<f64>)>,
 }
 
-/// Draws the value panel and, when any series has times, the time panel, with the legend
-/// column beside them.
-pub(super) fn panels(
-    knob: &str,
-    what: &str,
-    (by_value, by_time): (&[Series], &[Series]),
-    y: &str,
-    linear_y: bool,
-) -> Result<Outcome> {
+/// What a sweep chart's two panels say: their titles and axes in words, and the scales.
+pub(super) struct Panels {
+    /// The value panel's title ("polar_nodes_floor: RMSE against GL nodes").
+    pub(super) title: String,
+    /// The knob's axis in words with its unit.
+    pub(super) x_value: String,
+    /// The time axis in words: the time of what, and its unit.
+    pub(super) x_time: String,
+    /// The y axis (what is measured, against what).
+    pub(super) y: String,
+    pub(super) scale: Scale,
+}
+
+/// Draws the value panel and, when any series has times, the time panel (each series' points
+/// sorted by time, so a line never doubles back), with the legend column beside them.
+pub(super) fn panels(p: &Panels, (by_value, by_time): (&[Series], &[Series])) -> Result<Outcome> {
     let two = !by_time.is_empty();
     let w = if two { 1200 } else { 640 };
+    let by_time: Vec<Series> = by_time
+        .iter()
+        .map(|s| {
+            let mut points = s.points.clone();
+            points.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.total_cmp(&b.1)));
+            Series { label: s.label.clone(), style: s.style, dashed: s.dashed, points }
+        })
+        .collect();
     let (image, svg, text) = canvas!(w + legend_width(by_value), legend_height(by_value), |root| {
         root.fill(&WHITE).map_err(pe)?;
         draw_legend(root, by_value, w as i32)?;
         let root = &root.split_horizontally(w).0;
         let (a, b) = if two { root.split_horizontally(600) } else { (root.clone(), root.clone()) };
-        line_panel(&a, &format!("{knob}: {what} against value"), knob, y, by_value, linear_y)?;
+        line_panel(&a, &p.title, (&p.x_value, &p.y), by_value, p.scale)?;
         if two {
-            line_panel(&b, &format!("{knob}: {what} against time"), "time, ns", y, by_time, linear_y)?;
+            let time = Scale { log2_x: false, ..p.scale };
+            line_panel(&b, "the same RMSE against time", (&p.x_time, &p.y), &by_time, time)?;
         }
         Ok(())
     })?;

@@ -1,10 +1,14 @@
-//! Convergence sweeps: rmse against a knob's value, and against time, one line per label.
+//! Convergence sweeps: rmse against a knob's value, and against time, one line per label, in
+//! the encoders' own styles; axes in words with units, sizes on a log2 axis, the sweep's name
+//! (its variant, e.g. `polar_nodes_floor`) in the title.
 
 use super::super::csvfile::CsvTable;
 use super::convergence::convergence_charts;
 use super::draw::Outcome;
-use super::lines::{panels, Line, Series, MAX_LEGEND};
+use super::lines::{panels, Line, Panels, Scale, Series, MAX_LEGEND};
 use super::rows::{distinct, Measure};
+use crate::pipeline::sweep::Knob;
+use crate::report::style::style_of;
 use anyhow::Result;
 
 /// One chart per knob of a sweep CSV (`knob,value,rmse,time_ns,label`): rmse against the
@@ -27,10 +31,12 @@ pub fn sweep_charts(t: &CsvTable) -> Result<Vec<(String, Outcome)>> {
         } else {
             String::new()
         };
+        let (p, timed) = describe(t, &rows, &knob, &measure, lines.iter().flat_map(|l| &l.points).any(|p| p.1 <= 0.0));
+        let unplotted = format!("{timed}{unplotted}");
         if lines.len() <= MAX_LEGEND {
-            out.push((knob.clone(), absolute_chart(&knob, &lines, &measure, &unplotted)?));
+            out.push((knob.clone(), absolute_chart(&knob, &lines, &p, &measure, &unplotted)?));
         } else {
-            out.extend(convergence_charts(&knob, &lines, &measure, &unplotted)?);
+            out.extend(convergence_charts(&knob, &lines, &p, &measure, &unplotted)?);
         }
     }
     Ok(out)
@@ -74,25 +80,53 @@ fn lines_of(t: &CsvTable, rows: &[usize]) -> Result<(Vec<Line>, usize)> {
     Ok((lines, unplotted))
 }
 
-/// Every series' rmse, one line each, against the knob's value and against time.
-fn absolute_chart(knob: &str, lines: &[Line], measure: &Measure, unplotted: &str) -> Result<Outcome> {
-    let zero = lines.iter().flat_map(|l| &l.points).any(|p| p.1 <= 0.0);
+/// The panels' words for one knob's `rows`: the title names the sweep (the `sweep` column, a
+/// variant such as `polar_nodes_floor`, else the knob), the x axis the knob in words with its
+/// unit ([`Knob::axis`]; sizes on a log2 axis), the time axis the time of what (the `timed`
+/// column). Returns them and the caption's sentence on what was timed.
+fn describe(t: &CsvTable, rows: &[usize], knob: &str, measure: &Measure, zero: bool) -> (Panels, String) {
+    let first = |h: &str| t.col(h).and_then(|c| rows.iter().map(|&i| t.rows[i][c].clone()).find(|v| !v.is_empty()));
+    let sweep = first("sweep").unwrap_or_else(|| knob.to_string());
+    let (x_value, log2_x) = Knob::axis_of(knob).unwrap_or_else(|| (format!("{knob} (as the file names it)"), false));
+    let timed = t.col("timed").map(|c| distinct(t, rows, c)).unwrap_or_default();
+    let timed: Vec<String> = timed.into_iter().filter(|v| !v.is_empty()).collect();
+    let (x_time, said) = match timed.as_slice() {
+        [] => ("time_ns of each row, ns".to_string(), String::new()),
+        [one] if one == "fit" => ("fit time per probe or texel (median), ns".to_string(), String::new()),
+        many => {
+            let shown: Vec<&str> = many.iter().take(4).map(String::as_str).collect();
+            let more = if many.len() > 4 { format!(" and {} more", many.len() - 4) } else { String::new() };
+            (
+                "time of each row's timed step (caption), ns".to_string(),
+                format!("; timed steps: {}{more}", shown.join("; ")),
+            )
+        }
+    };
+    let title = format!("{sweep}: RMSE against {knob}");
+    let scale = Scale { linear_y: zero, log2_x };
+    (Panels { title, x_value, x_time, y: measure.quantity(), scale }, said)
+}
+
+/// Every series' rmse, one line each, against the knob's value and against time; a series in
+/// its encoder's style, dashed when an earlier series has the same encoder.
+fn absolute_chart(knob: &str, lines: &[Line], p: &Panels, measure: &Measure, unplotted: &str) -> Result<Outcome> {
     let series = |k: usize, l: &Line, time: bool| Series {
         label: l.label.clone(),
-        colour: k,
-        dashed: false,
+        style: style_of(&l.group),
+        dashed: lines[..k].iter().any(|o| o.group == l.group),
         points: l.points.iter().filter_map(|p| if time { p.2.map(|t| (t, p.1)) } else { Some((p.0, p.1)) }).collect(),
     };
     let by_value: Vec<Series> = lines.iter().enumerate().map(|(k, l)| series(k, l, false)).collect();
     let by_time: Vec<Series> =
         lines.iter().enumerate().map(|(k, l)| series(k, l, true)).filter(|s| !s.points.is_empty()).collect();
     let two = !by_time.is_empty();
-    let mut o = panels(knob, "RMSE", (&by_value, &by_time), &measure.quantity(), zero)?;
+    let mut o = panels(p, (&by_value, &by_time))?;
     if let Outcome::Drawn { caption, .. } = &mut o {
         *caption = format!(
-            "convergence sweep of `{knob}`: {} against the knob's value (a W×H value is plotted at W){}{unplotted}",
+            "convergence sweep of `{knob}`: {} against the knob's value (a W×H value is plotted at W){}; a series \
+             in its encoder's colour and marker, dashed when another series of that encoder came first{unplotted}",
             measure.caption(),
-            if two { " and against time_ns" } else { " (no time_ns in the file)" },
+            if two { " and against time_ns (a scatter joined in order of time)" } else { " (no time_ns in the file)" },
         );
     }
     Ok(o)

@@ -4,13 +4,14 @@
 use super::super::csvfile::CsvTable;
 use super::super::text::text_width;
 use super::axes::*;
-use super::bars::*;
 use super::blending::*;
 use super::cost::*;
+use super::dots::*;
 use super::draw::*;
 use super::lines::*;
 use super::rows::*;
 use super::sweeps::*;
+use crate::report::style::style_of;
 use std::path::Path;
 
 fn csv(s: &str) -> CsvTable {
@@ -67,39 +68,80 @@ fn pareto_front_of_a_constructed_storage_set() {
     assert_eq!(brute, vec![0, 2, 3, 5, 7]);
 }
 
+fn no_per_point(_: &str) -> usize {
+    0
+}
+
 #[test]
 fn cost_charts_read_any_encoder_set() {
     // Encoders with made-up names: costs by column name, bytes only where `diagnostics`
-    // has them, eval time per encoder the median of its rows.
+    // has them, eval time per encoder the median of its rows; y the geometric mean over the
+    // maps of the RMSE relative to the baseline p.
     let t = csv("map,encoder,metric,rmse,stored_scalars,diagnostics,fit_ns,eval_ns\n\
          a,p,exact,0.5,12,,10,4\nb,p,exact,0.7,12,,10,6\na,q,exact,0.2,27,,20,9\nb,q,exact,0.2,27,,20,9\n\
          a,r,exact,0.6,12,bytes=13;x=1,30,3\nb,r,exact,0.6,12,bytes=13;x=1,30,3\n\
          a,s,exact,0.3,27,bytes=28,30,3\nb,s,exact,0.3,27,bytes=28,30,3\n");
-    let (pts, names, metric) = cost_points(&t, Cost::StoredScalars).unwrap();
+    let cx = CostContext { per_point: &no_per_point, baseline: &["p"] };
+    let (pts, names, base) = cost_points(&t, Cost::StoredScalars, &cx).unwrap();
     assert_eq!(names, ["p", "q", "r", "s"]);
-    assert_eq!(metric.as_deref(), Some("exact"));
-    // p: 12 scalars, mean (0.5 + 0.7)/2 = 0.6; r: 12, 0.6 — equal points, both on the front.
-    assert_eq!(pts, vec![(12.0, 0.6), (27.0, 0.2), (12.0, 0.6), (27.0, 0.3)]);
-    assert_eq!(pareto_front(&pts), vec![0, 2, 1]);
-    let (pts, names, _) = cost_points(&t, Cost::Bytes).unwrap();
-    assert_eq!((pts, names), (vec![(13.0, 0.6), (28.0, 0.3)], vec!["r".to_string(), "s".to_string()]));
+    assert_eq!(base, "p");
+    // By hand: q = sqrt(0.2/0.5 · 0.2/0.7), r = sqrt(0.6/0.5 · 0.6/0.7), s = sqrt(0.3/0.5 · 0.3/0.7).
+    let want = [
+        (12.0, 1.0),
+        (27.0, (0.4f64 * 0.2 / 0.7).sqrt()),
+        (12.0, (1.2f64 * 0.6 / 0.7).sqrt()),
+        (27.0, (0.6f64 * 0.3 / 0.7).sqrt()),
+    ];
+    for (p, w) in pts.iter().zip(want) {
+        assert!(p.0 == w.0 && (p.1 - w.1).abs() < 1e-12, "{p:?} {w:?}");
+    }
+    assert_eq!(pareto_front(&pts), vec![0, 1]);
+    let (pts, names, _) = cost_points(&t, Cost::Bytes, &cx).unwrap();
+    assert_eq!(names, ["r", "s"]);
+    assert_eq!((pts[0].0, pts[1].0), (13.0, 28.0));
     // Eval: p's median of {4, 6} is the upper middle (6); r and s share 3 ns, s is better.
-    let (pts, _, _) = cost_points(&t, Cost::EvalNs).unwrap();
-    assert_eq!(pts[0], (6.0, 0.6));
+    let (pts, _, _) = cost_points(&t, Cost::EvalNs, &cx).unwrap();
+    assert_eq!(pts[0], (6.0, 1.0));
     assert_eq!(pareto_front(&pts), vec![3, 1]);
     for c in Cost::ALL {
-        match error_vs_cost(&t, c, "x").unwrap() {
-            Outcome::Drawn { caption, .. } => assert!(caption.contains("Pareto front"), "{caption}"),
+        match error_vs_cost(&t, c, "x", &cx).unwrap() {
+            Outcome::Drawn { caption, .. } => {
+                assert!(caption.contains("Pareto front") && caption.contains("`p`"), "{caption}")
+            }
             Outcome::Skipped(s) => panic!("{c:?}: {s}"),
         }
     }
-    match error_vs_cost(&t, Cost::Bytes, "x").unwrap() {
+    match error_vs_cost(&t, Cost::Bytes, "x", &cx).unwrap() {
         Outcome::Drawn { caption, .. } => assert!(caption.contains("2 encoder(s) without this cost"), "{caption}"),
         Outcome::Skipped(s) => panic!("{s}"),
     }
+    // What an encoder keeps per shaded point is added to what it stores per probe.
+    let q_cone = |n: &str| if n == "q" { 4 } else { 0 };
+    let with_cone = CostContext { per_point: &q_cone, baseline: &["p"] };
+    let (pts, _, _) = cost_points(&t, Cost::StoredScalars, &with_cone).unwrap();
+    assert_eq!(pts[1].0, 31.0);
     let plain = csv("map,encoder,metric,rmse,stored_scalars,diagnostics\na,p,exact,0.5,12,\n");
-    assert!(matches!(error_vs_cost(&plain, Cost::Bytes, "x").unwrap(), Outcome::Skipped(s) if s.contains("quantised")));
-    assert!(matches!(error_vs_cost(&plain, Cost::EvalNs, "x").unwrap(), Outcome::Skipped(s) if s.contains("eval_ns")));
+    assert!(
+        matches!(error_vs_cost(&plain, Cost::Bytes, "x", &cx).unwrap(), Outcome::Skipped(s) if s.contains("quantised"))
+    );
+    assert!(
+        matches!(error_vs_cost(&plain, Cost::EvalNs, "x", &cx).unwrap(), Outcome::Skipped(s) if s.contains("eval_ns"))
+    );
+}
+
+/// Every encoder storing the same: the chart is not drawn and says why.
+#[test]
+fn a_constant_cost_chart_is_not_drawn() {
+    let t = csv("map,encoder,metric,rmse,stored_scalars\na,p,exact,0.5,27\na,q,exact,0.2,27\na,r,exact,0.3,27\n");
+    let cx = CostContext { per_point: &no_per_point, baseline: &["p"] };
+    match error_vs_cost(&t, Cost::StoredScalars, "x", &cx).unwrap() {
+        Outcome::Skipped(why) => assert!(why.contains("the same") && why.contains("27"), "{why}"),
+        Outcome::Drawn { .. } => panic!("a chart of one x drawn"),
+    }
+    // With per-point storage the costs differ again, and the chart is drawn.
+    let cone = |n: &str| if n == "q" { 4 } else { 0 };
+    let cx = CostContext { per_point: &cone, baseline: &["p"] };
+    assert!(matches!(error_vs_cost(&t, Cost::StoredScalars, "x", &cx).unwrap(), Outcome::Drawn { .. }));
 }
 
 /// A cluster of points as the ZH3 table's time chart has (eight encoders within 40 px, one
@@ -143,7 +185,7 @@ fn labels_never_overlap_or_leave_the_plot() {
 }
 
 #[test]
-fn bars_average_cases_and_read_columns_by_name() {
+fn dots_average_cases_and_read_columns_by_name() {
     let t = csv("rmse,encoder,map,metric\n0.5,sh1,a,exact\n0.25,sh1,a,exact\n9,sh1,a,probulator\n0.1,sh2,a,exact\n");
     let (rows, m) = metric_rows(&t);
     assert_eq!(m.as_deref(), Some("exact"));
@@ -152,7 +194,7 @@ fn bars_average_cases_and_read_columns_by_name() {
     assert_eq!(mean[0][0], Some(0.375));
     assert_eq!(k, 2);
     assert!(
-        matches!(rmse_bars(&t, "x", &|_| crate::encoders::encoder::Family::Other).unwrap(), Outcome::Drawn { caption, .. } if caption.contains("mean over the 2"))
+        matches!(rmse_dots(&t, "x", &[]).unwrap(), Outcome::Drawn { caption, .. } if caption.contains("mean over the 2"))
     );
 }
 
@@ -208,8 +250,7 @@ fn legends_are_beside_the_data() {
     let Outcome::Drawn { image, .. } = &charts[0].1 else { panic!("not drawn") };
     let series: Vec<Series> = ["a_long_series_name_one", "two"]
         .iter()
-        .enumerate()
-        .map(|(k, l)| Series { label: l.to_string(), colour: k, dashed: false, points: vec![] })
+        .map(|l| Series { label: l.to_string(), style: style_of(l), dashed: false, points: vec![] })
         .collect();
     let boxes = legend_boxes(&series, 1200);
     for (i, b) in boxes.iter().enumerate() {
@@ -218,7 +259,8 @@ fn legends_are_beside_the_data() {
             assert!(!(b.0 < c.2 && c.0 < b.2 && b.1 < c.3 && c.1 < b.3), "entries overlap: {b:?} {c:?}");
         }
     }
-    let c0 = colour(0);
+    let c0 = style_of("a_long_series_name_one").rgb;
+    let c0 = (c0[0], c0[1], c0[2]);
     let (mut inside, mut outside, mut left) = (0, 0, 0);
     for (x, y, p) in image.enumerate_pixels() {
         if p.0 != [c0.0, c0.1, c0.2] {
@@ -352,13 +394,10 @@ fn every_chart_is_also_an_svg_with_the_full_names() {
         table += &format!("m2,{n},exact,{},{},{},{}\n", 0.2 / (k + 1) as f64, 9 * (k + 1), 10 * (k + 1), 3 + k);
     }
     let t = csv(&table);
-    let mut drawn = vec![(
-        "bars".to_string(),
-        rmse_bars(&t, "bars", &|n| crate::encoders::family_of(n).unwrap_or(crate::encoders::encoder::Family::Other))
-            .unwrap(),
-    )];
+    let mut drawn = vec![("dots".to_string(), rmse_dots(&t, "dots", &[]).unwrap())];
+    let cx = CostContext { per_point: &no_per_point, baseline: &[] };
     for c in [Cost::StoredScalars, Cost::EvalNs, Cost::FitNs] {
-        drawn.push((format!("{c:?}"), error_vs_cost(&t, c, "cost").unwrap()));
+        drawn.push((format!("{c:?}"), error_vs_cost(&t, c, "cost", &cx).unwrap()));
     }
     let mut sweep = String::from("knob,value,rmse,time_ns,label\n");
     let mut blend = String::from("t,method,irradiance_at_n_r,irradiance_at_n_g,irradiance_at_n_b,rmse\n");
@@ -403,7 +442,7 @@ fn sweep_and_blend_formats() {
     }
 }
 
-/// Every chart the report draws from the committed results — the rmse bars and the four cost
+/// Every chart the report draws from the committed results — the rmse chart and the four cost
 /// charts of every `table.csv`, the charts of every sweep and blending CSV — keeps every text
 /// inside its canvas, no text over another, and no label over a data point.
 #[test]
@@ -421,10 +460,12 @@ fn committed_charts_keep_labels_apart_and_on_the_canvas() {
             let what = f.display().to_string();
             let mut drawn: Vec<(String, Outcome)> = Vec::new();
             if f.file_name().is_some_and(|n| n == "table.csv") {
-                let family = |n: &str| crate::encoders::family_of(n).unwrap_or(crate::encoders::encoder::Family::Other);
-                drawn.push(("bars".into(), rmse_bars(&t, "a title: RMSE per encoder and map", &family).unwrap()));
+                let base = [crate::encoders::BASELINE];
+                drawn.push(("dots".into(), rmse_dots(&t, "a title: RMSE per encoder and map", &base).unwrap()));
+                let cx = CostContext { per_point: &no_per_point, baseline: &base };
                 for c in Cost::ALL {
-                    drawn.push((format!("{c:?}"), error_vs_cost(&t, c, "a title: error against a cost").unwrap()));
+                    let o = error_vs_cost(&t, c, "a title: error against a cost", &cx).unwrap();
+                    drawn.push((format!("{c:?}"), o));
                 }
             } else if is_sweep(&t) {
                 drawn.extend(sweep_charts(&t).unwrap());
@@ -479,8 +520,80 @@ fn log_axes_fit_the_data_with_enough_ticks() {
 #[test]
 fn log_axes_never_leave_the_drawable_range() {
     for values in [vec![1.0, 1e300], vec![1e-300, 1.0], vec![f64::MAX, f64::MIN_POSITIVE]] {
-        for (lo, hi) in [fitted(values.iter().copied()).unwrap(), decades(values.iter().copied()).unwrap()] {
+        for (lo, hi) in [fitted(values.iter().copied()).unwrap()] {
             assert!(lo >= 1e-36 && hi <= 1e36 && lo < hi, "{values:?}: {lo}..{hi}");
         }
     }
+}
+
+/// An axis of less than a decade still gets five labels: 1-2-5 steps within it (0.05 to 0.07
+/// has no 1-2-5 decade value inside but 0.05, 0.055, 0.06, 0.065, 0.07 by step 0.005).
+#[test]
+fn an_axis_under_a_decade_gets_five_labels() {
+    assert_eq!(log_ticks(0.05, 0.07, 5), vec![0.05, 0.055, 0.06, 0.065, 0.07]);
+    assert_eq!(tick(0.055), "0.055");
+    assert_eq!(linear_ticks(0.0, 1.0, 5), vec![0.0, 0.2, 0.4, 0.6, 0.8, 1.0]);
+    for (lo, hi) in [(0.31, 0.52), (1.1, 1.9), (120.0, 700.0), (3e-5, 9e-5)] {
+        let t = log_ticks(lo, hi, 5);
+        assert!(t.len() >= 5 && t.iter().all(|v| *v >= lo && *v <= hi), "{lo}..{hi}: {t:?}");
+        let labels: Vec<String> = t.iter().map(|v| tick(*v)).collect();
+        let mut unique = labels.clone();
+        unique.dedup();
+        assert_eq!(unique, labels, "two ticks share a label");
+    }
+}
+
+/// On a crowded axis every decade keeps its label and a minor one goes: 0.1 to 10 with the
+/// 1-2-5 ticks on 90 px, where 0.2 would touch 0.1 and 5 would touch 10.
+#[test]
+fn decade_labels_survive_a_collision() {
+    let ticks = log_ticks(0.1, 10.0, 5);
+    assert_eq!(ticks, vec![0.1, 0.2, 0.5, 1.0, 2.0, 5.0, 10.0]);
+    let at = |v: f64| 20 + ((v.log10() + 1.0) / 2.0 * 90.0).round() as i32;
+    let (_, _, text) = canvas!(200, 60, |root| { grid(root, (20, 5, 110, 30), &ticks, at, true) }).unwrap();
+    let shown: Vec<&str> = text.iter().map(|t| t.text.as_str()).collect();
+    for decade in ["0.1", "1", "10"] {
+        assert!(shown.contains(&decade), "decade {decade} dropped: {shown:?}");
+    }
+    assert!(!shown.contains(&"0.2") && shown.len() < ticks.len(), "no minor label dropped: {shown:?}");
+    assert_layout("crowded axis", (200, 60), &text, &[]);
+}
+
+/// A row exact to rounding is drawn at the axis floor, its value in the caption, and does
+/// not stretch the axis: the ticks stay within the other rows' decade.
+#[test]
+fn exact_rows_sit_at_the_floor_and_are_named() {
+    let t = csv("map,encoder,metric,rmse,rel_rmse\na,sh1,exact,0.2,0.1\na,sh2,exact,0.05,0.025\n\
+         a,sh3,exact,2e-12,1e-12\nb,sh1,exact,0.3,0.1\nb,sh2,exact,0.06,0.02\nb,sh3,exact,4e-12,1.3e-12\n");
+    let Outcome::Drawn { caption, text, .. } = rmse_dots(&t, "x", &[]).unwrap() else { panic!("not drawn") };
+    assert!(caption.contains("2 exact row(s)") && caption.contains("sh3 on a 2e-12"), "{caption}");
+    let ticks: Vec<f64> = text.iter().filter_map(|t| t.text.parse::<f64>().ok()).collect();
+    assert!(!ticks.is_empty() && ticks.iter().all(|v| *v > 0.01 && *v < 1.0), "{ticks:?}");
+}
+
+/// Many maps × many encoders become a heatmap of ratios to the named baseline: a cell reads
+/// the ratio (2 where the encoder's RMSE is twice sh1's), the baseline row its own RMSE.
+#[test]
+fn many_maps_and_encoders_become_a_heatmap_of_ratios() {
+    let encs: Vec<&str> = crate::encoders::REGISTRY.iter().map(|k| k.id).take(12).collect();
+    let base = crate::encoders::BASELINE;
+    let mut s = String::from("map,encoder,metric,rmse\n");
+    for m in 0..30 {
+        for (k, e) in encs.iter().enumerate() {
+            let v = if *e == base {
+                0.2
+            } else if k == 0 {
+                0.4
+            } else {
+                0.1 + k as f64 * 0.01
+            };
+            s += &format!("map{m},{e},exact,{v}\n");
+        }
+    }
+    let Outcome::Drawn { caption, text, image, .. } = rmse_dots(&csv(&s), "x", &[base]).unwrap() else { panic!() };
+    assert!(caption.contains(&format!("relative to `{base}`")), "{caption}");
+    let cells: Vec<&str> = text.iter().map(|t| t.text.as_str()).collect();
+    assert!(cells.contains(&"2") && cells.contains(&"0.2"), "{:?}", &cells[..40]);
+    assert!(image.height() <= MAX_HEIGHT, "{}", image.height());
+    assert_layout("heatmap", image.dimensions(), &text, &[]);
 }
