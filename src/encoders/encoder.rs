@@ -17,6 +17,10 @@ use anyhow::{bail, Context, Result};
 use glam::DVec3;
 use std::ops::{Bound, RangeBounds, RangeInclusive};
 
+/// Bytes of one unquantised stored scalar: a half float (IEEE 754 binary16), the default of
+/// [`Encoder::stored_bytes`].
+pub const HALF_BYTES: usize = 2;
+
 /// The largest channel weight a weighting key accepts (weights are relative).
 pub const MAX_WEIGHT: f64 = 1e6;
 
@@ -185,6 +189,14 @@ pub trait Encoder: Send + Sync {
     }
     /// Scalars stored per probe or texel (RGB counts 3).
     fn stored_scalars(&self) -> usize;
+    /// Bytes stored per probe or texel: by default [`HALF_BYTES`] per stored scalar (each an
+    /// IEEE 754 binary16 half float, the usual GPU storage of an unquantised probe); quantised
+    /// encodings give their serialised length instead (FORMULAS §11: 13, 16, 28 bytes), the
+    /// length their encoder writes. Per-point data beside the probe (a cone, an AO term) is not
+    /// counted, as in `stored_scalars`.
+    fn stored_bytes(&self) -> usize {
+        HALF_BYTES * self.stored_scalars()
+    }
     /// What the encoding stores for the fit of `input`, in words for a figure's label: by
     /// default "`stored_scalars` scalars". An encoding that also needs data kept per shaded
     /// point beside the probe (a visibility cone, an AO term) says so, e.g. "27 per probe + cone

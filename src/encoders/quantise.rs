@@ -20,6 +20,10 @@
 //! |----------|------|-------|----------------|
 //! | `sh1_q13` | SH L1, quantised as above | 13 | 12 |
 //! | `sh2_q28` | SH L2, quantised as above | 28 | 27 |
+//! | `zh3_q16` | stored ZH3 (`zh3_solved_shared`), quantised as above | 16 | 15 |
+//! | `zh3_hallucinate_q13` | hallucinated ZH3 (`zh3_hallucinate`): its L1 quantised as above | 13 | 12 |
+//!
+//! Every other encoding stores half floats: [`Encoder::stored_bytes`] is 2 bytes a scalar.
 //!
 //! TOML keys: none. ZH3 encoders take `quantise = "ratio8"` (see `zh3.rs`).
 
@@ -178,6 +182,13 @@ impl Encoder for ShQuantised {
     }
     fn stored_scalars(&self) -> usize {
         3 * (self.max_band + 1) * (self.max_band + 1)
+    }
+    fn stored_bytes(&self) -> usize {
+        if self.max_band == 1 {
+            BYTES_L1
+        } else {
+            BYTES_L2
+        }
     }
     fn fit(&self, input: &FitInput) -> Box<dyn Fitted> {
         // The stored bytes, decoded: what a shader would read.

@@ -106,6 +106,12 @@ pub const REGISTRY: &[EncoderKind] = &[
         summary: "ZH3 hallucinated from a solved L1, shared axis",
         build: zh3::build_hallucinate_solved,
     },
+    EncoderKind { id: "zh3_q16", summary: "ZH3 stored, solved shared axis, 16 bytes", build: zh3::build_q16 },
+    EncoderKind {
+        id: "zh3_hallucinate_q13",
+        summary: "ZH3 hallucinated, Rec.709 axis, 13 bytes",
+        build: zh3::build_hallucinate_q13,
+    },
     EncoderKind { id: "ahd_linear_sphere", summary: "AHD, L1 direction, sphere Gram", build: ahd::build_linear_sphere },
     EncoderKind { id: "ahd_linear_hemi", summary: "AHD, L1 direction, hemisphere Gram", build: ahd::build_linear_hemi },
     EncoderKind {
@@ -276,6 +282,25 @@ mod tests {
         let mut inner = toml::Table::new();
         inner.insert("inner".into(), toml::Value::String("zh3_hallucinate".into()));
         assert_eq!(build("with_self_bounce", None, inner).unwrap().encoder.family(), Family::Zh3);
+    }
+
+    /// Every registered encoder states its bytes a probe: what its fit writes when it reports
+    /// `bytes` (the quantised encodings), else two bytes (a half float) per stored scalar.
+    #[test]
+    fn every_registered_encoder_states_its_bytes() {
+        use crate::encoders::encoder::FitInput;
+        use crate::math::colour::Rgb;
+        use crate::math::sh::{constant, delta_light};
+        let sh = constant(Rgb::splat(0.3)) + delta_light(glam::DVec3::new(0.0, 0.6, 0.8), Rgb::new(2.0, 1.5, 1.0));
+        let mut quantised = 0;
+        for k in REGISTRY {
+            let e = build(k.id, None, toml::Table::new()).unwrap().encoder;
+            let written = e.fit(&FitInput::sphere(&sh)).diagnostics().iter().find(|(n, _)| *n == "bytes").map(|d| d.1);
+            quantised += written.is_some() as usize;
+            let expected = written.unwrap_or(2.0 * e.stored_scalars() as f64);
+            assert_eq!(e.stored_bytes() as f64, expected, "{}", k.id);
+        }
+        assert_eq!(quantised, 4, "sh1_q13, sh2_q28 and the talk's two ZH3 formats");
     }
 
     #[test]

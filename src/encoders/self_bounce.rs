@@ -94,6 +94,9 @@ impl Encoder for WithSelfBounce {
     fn stored_scalars(&self) -> usize {
         self.inner.stored_scalars()
     }
+    fn stored_bytes(&self) -> usize {
+        self.inner.stored_bytes()
+    }
     /// The inner encoder's storage: the term stores nothing extra (see the module doc).
     fn storage(&self, input: &FitInput) -> String {
         self.inner.storage(input)

@@ -107,6 +107,13 @@ fn sync_folder(dir: &Path) {
     }
 }
 
+/// Whether `path` is a regular file whose content is exactly `bytes` (read only when the sizes
+/// agree, so never more than `bytes.len()`; any error reading it counts as "no").
+fn holds(path: &Path, bytes: &[u8]) -> bool {
+    let same_size = std::fs::symlink_metadata(path).is_ok_and(|m| m.is_file() && m.len() == bytes.len() as u64);
+    same_size && std::fs::read(path).is_ok_and(|old| old == bytes)
+}
+
 /// Creates the folder of `path` and stages a temporary file beside it, errors naming the path.
 fn stage(path: &Path) -> Result<Staged> {
     let dir = folder_of(path);
@@ -115,8 +122,13 @@ fn stage(path: &Path) -> Result<Staged> {
     Ok(Staged::beside(path)?)
 }
 
-/// Writes `bytes` to `path` atomically, creating parent folders.
+/// Writes `bytes` to `path` atomically, creating parent folders. A regular file that already
+/// holds exactly `bytes` is left untouched (not rewritten, its modification time kept), so a
+/// regeneration whose data did not change changes no file.
 pub fn write(path: &Path, bytes: &[u8]) -> Result<()> {
+    if holds(path, bytes) {
+        return Ok(());
+    }
     let mut staged = stage(path)?;
     staged.write_all(bytes)?;
     Ok(staged.commit()?)
@@ -227,6 +239,23 @@ impl Drop for Backups {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The same bytes again leave the file itself in place (a rename would give a new inode);
+    /// different bytes of the same length replace it.
+    #[cfg(unix)]
+    #[test]
+    fn same_bytes_leave_the_file_untouched() {
+        use std::os::unix::fs::MetadataExt;
+        let d = tempfile::tempdir().unwrap();
+        let p = d.path().join("t.png");
+        write(&p, b"same").unwrap();
+        let ino = std::fs::metadata(&p).unwrap().ino();
+        write(&p, b"same").unwrap();
+        assert_eq!(std::fs::metadata(&p).unwrap().ino(), ino, "identical bytes: not rewritten");
+        write(&p, b"diff").unwrap();
+        assert_ne!(std::fs::metadata(&p).unwrap().ino(), ino, "new bytes: replaced");
+        assert_eq!(std::fs::read(&p).unwrap(), b"diff");
+    }
 
     #[test]
     fn writes_and_replaces() {

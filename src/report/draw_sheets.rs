@@ -45,7 +45,9 @@ pub(super) fn draw_sheets(
 }
 
 /// Draws and writes the sheets of one experiment into `dir`, with the figures of its
-/// `table.csv` when there is one; their file names, in the experiment's map order.
+/// `table.csv` when there is one; their file names, in the experiment's map order. Every sheet
+/// shares one error scale: the high percentile of |relative error| over all their error
+/// spheres ([`sheet::share_error_scale`]), so the sheets are composed first and drawn after.
 pub(super) fn experiment_sheets(
     opts: &Options,
     exp: &Experiment,
@@ -54,28 +56,35 @@ pub(super) fn experiment_sheets(
 ) -> Result<Vec<String>> {
     let table_path = dir.join("table.csv");
     let table = if table_path.is_file() { Some(CsvTable::read(&table_path)?) } else { None };
-    // The sheets of one experiment are independent files: drawn in parallel (each one's
-    // pixels do not depend on the thread count), named in the experiment's map order.
-    exp.sheet_maps()
+    // The sheets of one experiment are independent files: composed and drawn in parallel (each
+    // one's pixels do not depend on the thread count), named in the experiment's map order.
+    let mut sheets = exp
+        .sheet_maps()
         .par_iter()
-        .map(|m| -> Result<String> {
+        .map(|m| -> Result<(String, sheet::Sheet)> {
             let map = {
                 let _s = profile::span(opts.profile, "report: decode");
                 opts.search.load(m)?
             };
             let (sheet, _) = sheet::experiment_sheet(exp, &map, table.as_ref(), opts.sheet_scale, opts.profile)?;
-            let name = format!("sheet_{}.png", file_safe(m));
+            Ok((format!("sheet_{}.png", file_safe(m)), sheet))
+        })
+        .collect::<Result<Vec<_>>>()?;
+    sheet::share_error_scale(sheets.iter_mut().map(|(_, s)| s));
+    sheets
+        .par_iter()
+        .map(|(name, sheet)| -> Result<String> {
             let image = {
                 let _s = profile::span(opts.profile, "report: draw");
                 sheet.draw()?
             };
             {
                 let _s = profile::span(opts.profile, "report: PNG encode");
-                png::write_png(&dir.join(&name), &image)?;
+                png::write_png(&dir.join(name), &image)?;
             }
-            progress.log(format!("wrote {}", dir.join(&name).display()));
+            progress.log(format!("wrote {}", dir.join(name).display()));
             progress.inc();
-            Ok(name)
+            Ok(name.clone())
         })
         .collect::<Result<Vec<String>>>()
 }

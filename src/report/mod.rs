@@ -23,9 +23,10 @@
 //! written), `page` and `page_charts` (a result folder's page, its table and charts),
 //! REPORT.md's parts: `opening`, `glance` (the claims at a glance), `paper_sections` (one per
 //! paper, then the other results), `plans` (which folders and figures each paper section shows),
-//! `ratios` (ratios to the baseline); `provenance_page` (PROVENANCE.md),
-//! `names` (the pages' and files' names); `style` (the one colour and marker of each encoder
-//! id, which every chart and the HTML viewer use); and the pictures: `sheet` (comparison sheets of an
+//! `ratios` (ratios to the baseline), `budgets` (the landscape by storage budget);
+//! `provenance_page` (PROVENANCE.md), `names` (the pages' and files' names); `style` (the one
+//! colour and marker of each encoder id, which every chart and the HTML viewer use); and the
+//! pictures: `sheet` (comparison sheets of an
 //! experiment), `strip` (the lightmap study's blending strips, drawn from the claims layer's
 //! data), `charts` (plotters charts), `markdown` (tables and links), `csvfile` (CSV read by
 //! column name), `tone` (exposure, Reinhard, sRGB, the error colour scale), `number` (number
@@ -35,6 +36,7 @@
 //! What this layer may use: the layer table of ARCHITECTURE.md (checked by
 //! `tests/architecture.rs`).
 
+mod budgets;
 pub mod canvas;
 pub mod charts;
 pub mod csvfile;

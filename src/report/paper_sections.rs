@@ -2,6 +2,7 @@
 //! its claims, the figures its plan reproduces with their tables and charts, links to its pages)
 //! and the list of other results.
 
+use super::budgets;
 use super::charts;
 use super::csvfile::CsvTable;
 use super::markdown::{self, href};
@@ -85,6 +86,15 @@ pub(super) fn figure(out: &Path, f: &Figure) -> Result<String> {
                         "{caption} From [{folder}/summary.csv]({}): {pv}",
                         href(&rel(folder, "summary.csv"))
                     );
+                }
+            }
+        }
+        Figure::Budgets { folder, budgets } => {
+            let p = out.join(folder).join("table.csv");
+            if p.is_file() {
+                let link = href(&rel(folder, "table.csv"));
+                if let Some(t) = budgets::budget_table(&CsvTable::read(&p)?, budgets, folder, &link)? {
+                    let _ = writeln!(md, "{t}");
                 }
             }
         }

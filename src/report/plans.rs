@@ -71,6 +71,14 @@ pub enum Figure {
         /// The picture's alt text and the caption below it.
         caption: String,
     },
+    /// The folder's `table.csv` by storage budget: for each budget of bytes a probe, the most
+    /// accurate encoding that fits and the runner-up ([`super::budgets`]).
+    Budgets {
+        /// The result folder, relative to `results/`.
+        folder: String,
+        /// The budgets, bytes a probe, in the table's order.
+        budgets: Vec<u32>,
+    },
     /// The folder's error-against-cost charts (stored scalars, bytes, eval time), inline.
     Costs {
         /// The result folder, relative to `results/`.
@@ -98,7 +106,10 @@ pub fn parse_plans(text: &str, origin: &Path) -> Result<Vec<PaperPlan>> {
         }
         let files = p.figures.iter().flat_map(|g| match g {
             Figure::Csv { folder, file, .. } | Figure::Picture { folder, file, .. } => vec![folder, file],
-            Figure::Pivot { folder, .. } | Figure::Ratios { folder, .. } | Figure::Costs { folder } => vec![folder],
+            Figure::Pivot { folder, .. }
+            | Figure::Ratios { folder, .. }
+            | Figure::Budgets { folder, .. }
+            | Figure::Costs { folder } => vec![folder],
         });
         for f in p.pages.iter().chain(files) {
             if relative_link(f) != Some(f.as_str()) {

@@ -7,12 +7,13 @@
 //!
 //! The error sphere shows the signed relative error of luminance,
 //! (Y − Y_ref) / max(Y_ref, 1% of the reference's mean Y), through a diverging map (blue:
-//! darker than the reference, red: brighter) over ±R ([`ErrorScale`]); R is shared by the
-//! sheet: the median over rows of rel_rmse (rmse / RMS of the reference), rounded up to a
-//! 1-2-5 step ([`nice_ceil`]). Dark regions, where a small absolute error is a large relative
-//! one, may saturate.
+//! darker than the reference, red: brighter) over ±R ([`ErrorScale`]). R is shared by every
+//! sheet of an experiment: the [`SCALE_PERCENTILE`] of |relative error| over the pixels of
+//! an experiment's error spheres, taken per row (encoder) and then the median over the rows
+//! of all its sheets, rounded up to a 1-2-5 step ([`range_of`], [`nice_ceil`]); so a typical
+//! row saturates on about one pixel in twenty, a worse one on more, and each error sphere
+//! states the share of its own pixels beyond ±R ([`ErrorScale::saturated`]).
 
-use super::csvfile::CsvTable;
 use super::number::sig;
 use crate::math::colour::luminance;
 use crate::math::colour::Rgb;
@@ -109,6 +110,20 @@ impl ErrorScale {
     pub fn color(&self, rel: f64) -> [u8; 3] {
         diverging(rel / self.range)
     }
+
+    /// The share of relative errors beyond ±range, where the colour saturates (0 for none).
+    pub fn saturated(&self, rel: impl IntoIterator<Item = f64>) -> f64 {
+        let (mut n, mut beyond) = (0usize, 0usize);
+        for r in rel {
+            n += 1;
+            beyond += (r.abs() > self.range) as usize;
+        }
+        if n == 0 {
+            0.0
+        } else {
+            beyond as f64 / n as f64
+        }
+    }
 }
 
 /// ColorBrewer RdBu (9 classes), blue at −1, white at 0, red at +1; the luminance of the
@@ -155,22 +170,29 @@ pub fn nice_ceil(x: f64) -> f64 {
     5.0
 }
 
-/// The error range every sheet of an experiment shares: the median `rel_rmse` of the table's
-/// rows (metric `exact` where the table has a `metric` column; every map and case), rounded up
-/// to a 1-2-5 step; None when the table has no finite `rel_rmse`.
-pub fn experiment_error_range(t: &CsvTable) -> Option<f64> {
-    let rc = t.col("rel_rmse")?;
-    let mc = t.col("metric");
-    let mut rel: Vec<f64> = (0..t.rows.len())
-        .filter(|&i| mc.is_none_or(|c| t.rows[i][c] == "exact"))
-        .filter_map(|i| t.num(i, rc).ok().flatten())
-        .filter(|v| v.is_finite())
-        .collect();
-    if rel.is_empty() {
-        return None;
+/// The percentile of |relative error| over an error sphere's pixels that the error range is
+/// taken from: the error is shown, not saturated, on 95% of a typical row's pixels.
+pub const SCALE_PERCENTILE: f64 = 0.95;
+
+/// The [`SCALE_PERCENTILE`] (nearest rank) of one row's |relative error| values (the pixels of
+/// its error spheres); non-finite values are left out; 0 for none.
+pub fn row_percentile(mut abs_errors: Vec<f32>) -> f64 {
+    abs_errors.retain(|v| v.is_finite());
+    if abs_errors.is_empty() {
+        return 0.0;
     }
-    rel.sort_by(f64::total_cmp);
-    Some(nice_ceil(rel[(rel.len() - 1) / 2]))
+    let rank = ((SCALE_PERCENTILE * abs_errors.len() as f64).ceil() as usize).clamp(1, abs_errors.len());
+    let (_, v, _) = abs_errors.select_nth_unstable_by(rank - 1, f32::total_cmp);
+    f64::from(*v)
+}
+
+/// The error range of the rows drawn with one scale: the median (lower middle) over the rows of
+/// their [`row_percentile`]s, rounded up to a 1-2-5 step. A typical row then saturates on about
+/// 5% of its pixels; a row far worse than the typical one saturates more, and says so.
+pub fn range_of(mut row_percentiles: Vec<f64>) -> f64 {
+    row_percentiles.retain(|v| v.is_finite());
+    row_percentiles.sort_by(f64::total_cmp);
+    nice_ceil(if row_percentiles.is_empty() { 0.0 } else { row_percentiles[(row_percentiles.len() - 1) / 2] })
 }
 
 #[cfg(test)]
@@ -213,5 +235,22 @@ mod tests {
         assert_eq!(nice_ceil(0.03), 0.05);
         assert_eq!(nice_ceil(0.1), 0.1);
         assert_eq!(nice_ceil(40.0), 5.0);
+    }
+
+    /// A row's percentile is the 95th by nearest rank: of 1..=100 (in %) 95%; of 1..=20 (in
+    /// ‰, NaN left out) the 19th, 1.9%. The range is the median row's, rounded up to 1-2-5.
+    #[test]
+    fn range_is_a_high_percentile() {
+        let p = row_percentile((1..=100).map(|k| k as f32 / 100.0).collect());
+        assert!((p - 0.95).abs() < 1e-6, "{p}");
+        let q = row_percentile((1..=20).rev().map(|k| k as f32 / 1000.0).chain([f32::NAN]).collect());
+        assert!((q - 0.019).abs() < 1e-6, "{q}");
+        assert_eq!(row_percentile(Vec::new()), 0.0);
+        assert_eq!(range_of(vec![q, 40.0, p]), 1.0, "the median row's, not the worst's");
+        assert_eq!(range_of(vec![q]), 0.02);
+        assert_eq!(range_of(Vec::new()), 0.001);
+        let e = ErrorScale { floor: 0.0, range: 0.1, scope: ErrorScope::Experiment };
+        assert_eq!(e.saturated([0.05, -0.2, 0.1, 0.3]), 0.5, "beyond ±R, not at it");
+        assert_eq!(e.saturated([]), 0.0);
     }
 }

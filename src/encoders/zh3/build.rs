@@ -80,6 +80,26 @@ fn make(
     Ok(Zh3Encoder { id, method, rule, err_w, settings, quantise })
 }
 
+/// A storage format the talk names, as its own id: the encoder `configure` builds (which reads
+/// the other keys), always ratio-quantised (FORMULAS §11), under `id`. Its `quantise` key is
+/// rejected: the id is the format.
+fn stored_format(p: &mut Params, id: &'static str, configure: Configure) -> Result<Zh3Encoder> {
+    if p.value("quantise").is_some() {
+        bail!("key 'quantise': '{id}' is always stored ratio-quantised; it takes no 'quantise' key");
+    }
+    let e = configure(p)?;
+    Ok(Zh3Encoder { id, quantise: true, ..e })
+}
+/// Stored ZH3 in the talk's 16 bytes: the paper's solve (`zh3_solved_shared`), quantised.
+fn q16_encoder(p: &mut Params) -> Result<Zh3Encoder> {
+    stored_format(p, "zh3_q16", solved_shared_encoder)
+}
+/// Hallucinated ZH3 in the talk's 13 bytes (the quantised L1; the zonal coefficient is the
+/// shader's curve): `zh3_hallucinate`, quantised.
+fn hallucinate_q13_encoder(p: &mut Params) -> Result<Zh3Encoder> {
+    stored_format(p, "zh3_hallucinate_q13", hallucinate_encoder)
+}
+
 fn hallucinate_encoder(p: &mut Params) -> Result<Zh3Encoder> {
     let rule = AxisRule::Shared(weights(p, "axis_weights", "rec709")?);
     let c = curve(p)?;
@@ -126,7 +146,7 @@ fn hallucinate_solved_encoder(p: &mut Params) -> Result<Zh3Encoder> {
 
 /// The ZH3 kinds and their configurations (the registry's `build_*` box these).
 pub(super) type Configure = fn(&mut Params) -> Result<Zh3Encoder>;
-pub(super) const KINDS: [(&str, Configure); 9] = [
+pub(super) const KINDS: [(&str, Configure); 11] = [
     ("zh3_hallucinate", hallucinate_encoder),
     ("zh3_hallucinate_channel", hallucinate_channel_encoder),
     ("zh3_hallucinate_ambdir", hallucinate_ambdir_encoder),
@@ -136,6 +156,8 @@ pub(super) const KINDS: [(&str, Configure); 9] = [
     ("zh3_solved_channel", solved_channel_encoder),
     ("zh3_solved_shared", solved_shared_encoder),
     ("zh3_hallucinate_solved", hallucinate_solved_encoder),
+    ("zh3_q16", q16_encoder),
+    ("zh3_hallucinate_q13", hallucinate_q13_encoder),
 ];
 
 /// Builds the `zh3_hallucinate` encoder from its settings: ZH3 hallucinated, curve fit, Rec.709
@@ -182,6 +204,17 @@ pub fn build_solved_shared(p: &mut Params) -> Result<Box<dyn Encoder>> {
 /// L1, shared axis. An unknown or out-of-range setting is an error.
 pub fn build_hallucinate_solved(p: &mut Params) -> Result<Box<dyn Encoder>> {
     Ok(Box::new(hallucinate_solved_encoder(p)?))
+}
+
+/// Builds the `zh3_q16` encoder from its settings: stored ZH3 in 16 bytes (the shared solved
+/// axis, ratio-quantised). An unknown or out-of-range setting is an error.
+pub fn build_q16(p: &mut Params) -> Result<Box<dyn Encoder>> {
+    Ok(Box::new(q16_encoder(p)?))
+}
+/// Builds the `zh3_hallucinate_q13` encoder from its settings: hallucinated ZH3 in 13 bytes
+/// (the quantised L1). An unknown or out-of-range setting is an error.
+pub fn build_hallucinate_q13(p: &mut Params) -> Result<Box<dyn Encoder>> {
+    Ok(Box::new(hallucinate_q13_encoder(p)?))
 }
 
 /// The concrete encoder of a ZH3 kind with TOML settings — what `encoders::build` boxes —

@@ -2,6 +2,7 @@
 //! the solver's diagnostics, its stored form and its bytes when quantised.
 
 use crate::encoders::encoder::{Encoder, Family, FitInput, Fitted};
+use crate::encoders::quantise;
 use crate::encoders::stored::{sh_name, Role, Stored, Unit, Value};
 use crate::encoders::zh3::model::{hallucinate, solved, stored, AxisRule, Zh3};
 use crate::encoders::zh3::serialise::{decode_zh3, encode_zh3};
@@ -197,6 +198,15 @@ impl Encoder for Zh3Encoder {
         match self.method {
             Method::Stored | Method::Solved(Zonal::Stored) => 15,
             _ => 12,
+        }
+    }
+    /// Quantised: the length [`encode_zh3`] writes (16 bytes with a stored zonal coefficient,
+    /// 13 when hallucinated; FORMULAS §11). Otherwise half floats.
+    fn stored_bytes(&self) -> usize {
+        match (self.quantise, self.curve()) {
+            (true, None) => quantise::BYTES_ZH3,
+            (true, Some(_)) => quantise::BYTES_L1,
+            (false, _) => crate::encoders::encoder::HALF_BYTES * self.stored_scalars(),
         }
     }
     fn fit(&self, input: &FitInput) -> Box<dyn Fitted> {

@@ -15,6 +15,8 @@
 //! | `zh3_solved_channel` | solved per channel (L-BFGS, `zh3_solve.rs`) | stored | 15 |
 //! | `zh3_solved_shared` | solved, one shared axis, equal weights (the paper's solve) | stored | 15 |
 //! | `zh3_hallucinate_solved` | the L1 is solved so that its hallucinated ZH3 best matches SH3; shared axis | curve | 12 |
+//! | `zh3_q16` | as `zh3_solved_shared`, always `quantise = "ratio8"`: the talk's stored ZH3 in 16 bytes | stored | 15 |
+//! | `zh3_hallucinate_q13` | as `zh3_hallucinate`, always `quantise = "ratio8"`: the talk's hallucinated ZH3 in 13 bytes | curve | 12 |
 //!
 //! The ratio r = |L1_c·a|/L₀₀,c of channel c is taken on radiance coefficients; it lies in
 //! [0, √3] for non-negative radiance and equals √3 for one delta light. Solved variants store
@@ -35,7 +37,7 @@
 //! | `starts` | solved | 5 | 1 = the given L1 only, up to 5 = plus the four tetrahedron projections |
 //! | `screen` | `zh3_solved_*` | 64 | 0: L-BFGS from every start (FORMULAS §5); N: evaluate the reduced objective at those starts and N more axis lines, L-BFGS from the best and from the best one 45° away (needs `formulation = "axis"`; tested to reach the same objective) |
 //! | `formulation` | `zh3_solved_*` | `"axis"` | `"axis"`: L-BFGS on the axis with the L1 in closed form (same minimum, faster); `"l1"`: on the L1 band itself, as the paper |
-//! | `quantise` | all | `"none"` | `"ratio8"`: store as FORMULAS §11 (`quantise.rs`): 13 bytes, 16 with a stored coefficient |
+//! | `quantise` | all but `zh3_q16`, `zh3_hallucinate_q13` | `"none"` | `"ratio8"`: store as FORMULAS §11 (`quantise.rs`): 13 bytes, 16 with a stored coefficient |
 //!
 //! Settings are echoed in the `diagnostics` column, with the solver's iteration and evaluation
 //! counts. Degenerate inputs: no L1 (or no weighted L1) gives no axis, so k = 0 (the result is SH
@@ -48,9 +50,9 @@ mod serialise;
 pub mod solve;
 
 pub use build::{
-    build_hallucinate, build_hallucinate_ambdir, build_hallucinate_channel, build_hallucinate_solved,
-    build_hallucinate_sphere, build_solved_channel, build_solved_shared, build_stored_channel, build_stored_shared,
-    configured,
+    build_hallucinate, build_hallucinate_ambdir, build_hallucinate_channel, build_hallucinate_q13,
+    build_hallucinate_solved, build_hallucinate_sphere, build_q16, build_solved_channel, build_solved_shared,
+    build_stored_channel, build_stored_shared, configured,
 };
 pub use model::{hallucinate, stored, AxisRule};
 

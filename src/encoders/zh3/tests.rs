@@ -234,3 +234,30 @@ fn configured_is_the_registered_encoder() {
     t.insert("quantise".into(), toml::Value::String("bits".into()));
     assert!(format!("{:#}", configured("zh3_hallucinate", t).err().unwrap()).contains("key 'quantise'"));
 }
+
+/// The talk's two ZH3 storage formats as their own ids: `zh3_q16` is `zh3_solved_shared`
+/// quantised and `zh3_hallucinate_q13` is `zh3_hallucinate` quantised, value for value; they
+/// store the talk's 16 and 13 bytes (its "storage" paragraph), write exactly that many, and
+/// refuse a `quantise` key.
+#[test]
+fn storage_formats_are_their_quantised_kinds() {
+    let sh =
+        Light::Cap { axis: DVec3::new(0.3, 0.8, -0.5).normalize(), half_angle: 0.3, radiance: Rgb::new(6.0, 4.0, 2.0) }
+            .sh()
+            + constant(Rgb::new(0.4, 0.5, 0.6));
+    let mut t = toml::Table::new();
+    t.insert("quantise".into(), toml::Value::String("ratio8".into()));
+    for (id, kind, bytes) in [("zh3_q16", "zh3_solved_shared", 16), ("zh3_hallucinate_q13", "zh3_hallucinate", 13)] {
+        let e = build(id, None, toml::Table::new()).unwrap().encoder;
+        assert_eq!(e.stored_bytes(), bytes, "{id}");
+        let f = e.fit(&FitInput::sphere(&sh));
+        assert!(f.diagnostics().contains(&("bytes", bytes as f64)), "{id} writes {bytes} bytes");
+        let g = build(kind, None, t.clone()).unwrap().encoder.fit(&FitInput::sphere(&sh));
+        for n in crate::reference::domain::fibonacci_sphere(50) {
+            assert_eq!(f.irradiance(n), g.irradiance(n), "{id} is {kind} quantised");
+        }
+        assert!(build(id, None, t.clone()).is_err(), "{id} takes no quantise key");
+    }
+    let plain = build("zh3_solved_shared", None, toml::Table::new()).unwrap().encoder;
+    assert_eq!(plain.stored_bytes(), 2 * 15, "unquantised: half floats");
+}

@@ -4,7 +4,7 @@
 
 use super::super::csvfile::CsvTable;
 use super::super::number::{percent, sig};
-use super::super::tone::{experiment_error_range, nice_ceil, ErrorScale, ErrorScope, Tone};
+use super::super::tone::{range_of, row_percentile, ErrorScale, ErrorScope, Tone, SCALE_PERCENTILE};
 use super::figures::{figures_from_table, RowFigures, SheetScores};
 use super::layout::{DISC, MAX_SCALE, THUMB_W};
 use super::render::{Sheet, SheetRow};
@@ -65,9 +65,10 @@ pub fn experiment_sheet(
     let fitted: Vec<Box<dyn Fitted>> = exp.encoders.iter().map(|e| e.encoder.fit(&input)).collect();
     let names: Vec<String> = exp.encoders.iter().map(|e| e.name.clone()).collect();
 
-    let (figures, source) = match table.and_then(|t| figures_from_table(t, &map.name, case, &names)) {
+    let metric = shown_metric(exp);
+    let (figures, source) = match table.and_then(|t| figures_from_table(t, &map.name, case, &names, metric.name())) {
         Some(f) => (f, "table.csv"),
-        None => (computed_figures(exp, case, &cd, &fitted), "computed"),
+        None => (computed_figures(exp, case, &cd, &fitted, metric), "computed"),
     };
 
     let views = case_views(case);
@@ -80,17 +81,21 @@ pub fn experiment_sheet(
         let _s = profile::span(timed_on, "report: encoder eval (sheets)");
         fitted.iter().map(|f| discs.iter().map(|d| evaluate(f.as_ref(), &d.normals)).collect()).collect()
     };
-    let (tone, error) = sheet_scales(&reference, &figures, table.and_then(experiment_error_range));
-
+    let tone = sheet_tone(&reference);
     let rows: Vec<SheetRow> = exp
         .encoders
         .iter()
         .zip(values)
         .zip(&figures)
-        .map(|((e, values), f)| sheet_row(e.name.clone(), e.encoder.storage(&input), values, f))
+        .map(|((e, values), f)| sheet_row(e.name.clone(), e.encoder.storage(&input), values, f, metric))
         .collect();
+    // This sheet's own range; `draw_sheets` gives every sheet of an experiment the range of all.
+    let floor = 0.01 * tone_mean(&reference);
+    let mut error = ErrorScale { floor, range: 1.0, scope: ErrorScope::Sheet };
+    error.range = range_of(row_percentiles(&reference, &rows, &error));
 
-    let lines = header_lines(exp, case, all.len(), &cd.reference.describe(), source, &tone, &error);
+    let described = Described { reference: cd.reference.describe(), source, metric };
+    let lines = header_lines(exp, case, all.len(), &described, &tone, &error);
     let sheet = Sheet {
         title: format!("{} - {}", exp.name, map.name),
         lines,
@@ -116,15 +121,31 @@ pub fn experiment_sheet(
     Ok((sheet, scores))
 }
 
-/// Every encoder's figures scored here, as the runner scores them: the exact metric over the
-/// case's domain at the experiment's resolution, through the runner's own step ([`score_fit`]).
-fn computed_figures(exp: &Experiment, case: &Case, cd: &CaseData, fitted: &[Box<dyn Fitted>]) -> Vec<RowFigures> {
+/// The metric a sheet prints: `exact` when the experiment scores it, else its first metric
+/// (the parity experiment scores only the peer's), so the figures are its table's own.
+fn shown_metric(exp: &Experiment) -> Metric {
+    if exp.metrics.contains(&Metric::Exact) {
+        Metric::Exact
+    } else {
+        exp.metrics.first().copied().unwrap_or(Metric::Exact)
+    }
+}
+
+/// Every encoder's figures scored here, as the runner scores them: `metric` over the case's
+/// domain at the experiment's resolution, through the runner's own step ([`score_fit`]).
+fn computed_figures(
+    exp: &Experiment,
+    case: &Case,
+    cd: &CaseData,
+    fitted: &[Box<dyn Fitted>],
+    metric: Metric,
+) -> Vec<RowFigures> {
     let grid = case.domain.output_grid(exp.resolution);
     let ref_grid = cd.reference_on(&grid);
     exp.encoders
         .iter()
         .zip(fitted)
-        .map(|(e, f)| RowFigures::from(&score_fit(e.encoder.as_ref(), f.as_ref(), &grid, &ref_grid, Metric::Exact)))
+        .map(|(e, f)| RowFigures::from(&score_fit(e.encoder.as_ref(), f.as_ref(), &grid, &ref_grid, metric)))
         .collect()
 }
 
@@ -140,48 +161,63 @@ fn case_views(case: &Case) -> Vec<View> {
     }
 }
 
-/// The sheet's tone (from the mean luminance and the brightest channel of the reference drawn)
-/// and its error scale: the floor at 1% of that mean, the range the experiment's
-/// (`experiment_range`, from its table) or else the median of this sheet's rows' finite
-/// rel_rmse, rounded up to a 1-2-5 step.
-fn sheet_scales(reference: &[Vec<Rgb>], figures: &[RowFigures], experiment_range: Option<f64>) -> (Tone, ErrorScale) {
-    let drawn: Vec<Rgb> = reference.iter().flatten().copied().collect();
-    let mean_lum = drawn.iter().map(|c| luminance(*c)).sum::<f64>() / drawn.len().max(1) as f64;
-    let max_val = drawn.iter().map(|c| c.max_element()).fold(0.0, f64::max);
-    let tone = Tone::from_reference(mean_lum, max_val);
-    let floor = 0.01 * mean_lum.max(0.0);
-    if let Some(range) = experiment_range {
-        return (tone, ErrorScale { floor, range, scope: ErrorScope::Experiment });
-    }
-    let mut rel: Vec<f64> = figures.iter().map(|f| f.rel_rmse).filter(|v| v.is_finite()).collect();
-    rel.sort_by(f64::total_cmp);
-    let median = if rel.is_empty() { 0.0 } else { rel[(rel.len() - 1) / 2] };
-    (tone, ErrorScale { floor, range: nice_ceil(median), scope: ErrorScope::Sheet })
+/// The mean Rec.709 luminance of the reference drawn (over every disc pixel).
+fn tone_mean(reference: &[Vec<Rgb>]) -> f64 {
+    let n = reference.iter().map(Vec::len).sum::<usize>().max(1);
+    (reference.iter().flatten().map(|c| luminance(*c)).sum::<f64>() / n as f64).max(0.0)
+}
+
+/// The sheet's tone, from the mean luminance and the brightest channel of the reference drawn.
+fn sheet_tone(reference: &[Vec<Rgb>]) -> Tone {
+    let max_val = reference.iter().flatten().map(|c| c.max_element()).fold(0.0, f64::max);
+    Tone::from_reference(tone_mean(reference), max_val)
+}
+
+/// Per row, the [`row_percentile`] of |relative error| over the pixels of its error spheres
+/// (every view's disc), under `scale`'s floor: what the error range is the median of.
+fn row_percentiles(reference: &[Vec<Rgb>], rows: &[SheetRow], scale: &ErrorScale) -> Vec<f64> {
+    rows.iter()
+        .map(|r| {
+            let views = r.values.iter().zip(reference);
+            row_percentile(
+                views
+                    .flat_map(|(vals, refs)| vals.iter().zip(refs).map(|(v, r)| scale.relative(*r, *v).abs() as f32))
+                    .collect(),
+            )
+        })
+        .collect()
 }
 
 /// An encoder's row: its name, storage note, values at the discs and the figures printed under
 /// its spheres.
-fn sheet_row(name: String, note: String, values: Vec<Vec<Rgb>>, f: &RowFigures) -> SheetRow {
+fn sheet_row(name: String, note: String, values: Vec<Vec<Rgb>>, f: &RowFigures, metric: Metric) -> SheetRow {
     SheetRow {
         name,
         note,
         values,
         under_lit: if f.neg_frac > 0.0 { format!("negative on {}", percent(f.neg_frac)) } else { String::new() },
         under_err: [
-            format!("RMSE {} E/π (exact, solid-angle)", sig(f.rmse, 3)),
+            format!("RMSE {} E/π ({}, {})", sig(f.rmse, 3), metric.name(), metric.weighting()),
             format!("relative RMSE {}", percent(f.rel_rmse)),
         ],
     }
 }
 
-/// The sheet's header lines: the description, the case drawn (of `n_cases`), the reference
-/// (`reference`, its description), where the figures come from, the tone and the error scale.
+/// What a sheet's header says of its figures: the reference's description, where the figures
+/// come from ("table.csv" or "computed") and their metric.
+struct Described {
+    reference: String,
+    source: &'static str,
+    metric: Metric,
+}
+
+/// The sheet's header lines: the description, the case drawn (of `n_cases`), the reference,
+/// where the figures come from and their metric, the tone and the error scale.
 fn header_lines(
     exp: &Experiment,
     case: &Case,
     n_cases: usize,
-    reference: &str,
-    source: &str,
+    d: &Described,
     tone: &Tone,
     error: &ErrorScale,
 ) -> Vec<String> {
@@ -203,27 +239,49 @@ fn header_lines(
             String::new()
         }
     ));
-    lines.push(format!("E/π; reference: {reference}, at every pixel's normal"));
+    lines.push(format!("E/π; reference: {}, at every pixel's normal", d.reference));
     lines.push(format!(
-        "figures: exact metric, solid-angle weighted over {} at {}x{} ({})",
+        "figures: {} metric, {} weighted over {} at {}x{} ({})",
+        d.metric.name(),
+        d.metric.weighting(),
         if matches!(case.domain, Domain::Sphere) { "the sphere" } else { "the hemisphere about N" },
         res_w,
         res_h,
-        if source == "table.csv" { "from table.csv" } else { "computed as the runner does" }
+        if d.source == "table.csv" { "from table.csv" } else { "computed as the runner does" }
     ));
     lines.push(format!("every sphere: {}", tone.describe()));
-    lines.push(match error.scope {
-        ErrorScope::Experiment => format!(
-            "error scale ±{}, the same on every sheet of this experiment: median rel_rmse of table.csv",
-            percent(error.range)
-        ),
-        ErrorScope::Sheet => {
-            format!(
-                "error scale ±{}, this sheet's own (no table.csv): median rel_rmse of its rows",
-                percent(error.range)
-            )
-        }
-    });
+    lines.push(error_scale_line(error));
     lines.push("(Y = Rec.709 luminance; the denominator is held at >= 1% of the reference's mean Y)".into());
     lines
+}
+
+/// The header line that states the error scale and where its range comes from.
+fn error_scale_line(error: &ErrorScale) -> String {
+    let p = format!("{:.0}th percentile of a row's |relative error| pixels", SCALE_PERCENTILE * 100.0);
+    let whose = match error.scope {
+        ErrorScope::Experiment => "the same on every sheet of this experiment: over all its sheets' rows",
+        ErrorScope::Sheet => "this sheet's own: over its rows",
+    };
+    format!(
+        "error scale ±{}, {whose}, the median of the {p}, rounded up to 1-2-5; the share beyond it (saturated) is \
+         under each row",
+        percent(error.range)
+    )
+}
+
+/// Gives every sheet of an experiment one error scale: the median over the rows of all its
+/// sheets of each row's high percentile of |relative error| ([`range_of`]), each under its own
+/// sheet's floor; the header line says so.
+pub fn share_error_scale<'a>(sheets: impl Iterator<Item = &'a mut Sheet>) {
+    let sheets: Vec<&mut Sheet> = sheets.collect();
+    let all: Vec<f64> = sheets.iter().flat_map(|s| row_percentiles(&s.reference, &s.rows, &s.error)).collect();
+    let range = range_of(all);
+    for s in sheets {
+        let old = error_scale_line(&s.error);
+        s.error = ErrorScale { range, scope: ErrorScope::Experiment, ..s.error };
+        let new = error_scale_line(&s.error);
+        for l in s.lines.iter_mut().filter(|l| **l == old) {
+            l.clone_from(&new);
+        }
+    }
 }

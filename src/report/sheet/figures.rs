@@ -33,9 +33,15 @@ pub struct SheetScores {
     pub source: &'static str,
 }
 
-/// The figures of every encoder for `case` on `map` from a results table (metric `exact`),
-/// if the table has a row for each.
-pub fn figures_from_table(t: &CsvTable, map: &str, case: &Case, names: &[String]) -> Option<Vec<RowFigures>> {
+/// The figures of every encoder for `case` on `map` from a results table, in `metric` (its
+/// `metric` column), if the table has a row for each.
+pub fn figures_from_table(
+    t: &CsvTable,
+    map: &str,
+    case: &Case,
+    names: &[String],
+    metric: &str,
+) -> Option<Vec<RowFigures>> {
     let cols = t.require(&["map", "encoder", "domain", "effects", "metric", "rmse", "rel_rmse", "neg_frac"]).ok()?;
     let [mc, ec, dc, fc, xc, rc, lc, nc] = cols[..] else { return None };
     names
@@ -47,7 +53,7 @@ pub fn figures_from_table(t: &CsvTable, map: &str, case: &Case, names: &[String]
                     && r[ec] == *name
                     && r[dc] == case.domain_label
                     && r[fc] == case.effects_label
-                    && r[xc] == "exact"
+                    && r[xc] == metric
             })?;
             Some(RowFigures { rmse: t.num(i, rc).ok()??, rel_rmse: t.num(i, lc).ok()??, neg_frac: t.num(i, nc).ok()?? })
         })

@@ -11,8 +11,8 @@ pub const DISC: u32 = 96;
 pub const CELL_W: u32 = DISC + 12;
 /// A sphere's cell height: the disc and 8 px.
 pub const CELL_H: u32 = DISC + 8;
-/// Two text lines under each row of spheres.
-pub const ROW_H: u32 = CELL_H + 42;
+/// Three text lines under each row of spheres (the figures, and the share that saturates).
+pub const ROW_H: u32 = CELL_H + 60;
 /// The narrowest label column; wider when a name or storage note needs it ([`label_width`]).
 pub const LABEL_W: u32 = 128;
 /// Sizes of a row's name (bold) and storage note.

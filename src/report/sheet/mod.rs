@@ -29,6 +29,7 @@ mod render;
 mod tests;
 mod thumbnail;
 
-pub use compose::experiment_sheet;
+pub use compose::{experiment_sheet, share_error_scale};
 pub use layout::MAX_SCALE;
 pub use layout::{LINE_H, MARGIN};
+pub use render::Sheet;

@@ -101,6 +101,22 @@ fn colour_bar(img: &mut RgbImage, labels: &mut Vec<Label>, x0: u32, y0: u32, sca
 }
 
 impl Sheet {
+    /// The line under a row that states, per view, the share of its error sphere's pixels
+    /// beyond ±R, where the colour saturates.
+    fn saturation_line(&self, row: &SheetRow) -> String {
+        let shares: Vec<String> = self
+            .views
+            .iter()
+            .zip(row.values.iter().zip(&self.reference))
+            .map(|(view, (vals, refs))| {
+                let share = self.error.saturated(vals.iter().zip(refs).map(|(v, r)| self.error.relative(*r, *v)));
+                let name = view.caption.split(':').next().unwrap_or("disc");
+                format!("{name} {}", percent(share))
+            })
+            .collect();
+        format!("error beyond ±{} (saturated): {} of the disc", percent(self.error.range), shares.join(", "))
+    }
+
     /// The sheet's geometry; the label column measured at scale 1 (so every measure of a sheet
     /// at scale N is exactly N times its scale-1 value).
     pub fn layout(&self) -> SheetLayout {
@@ -188,6 +204,7 @@ impl Sheet {
                     format!("{}; {}", row.under_err[1], row.under_lit)
                 };
                 labels.push(Label::new(second, x, line2, text_px(BODY, s)));
+                labels.push(Label::new(self.saturation_line(row), x, y0 + cell_h + s * 40, text_px(BODY, s)));
             }
         }
         draw_labels(&mut img, &labels)?;
