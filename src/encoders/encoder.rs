@@ -117,8 +117,12 @@ pub enum Family {
     Geomerics,
     /// SH probes under occlusion (hemisphere and cone multiplies, HLSH, AO, bent normal).
     ProbeOcclusion,
-    /// Lightmap encodings: AHD and HHD (IrradZ).
-    Lightmap,
+    /// Lightmap encodings of the AHD model, C_a + C_d·max(0, n·d), and its IrradZ forms
+    /// (FORMULAS §7).
+    Ahd,
+    /// Lightmap encodings of the HHD model, C_a·H(n) + C_d·max(0, n·d), and its IrradZ forms
+    /// (FORMULAS §8). A family of its own so that figures give AHD and HHD different hues.
+    Hhd,
     /// The ambient cube.
     AmbientCube,
     /// The ambient dice.
@@ -133,12 +137,13 @@ pub enum Family {
 
 impl Family {
     /// Every family, in the order legends list them.
-    pub const ALL: [Family; 10] = [
+    pub const ALL: [Family; 11] = [
         Family::Sh,
         Family::Zh3,
         Family::Geomerics,
         Family::ProbeOcclusion,
-        Family::Lightmap,
+        Family::Ahd,
+        Family::Hhd,
         Family::AmbientCube,
         Family::AmbientDice,
         Family::SphericalGaussians,
@@ -153,7 +158,8 @@ impl Family {
             Family::Zh3 => "ZH3",
             Family::Geomerics => "Geomerics L1",
             Family::ProbeOcclusion => "probe occlusion",
-            Family::Lightmap => "AHD / HHD",
+            Family::Ahd => "AHD",
+            Family::Hhd => "HHD",
             Family::AmbientCube => "ambient cube",
             Family::AmbientDice => "ambient dice",
             Family::SphericalGaussians => "spherical Gaussians",

@@ -24,7 +24,8 @@
 //! REPORT.md's parts: `opening`, `glance` (the claims at a glance), `paper_sections` (one per
 //! paper, then the other results), `plans` (which folders and figures each paper section shows),
 //! `ratios` (ratios to the baseline); `provenance_page` (PROVENANCE.md),
-//! `names` (the pages' and files' names); and the pictures: `sheet` (comparison sheets of an
+//! `names` (the pages' and files' names); `style` (the one colour and marker of each encoder
+//! id, which every chart and the HTML viewer use); and the pictures: `sheet` (comparison sheets of an
 //! experiment), `strip` (the lightmap study's blending strips, drawn from the claims layer's
 //! data), `charts` (plotters charts), `markdown` (tables and links), `csvfile` (CSV read by
 //! column name), `tone` (exposure, Reinhard, sRGB, the error colour scale), `number` (number
@@ -57,6 +58,7 @@ mod provenance_page;
 mod ratios;
 pub mod sheet;
 pub mod strip;
+pub(crate) mod style;
 pub mod text;
 pub mod tone;
 

@@ -204,7 +204,10 @@ impl Encoder for LightmapEncoder {
         self.id
     }
     fn family(&self) -> Family {
-        Family::Lightmap
+        match self.spec.basis {
+            Basis::Ahd => Family::Ahd,
+            Basis::Hhd => Family::Hhd,
+        }
     }
     fn stored_scalars(&self) -> usize {
         self.storage.scalars()

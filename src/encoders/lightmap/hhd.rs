@@ -71,7 +71,7 @@ impl Encoder for HhdFromSh1 {
         "hhd_from_sh1"
     }
     fn family(&self) -> Family {
-        Family::Lightmap
+        Family::Hhd
     }
     fn stored_scalars(&self) -> usize {
         self.storage.map_or(12, Storage::scalars)
