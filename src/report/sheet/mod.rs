@@ -30,5 +30,6 @@ mod tests;
 mod thumbnail;
 
 pub use compose::experiment_sheet;
+pub use thumbnail::latlong_thumbnail;
 pub use layout::MAX_SCALE;
 pub use layout::{LINE_H, MARGIN};
