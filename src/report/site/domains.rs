@@ -4,9 +4,8 @@
 //! so the page's RMSE over a grid is the one `eval` prints for it. Two domains on a coarse grid
 //! keep the whole site under 10 MB with every committed map (docs/report.md).
 
-use crate::math::cap::Cap;
 use crate::pipeline::runner::Case;
-use crate::reference::domain::{frame_to, Domain, OutputGrid};
+use crate::reference::domain::{frame_to, OutputGrid};
 use glam::DVec3;
 
 /// The lat-long resolution (W, H) of every grid the site ships; a hemisphere keeps the upper
@@ -35,16 +34,7 @@ impl SiteDomain {
     pub(super) fn case(&self) -> Case {
         match self.normal {
             None => Case::sphere(),
-            Some(n) => Case {
-                domain: Domain::Hemisphere { normal: n },
-                domain_label: self.label.to_string(),
-                orientation_set: "-".into(),
-                effects_label: "hemisphere".into(),
-                masks: vec![Cap::hemisphere(n)],
-                normal: Some(n),
-                cone: None,
-                albedo: None,
-            },
+            Some(n) => Case::hemisphere(n, self.label.to_string()),
         }
     }
 
