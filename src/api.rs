@@ -15,10 +15,8 @@
 use crate::encoders::encoder::{surface_normal_refusal, Encoder, Fitted};
 use crate::envmap::search::SearchPath;
 use crate::envmap::EnvMap;
-use crate::math::cap::Cap;
 use crate::pipeline::experiment::Experiment as PipelineExperiment;
 use crate::pipeline::runner::{score_fit, Case, CaseData, MapData};
-use crate::reference::domain::Domain;
 use crate::reference::exact::DEFAULT_POLAR_NODES;
 use crate::reference::metrics::Metric;
 use anyhow::{bail, Context, Result};
@@ -117,16 +115,7 @@ impl Map {
             Surface::Sphere => Case::sphere(),
             Surface::Normal(n) => {
                 let n = unit_normal(n).context("surface normal")?;
-                Case {
-                    domain: Domain::Hemisphere { normal: n },
-                    domain_label: format!("hemisphere:({}, {}, {})", n.x, n.y, n.z),
-                    orientation_set: "-".into(),
-                    effects_label: "hemisphere".into(),
-                    masks: vec![Cap::hemisphere(n)],
-                    normal: Some(n),
-                    cone: None,
-                    albedo: None,
-                }
+                Case::hemisphere(n, format!("hemisphere:({}, {}, {})", n.x, n.y, n.z))
             }
         };
         Ok(Lighting { data: MapData::new(&self.map), case, name: self.map.name.clone() })

@@ -4,7 +4,7 @@
 
 use super::{
     bless, check, claims, encoders, eval, fit, fit_hallucination, gen_envmaps, maps, merge, probes, report, reproduce,
-    run, sweep, terminal,
+    run, sweep, terminal, view,
 };
 use anyhow::{bail, Context, Result};
 use clap::{Parser, Subcommand};
@@ -47,6 +47,9 @@ pub enum Command {
     Reproduce(reproduce::Args),
     /// Draw the comparison sheets and charts and write results/REPORT.md from the result CSVs.
     Report(report::Args),
+    /// Print the path of the results viewer (results/site/index.html, written by `report`) and
+    /// open it where a desktop browser exists.
+    View(view::Args),
     /// Score encoders on maps and print CSV to stdout.
     Eval(eval::Args),
     /// Fit encoders to one map and print each fit's stored coefficients (names, units, basis)
@@ -105,6 +108,7 @@ pub fn main_with(cli: Cli) -> Result<i32> {
         Command::Run(a) => run::run(a, &env),
         Command::Reproduce(a) => reproduce::run(a, &env),
         Command::Report(a) => report::run(a, &env),
+        Command::View(a) => view::run(a, &env),
         Command::Eval(a) => eval::run(a, &env),
         Command::Fit(a) => fit::run(a, &env),
         Command::GenEnvmaps(a) => gen_envmaps::run(a, &env),

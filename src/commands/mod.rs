@@ -29,5 +29,6 @@ mod reproduce;
 mod run;
 mod sweep;
 mod terminal;
+mod view;
 
 pub use cli::{main_with, Cli};

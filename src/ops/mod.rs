@@ -24,6 +24,7 @@ pub mod reproduce;
 pub mod run;
 pub mod source;
 pub mod sweep;
+pub mod view;
 
 pub use crate::encoders::DEFAULT_IDS as DEFAULT_ENCODERS;
 pub use crate::envmap::load::in_guarded_decoder;

@@ -66,6 +66,24 @@ impl Case {
     }
 }
 
+impl Case {
+    /// A surface of unit normal `n` lit by the light above its horizon, normals n′ over the
+    /// hemisphere about it, no other effect (what `eval --domain hemisphere:AXIS`, the API's
+    /// `Surface::Normal` and the results viewer score), labelled `label`.
+    pub fn hemisphere(n: DVec3, label: String) -> Case {
+        Case {
+            domain: Domain::Hemisphere { normal: n },
+            domain_label: label,
+            orientation_set: "-".into(),
+            effects_label: "hemisphere".into(),
+            masks: vec![Cap::hemisphere(n)],
+            normal: Some(n),
+            cone: None,
+            albedo: None,
+        }
+    }
+}
+
 /// The cases an experiment declares.
 pub fn cases(exp: &Experiment) -> Vec<Case> {
     if exp.orientations.is_empty() {

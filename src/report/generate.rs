@@ -30,6 +30,7 @@ pub fn generate(opts: &Options) -> Result<Generated> {
     let report = out.join("REPORT.md");
     crate::io::atomic::write(&report, doc.as_bytes())?;
     crate::io::atomic::write(&out.join(PROVENANCE_PAGE), provenance(&sections, &records, &named).as_bytes())?;
+    let site = super::site::write_site(opts, &sections, &maps)?;
     let missing = maps.iter().filter(|(_, u)| u.is_none()).map(|(m, _)| m.clone()).collect();
     Ok(Generated {
         report,
@@ -37,6 +38,7 @@ pub fn generate(opts: &Options) -> Result<Generated> {
         kept,
         missing,
         mismatches: mismatches(&maps, &records),
+        site_rewritten: site.rewritten,
     })
 }
 

@@ -31,7 +31,7 @@
 //! data), `charts` (plotters charts), `markdown` (tables and links), `csvfile` (CSV read by
 //! column name), `tone` (exposure, Reinhard, sRGB, the error colour scale), `number` (number
 //! formatting), `text` (font and labels), `canvas` (pixel painting), `png` (PNG encoding and
-//! atomic writing).
+//! atomic writing); `site` (the results viewer, `results/site/`).
 //!
 //! What this layer may use: the layer table of ARCHITECTURE.md (checked by
 //! `tests/architecture.rs`).
@@ -59,6 +59,7 @@ pub mod png;
 mod provenance_page;
 mod ratios;
 pub mod sheet;
+mod site;
 pub mod strip;
 pub(crate) mod style;
 pub mod text;

@@ -33,4 +33,6 @@ pub struct Generated {
     pub missing: Vec<String>,
     /// Maps found in another file than the one their tables record (a sentence each).
     pub mismatches: Vec<String>,
+    /// Files of the results viewer (`results/site/`) rewritten: 0 when nothing changed.
+    pub site_rewritten: usize,
 }

@@ -30,6 +30,7 @@ mod tests;
 mod thumbnail;
 
 pub use compose::{experiment_sheet, share_error_scale};
+pub use thumbnail::latlong_thumbnail;
 pub use layout::MAX_SCALE;
 pub use layout::{LINE_H, MARGIN};
 pub use render::Sheet;

@@ -1,0 +1,20 @@
+//! The claims view's data: CLAIMS.csv as the claims engine wrote it (id, kind, verdict, the
+//! paper's figure and ours, the criterion, the maps, the evidence page), one object per claim.
+
+use crate::report::csvfile::CsvTable;
+use serde_json::{json, Value};
+
+/// The claims of `table` (CLAIMS.csv), each as an object keyed by the table's columns.
+pub(super) fn claims_data(table: Option<&CsvTable>) -> Value {
+    let Some(t) = table else { return json!({ "claims": [] }) };
+    let claims: Vec<Value> = t
+        .rows
+        .iter()
+        .map(|r| {
+            let o: serde_json::Map<String, Value> =
+                t.headers.iter().zip(r).map(|(h, v)| (h.clone(), Value::String(v.clone()))).collect();
+            Value::Object(o)
+        })
+        .collect();
+    json!({ "claims": claims })
+}

@@ -1,0 +1,262 @@
+"""The results viewer (results/site/, written by `probelab report`) in a real browser: headless
+Chromium (the system's, /usr/bin/chromium, or PROBELAB_CHROMIUM) driven by Playwright for
+Python, software WebGL2. Run by tests/viewer.rs with the interpreter PROBELAB_PYTHON names (where
+`pip install ./bindings/python playwright pytest` was run); PROBELAB_BIN is the binary.
+
+Expected values come from the library, not from the page: the Python package's `irradiance`
+(the library's reconstruction at given normals) and the binary's `eval --format json` (the
+RMSE over the same grid, metric and domain). Without Playwright or Chromium the tests skip with
+the reason, except in CI (CI=true), where they fail.
+"""
+import hashlib
+import json
+import math
+import os
+import pathlib
+import random
+import subprocess
+
+import pytest
+
+REPO = pathlib.Path(__file__).resolve().parents[2]
+SITE = REPO / "results" / "site"
+CHROMIUM = os.environ.get("PROBELAB_CHROMIUM", "/usr/bin/chromium")
+IN_CI = os.environ.get("CI") in ("true", "1")
+# A CC0 map committed in envmaps/ (so a fresh clone has it) and the analytic constant scene.
+MAP = "blender_city_256x128"
+CONSTANT = "gen_constant"
+ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
+        "--disable-component-update", "--disable-sync", "--no-first-run", "--use-angle=swiftshader",
+        "--enable-unsafe-swiftshader", "--allow-file-access-from-files"]
+
+
+def _missing():
+    try:
+        import playwright.sync_api  # noqa: F401
+    except ImportError:
+        return "Playwright for Python is not installed (pip install playwright)"
+    if not pathlib.Path(CHROMIUM).exists():
+        return f"no Chromium at {CHROMIUM} (apt-get install chromium)"
+    if not (SITE / "index.html").is_file():
+        return "results/site/index.html is absent (probelab report writes it)"
+    return None
+
+
+@pytest.fixture(scope="module")
+def browser():
+    why = _missing()
+    if why:
+        if IN_CI:
+            pytest.fail(why)
+        pytest.skip(why)
+    from playwright.sync_api import sync_playwright
+    with sync_playwright() as p:
+        b = p.chromium.launch(executable_path=CHROMIUM, args=ARGS)
+        yield b
+        b.close()
+
+
+class Page:
+    """A page with its console errors and failed requests recorded."""
+
+    def __init__(self, browser, name, hash_=""):
+        self.page = browser.new_page(viewport={"width": 1280, "height": 800})
+        self.errors = []
+        self.page.on("console", lambda m: self.errors.append(m.text) if m.type == "error" else None)
+        self.page.on("pageerror", lambda e: self.errors.append(str(e)))
+        self.page.on("requestfailed", lambda r: self.errors.append(f"request failed: {r.url}"))
+        self.page.goto((SITE / name).as_uri() + hash_)
+        if name == "index.html":
+            self.page.evaluate("() => probelab.ready")
+        self.page.wait_for_function("() => performance.getEntriesByName('first-picture').length > 0")
+
+    def eval(self, js, arg=None):
+        return self.page.evaluate(js, arg)
+
+    def close(self):
+        assert self.errors == [], f"console errors or failed requests: {self.errors}"
+        self.page.close()
+
+
+def explorer(browser, map_, domain, encoders):
+    return Page(browser, "index.html", f"#map={map_}&domain={domain}&enc={','.join(encoders)}")
+
+
+def probelab_bin():
+    return os.environ.get("PROBELAB_BIN", str(REPO / "target" / "release" / "probelab"))
+
+
+def shown_encoders(browser, map_, domain):
+    p = Page(browser, "index.html", f"#map={map_}&domain={domain}")
+    encs = p.eval("async ([m, d]) => (await probelab.mapData(m)).domains[d].encoders.map(e => [e.name, e.family, e.form])", [map_, domain])
+    p.close()
+    return encs
+
+
+def one_per_family(encs, registered):
+    seen, out = set(), []
+    for name, family, form in encs:
+        if name in registered and (family, form) not in seen:
+            seen.add((family, form))
+            out.append((name, family, form))
+    return out
+
+
+def unit_normals(n, seed, up=None):
+    rng = random.Random(seed)
+    out = []
+    while len(out) < n:
+        v = [rng.gauss(0, 1) for _ in range(3)]
+        r = math.sqrt(sum(c * c for c in v))
+        v = [c / r for c in v]
+        if up is None or sum(a * b for a, b in zip(v, up)) > 1e-3:
+            out.append(v)
+    return out
+
+
+@pytest.mark.parametrize("domain,normal", [("sphere", None), ("hemisphere:+y", (0.0, 1.0, 0.0))])
+def test_the_page_evaluates_what_the_library_reconstructs(browser, domain, normal):
+    import numpy as np
+    import probelab
+    registered = set(probelab.encoders())
+    chosen = one_per_family(shown_encoders(browser, MAP, domain), registered)
+    assert len({f for _, f, _ in chosen}) >= (6 if domain == "sphere" else 8), chosen
+    page = Page(browser, "index.html", f"#map={MAP}&domain={domain}")
+    for name, family, form in chosen:
+        if form == "sh":
+            normals = unit_normals(1000, 7, normal)
+        else:
+            normals = page.eval("(d) => probelab.gridNormals(d)", domain)
+        got = np.array(page.eval("async ([m, e, n, d]) => await probelab.evaluate(m, e, n, d)", [MAP, name, normals, domain]))
+        want = probelab.irradiance(MAP, name, np.array(normals), normal=normal, root=str(REPO))
+        scale = np.abs(want).max()
+        err = np.abs(got - want).max() / scale
+        assert err <= 1e-4, f"{name} ({family}, {form}) on {domain}: page vs library {err:.2e} of the largest E/pi"
+    page.close()
+
+
+@pytest.mark.parametrize("domain", ["sphere", "hemisphere:+y"])
+def test_in_page_rmse_is_evals(browser, domain):
+    encs = [n for n, _, _ in one_per_family(shown_encoders(browser, MAP, domain), set(_registered()))]
+    page = explorer(browser, MAP, domain, encs)
+    shown = {s["encoder"]: s for s in page.eval("() => probelab.shown()")}
+    page.close()
+    out = subprocess.run([probelab_bin(), "--root", str(REPO), "eval", MAP, "--encoders", ",".join(encs), "--domain", domain,
+                          "--resolution", "24x12", "--format", "json", "--no-timing"], capture_output=True, text=True, check=True)
+    rows = json.loads(out.stdout)["rows"]
+    assert len(rows) == len(encs)
+    for r in rows:
+        s = shown[r["encoder"]]
+        assert s["metric"] == r["metric"] == "exact" and s["resolution"] == "24x12" and s["domain"] == domain
+        for k in ("rmse", "rel_rmse"):
+            assert abs(s[k] - r[k]) <= 1e-3 * abs(r[k]) + 1e-12, f"{r['encoder']} {k}: page {s[k]} vs eval {r[k]}"
+
+
+def _registered():
+    import probelab
+    return list(probelab.encoders())
+
+
+def sphere_pixels(page, encoder, view, kind):
+    """The RGB pixels of one drawn sphere inside 90% of its radius."""
+    return page.eval("""([e, v, k]) => {
+        const c = document.querySelector(`canvas[data-encoder="${e}"][data-view="${v}"][data-kind="${k}"]`);
+        const d = c.getContext('2d').getImageData(0, 0, c.width, c.height).data, r = c.width / 2, out = [];
+        for (let y = 0; y < c.height; y++) for (let x = 0; x < c.width; x++) {
+          const dx = (x + 0.5 - r) / r, dy = (y + 0.5 - r) / r;
+          if (dx * dx + dy * dy < 0.81) { const i = 4 * (y * c.width + x); out.push([d[i], d[i + 1], d[i + 2]]); }
+        }
+        return out; }""", [encoder, view, kind])
+
+
+def test_a_constant_environment_renders_uniform_spheres_and_a_neutral_error(browser):
+    page = explorer(browser, CONSTANT, "sphere", ["sh0", "sh2"])
+    for view in ("front", "top"):
+        for enc, kind in (("reference", "lit"), ("sh0", "lit"), ("sh2", "lit")):
+            px = sphere_pixels(page, enc, view, kind)
+            assert len(px) > 1000 and max(max(abs(a - b) for a, b in zip(p, px[0])) for p in px) <= 1, f"{enc} {view} not uniform"
+            assert 60 < px[0][1] < 250, f"{enc} {view}: exposure puts the mean at 0.5, got {px[0]}"
+        for enc in ("sh0", "sh2"):
+            px = sphere_pixels(page, enc, view, "error")
+            assert all(max(abs(c - 247) for c in p) <= 1 for p in px), f"{enc} {view}: zero error is not neutral"
+    stats = page.eval("() => probelab.shown()")
+    assert all(s["rmse"] < 1e-6 for s in stats), stats
+    page.close()
+
+
+def picture_and_numbers(page):
+    return page.eval("""() => {
+        const pix = Array.from(document.querySelectorAll('canvas.sphere')).map(c => c.toDataURL()).join('');
+        return [pix, document.getElementById('spheres').innerText + document.getElementById('tone-note').innerText]; }""")
+
+
+def test_every_choice_changes_the_picture_and_the_numbers(browser):
+    page = explorer(browser, MAP, "sphere", ["sh1", "sh2"])
+    before = picture_and_numbers(page)
+    steps = {
+        "map": "() => document.querySelector(\"#maps button[data-map='pmndrs_city_256x128']\").click()",
+        "encoder": "() => document.querySelector(\"#encoders input[value='sh0']\").click()",
+        "exposure": "() => { const e = document.getElementById('exposure'); e.value = 2; e.dispatchEvent(new Event('input')); }",
+        "domain": "() => { const d = document.getElementById('domain'); d.value = 'hemisphere:+y'; d.dispatchEvent(new Event('change')); }",
+    }
+    for what, js in steps.items():
+        page.eval(js)
+        page.page.wait_for_timeout(300)
+        page.eval("() => new Promise(r => requestAnimationFrame(() => requestAnimationFrame(r)))")
+        page.page.wait_for_function("(b) => { const c = Array.from(document.querySelectorAll('canvas.sphere')).map(c => c.toDataURL()).join(''); return c !== b; }", arg=before[0], timeout=20000)
+        after = picture_and_numbers(page)
+        assert after[0] != before[0], f"choosing another {what} left the picture unchanged"
+        assert after[1] != before[1], f"choosing another {what} left the numbers unchanged"
+        before = after
+    page.close()
+
+
+@pytest.mark.parametrize("name", ["index.html", "claims.html", "landscape.html"])
+def test_every_page_fits_1280x800_with_readable_text(browser, name):
+    page = Page(browser, name)
+    width = page.eval("() => document.documentElement.scrollWidth")
+    assert width <= 1280, f"{name}: {width} px wide, scrolls horizontally"
+    small = page.eval("""() => { const out = [];
+        for (const el of document.querySelectorAll('body *')) {
+          const own = Array.from(el.childNodes).some(n => n.nodeType === 3 && n.textContent.trim());
+          const s = getComputedStyle(el);
+          if (own && s.display !== 'none' && el.offsetParent !== null && parseFloat(s.fontSize) < 12) out.push(el.tagName + ' ' + s.fontSize);
+        } return out; }""")
+    assert small == [], f"{name}: text under 12 px: {small[:5]}"
+    shots = os.environ.get("PROBELAB_SCREENSHOTS")
+    if shots:
+        page.page.screenshot(path=str(pathlib.Path(shots) / f"viewer_{name.replace('.html', '')}.png"))
+    first = page.eval("() => performance.getEntriesByName('first-picture')[0].startTime")
+    print(f"{name}: first picture at {first:.0f} ms after navigation start (performance mark 'first-picture')")
+    page.close()
+
+
+def test_the_claims_view_lists_every_claim_with_its_evidence(browser):
+    page = Page(browser, "claims.html")
+    rows = page.eval("() => document.querySelectorAll('tr.claim').length")
+    with open(REPO / "results" / "CLAIMS.csv", encoding="utf-8") as f:
+        expected = sum(1 for _ in f) - 1
+    assert rows == expected == 22
+    page.page.click("tr.claim >> nth=0")
+    link = page.eval("() => document.querySelector('tr.detail:not([hidden]) a').getAttribute('href')")
+    assert link.startswith("../claims/") and (SITE.parent / link[3:].split("#")[0]).is_file(), link
+    page.close()
+
+
+def test_the_landscape_marks_a_pareto_front(browser):
+    page = Page(browser, "landscape.html")
+    data = page.eval("() => probelab.landscape()")
+    pts = data["points"]
+    assert len(pts) >= 10 and data["front"]
+    byname = {p["encoder"]: p for p in pts}
+    front = [byname[n] for n in data["front"]]
+    # No point is both cheaper (or as cheap) and strictly more accurate than a front point.
+    for f in front:
+        assert not any(p["scalars"] <= f["scalars"] and p["rel"] < f["rel"] and p is not f for p in pts)
+    page.close()
+
+
+def test_the_site_is_under_10_mb():
+    total = sum(p.stat().st_size for p in SITE.rglob("*") if p.is_file())
+    print(f"results/site: {total / 1e6:.2f} MB in {sum(1 for p in SITE.rglob('*') if p.is_file())} files")
+    assert total < 10e6
