@@ -783,10 +783,13 @@ fn bad_experiment_files_point_at_the_line() {
                 "the report lists the skipped experiment"
             );
             fs::remove_file(root.path().join("results/REPORT.md")).unwrap();
-            // The report's other pages (PROVENANCE.md, a README.md per result folder).
+            // The report's other pages (PROVENANCE.md, a README.md per result folder, the
+            // results viewer's site).
             let pages: Vec<PathBuf> = after
                 .keys()
-                .filter(|k| k.file_name().is_some_and(|n| n == "README.md" || n == "PROVENANCE.md"))
+                .filter(|k| {
+                    k.starts_with("site") || k.file_name().is_some_and(|n| n == "README.md" || n == "PROVENANCE.md")
+                })
                 .cloned()
                 .collect();
             for k in pages {

@@ -33,22 +33,39 @@ pub fn to_half(v: f32) -> f32 {
 }
 
 /// The pixel sha256 of a `width`×`height` grid of row-major texels (lower-case hex), as the
-/// module documentation defines it.
+/// module documentation defines it. The half bits of a batch of rows are formed on the run's
+/// threads while the previous batch is digested (two batches of at most [`HASH_BATCH_BYTES`]
+/// alive at once); the digest sees the same bytes in the same order.
 pub fn pixel_sha256_of(width: usize, height: usize, texels: &[Texel]) -> String {
     let mut h = Sha256::new();
     h.update((width as u32).to_le_bytes());
     h.update((height as u32).to_le_bytes());
-    let mut row = Vec::with_capacity(width * 6);
-    for r in texels.chunks(width.max(1)) {
-        row.clear();
-        for t in r {
-            for &v in t {
-                row.extend_from_slice(&half_bits(v).to_le_bytes());
-            }
-        }
-        h.update(&row);
+    let w = width.max(1);
+    let rows_per_batch = (HASH_BATCH_BYTES / (6 * w)).max(1);
+    let mut batches = texels.chunks(rows_per_batch * w);
+    let mut ready = batches.next().map(half_bytes);
+    while let Some(bytes) = ready.take() {
+        let (_, next) = rayon::join(|| h.update(&bytes), || batches.next().map(half_bytes));
+        ready = next;
     }
     h.finalize().iter().map(|b| format!("{b:02x}")).collect()
+}
+
+/// The bytes one batch of texels adds to the pixel sha256 (each value's half bits, u16 LE).
+const HASH_BATCH_BYTES: usize = 1 << 22;
+
+/// The half bits of `texels`, R, G, B each as u16 LE, formed in parallel.
+fn half_bytes(texels: &[Texel]) -> Vec<u8> {
+    use rayon::prelude::*;
+    let mut out = vec![0u8; texels.len() * 6];
+    out.par_chunks_mut(6 << 12).zip(texels.par_chunks(1 << 12)).for_each(|(o, t)| {
+        for (o, t) in o.chunks_exact_mut(6).zip(t) {
+            for (o, &v) in o.chunks_exact_mut(2).zip(t) {
+                o.copy_from_slice(&half_bits(v).to_le_bytes());
+            }
+        }
+    });
+    out
 }
 
 /// The pixel sha256 of a map.

@@ -4,6 +4,7 @@
 //! Orientation and geometry: [`super::latlong`] (FORMULAS §1).
 
 use super::latlong::LatLong;
+use rayon::prelude::*;
 use std::path::PathBuf;
 
 /// Linear RGB radiance of one texel, as stored (f32 keeps 1024×512 maps at 6 MiB).
@@ -89,6 +90,12 @@ impl EnvMap {
         if texels.len() != width * height {
             return Err(MapError::Count { width, height, got: texels.len() });
         }
+        // The common case in one parallel pass: every value in [0, MAX_TEXEL] (NaN fails both
+        // comparisons). Only a map that fails it is searched kind by kind for the message.
+        let fine = |v: f32| (0.0..=MAX_TEXEL).contains(&v);
+        if texels.par_chunks(1 << 16).all(|c| c.iter().all(|t| t.iter().all(|&v| fine(v)))) {
+            return Ok(Self::checked(name.into(), width, height, texels));
+        }
         for (kind, bad) in [
             ("NaN", (|v: f32| v.is_nan()) as fn(f32) -> bool),
             ("infinite", |v: f32| v.is_infinite()),
@@ -118,8 +125,13 @@ impl EnvMap {
                 });
             }
         }
-        Ok(Self {
-            name: name.into(),
+        Ok(Self::checked(name.into(), width, height, texels))
+    }
+
+    /// A map from texels already checked by [`EnvMap::new`].
+    fn checked(name: String, width: usize, height: usize, texels: Vec<Texel>) -> Self {
+        Self {
+            name,
             path: None,
             sha256: None,
             pixel_sha256: None,
@@ -128,7 +140,7 @@ impl EnvMap {
             width,
             height,
             texels,
-        })
+        }
     }
 
     /// Builds a map by evaluating `f(i, j)` for every texel (row j, column i).

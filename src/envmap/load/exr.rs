@@ -1,23 +1,21 @@
 //! Reading an OpenEXR map: the header checked before any pixel is decoded (one flat part,
 //! square pixels, R, G, B channels of half or float samples at full resolution, no channel
-//! named twice), then the pixels, every one stored exactly once ([`super::coverage`]).
+//! named twice), then the pixels ([`super::exr_blocks`]), every one stored exactly once
+//! ([`super::coverage`]).
 
 use super::colour::Stated;
-use super::coverage::Coverage;
 use super::error::LoadError;
+use super::exr_blocks::{decode, Target};
 use super::format::Decoded;
 use super::guard::guarded;
 use super::size::check_size;
 use super::watch::watched;
 use crate::envmap::header;
 use crate::math::primaries::Chromaticities;
-use exr::prelude::{
-    read, ChannelDescription, MetaData, ReadChannels, ReadLayers, ReadSpecificChannel, SampleType, Text, Vec2,
-};
+use exr::prelude::{ChannelDescription, MetaData, SampleType, Vec2};
 use std::io::{Read, Seek};
 use std::path::Path;
 use std::sync::atomic::Ordering;
-use std::sync::Arc;
 
 /// Reads an OpenEXR file: header first (validated by [`check_exr_header`]), then the
 /// pixels of the selected R, G, B channels as f32. Returns width, height and row-major
@@ -32,64 +30,24 @@ pub(super) fn read_exr(path: &Path, file: &mut (impl Read + Seek), len: u64) -> 
         MetaData::read_from_buffered(reader, false)
             .map_err(|e| exr_error(path, len, hit_eof.load(Ordering::Relaxed), e))
     })?;
-    let (width, height, [r, g, b]) = check_exr_header(path, &meta)?;
+    let (width, height, rgb) = check_exr_header(path, &meta)?;
     let primaries = meta.headers[0].shared_attributes.chromaticities.map(|c| {
         let xy = |v: Vec2<f32>| [f64::from(v.x()), f64::from(v.y())];
         Chromaticities { primaries: [xy(c.red), xy(c.green), xy(c.blue)], white: xy(c.white) }
     });
     let progress = (width >= crate::envmap::PROGRESS_WIDTH)
-        .then(|| Arc::new(crate::io::progress::Progress::new(height as u64, &format!("decoding {}", path.display()))));
-
+        .then(|| crate::io::progress::Progress::new(height as u64, &format!("decoding {}", path.display())));
     let (reader, hit_eof) = watched(path, file)?;
-    let image = guarded(path, FORMAT, || {
-        read()
-            .no_deep_data()
-            .largest_resolution_level()
-            .specific_channels()
-            .required(r)
-            .required(g)
-            .required(b)
-            .collect_pixels(
-                |size: Vec2<usize>, _: &(ChannelDescription, ChannelDescription, ChannelDescription)| {
-                    Coverage::new(size.width(), size.height())
-                },
-                move |c: &mut Coverage, pos: Vec2<usize>, (r, g, b): (f32, f32, f32)| {
-                    if let (0, Some(p)) = (pos.x(), &progress) {
-                        p.inc();
-                    }
-                    c.set(pos.x(), pos.y(), [r, g, b])
-                },
-            )
-            .first_valid_layer()
-            .all_attributes()
-            .non_parallel()
-            .from_buffered(reader)
-            .map_err(|e| exr_error(path, len, hit_eof.load(Ordering::Relaxed), e))
-    })?;
-    let layer = image.layer_data;
-    if (layer.size.width(), layer.size.height()) != (width, height) {
-        return Err(LoadError::Exr {
-            path: path.to_path_buf(),
-            message: format!(
-                "decoded {}x{} pixels but the header says {width}x{height}",
-                layer.size.width(),
-                layer.size.height()
-            ),
-        });
-    }
-    let texels = layer
-        .channel_data
-        .pixels
-        .finish()
-        .map_err(|detail| LoadError::CorruptChunks { path: path.to_path_buf(), detail })?;
+    let target = Target { width, height, rgb, progress: progress.as_ref() };
+    let texels = decode(path, reader, len, &hit_eof, &target)?;
     Ok(((width, height, texels), Stated { primaries, ..Stated::default() }))
 }
 
 /// Validates OpenEXR meta data before any pixel is read: no deep data, one part, a size
 /// accepted by [`check_size`], a pixel aspect ratio of 1, no channel named twice, and R, G, B
 /// channels (see [`select_rgb`]) holding full-resolution half or float samples. Returns the
-/// size and the three channel names.
-pub(super) fn check_exr_header(path: &Path, meta: &MetaData) -> Result<(usize, usize, [Text; 3]), LoadError> {
+/// size and the three channels' indices in the channel list.
+pub(super) fn check_exr_header(path: &Path, meta: &MetaData) -> Result<(usize, usize, [usize; 3]), LoadError> {
     let p = || path.to_path_buf();
     if meta.requirements.has_deep_data || meta.headers.iter().any(|h| h.deep) {
         return Err(LoadError::Deep { path: p() });
@@ -142,8 +100,7 @@ pub(super) fn check_exr_header(path: &Path, meta: &MetaData) -> Result<(usize, u
             });
         }
     }
-    let [r, g, b] = chosen.map(|i| list[i].name.clone());
-    Ok((width, height, [r, g, b]))
+    Ok((width, height, chosen))
 }
 
 /// Picks the indices of the red, green and blue channels: the unprefixed `R`, `G`, `B` if

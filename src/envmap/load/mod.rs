@@ -16,7 +16,8 @@
 //! atomically (temporary file in the same directory, then rename).
 //!
 //! The files: `read.rs` (the entry points), `format.rs` (telling the formats apart), `exr.rs`,
-//! `hdr.rs` (the decoders), `colour.rs` (exposure, colour correction, primaries), `size.rs`, `coverage.rs` (what is checked), `watch.rs`
+//! `hdr.rs` (the decoders), `exr_blocks.rs`
+//! (an OpenEXR layer's chunks decompressed on the run's threads), `colour.rs` (exposure, colour correction, primaries), `size.rs`, `coverage.rs` (what is checked), `watch.rs`
 //! (truncation), `guard.rs` (decoder panics), `error.rs`, `hash.rs` (the file's sha256),
 //! `write.rs`.
 
@@ -24,6 +25,7 @@ mod colour;
 mod coverage;
 mod error;
 mod exr;
+mod exr_blocks;
 mod format;
 mod guard;
 mod hash;
