@@ -72,44 +72,72 @@ fn scale_in_range(sh: &Sh9, k: f64) -> bool {
     vals.clone().all(|v| v * k > 1e-250) && vals.clone().all(|v| v * k < 1e250)
 }
 
-/// One case fitted by one encoder: what the rules of the contract look at.
-struct FittedCase<'a> {
+/// What every encoder's check of one case shares, computed once per case: the case's input
+/// (after its tweak), its grids and scale, and the closed-form E/π on them. Each is a function
+/// of the case alone (the same calls on the same case), so sharing it moves no number a check
+/// compares; it only saves recomputing them for each of the encoders.
+struct Prepared<'a> {
     case: &'a Case,
-    enc: &'a dyn Encoder,
     /// The case's input, after its tweak.
     input: Input,
-    fit: Box<dyn Fitted>,
     sphere: OutputGrid,
     /// The case's domain: the sphere for a probe, the hemisphere about N for a surface.
     domain: OutputGrid,
+    /// Whether the domain is the sphere (a probe): the fit's values on it are then those on
+    /// `sphere`.
+    domain_is_sphere: bool,
     /// The case's scale: the largest unoccluded E/π on the sphere (1 for black).
     scale: f64,
-    /// The fit on the sphere of normals.
-    out_sphere: Vec<Rgb>,
+    /// E/π of the visible light on the sphere, and of the visible and of all the light on the
+    /// domain.
+    e_vis_sphere: Vec<Rgb>,
+    e_vis_domain: Vec<Rgb>,
+    e_probe_domain: Vec<Rgb>,
 }
 
-impl<'a> FittedCase<'a> {
-    fn new(case: &'a Case, enc: &'a dyn Encoder) -> Self {
+impl<'a> Prepared<'a> {
+    fn new(case: &'a Case) -> Self {
         let mut input = Input::new(&case.lighting, case.surface.as_ref());
         if let Some(t) = case.tweak {
             t(&mut input);
         }
         let sphere = Domain::Sphere.output_grid(RES);
+        let domain_is_sphere = input.domain() == Domain::Sphere;
         let domain = input.domain().output_grid(RES);
-        let fit = enc.fit(&input.fit_input());
-        let e_probe_sphere: Vec<Rgb> = sphere.normals.iter().map(|&n| input.probe.irradiance(n)).collect();
-        let scale = match max_abs(&e_probe_sphere) {
+        let on = |grid: &OutputGrid, l: &crate::reference::lighting::Lighting| -> Vec<Rgb> {
+            grid.normals.iter().map(|&n| l.irradiance(n)).collect()
+        };
+        let scale = match max_abs(&on(&sphere, &input.probe)) {
             s if s > 0.0 => s,
             _ => 1.0,
         };
-        let out_sphere = eval(fit.as_ref(), &sphere);
-        FittedCase { case, enc, input, fit, sphere, domain, scale, out_sphere }
+        let e_vis_sphere = on(&sphere, &input.visible);
+        let (e_vis_domain, e_probe_domain) = (on(&domain, &input.visible), on(&domain, &input.probe));
+        Prepared { case, input, sphere, domain, domain_is_sphere, scale, e_vis_sphere, e_vis_domain, e_probe_domain }
+    }
+}
+
+/// One case fitted by one encoder: what the rules of the contract look at.
+struct FittedCase<'a> {
+    /// The case, prepared once for every encoder.
+    p: &'a Prepared<'a>,
+    enc: &'a dyn Encoder,
+    fit: Box<dyn Fitted>,
+    /// The fit on the sphere of normals.
+    out_sphere: Vec<Rgb>,
+}
+
+impl<'a> FittedCase<'a> {
+    fn new(p: &'a Prepared<'a>, enc: &'a dyn Encoder) -> Self {
+        let fit = enc.fit(&p.input.fit_input());
+        let out_sphere = eval(fit.as_ref(), &p.sphere);
+        FittedCase { p, enc, fit, out_sphere }
     }
 }
 
 /// Runs every check of the contract for one case and one encoder; returns failure messages.
-fn check(case: &Case, id: &str, enc: &dyn Encoder) -> Vec<String> {
-    let f = FittedCase::new(case, enc);
+fn check(p: &Prepared, id: &str, enc: &dyn Encoder) -> Vec<String> {
+    let f = FittedCase::new(p, enc);
     let mut fails = Vec::new();
     // 1. Finite: a non-finite output ends the checks (the bounds would compare NaNs).
     if let Some(m) = non_finite_output(&f) {
@@ -122,13 +150,13 @@ fn check(case: &Case, id: &str, enc: &dyn Encoder) -> Vec<String> {
         fails.extend(scale_covariance(&f));
         fails.extend(non_negative(&f));
     }
-    fails.into_iter().map(|m| format!("{id} on {} ({}): {m}", case.name, case.why)).collect()
+    fails.into_iter().map(|m| format!("{id} on {} ({}): {m}", p.case.name, p.case.why)).collect()
 }
 
 /// 1. Finite: the first non-finite output on the sphere of normals.
 fn non_finite_output(f: &FittedCase) -> Option<String> {
     let (k, v) = f.out_sphere.iter().enumerate().find(|(_, v)| !v.is_finite())?;
-    Some(format!("non-finite output {v} at normal {}", f.sphere.normals[k]))
+    Some(format!("non-finite output {v} at normal {}", f.p.sphere.normals[k]))
 }
 
 /// 1. Finite: every non-finite diagnostic.
@@ -143,7 +171,7 @@ fn non_finite_diagnostics(f: &FittedCase) -> Vec<String> {
 
 /// 2. Black in, black out.
 fn black_in_black_out(f: &FittedCase) -> Option<String> {
-    let input = &f.input;
+    let input = &f.p.input;
     if input.probe_sh == Sh9::ZERO && input.exact_at_normal.is_none_or(|v| v == Rgb::ZERO) {
         let m = max_abs(&f.out_sphere);
         if m != 0.0 {
@@ -155,12 +183,16 @@ fn black_in_black_out(f: &FittedCase) -> Option<String> {
 
 /// 3. Sanity bound on the case's domain.
 fn sanity_bound(f: &FittedCase) -> Option<String> {
-    let (input, domain, scale) = (&f.input, &f.domain, f.scale);
-    let out_domain = eval(f.fit.as_ref(), domain);
-    let e_vis: Vec<Rgb> = domain.normals.iter().map(|&n| input.visible.irradiance(n)).collect();
-    let e_probe: Vec<Rgb> = domain.normals.iter().map(|&n| input.probe.irradiance(n)).collect();
-    let rmse = rmse_scaled(&e_vis, &out_domain, domain, scale);
-    let sanity = rms_scaled(&e_vis, domain, scale) + rms_scaled(&e_probe, domain, scale);
+    let (p, domain, scale) = (f.p, &f.p.domain, f.p.scale);
+    let evaluated;
+    let out_domain = if p.domain_is_sphere {
+        &f.out_sphere
+    } else {
+        evaluated = eval(f.fit.as_ref(), domain);
+        &evaluated
+    };
+    let rmse = rmse_scaled(&p.e_vis_domain, out_domain, domain, scale);
+    let sanity = rms_scaled(&p.e_vis_domain, domain, scale) + rms_scaled(&p.e_probe_domain, domain, scale);
     (rmse > sanity * (1.0 + LSQ_REL) + LSQ_ABS).then(|| {
         format!("rmse {rmse:e} above the sanity bound {sanity:e} (RMS of E_vis + E_probe), in units of {scale:e}")
     })
@@ -170,18 +202,18 @@ fn sanity_bound(f: &FittedCase) -> Option<String> {
 /// errors: for a degenerate case by the pure-ambient (band 0) answer, and where promised by the
 /// projection through band l.
 fn least_squares_bounds(f: &FittedCase) -> Vec<String> {
-    let (input, sphere, scale) = (&f.input, &f.sphere, f.scale);
+    let (input, sphere, scale) = (&f.p.input, &f.p.sphere, f.p.scale);
     let mut fails = Vec::new();
-    let e_vis_sphere: Vec<Rgb> = sphere.normals.iter().map(|&n| input.visible.irradiance(n)).collect();
-    let sphere_rmse = rmse_scaled(&e_vis_sphere, &f.out_sphere, sphere, scale);
+    let e_vis_sphere = &f.p.e_vis_sphere;
+    let sphere_rmse = rmse_scaled(e_vis_sphere, &f.out_sphere, sphere, scale);
     let sh_rmse = |l: usize| {
         let p = sh_projection(input, l);
         let v: Vec<Rgb> = sphere.normals.iter().map(|&n| p.eval(n)).collect();
-        rmse_scaled(&e_vis_sphere, &v, sphere, scale)
+        rmse_scaled(e_vis_sphere, &v, sphere, scale)
     };
 
     // 4. Degenerate cases: no worse than pure ambient.
-    if f.case.degenerate && !f.enc.degrades_input() {
+    if f.p.case.degenerate && !f.enc.degrades_input() {
         let ambient = sh_rmse(0);
         if sphere_rmse > ambient * (1.0 + LSQ_REL) + LSQ_ABS {
             fails.push(format!(
@@ -206,7 +238,7 @@ fn scale_covariance(f: &FittedCase) -> Vec<String> {
     if !f.enc.is_scale_covariant() {
         return fails;
     }
-    let (input, sphere) = (&f.input, &f.sphere);
+    let (input, sphere) = (&f.p.input, &f.p.sphere);
     for k in [1e-30, 0.37, 3.7e5, 1e30] {
         if !scale_in_range(&input.probe_sh, k) || !scale_in_range(&input.visible_sh, k) {
             continue;
@@ -235,7 +267,7 @@ fn non_negative(f: &FittedCase) -> Option<String> {
         return None;
     }
     let (k, v) = f.out_sphere.iter().enumerate().find(|(_, v)| v.min_element() < 0.0)?;
-    Some(format!("promises non-negative output but gives {v} at normal {}", f.sphere.normals[k]))
+    Some(format!("promises non-negative output but gives {v} at normal {}", f.p.sphere.normals[k]))
 }
 
 #[test]
@@ -243,12 +275,17 @@ fn every_encoder_survives_every_hard_case() {
     let encoders = all_encoders();
     assert!(encoders.len() >= crate::encoders::REGISTRY.len());
     let cases = cases();
-    let mut fails = Vec::new();
-    for c in &cases {
-        for (id, e) in &encoders {
-            fails.extend(check(c, id, e.as_ref()));
-        }
-    }
+    // Cases in parallel (rayon), each prepared once for every encoder; the failures are
+    // gathered in the order of the cases, then of the encoders, as a loop would list them.
+    use rayon::prelude::*;
+    let per_case: Vec<Vec<String>> = cases
+        .par_iter()
+        .map(|c| {
+            let p = Prepared::new(c);
+            encoders.iter().flat_map(|(id, e)| check(&p, id, e.as_ref())).collect()
+        })
+        .collect();
+    let fails: Vec<String> = per_case.concat();
     assert!(fails.is_empty(), "{} failure(s):\n{}", fails.len(), fails.join("\n"));
 }
 
@@ -389,10 +426,13 @@ fn tiny_hard_maps_score_finite_through_the_pipeline() {
     ];
     let above = EnvMap::from_fn("near_f32_max", 16, 8, &|i, j| if (i, j) == (3, 3) { [3e38; 3] } else { [0.0; 3] });
     assert!(above.is_err(), "a texel of 3e38 (above the bound {MAX_TEXEL:e}) is refused when the map is made");
+    // No timing pass: it runs after scoring and never touches a score (ARCHITECTURE.md,
+    // "Timing never touches the numbers"); here it would repeat every fit 5 to 15 times.
+    let settings = crate::pipeline::settings::RunSettings { timing: false, ..Default::default() };
     for text in &exps {
         let exp = Experiment::parse(text, Path::new("hard.toml")).unwrap();
         for m in &maps {
-            let rows = crate::pipeline::runner::run_map(&exp, m, &Default::default());
+            let rows = crate::pipeline::runner::run_map(&exp, m, &settings);
             assert!(!rows.is_empty());
             for r in &rows {
                 let s = &r.scores;
@@ -493,9 +533,10 @@ fn the_contract_catches_broken_encoders() {
         (Flaw::BadFallback, "pure-ambient fallback"),
     ];
     let cases = cases();
+    let prepared: Vec<Prepared> = cases.iter().map(Prepared::new).collect();
     for (flaw, words) in expect {
         let e = Broken(flaw);
-        let fails: Vec<String> = cases.iter().flat_map(|c| check(c, "broken", &e)).collect();
+        let fails: Vec<String> = prepared.iter().flat_map(|p| check(p, "broken", &e)).collect();
         assert!(fails.iter().any(|f| f.contains(words)), "{flaw:?} not caught ({words}): {fails:#?}");
     }
 }
