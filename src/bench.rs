@@ -25,7 +25,7 @@ pub use crate::math::sh::{constant, Sh9};
 pub use crate::math::sh_rotation::{uniform_rotation, ShRotation};
 pub use crate::math::stats::Summary;
 pub use crate::pipeline::probeset::score::{probe_rmse, SphereRule};
-pub use crate::pipeline::probeset::synth::Synth;
+pub use crate::pipeline::probeset::synth::{scene_palette, Synth};
 pub use crate::pipeline::runner::cone_centre;
 pub use crate::reference::domain::{fibonacci_sphere, Domain};
 pub use crate::reference::exact::{Reference, DEFAULT_POLAR_NODES};

@@ -4,7 +4,7 @@
 use crate::encoders::encoder::{named_weights, Encoder, Params};
 use crate::encoders::zh3::encoder::{Method, Zh3Encoder};
 use crate::encoders::zh3::model::AxisRule;
-use crate::encoders::zh3::solve::{Curve, Formulation, SolverSettings, Zonal};
+use crate::encoders::zh3::solve::{Curve, Formulation, LineSearch, SolverSettings, Zonal};
 use crate::math::colour::Rgb;
 use anyhow::{bail, Context, Result};
 
@@ -55,6 +55,12 @@ fn settings(p: &mut Params, stored: bool) -> Result<SolverSettings> {
         starts: p.usize_in("starts", d.starts, 1..=5)?,
         formulation,
         screen: if stored { p.usize_in("screen", d.screen, 0..=10_000)? } else { 0 },
+        line_search: match p.str_or("line_search", "more_thuente")?.as_str() {
+            "backtracking" => LineSearch::Backtracking,
+            "more_thuente" => LineSearch::MoreThuente,
+            l => bail!("key 'line_search': expected \"backtracking\" or \"more_thuente\", got '{l}'"),
+        },
+        skip_futile: d.skip_futile,
     };
     Ok(s)
 }

@@ -23,7 +23,10 @@
 //! **Solver.** argmin's L-BFGS with the More–Thuente line search on static nalgebra vectors
 //! (`SVector<f64, 3>` per channel, `SVector<f64, 9>` shared), run from several starts
 //! (FORMULAS §5): the given L1, then the L1 projected onto each of the four tetrahedron axes
-//! (±1, ±1, ±1)/√3 with an even number of minus signs. The best end point wins. The target is
+//! (±1, ±1, ±1)/√3 with an even number of minus signs. The best end point wins. By default the
+//! starts are screened with 64 more axis lines; L-BFGS runs from the best, and again from the
+//! best line ≥ 45° away only when a curvature bound cannot rule out a better minimum there
+//! (`solver.rs`). The target is
 //! divided by its largest L0 first, so the tolerances are relative to the probe's brightness.
 //!
 //! **Degenerate input.** Where u = 0 there is no axis: the zonal term is dropped (k = 0) and the
@@ -40,5 +43,5 @@ mod tests;
 mod zonal;
 
 pub use problem::{l2_band, Formulation, Target};
-pub use solver::{solve, SolveStats, SolverSettings};
+pub use solver::{solve, LineSearch, SolveStats, SolverSettings};
 pub use zonal::{band2, hallucinated_k, zonal_fit, Curve, Zonal};

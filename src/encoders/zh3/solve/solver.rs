@@ -4,8 +4,9 @@
 
 use super::problem::*;
 use super::zonal::*;
-use argmin::core::{Executor, State};
-use argmin::solver::linesearch::MoreThuenteLineSearch;
+use argmin::core::{Executor, IterState, State};
+use argmin::solver::linesearch::condition::ArmijoCondition;
+use argmin::solver::linesearch::{BacktrackingLineSearch, MoreThuenteLineSearch};
 use argmin::solver::quasinewton::LBFGS;
 use glam::DVec3;
 use nalgebra::SVector;
@@ -31,6 +32,20 @@ pub struct SolverSettings {
     /// from where that run ended (per axis). Tested to reach the same objective as the full
     /// multi-start (`screened_solve_matches_the_full_multistart`).
     pub screen: usize,
+    /// The line search of each L-BFGS iteration.
+    pub line_search: LineSearch,
+    /// Screened solves: skip the second run where it provably cannot beat the first (see
+    /// `MultiStart::second_run_futile`).
+    pub skip_futile: bool,
+}
+
+/// The line search inside each L-BFGS iteration.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LineSearch {
+    /// More–Thuente (strong Wolfe conditions).
+    MoreThuente,
+    /// Backtracking from the full step, halving until the Armijo condition holds (c = 1e-4).
+    Backtracking,
 }
 
 impl Default for SolverSettings {
@@ -43,6 +58,8 @@ impl Default for SolverSettings {
             starts: 5,
             formulation: Formulation::Axis,
             screen: 64,
+            line_search: LineSearch::MoreThuente,
+            skip_futile: true,
         }
     }
 }
@@ -120,7 +137,8 @@ pub fn solve(target: &Target, settings: &SolverSettings) -> Solution {
     }
 }
 
-/// Runs L-BFGS (More–Thuente) from `x0`; returns the best point seen.
+/// Runs L-BFGS from `x0` with the line search of `settings`; returns the best point seen (the
+/// start point when argmin returns an error).
 pub(super) fn run_lbfgs<const N: usize>(
     t: &Target,
     form: Formulation,
@@ -129,22 +147,30 @@ pub(super) fn run_lbfgs<const N: usize>(
     stats: &mut SolveStats,
 ) -> SVector<f64, N> {
     let problem = AxisProblem::<N>::new(t, form);
-    let solver = LBFGS::new(MoreThuenteLineSearch::new(), settings.memory.max(1))
-        .with_tolerance_grad(settings.tol_grad)
-        .and_then(|s| s.with_tolerance_cost(settings.tol_cost));
-    let run = solver.and_then(|solver| {
-        Executor::new(problem, solver).configure(|s| s.param(x0).max_iters(settings.max_iters)).run()
-    });
+    let memory = settings.memory.max(1);
+    let configure = |s: LbfgsState<N>| s.param(x0).max_iters(settings.max_iters);
+    let run = match settings.line_search {
+        LineSearch::MoreThuente => LBFGS::new(MoreThuenteLineSearch::new(), memory)
+            .with_tolerance_grad(settings.tol_grad)
+            .and_then(|s| s.with_tolerance_cost(settings.tol_cost))
+            .and_then(|solver| Executor::new(problem, solver).configure(configure).run())
+            .map(|r| (r.problem, r.state)),
+        LineSearch::Backtracking => ArmijoCondition::new(ARMIJO_C)
+            .and_then(|c| LBFGS::new(BacktrackingLineSearch::new(c), memory).with_tolerance_grad(settings.tol_grad))
+            .and_then(|s| s.with_tolerance_cost(settings.tol_cost))
+            .and_then(|solver| Executor::new(problem, solver).configure(configure).run())
+            .map(|r| (r.problem, r.state)),
+    };
     stats.runs += 1;
     match run {
-        Ok(mut res) => {
-            if let Some(p) = res.problem.take_problem() {
+        Ok((mut problem, mut state)) => {
+            if let Some(p) = problem.take_problem() {
                 stats.cost_evals += p.cost_calls.get();
                 stats.grad_evals += p.grad_calls.get();
                 stats.evals += p.evals.get();
             }
-            stats.iters += res.state.get_iter() as u32;
-            res.state.take_best_param().unwrap_or(x0)
+            stats.iters += state.get_iter() as u32;
+            state.take_best_param().unwrap_or(x0)
         }
         Err(_) => {
             stats.failures += 1;
@@ -152,6 +178,13 @@ pub(super) fn run_lbfgs<const N: usize>(
         }
     }
 }
+
+/// The sufficient-decrease constant of the backtracking line search (Nocedal & Wright's usual
+/// choice).
+const ARMIJO_C: f64 = 1e-4;
+
+/// argmin's state of an L-BFGS run in `N` variables.
+type LbfgsState<const N: usize> = IterState<SVector<f64, N>, SVector<f64, N>, (), (), (), f64>;
 
 /// Per axis group: the best objective, its L1 and the start it came from.
 type Best = Vec<(f64, [DVec3; 3], u32)>;
@@ -284,10 +317,12 @@ impl<const N: usize> MultiStart<'_, N> {
     /// one L-BFGS run from the best combination (the objective is separable across axes), and
     /// a second from the best candidate at least 45° from where the first one ended.
     fn screened(&self, mut dirs: Vec<Option<DVec3>>, stats: &mut SolveStats, best: &mut Best) {
+        let n_starts = dirs.len();
         dirs.extend(screen_lines(self.settings.screen).iter().copied().map(Some));
         // Value-only screening: the group constants once, the band-2 basis once per direction.
         let consts = self.screen_constants();
-        let ys: Vec<Option<[f64; 5]>> = dirs.iter().map(|d| d.map(|d| band2(d.normalize()))).collect();
+        let mut ys: Vec<Option<[f64; 5]>> = dirs[..n_starts].iter().map(|d| d.map(|d| band2(d.normalize()))).collect();
+        ys.extend(screen_bases(self.settings.screen).iter().copied().map(Some));
         let pick = self.screen_best(&dirs, &ys, &consts, stats);
         let x0 = self.start(&|i| pick[i].1);
         let start = pick.iter().map(|p| p.2).max().unwrap_or(0);
@@ -295,12 +330,30 @@ impl<const N: usize> MultiStart<'_, N> {
         self.consider(&end, start, best);
         // A second run, in case the grid's best point sat in the wrong basin.
         let second = self.screen_away_from(&dirs, &ys, &consts, &end);
-        if second.iter().all(|s| s.1.is_some()) {
+        if second.iter().all(|s| s.1.is_some()) && !self.second_run_futile(&second, &consts, &end) {
             let x1 = self.start(&|i| second[i].1);
             let start = second.iter().map(|p| p.2).max().unwrap_or(0);
             let end = run_lbfgs(self.t, self.form, x1, self.settings, stats);
             self.consider(&end, start, best);
         }
+    }
+
+    /// Whether no second run can beat the first (per group): every screened line at least 45°
+    /// from the end lies above the end's objective by more than M·r²/2, where r is the
+    /// screening set's covering radius and M bounds F's second derivative along great circles
+    /// (M = 2|U|²/S + 16·Σ w|T₂|², from |Y₂(a)·T₂| ≤ √(5/4π)|T₂|). A better minimum a* would
+    /// have a screened line within r with F ≤ F(a*) + M·r²/2 (∇F(a*) = 0), so none lies further
+    /// than 45° + r from the end.
+    fn second_run_futile(&self, second: &Pick, consts: &[(DVec3, f64)], end: &SVector<f64, N>) -> bool {
+        let Some(r) = screen_cover(self.settings.screen).filter(|_| self.settings.skip_futile) else { return false };
+        let v = self.l1_of(end);
+        self.groups.iter().enumerate().all(|(i, g)| {
+            let (big_u, inv_s) = consts[i];
+            let t2sq: f64 = g.iter().map(|&c| self.t.err_w[c] * self.t.t2[c].iter().map(|x| x * x).sum::<f64>()).sum();
+            let constant = inv_s * big_u.length_squared() + t2sq;
+            let m = 2.0 * inv_s * big_u.length_squared() + 16.0 * t2sq;
+            second[i].0 + constant >= self.t.group_objective(g, &v) + 0.5 * m * r * r
+        })
     }
 
     /// Per group: its weighted L1 direction U and 1/S, S = Σ (w^axis_c)²/w^err_c.
@@ -395,6 +448,28 @@ pub(super) fn screen_lines(n: usize) -> std::borrow::Cow<'static, [DVec3]> {
         std::borrow::Cow::Owned(make(n))
     }
 }
+
+/// The band-2 basis at each of [`screen_lines`] (normalised first). Cached for the default n.
+fn screen_bases(n: usize) -> std::borrow::Cow<'static, [[f64; 5]]> {
+    static DEFAULT: std::sync::OnceLock<Vec<[f64; 5]>> = std::sync::OnceLock::new();
+    let make = |n: usize| -> Vec<[f64; 5]> { screen_lines(n).iter().map(|d| band2(d.normalize())).collect() };
+    if n == SolverSettings::default().screen {
+        std::borrow::Cow::Borrowed(DEFAULT.get_or_init(|| make(n)).as_slice())
+    } else {
+        std::borrow::Cow::Owned(make(n))
+    }
+}
+
+/// A covering radius (radians) of the default screening lines taken with their antipodes:
+/// every axis line lies within it of one of them. A dense search finds 0.2494; 0.27 leaves more
+/// than the dense set's own spacing as margin (`screen_cover_bounds_every_line`). None for
+/// other screening sets.
+pub(super) fn screen_cover(n: usize) -> Option<f64> {
+    (n == SolverSettings::default().screen).then_some(SCREEN_COVER_64)
+}
+
+/// See [`screen_cover`].
+pub(super) const SCREEN_COVER_64: f64 = 0.27;
 
 pub(super) fn vectors<const N: usize>(x: &SVector<f64, N>) -> [DVec3; 3] {
     let mut v = [DVec3::ZERO; 3];
