@@ -5,7 +5,7 @@
 
 use super::colour::Stated;
 use super::error::LoadError;
-use super::exr_blocks::{decode, Target};
+use super::exr_blocks::{decode, exr_error, Target};
 use super::format::Decoded;
 use super::guard::guarded;
 use super::size::check_size;
@@ -159,17 +159,4 @@ fn select_rgb(path: &Path, list: &[ChannelDescription]) -> Result<[usize; 3], Lo
         .join(", ");
     let present = if names.is_empty() { "(none)".to_string() } else { names.join(", ") };
     Err(LoadError::MissingChannel { path: path.to_path_buf(), missing, present })
-}
-
-/// Converts an `exr` error into a [`LoadError`]; `hit_eof` says the decoder ran off the
-/// end of the file.
-pub(super) fn exr_error(path: &Path, len: u64, hit_eof: bool, e: exr::error::Error) -> LoadError {
-    let path = path.to_path_buf();
-    if hit_eof {
-        return LoadError::Truncated { path, format: "OpenEXR", len, detail: e.to_string() };
-    }
-    match e {
-        exr::error::Error::Io(cause) => LoadError::Io { path, action: "read file", cause },
-        e => LoadError::Exr { path, message: e.to_string() },
-    }
 }

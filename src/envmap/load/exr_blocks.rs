@@ -7,7 +7,6 @@
 
 use super::coverage::Coverage;
 use super::error::LoadError;
-use super::exr::exr_error;
 use super::guard::guarded;
 use crate::envmap::map::Texel;
 use crate::io::progress::Progress;
@@ -123,4 +122,17 @@ fn place(
         }
     }
     Ok(())
+}
+
+/// Converts an `exr` error into a [`LoadError`]; `hit_eof` says the decoder ran off the
+/// end of the file.
+pub(super) fn exr_error(path: &Path, len: u64, hit_eof: bool, e: exr::error::Error) -> LoadError {
+    let path = path.to_path_buf();
+    if hit_eof {
+        return LoadError::Truncated { path, format: "OpenEXR", len, detail: e.to_string() };
+    }
+    match e {
+        exr::error::Error::Io(cause) => LoadError::Io { path, action: "read file", cause },
+        e => LoadError::Exr { path, message: e.to_string() },
+    }
 }

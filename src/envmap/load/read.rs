@@ -3,7 +3,8 @@
 //! alone).
 
 use super::error::LoadError;
-use super::exr::{check_exr_header, exr_error, read_exr};
+use super::exr::{check_exr_header, read_exr};
+use super::exr_blocks::exr_error;
 use super::format::{detect, Format};
 use super::guard::guarded;
 use super::hash::sha256_hex_of;
