@@ -205,6 +205,13 @@ pub trait Encoder: Send + Sync {
         let _ = input;
         format!("{} scalars", self.stored_scalars())
     }
+    /// The scalars the encoding reads per shaded point beside the probe for the fit of `input`
+    /// (a visibility cone, an AO term), the ones [`Encoder::storage`] names; the surface normal
+    /// N, the surface's own, is not counted. 0 by default.
+    fn scalars_per_point(&self, input: &FitInput) -> usize {
+        let _ = input;
+        0
+    }
     /// Fits the encoding.
     fn fit(&self, input: &FitInput) -> Box<dyn Fitted>;
     /// Whether the peer tool clamps this encoder's output at zero before scoring

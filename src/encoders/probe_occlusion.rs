@@ -96,6 +96,26 @@ fn visibility(n: DVec3, input: &FitInput, use_cone: bool) -> (DVec3, f64) {
     }
 }
 
+impl ProbeOp {
+    /// What the operator reads per shaded point beside the probe, and how many scalars (the
+    /// module doc's table): the cone operators the declared cone, centre C and cos α (4);
+    /// `ao_scale` its cosine-weighted visibility (1); `bent_normal` the bent normal C and that
+    /// visibility (4). Without a declared cone they fall back to the hemisphere about N and read
+    /// nothing but N (0); without N, or as `probe_unoccluded`, nothing is read per point (None).
+    fn per_point(&self, input: &FitInput) -> Option<(&'static str, usize)> {
+        if input.surface_normal.is_none() || self.op == Op::Unoccluded {
+            return None;
+        }
+        let cone = input.cone.is_some();
+        Some(match self.op {
+            Op::Full { cone: true, .. } | Op::Hlsh { cone: true, .. } if cone => ("cone", 4),
+            Op::AoScale if cone => ("AO", 1),
+            Op::BentNormal if cone => ("bent normal, AO", 4),
+            _ => ("N", 0),
+        })
+    }
+}
+
 impl Encoder for ProbeOp {
     fn id(&self) -> &str {
         self.id
@@ -107,24 +127,17 @@ impl Encoder for ProbeOp {
         27
     }
     /// The probe's 27 SH coefficients, plus what the operator reads per shaded point beside N
-    /// (the module doc's table): the cone operators the declared cone, centre C and cos α (4
-    /// scalars); `ao_scale` its cosine-weighted visibility (1); `bent_normal` the bent normal C
-    /// and that visibility (4). Without a declared cone they fall back to the hemisphere about N
-    /// and read no per-point term; without N every operator is `probe_unoccluded`.
+    /// (`ProbeOp::per_point`).
     fn storage(&self, input: &FitInput) -> String {
         let probe = "27 per probe";
-        if input.surface_normal.is_none() || self.op == Op::Unoccluded {
-            return probe.into();
+        match self.per_point(input) {
+            None => probe.into(),
+            Some((_, 0)) => format!("{probe}, N per point"),
+            Some((what, n)) => format!("{probe} + {what} ({n}) per point"),
         }
-        let cone = input.cone.is_some();
-        match self.op {
-            Op::Full { cone: true, .. } | Op::Hlsh { cone: true, .. } if cone => {
-                format!("{probe} + cone (4) per point")
-            }
-            Op::AoScale if cone => format!("{probe} + AO (1) per point"),
-            Op::BentNormal if cone => format!("{probe} + bent normal, AO (4) per point"),
-            _ => format!("{probe}, N per point"),
-        }
+    }
+    fn scalars_per_point(&self, input: &FitInput) -> usize {
+        self.per_point(input).map_or(0, |(_, n)| n)
     }
     /// Every operator but `probe_unoccluded` multiplies the probe by the visibility about the
     /// surface normal N (or the cone about it); without N it is `probe_unoccluded` in disguise.

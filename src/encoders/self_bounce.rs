@@ -101,6 +101,9 @@ impl Encoder for WithSelfBounce {
     fn storage(&self, input: &FitInput) -> String {
         self.inner.storage(input)
     }
+    fn scalars_per_point(&self, input: &FitInput) -> usize {
+        self.inner.scalars_per_point(input)
+    }
     fn fit(&self, input: &FitInput) -> Box<dyn Fitted> {
         let inner = self.inner.fit(input);
         let bounce = match (input.surface_normal, input.surface_albedo) {

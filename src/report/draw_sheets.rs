@@ -1,10 +1,10 @@
 //! The comparison sheets of every experiment whose maps are all on the search path: drawn (in
-//! parallel per experiment), written as `sheet_<map>.png`, and the stale ones removed.
+//! parallel per experiment), written as `sheet_<map>.png` (or, split into pages,
+//! `sheet_<map>_p<k>.png`), and the stale ones removed.
 
 use super::csvfile::CsvTable;
 use super::folders::{remove_stale, Section};
 use super::maps::MapUse;
-use super::names::file_safe;
 use super::options::Options;
 use super::{png, sheet};
 use crate::io::profile;
@@ -67,11 +67,20 @@ pub(super) fn experiment_sheets(
                 opts.search.load(m)?
             };
             let (sheet, _) = sheet::experiment_sheet(exp, &map, table.as_ref(), opts.sheet_scale, opts.profile)?;
-            Ok((format!("sheet_{}.png", file_safe(m)), sheet))
+            Ok((m.clone(), sheet))
         })
         .collect::<Result<Vec<_>>>()?;
     sheet::share_error_scale(sheets.iter_mut().map(|(_, s)| s));
-    sheets
+    // Each sheet as its pages (one, when it fits), each page its own file.
+    let pages: Vec<(String, sheet::Sheet)> = sheets
+        .iter()
+        .flat_map(|(m, s)| {
+            let pages = s.pages();
+            let n = pages.len();
+            pages.into_iter().enumerate().map(move |(i, p)| (sheet::page_file(m, i + 1, n), p))
+        })
+        .collect();
+    pages
         .par_iter()
         .map(|(name, sheet)| -> Result<String> {
             let image = {

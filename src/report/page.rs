@@ -5,8 +5,9 @@
 use super::csvfile::CsvTable;
 use super::folders::{files, remove_stale, Section};
 use super::markdown::{self, href};
-use super::names::{file_safe, PAGE};
+use super::names::PAGE;
 use super::options::Options;
+use super::sheet;
 use super::page_charts::{csv_charts, table_part, ChartsOut};
 use anyhow::Result;
 use std::collections::BTreeMap;
@@ -123,8 +124,8 @@ pub(super) fn sheets_part(
         now.iter().filter(|f| f.starts_with("sheet_") && f.ends_with(".png")).cloned().collect();
     if let Some(exp) = &s.exp {
         // In the experiment's map order, then any others.
-        let pos = |f: &String| exp.maps.iter().position(|m| format!("sheet_{}.png", file_safe(m)) == *f);
-        sheet_files.sort_by_key(|f| (pos(f).unwrap_or(usize::MAX), f.clone()));
+        let pos = |f: &String| sheet::file_page(f, &exp.maps).unwrap_or((usize::MAX, 0));
+        sheet_files.sort_by_key(|f| (pos(f), f.clone()));
     }
     if let Some(exp) = &s.exp {
         // Sheets not redrawn here are the committed ones, and the page says nothing of this
@@ -140,10 +141,12 @@ pub(super) fn sheets_part(
         let hemi = !exp.orientations.is_empty();
         let _ = writeln!(
             md,
-            "## Comparison sheets\n\n{note}One sheet per map: a row per encoder; in each row the reference, the encoder \
+            "## Comparison sheets\n\n{note}One sheet per map (split into pages of at most {} px when taller): a row \
+             per encoder; in each row the reference, the encoder \
              and its signed relative error (blue darker, red brighter than the reference), {}. All spheres of a sheet \
              share one exposure and tone curve (stated on the sheet); the rmse under each error sphere is the table's \
              `exact` figure for the case drawn.\n",
+            sheet::MAX_PAGE_H,
             if hemi {
                 "for the case whose surface normal N is nearest +Y (the hemisphere about N drawn as a disc looking \
                  down N; a sphere domain is drawn front and top)"
@@ -151,9 +154,15 @@ pub(super) fn sheets_part(
                 "each as two views of the sphere of normals: front (viewer on +Z, +Y up) and top (viewer on +Y, -Z up)"
             }
         );
+        let of = |f: &String| sheet::file_page(f, &exp.maps);
         for f in &sheet_files {
-            let map = f.trim_start_matches("sheet_").trim_end_matches(".png");
-            let _ = writeln!(md, "![{} on {map}]({})\n", s.name, href(f));
+            let Some((i, page)) = of(f) else {
+                let _ = writeln!(md, "![{} {f}]({})\n", s.name, href(f));
+                continue;
+            };
+            let pages = sheet_files.iter().filter(|g| of(g).is_some_and(|(j, _)| j == i)).count();
+            let part = if pages > 1 { format!(", page {page} of {pages}") } else { String::new() };
+            let _ = writeln!(md, "![{} on {}{part}]({})\n", s.name, exp.maps[i], href(f));
         }
     }
 }

@@ -124,11 +124,8 @@ fn baselines(s: &Section) -> Vec<String> {
 }
 
 /// The scalars the encoder `name` of a section's experiment keeps per shaded point beside its
-/// probe (a cone, an AO term), read from what it says it stores (`Encoder::storage`) for a fit
-/// on the experiment's domain and cone: the numbers in parentheses after "per probe" of a
-/// "… per point" clause ("27 per probe + cone (4) per point" is 4). The surface normal N is
-/// the surface's own and is not counted. 0 for an encoder with nothing per point, or outside
-/// an experiment.
+/// probe (a cone, an AO term): its `Encoder::scalars_per_point` for a fit on the experiment's
+/// domain and cone. 0 for an encoder with nothing per point, or outside an experiment.
 pub(super) fn per_point_scalars(s: &Section, name: &str) -> usize {
     use crate::pipeline::experiment::{DomainKind, Effect};
     let Some(exp) = &s.exp else { return 0 };
@@ -147,30 +144,7 @@ pub(super) fn per_point_scalars(s: &Section, name: &str) -> usize {
         surface_albedo: None,
         radiance: None,
     };
-    per_point_in(&n.encoder.storage(&input))
-}
-
-/// The scalars per point in a storage phrase ([`per_point_scalars`]).
-fn per_point_in(storage: &str) -> usize {
-    let Some((_, tail)) = storage.split_once("per probe") else { return 0 };
-    if !tail.contains("per point") {
-        return 0;
-    }
-    tail.split('(').skip(1).filter_map(|p| p.split_once(')')?.0.trim().parse::<usize>().ok()).sum()
-}
-
-#[cfg(test)]
-mod tests {
-    use super::per_point_in;
-
-    #[test]
-    fn per_point_storage_is_read_from_the_phrase() {
-        assert_eq!(per_point_in("27 per probe + cone (4) per point"), 4);
-        assert_eq!(per_point_in("27 per probe + AO (1) per point"), 1);
-        assert_eq!(per_point_in("27 per probe + bent normal, AO (4) per point"), 4);
-        assert_eq!(per_point_in("27 per probe, N per point"), 0);
-        assert_eq!(per_point_in("12 scalars"), 0);
-    }
+    n.encoder.scalars_per_point(&input)
 }
 
 /// The charts of the folder's sweep and blending CSVs.

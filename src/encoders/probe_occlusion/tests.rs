@@ -78,6 +78,30 @@ fn storage_labels_say_what_is_read_per_point() {
     assert_eq!(enc("sh1").storage(&input(&sh, DVec3::Y, cone)), "12 scalars");
 }
 
+/// The per-point count the cost charts read is the module doc's table, typed: a cone is C and
+/// cos α (4), AO one scalar, a bent normal and AO 4; N alone, no N or no cone read nothing.
+#[test]
+fn scalars_per_point_follow_the_operators_table() {
+    let sh = Light::Ambient(Rgb::ONE).sh();
+    let cone = Some((DVec3::Y, 0.5));
+    let count = |id: &str, c: Option<(DVec3, f64)>| enc(id).scalars_per_point(&input(&sh, DVec3::Y, c));
+    for (id, n) in [
+        ("probe_unoccluded", 0),
+        ("probe_hemi_full", 0),
+        ("hlsh", 0),
+        ("cone_multiply", 4),
+        ("probe_cone_full", 4),
+        ("ao_scale", 1),
+        ("bent_normal", 4),
+        ("sh1", 0),
+    ] {
+        assert_eq!(count(id, cone), n, "{id} with a cone");
+    }
+    assert_eq!(count("cone_multiply", None), 0);
+    let no_n = FitInput { surface_normal: None, ..input(&sh, DVec3::Y, cone) };
+    assert_eq!(enc("bent_normal").scalars_per_point(&no_n), 0);
+}
+
 /// A constant environment occluded by the hemisphere is the hemisphere light (1 + n·N)/2,
 /// which every hemisphere operator represents exactly (FORMULAS §7–8; claim H1's light).
 #[test]

@@ -19,11 +19,13 @@
 //!
 //! Files: `layout.rs` (the measures and [`SheetLayout`]), `render.rs` ([`Sheet`] painted),
 //! `thumbnail.rs` (the map's thumbnail), `figures.rs` (the figures under each row),
-//! `compose.rs` ([`experiment_sheet`]: a sheet made from an experiment and a map).
+//! `compose.rs` ([`experiment_sheet`]: a sheet made from an experiment and a map), `pages.rs`
+//! (a long sheet split into pages no taller than [`MAX_PAGE_H`]).
 
 mod compose;
 mod figures;
 mod layout;
+mod pages;
 mod render;
 #[cfg(test)]
 mod tests;
@@ -32,5 +34,6 @@ mod thumbnail;
 pub use compose::{experiment_sheet, share_error_scale};
 pub use thumbnail::latlong_thumbnail;
 pub use layout::MAX_SCALE;
+pub use pages::{file_page, page_file, MAX_PAGE_H};
 pub use layout::{LINE_H, MARGIN};
 pub use render::Sheet;

@@ -312,3 +312,50 @@ fn scales_outside_one_to_eight_are_refused() {
     sheet.scale = 2;
     assert!(sheet.draw().unwrap_err().to_string().contains("96 px across, not 192"));
 }
+
+/// A sheet taller than the page limit splits into pages of even shares of its rows, each no
+/// taller than 2400 px, each with the whole header: with the measures above (header 358 px,
+/// column heads 42, a row 164, margin 12) 12 rows make 2380 px and fit, 13 make 2544 and do not.
+#[test]
+fn a_sheet_taller_than_the_limit_splits_into_pages() {
+    let exp = experiment("maps = ['m']\nencoders = ['sh1']\nresolution = [16, 8]");
+    let (one, _) = experiment_sheet(&exp, &scene_map("gen_sun_sky", 32), None, 1, None).unwrap();
+    let with_rows = |n: usize| {
+        let mut s = one.clone();
+        s.rows = (0..n).map(|i| SheetRow { name: format!("enc{i}"), ..one.rows[0].clone() }).collect();
+        s
+    };
+    assert_eq!(with_rows(12).layout().size().1, 2380);
+    assert_eq!(with_rows(13).layout().size().1, 2544);
+    for (rows, want) in [(1, vec![1]), (12, vec![12]), (13, vec![7, 6]), (30, vec![10, 10, 10])] {
+        let sheet = with_rows(rows);
+        let pages = sheet.pages();
+        assert_eq!(pages.iter().map(|p| p.rows.len()).collect::<Vec<_>>(), want, "{rows} rows");
+        let names: Vec<&str> = pages.iter().flat_map(|p| p.rows.iter().map(|r| r.name.as_str())).collect();
+        let all: Vec<&str> = sheet.rows.iter().map(|r| r.name.as_str()).collect();
+        assert_eq!(names, all, "every row once, in order");
+        for (k, p) in pages.iter().enumerate() {
+            let (_, h) = p.draw().unwrap().dimensions();
+            assert!(h <= 2400, "page {} of {rows} rows is {h} px tall", k + 1);
+            if pages.len() > 1 {
+                assert!(p.title.ends_with(&format!("(page {} of {})", k + 1, pages.len())), "{}", p.title);
+            } else {
+                assert_eq!(p.title, sheet.title);
+            }
+        }
+    }
+}
+
+/// The pages' file names, and the map and page read back from them (a map name may hold `_`).
+#[test]
+fn page_files_name_their_map_and_page() {
+    use super::pages::{file_page, page_file};
+    let maps = vec!["pmndrs_city".to_string(), "pmndrs".to_string()];
+    assert_eq!(page_file("pmndrs_city", 1, 1), "sheet_pmndrs_city.png");
+    assert_eq!(page_file("pmndrs_city", 2, 3), "sheet_pmndrs_city_p2.png");
+    assert_eq!(file_page("sheet_pmndrs_city.png", &maps), Some((0, 1)));
+    assert_eq!(file_page("sheet_pmndrs_city_p2.png", &maps), Some((0, 2)));
+    assert_eq!(file_page("sheet_pmndrs_p3.png", &maps), Some((1, 3)));
+    assert_eq!(file_page("sheet_pmndrs_pX.png", &maps), None);
+    assert_eq!(file_page("chart_rmse.png", &maps), None);
+}
