@@ -10,7 +10,6 @@ use crate::encoders::NamedEncoder;
 use crate::report::names::file_safe;
 use serde_json::{json, Value};
 use std::collections::BTreeMap;
-use std::path::Path;
 
 /// What the claims view needs besides CLAIMS.csv: per claim id, the paper's sentence (`quote`),
 /// its figure and its preset.
@@ -19,14 +18,14 @@ pub(super) fn claims_evidence(
     shown: &BTreeMap<String, Vec<&NamedEncoder>>,
     experiment_maps: &BTreeMap<String, Vec<String>>,
     listed: &[String],
-    out: &Path,
+    exists: &dyn Fn(&str) -> bool,
 ) -> Value {
     let mut by_id = serde_json::Map::new();
     for paper in papers {
         for claim in &paper.claims {
             let maps = claim_maps(paper, claim, experiment_maps, listed);
             let preset = preset(claim, &maps, shown);
-            let figure = figure(claim, &maps, out);
+            let figure = figure(claim, &maps, exists);
             by_id.insert(claim.id.clone(), json!({ "quote": claim.quote, "figure": figure, "preset": preset }));
         }
     }
@@ -96,8 +95,9 @@ fn preset(claim: &ClaimDecl, maps: &[String], shown: &BTreeMap<String, Vec<&Name
 
 /// The claim's figure under the results folder: the declared one, else the sheet
 /// (`<experiment>/sheet_<map>.png`) of the first check on an experiment table for the first of
-/// the claim's maps that has one; None when neither exists.
-fn figure(claim: &ClaimDecl, maps: &[String], out: &Path) -> Value {
+/// the claim's maps that has one (`exists`: whether a path under the results folder is a file);
+/// None when neither exists.
+fn figure(claim: &ClaimDecl, maps: &[String], exists: &dyn Fn(&str) -> bool) -> Value {
     if let Some((image, caption)) = &claim.figure {
         return json!({ "image": image, "caption": caption });
     }
@@ -105,7 +105,7 @@ fn figure(claim: &ClaimDecl, maps: &[String], out: &Path) -> Value {
         let Source::Experiment(exp) = &k.source else { continue };
         for m in maps {
             let image = format!("{exp}/sheet_{}.png", file_safe(m));
-            if out.join(&image).is_file() {
+            if exists(&image) {
                 let caption = format!("the comparison sheet of {exp} for {m}: the reference, each encoding and its signed error");
                 return json!({ "image": image, "caption": caption });
             }

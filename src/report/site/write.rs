@@ -79,7 +79,8 @@ pub(crate) fn write_site(
     let papers = crate::claims::declaration::load_papers(&opts.root.join("experiments"))?;
     let experiment_maps: BTreeMap<String, Vec<String>> =
         sections.iter().filter_map(|s| s.exp.as_ref()).map(|e| (e.name.clone(), e.maps.clone())).collect();
-    let evidence = claims_evidence(&papers, &shown, &experiment_maps, &listed, opts.out);
+    let exists = |rel: &str| opts.out.join(rel).is_file();
+    let evidence = claims_evidence(&papers, &shown, &experiment_maps, &listed, &exists);
     let mut files: Vec<(PathBuf, String)> = vec![
         (data_dir.join("index.js"), script("PROBELAB_INDEX", None, &index_data(&listed, &names_once))),
         (data_dir.join("claims.js"), script("PROBELAB_CLAIMS", None, &claims_data(read_claims(opts.out)?.as_ref(), evidence))),
