@@ -17,6 +17,10 @@
 //!   that runs the Python package's pytest suite (`tests/python_package.rs`) needs an
 //!   interpreter with the package installed (`pip install ./bindings/python`); without one it
 //!   is ignored with that reason, and in CI a missing one fails it.
+//! - `viewer_browser`: `CI` is `true`/`1`, or `PROBELAB_PYTHON` names an interpreter that imports
+//!   Playwright and a Chromium is at `PROBELAB_CHROMIUM` (default `/usr/bin/chromium`). The
+//!   results viewer's browser tests (`tests/viewer.rs`) need both; without them they are ignored
+//!   with that reason, and in CI a missing one fails them.
 
 use std::env;
 use std::path::PathBuf;
@@ -28,7 +32,7 @@ const PAPER_PROBES: [&str; 5] =
     ["ennis_256x128", "grace_256x128", "pisa_256x128", "uffizi_256x128", "wells_probulator"];
 
 fn main() {
-    for cfg in ["shared_maps", "gnu_parallel", "mode_000_readable", "python_package"] {
+    for cfg in ["shared_maps", "gnu_parallel", "mode_000_readable", "python_package", "viewer_browser"] {
         println!("cargo::rustc-check-cfg=cfg({cfg})");
     }
     println!("cargo::rerun-if-changed=build.rs");
@@ -36,6 +40,24 @@ fn main() {
     gnu_parallel();
     mode_000_readable();
     python_package();
+    viewer_browser();
+}
+
+fn viewer_browser() {
+    println!("cargo::rerun-if-env-changed=PROBELAB_CHROMIUM");
+    let ci = env::var("CI").is_ok_and(|v| v == "true" || v == "1");
+    let chromium = env::var_os("PROBELAB_CHROMIUM").filter(|v| !v.is_empty()).map_or_else(|| PathBuf::from("/usr/bin/chromium"), PathBuf::from);
+    if chromium.is_file() {
+        println!("cargo::rerun-if-changed={}", chromium.display());
+    }
+    let python = env::var_os("PROBELAB_PYTHON").filter(|v| !v.is_empty());
+    let playwright = python.is_some_and(|p| {
+        let probe = Command::new(p).args(["-c", "import playwright.sync_api"]).output();
+        probe.is_ok_and(|o| o.status.success())
+    });
+    if ci || (playwright && chromium.is_file()) {
+        println!("cargo::rustc-cfg=viewer_browser");
+    }
 }
 
 fn python_package() {

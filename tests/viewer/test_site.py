@@ -114,13 +114,21 @@ def unit_normals(n, seed, up=None):
     return out
 
 
-@pytest.mark.parametrize("domain,normal", [("sphere", None), ("hemisphere:+y", (0.0, 1.0, 0.0))])
-def test_the_page_evaluates_what_the_library_reconstructs(browser, domain, normal):
+# The six axes the lightmap experiments declare, as `eval --domain` spells them.
+AXES = {"+x": (1.0, 0.0, 0.0), "-x": (-1.0, 0.0, 0.0), "+y": (0.0, 1.0, 0.0),
+        "-y": (0.0, -1.0, 0.0), "+z": (0.0, 0.0, 1.0), "-z": (0.0, 0.0, -1.0)}
+# The lightmap and occlusion families, shown at every normal (and the SH the page evaluates).
+SURFACE_FAMILIES = {"AHD", "HHD", "H-basis", "probe occlusion"}
+
+
+@pytest.mark.parametrize("domain,normal,families", [("sphere", None, 6), ("hemisphere:+y", AXES["+y"], 8),
+                                                    ("hemisphere:-x", AXES["-x"], 5), ("hemisphere:-y", AXES["-y"], 5)])
+def test_the_page_evaluates_what_the_library_reconstructs(browser, domain, normal, families):
     import numpy as np
     import probelab
     registered = set(probelab.encoders())
     chosen = one_per_family(shown_encoders(browser, MAP, domain), registered)
-    assert len({f for _, f, _ in chosen}) >= (6 if domain == "sphere" else 8), chosen
+    assert len({f for _, f, _ in chosen}) >= families, chosen
     page = Page(browser, "index.html", f"#map={MAP}&domain={domain}")
     for name, family, form in chosen:
         if form == "sh":
@@ -135,7 +143,7 @@ def test_the_page_evaluates_what_the_library_reconstructs(browser, domain, norma
     page.close()
 
 
-@pytest.mark.parametrize("domain", ["sphere", "hemisphere:+y"])
+@pytest.mark.parametrize("domain", ["sphere", "hemisphere:+y", "hemisphere:-y", "hemisphere:+z"])
 def test_in_page_rmse_is_evals(browser, domain):
     encs = [n for n, _, _ in one_per_family(shown_encoders(browser, MAP, domain), set(_registered()))]
     page = explorer(browser, MAP, domain, encs)
@@ -190,6 +198,42 @@ def picture_and_numbers(page):
         return [pix, document.getElementById('spheres').innerText + document.getElementById('tone-note').innerText]; }""")
 
 
+def test_the_domains_are_the_sphere_and_the_six_axes(browser):
+    """Every axis the lightmap experiments declare is a hemisphere: +y with every encoder, the
+    other five with the lightmap and occlusion encoders and the SH the page evaluates, each of
+    them also shown on +y; every encoder of +y defined only about a surface normal (absent from
+    the sphere) is shown at every normal."""
+    page = Page(browser, "index.html", f"#map={MAP}")
+    domains = page.eval("() => PROBELAB_INDEX.domains.map(d => [d.label, d.normal, d.every_encoder])")
+    assert [d[0] for d in domains] == ["sphere"] + [f"hemisphere:{a}" for a in ("+y", "-y", "+x", "-x", "+z", "-z")]
+    for label, normal, every in domains[1:]:
+        assert normal == list(AXES[label.split(":")[1]]) and every == (label == "hemisphere:+y")
+    floor = {e[0]: e for e in shown_encoders(browser, MAP, "hemisphere:+y")}
+    probe = {e[0] for e in shown_encoders(browser, MAP, "sphere")}
+    # Defined only about a surface normal: shown on the floor, not on the sphere.
+    surface = {n for n, (_, f, _) in floor.items() if f in SURFACE_FAMILIES and n not in probe}
+    assert len(surface) >= 10, floor
+    for label, _, _ in domains[2:]:
+        encs = shown_encoders(browser, MAP, label)
+        names = {e[0] for e in encs}
+        assert surface <= names, f"{label} lacks {surface - names}"
+        assert all(n in floor and (f in SURFACE_FAMILIES or form == "sh") for n, f, form in encs), encs
+    page.close()
+
+
+def test_the_normal_changes_the_picture_and_the_numbers(browser):
+    page = explorer(browser, MAP, "hemisphere:+y", ["ahd_search_hemi", "hhd_search_hemi"])
+    before = picture_and_numbers(page)
+    for label in ("hemisphere:-y", "hemisphere:+x"):
+        page.eval("(v) => { const d = document.getElementById('domain'); d.value = v; d.dispatchEvent(new Event('change')); }", label)
+        page.page.wait_for_function("(b) => Array.from(document.querySelectorAll('canvas.sphere')).map(c => c.toDataURL()).join('') !== b", arg=before[0], timeout=20000)
+        after = picture_and_numbers(page)
+        assert after[0] != before[0] and after[1] != before[1], label
+        assert {s["domain"] for s in page.eval("() => probelab.shown()")} == {label}
+        before = after
+    page.close()
+
+
 def test_every_choice_changes_the_picture_and_the_numbers(browser):
     page = explorer(browser, MAP, "sphere", ["sh1", "sh2"])
     before = picture_and_numbers(page)
@@ -238,8 +282,69 @@ def test_the_claims_view_lists_every_claim_with_its_evidence(browser):
         expected = sum(1 for _ in f) - 1
     assert rows == expected == 22
     page.page.click("tr.claim >> nth=0")
-    link = page.eval("() => document.querySelector('tr.detail:not([hidden]) a').getAttribute('href')")
-    assert link.startswith("../claims/") and (SITE.parent / link[3:].split("#")[0]).is_file(), link
+    links = page.eval("() => Array.from(document.querySelectorAll('tr.detail:not([hidden]) a')).map(a => a.getAttribute('href'))")
+    evidence = [a for a in links if a.startswith("../claims/") and a.endswith(".md#z1")]
+    assert evidence and (SITE.parent / evidence[0][3:].split("#")[0]).is_file(), links
+    page.close()
+
+
+def _declarations():
+    import tomllib
+    out = {}
+    for f in sorted((REPO / "experiments" / "claims").glob("*.toml")):
+        paper = tomllib.loads(f.read_text(encoding="utf-8"))
+        for c in paper["claim"]:
+            out[c["id"]] = (paper, c)
+    return out
+
+
+def test_every_claim_opens_its_figure_and_its_explorer_preset(browser):
+    """Each claim's figure is its declared one (else a sheet of its primary check's experiment),
+    a committed file; its preset's encoders are ones its checks judge or compare with, its maps
+    ones its checks name (a check's maps, its map sets, or for `all` any map), and the link opens
+    the explorer on exactly that map, domain and encoders."""
+    decl = _declarations()
+    page = Page(browser, "claims.html")
+    ev = page.eval("() => PROBELAB_CLAIMS.evidence")
+    page.close()
+    assert set(ev) == set(decl)
+    presets = 0
+    for cid, e in ev.items():
+        paper, c = decl[cid]
+        checks = c["check"]
+        if "figure" in c:
+            assert e["figure"]["image"] == c["figure"]["image"]
+        if e["figure"]:
+            assert (SITE.parent / e["figure"]["image"]).is_file(), (cid, e["figure"])
+            tables = [k["table"] for k in checks if not k["table"].startswith("measure:")]
+            assert "figure" in c or e["figure"]["image"].split("/")[0] in tables, (cid, e["figure"])
+        if e["preset"] is None:
+            continue
+        presets += 1
+        p = e["preset"]
+        named = {k["encoder"] for k in checks} | {k["baseline"] for k in checks if "baseline" in k}
+        assert p["encoders"] and set(p["encoders"]) <= named, (cid, p)
+        assert p["domain"] in ("sphere", "hemisphere:+y"), (cid, p)
+        allowed = set()
+        for k in checks:
+            allowed |= set(k.get("maps", []))
+            for on in k.get("on", ["all"]):
+                allowed |= set(paper.get("map_sets", {}).get(on, []))
+        if not any("maps" not in k and "all" in k.get("on", ["all"]) for k in checks):
+            assert set(p["maps"]) <= allowed, (cid, p)
+    assert presets >= 10, f"only {presets} claims have an explorer preset"
+    page = Page(browser, "claims.html")
+    for cid, e in ev.items():
+        if not e["preset"]:
+            continue
+        page.page.click(f"#claim-{cid}")
+        href = page.eval(f"() => document.querySelector('#claim-{cid} + tr.detail p.preset a').getAttribute('href')")
+        first = e["preset"]["maps"][0]
+        ex = Page(browser, "index.html", href[len("index.html"):])
+        state = ex.eval("() => probelab.state()")
+        assert (state["map"], state["domain"], state["encoders"]) == (first, e["preset"]["domain"], e["preset"]["encoders"]), (cid, state)
+        assert [s["encoder"] for s in ex.eval("() => probelab.shown()")] == e["preset"]["encoders"], cid
+        ex.close()
     page.close()
 
 

@@ -1,12 +1,14 @@
 //! The claims view's data: CLAIMS.csv as the claims engine wrote it (id, kind, verdict, the
-//! paper's figure and ours, the criterion, the maps, the evidence page), one object per claim.
+//! paper's figure and ours, the criterion, the maps, the evidence page), one object per claim,
+//! and per claim id its figure and explorer preset (`claims_evidence`).
 
 use crate::report::csvfile::CsvTable;
 use serde_json::{json, Value};
 
-/// The claims of `table` (CLAIMS.csv), each as an object keyed by the table's columns.
-pub(super) fn claims_data(table: Option<&CsvTable>) -> Value {
-    let Some(t) = table else { return json!({ "claims": [] }) };
+/// The claims of `table` (CLAIMS.csv), each as an object keyed by the table's columns, and
+/// `evidence` (per claim id: `figure` and `preset`).
+pub(super) fn claims_data(table: Option<&CsvTable>, evidence: Value) -> Value {
+    let Some(t) = table else { return json!({ "claims": [], "evidence": evidence }) };
     let claims: Vec<Value> = t
         .rows
         .iter()
@@ -16,5 +18,5 @@ pub(super) fn claims_data(table: Option<&CsvTable>) -> Value {
             Value::Object(o)
         })
         .collect();
-    json!({ "claims": claims })
+    json!({ "claims": claims, "evidence": evidence })
 }

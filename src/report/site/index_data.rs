@@ -2,7 +2,7 @@
 //! weights, frame), every encoder's colour and marker (the one style table, `report::style`),
 //! the families in legend order, and the diverging colour map of the sheets (`report::tone`).
 
-use super::domains::{site_domains, SITE_RESOLUTION};
+use super::domains::{site_domains, Shows, SITE_RESOLUTION};
 use super::encode::f32_base64;
 use crate::encoders::Family;
 use crate::report::style::style_of;
@@ -19,6 +19,7 @@ pub(super) fn index_data(maps: &[String], encoders: &[String]) -> Value {
             json!({
                 "label": d.label,
                 "normal": d.normal.map(|n| n.to_array()),
+                "every_encoder": d.shows == Shows::Every,
                 "frame": d.frame(),
                 "resolution": [g.resolution.0, g.resolution.1],
                 "normals": f32_base64(g.normals.iter().flat_map(|n| n.to_array())),

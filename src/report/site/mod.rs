@@ -7,12 +7,14 @@
 //! coefficients and, where the page cannot evaluate it, its values on the grid), `evaluable`
 //! (which stored forms the page evaluates itself), `encode` (float arrays as base64 and the
 //! script wrapper), `index_data` (the maps, encoder styles, families, grids and colour maps),
-//! `claims_data` (the claims view), `landscape_data` (the cost landscape), `assets` (the pages,
+//! `claims_data` (the claims view), `claims_evidence` (each claim's figure and explorer
+//! preset, from its declaration), `landscape_data` (the cost landscape), `assets` (the pages,
 //! script and style sheet, compiled in), `write` (the run: compute, keep what a missing map
 //! cannot recompute, rewrite only what changed).
 
 mod assets;
 mod claims_data;
+mod claims_evidence;
 mod domains;
 mod encode;
 mod evaluable;

@@ -1,10 +1,12 @@
 //! The site run: every experiment map found on the search path gets its data recomputed; a map
 //! this machine lacks keeps its committed data file (the paper probes are never in a fresh
-//! clone); then the index, the claims, the landscape and the pages. A file whose bytes would
+//! clone); then the index, the claims (with each claim's figure and explorer preset from its
+//! declaration), the landscape and the pages. A file whose bytes would
 //! not change is not rewritten, so a regeneration with unchanged data touches nothing.
 
 use super::assets::ASSETS;
 use super::claims_data::claims_data;
+use super::claims_evidence::claims_evidence;
 use super::encode::script;
 use super::index_data::index_data;
 use super::landscape_data::landscape_data;
@@ -74,9 +76,14 @@ pub(crate) fn write_site(
             names_once.push(n);
         }
     }
+    let papers = crate::claims::declaration::load_papers(&opts.root.join("experiments"))?;
+    let experiment_maps: BTreeMap<String, Vec<String>> =
+        sections.iter().filter_map(|s| s.exp.as_ref()).map(|e| (e.name.clone(), e.maps.clone())).collect();
+    let exists = |rel: &str| opts.out.join(rel).is_file();
+    let evidence = claims_evidence(&papers, &shown, &experiment_maps, &listed, &exists);
     let mut files: Vec<(PathBuf, String)> = vec![
         (data_dir.join("index.js"), script("PROBELAB_INDEX", None, &index_data(&listed, &names_once))),
-        (data_dir.join("claims.js"), script("PROBELAB_CLAIMS", None, &claims_data(read_claims(opts.out)?.as_ref()))),
+        (data_dir.join("claims.js"), script("PROBELAB_CLAIMS", None, &claims_data(read_claims(opts.out)?.as_ref(), evidence))),
         (data_dir.join("landscape.js"), script("PROBELAB_LANDSCAPE", None, &landscape_data(&landscape_tables(opts.out)?))),
     ];
     files.extend(ASSETS.iter().map(|(name, text)| (site.join(name), text.to_string())));
