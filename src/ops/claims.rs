@@ -53,8 +53,7 @@ pub(crate) fn write_strips(env: &Env, out: &Path, run: &ClaimsRun) -> Result<usi
     for (name, bytes) in &strips {
         crate::io::atomic::write(&out.join("claims").join(name), bytes)?;
     }
-    let papers = crate::claims::declaration::load_papers(&env.root.join("experiments"))?;
-    let sheets = crate::report::claim_figures::claim_sheets(&env.root, &env.search, out, &papers)?;
+    let sheets = crate::report::claim_figures::claim_sheets(&env.root, &env.search, out)?;
     for (name, bytes) in sheets.iter().chain(&crate::report::claim_figures::blend_charts(out)?) {
         crate::io::atomic::write(&out.join(name), bytes)?;
     }

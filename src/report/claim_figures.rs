@@ -7,16 +7,17 @@
 use super::csvfile::CsvTable;
 use super::names::file_safe;
 use super::{charts, png, sheet};
-use crate::claims::declaration::{Paper, SheetCrop};
+use crate::claims::declaration::{load_papers, SheetCrop};
 use crate::envmap::search::SearchPath;
 use crate::pipeline::experiment::Experiment;
 use anyhow::{anyhow, Context, Result};
 use std::path::Path;
 
-/// The claims' sheets, as (path under the results folder, PNG bytes), in the declarations'
-/// order. A sheet whose map is not on the search path is not drawn (its committed picture
+/// The claims' sheets (of the declarations under `root`'s `experiments/`), as (path under the
+/// results folder, PNG bytes), in the declarations' order. A sheet whose map is not on the search path is not drawn (its committed picture
 /// stands, like any figure of a map this machine lacks).
-pub fn claim_sheets(root: &Path, search: &SearchPath, results: &Path, papers: &[Paper]) -> Result<Vec<(String, Vec<u8>)>> {
+pub fn claim_sheets(root: &Path, search: &SearchPath, results: &Path) -> Result<Vec<(String, Vec<u8>)>> {
+    let papers = load_papers(&root.join("experiments"))?;
     let mut out = Vec::new();
     for f in papers.iter().flat_map(|p| &p.claims).flat_map(|c| &c.figures) {
         let Some(crop) = &f.sheet else { continue };

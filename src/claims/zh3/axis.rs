@@ -160,8 +160,8 @@ fn two_colour_scene() -> Scene {
 
 /// Z2 (ZH3 talk, "per-channel axes can fringe colour"): per map and ZH3 variant (stored,
 /// solved, hallucinated), the chroma errors of the per-channel-axis and shared-axis encoders
-/// against the reference, the fringe (the colour the zonal band adds, against the SH3 of the
-/// same input: [`fringe::fringe`]), the map's axis divergence ([`fringe::axis_divergence`]) and
+/// against the reference, the fringe (the colour the zonal band adds: [`xy_error`] against the
+/// SH3 of the same input), the map's axis divergence ([`fringe::axis_divergence`]) and
 /// the RMSE under both metrics; sh1 and sh2 for scale. Measures `zh3_chroma` and, its stored
 /// pair ordered by divergence, `zh3_axis_divergence`.
 pub(super) fn z2(grid: &OutputGrid, cases: &[Case]) -> Result<(Measure, Measure)> {
@@ -212,7 +212,8 @@ pub(super) fn z2(grid: &OutputGrid, cases: &[Case]) -> Result<(Measure, Measure)
             let ce = chroma_error(&v, &case.reference, &grid.weights);
             let cl = chroma_error_lit(&v, &case.reference, &grid.weights);
             let xy = xy_error(&v, &case.reference, &grid.weights);
-            let fr = fringe::fringe(&v, &sh3, &grid.weights);
+            // The fringe: the colour the zonal band adds, against the SH3 of the same input.
+            let fr = xy_error(&v, &sh3, &grid.weights);
             for (metric, f) in
                 [("exact", exact as fn(&dyn Encoder, &Case, &OutputGrid) -> _), ("probulator", probulator)]
             {

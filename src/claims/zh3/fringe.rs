@@ -1,14 +1,12 @@
 //! Claim Z2's fringing, where the talk puts it (ZH3 talk, "Colour shifting": "sometimes, if
 //! the zonal axes are significantly different for each colour channel, the ZH3 basis functions
 //! interfere"): how far apart the channels' zonal axes are (the axis divergence), and the
-//! colour that the zonal band alone adds (the fringe: ZH3 against the SH3 it approximates,
-//! whose L0 and L1 it shares, so every difference between the two comes from the zonal
-//! approximation of L2).
+//! maps ordered by it. The fringe itself (ZH3 against the SH3 it approximates, whose L0 and
+//! L1 it shares, so every difference comes from the zonal approximation of L2) is
+//! `axis::xy_error` against the SH3, taken in `axis::z2`.
 
-use super::axis::xy_error;
 use crate::claims::measure::{Cell, Measure};
 use crate::encoders::encoder::Fitted;
-use crate::math::colour::Rgb;
 use glam::DVec3;
 
 /// The per-channel zonal axes' names in a ZH3 fit's stored description.
@@ -28,14 +26,6 @@ pub(super) fn axis_divergence(fit: &dyn Fitted) -> f64 {
         }
     }
     widest
-}
-
-/// The fringe of a ZH3 reconstruction `zh3` against the SH3 `sh3` of the same input at the
-/// same normals: the luminance-weighted RMS CIE 1931 xy distance ([`xy_error`], weighted by
-/// solid angle × the SH3's luminance). 0 wherever the zonal band matches L2 exactly, as it
-/// does for every zonal light.
-pub(super) fn fringe(zh3: &[Rgb], sh3: &[Rgb], w: &[f64]) -> f64 {
-    xy_error(zh3, sh3, w)
 }
 
 /// The stored ZH3 pair Z2 judges, per-channel axes then the shared axis.
@@ -108,16 +98,6 @@ mod tests {
         assert!(opposite.abs() < 1e-6, "{opposite}");
         let shared = enc("zh3_stored_shared", &[]).unwrap();
         assert_eq!(axis_divergence(fit(shared.as_ref(), &sh(DVec3::X, DVec3::Y)).as_ref()), 0.0);
-    }
-
-    /// A ZH3 equal to its SH3 has no fringe; red shown where the SH3 is green has the full
-    /// red–green distance √(0.34² + 0.27²) (the Rec.709 primaries' xy, ITU-R BT.709).
-    #[test]
-    fn fringe_is_zero_when_zh3_is_sh3() {
-        let (r, g) = (Rgb::new(1.0, 0.0, 0.0), Rgb::new(0.0, 1.0, 0.0));
-        assert_eq!(fringe(&[g, r], &[g, r], &[1.0, 2.0]), 0.0);
-        let f = fringe(&[r], &[g], &[1.0]);
-        assert!((f - (0.34f64.powi(2) + 0.27f64.powi(2)).sqrt()).abs() < 2e-4, "{f}");
     }
 
     /// The order: widest divergence first, only the stored pair's exact rows.
