@@ -138,8 +138,8 @@ pub fn detail_md(c: &ClaimDecl, o: &ClaimOutcome) -> String {
         if o.verdict.why().is_empty() { String::new() } else { format!(" — {}", o.verdict.why()) }
     );
     let _ = writeln!(s, "{}", found_md(c, o));
-    if let Some((image, caption)) = &c.figure {
-        let _ = writeln!(s, "![{caption}](../{image})\n\n*Figure (ours):* {caption}\n");
+    for f in &c.figures {
+        let _ = writeln!(s, "![{}](../{})\n\n*Figure (ours):* {}\n", f.caption, f.image, f.caption);
     }
     let _ = writeln!(s, "- **Paper:** {}", c.statement);
     let _ = writeln!(s, "- **The paper's words:** \"{}\"", c.quote);

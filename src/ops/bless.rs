@@ -52,7 +52,7 @@ pub fn bless(env: &Env, opts: &BlessOptions) -> Result<BlessOutcome> {
     }
     if all || opts.experiments.iter().any(|e| e == "claims") {
         let run = claims::run(&env.root, &env.search, &out, ClaimsMode::Bless)?;
-        super::claims::write_strips(&out, &run)?;
+        super::claims::write_strips(env, &out, &run)?;
         outcome.claims = Some(run);
     }
     Ok(outcome)

@@ -41,16 +41,21 @@ pub fn claims(env: &Env, opts: &ClaimsOptions) -> Result<ClaimsOutcome> {
     let out = env.results(opts.out.clone());
     let _lock = env.writing(&out)?;
     let run = claims::run(&env.root, &env.search, &out, ClaimsMode::Write)?;
-    let strips = write_strips(&out, &run)?;
+    let strips = write_strips(env, &out, &run)?;
     Ok(ClaimsOutcome { run, strips, out })
 }
 
-/// Draws the lightmap study's blending strips (report layer) and writes them under
-/// `<out>/claims/`, each atomically; returns how many (`claims`, `bless`, `reproduce`).
-pub(crate) fn write_strips(out: &Path, run: &ClaimsRun) -> Result<usize> {
+/// Draws the lightmap study's blending strips and the claims pages' own figures (the claims'
+/// cut-down sheets, the blending charts; report layer) and writes them under `<out>/claims/`,
+/// each atomically; returns how many strips (`claims`, `bless`, `reproduce`).
+pub(crate) fn write_strips(env: &Env, out: &Path, run: &ClaimsRun) -> Result<usize> {
     let strips = crate::report::strip::pngs(&run.strips)?;
     for (name, bytes) in &strips {
         crate::io::atomic::write(&out.join("claims").join(name), bytes)?;
+    }
+    let sheets = crate::report::claim_figures::claim_sheets(&env.root, &env.search, out)?;
+    for (name, bytes) in sheets.iter().chain(&crate::report::claim_figures::blend_charts(out)?) {
+        crate::io::atomic::write(&out.join(name), bytes)?;
     }
     Ok(strips.len())
 }

@@ -143,7 +143,7 @@ pub fn reproduce(env: &Env, opts: &ReproduceOptions) -> Result<ReproduceOutcome>
     // The claims, judged on the tables just written (and the measurements, when their maps are
     // here), before the report that presents them.
     let claims = claims::run(&env.root, &env.search, &out, ClaimsMode::Write)?;
-    super::claims::write_strips(&out, &claims)?;
+    super::claims::write_strips(env, &out, &claims)?;
     let report = super::report::generate(env, &out, 1)?;
     Ok(ReproduceOutcome { experiments: exps.len(), results, claims, report, missing })
 }

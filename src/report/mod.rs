@@ -28,7 +28,7 @@
 //! colour and marker of each encoder id, which every chart and the HTML viewer use); and the
 //! pictures: `sheet` (comparison sheets of an
 //! experiment), `strip` (the lightmap study's blending strips, drawn from the claims layer's
-//! data), `charts` (plotters charts), `markdown` (tables and links), `csvfile` (CSV read by
+//! data), `claim_figures` (the claims pages' cut-down sheets and blending charts), `charts` (plotters charts), `markdown` (tables and links), `csvfile` (CSV read by
 //! column name), `tone` (exposure, Reinhard, sRGB, the error colour scale), `number` (number
 //! formatting), `text` (font and labels), `canvas` (pixel painting), `png` (PNG encoding and
 //! atomic writing); `site` (the results viewer, `results/site/`).
@@ -38,6 +38,7 @@
 
 mod budgets;
 pub mod canvas;
+pub mod claim_figures;
 pub mod charts;
 pub mod csvfile;
 mod draw_sheets;

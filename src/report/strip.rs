@@ -23,9 +23,15 @@ const LABEL_W: u32 = 150;
 /// some t or a value for some normal of the disc.
 pub fn draw(strip: &BlendStrip) -> Result<RgbImage> {
     let (title, ts, rows, disc) = (&strip.title, &strip.ts, &strip.rows, &strip.disc);
-    if rows.iter().any(|r| r.values.len() != ts.len() || r.values.iter().any(|v| v.len() != disc.normals.len())) {
+    let bad = |r: &crate::claims::lightmap::strip::StripRow| {
+        r.values.len() != ts.len()
+            || r.values.iter().any(|v| v.len() != disc.normals.len())
+            || !(r.rmse.is_empty() || r.rmse.len() == ts.len())
+    };
+    if rows.iter().any(bad) {
         anyhow::bail!(
-            "blend strip '{title}': every method needs one reconstruction per t ({} values) at the {} strip normals",
+            "blend strip '{title}': every method needs one reconstruction per t ({} values) at the {} strip normals, \
+             and one RMSE per t or none",
             ts.len(),
             disc.normals.len()
         );
@@ -36,16 +42,27 @@ pub fn draw(strip: &BlendStrip) -> Result<RgbImage> {
     let max = first.iter().map(|c| c.max_element()).fold(0.0, f64::max);
     let tone = Tone::from_reference(mean, max);
     let cell = disc.d as u32 + 8;
+    // Room under each disc for its RMSE, when the strip prints them.
+    let numbers = rows.iter().any(|r| r.rmse.iter().any(Option::is_some));
+    let text_h = if numbers { LINE_H } else { 0 };
     let head = MARGIN + 26 + 2 * LINE_H + 22;
     let label_w = rows.iter().map(|r| text_width(&r.method, BODY, true) + 14).fold(LABEL_W, u32::max);
     let w = 2 * MARGIN + label_w + ts.len() as u32 * cell;
-    let h = head + rows.len() as u32 * (cell + 4) + MARGIN;
+    let h = head + rows.len() as u32 * (cell + 4 + text_h) + MARGIN;
     let mut img = RgbImage::from_pixel(w, h, image::Rgb(PAPER));
     let mut labels = vec![
         Label::new(title, MARGIN, MARGIN, TITLE).bold(),
         Label::new(format!("E/π, {}", strip.view.caption), MARGIN, MARGIN + 26, BODY),
         Label::new(
-            format!("{}; exposure from the first row's mean", tone.describe()),
+            format!(
+                "{}; exposure from the first row's mean{}",
+                tone.describe(),
+                if numbers {
+                    "; under each disc: RMSE vs the blended reference (hemisphere)"
+                } else {
+                    ""
+                }
+            ),
             MARGIN,
             MARGIN + 26 + LINE_H,
             BODY,
@@ -56,12 +73,15 @@ pub fn draw(strip: &BlendStrip) -> Result<RgbImage> {
         labels.push(Label::new(format!("t = {}", sig(*t, 2)), x, head - 20, BODY).centre());
     }
     for (r, row) in rows.iter().enumerate() {
-        let y = head + r as u32 * (cell + 4);
+        let y = head + r as u32 * (cell + 4 + text_h);
         labels.push(Label::new(&row.method, MARGIN, y + cell / 2 - 8, BODY).bold());
         for (k, vals) in row.values.iter().enumerate() {
             let x = MARGIN + label_w + k as u32 * cell;
             fill(&mut img, x + 1, y, cell - 2, cell, CELL);
             paint_disc(&mut img, x + 4, y + 4, disc, CELL, |i| tone.map(vals[i]));
+            if let Some(Some(e)) = row.rmse.get(k) {
+                labels.push(Label::new(format!("RMSE {}", sig(*e, 3)), x + cell / 2, y + cell + 1, BODY).centre());
+            }
         }
     }
     draw_labels(&mut img, &labels)?;
@@ -94,7 +114,7 @@ mod tests {
         let normals = strip_normals(DVec3::Y);
         let fits: Vec<Box<dyn Fitted>> =
             blended.iter().map(|s| enc.fit(&crate::encoders::encoder::FitInput::sphere(s))).collect();
-        let values = fits.iter().map(|f| normals.iter().map(|&m| f.irradiance(m)).collect()).collect();
+        let values: Vec<Vec<Rgb>> = fits.iter().map(|f| normals.iter().map(|&m| f.irradiance(m)).collect()).collect();
         let view = View::down(DVec3::Y, "+y");
         let strip = |rows: Vec<StripRow>| BlendStrip {
             pair: "test".into(),
@@ -104,14 +124,17 @@ mod tests {
             ts: ts.clone(),
             rows,
         };
-        let img = draw(&strip(vec![StripRow { method: "sh1 of blended SH".into(), values }])).unwrap();
+        let img = draw(&strip(vec![StripRow { method: "sh1 of blended SH".into(), values: values.clone(), rmse: vec![] }])).unwrap();
         let (d, cell) = (STRIP_DISC as u32, STRIP_DISC as u32 + 8);
         assert_eq!(img.width(), 2 * MARGIN + LABEL_W + 3 * cell);
         let head = MARGIN + 26 + 2 * LINE_H + 22;
         assert_eq!(img.height(), head + (cell + 4) + MARGIN);
         let centre = |k: u32| img.get_pixel(MARGIN + LABEL_W + k * cell + 4 + d / 2, head + 4 + d / 2).0;
         assert_ne!(centre(0), centre(2), "the two ends differ");
-        let bad = StripRow { method: "x".into(), values: vec![vec![Rgb::ZERO; normals.len()]] };
+        let bad = StripRow { method: "x".into(), values: vec![vec![Rgb::ZERO; normals.len()]], rmse: vec![] };
         assert!(draw(&strip(vec![bad])).is_err());
+        // Printing each cell's RMSE adds a line of text under every row's discs.
+        let numbered = StripRow { method: "m".into(), values, rmse: vec![Some(0.1), None, Some(0.25)] };
+        assert_eq!(draw(&strip(vec![numbered])).unwrap().height(), head + (cell + 4 + LINE_H) + MARGIN);
     }
 }

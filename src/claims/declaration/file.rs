@@ -39,17 +39,39 @@ pub(super) struct ClaimFile {
     pub(super) kind: String,
     pub(super) fixed: String,
     pub(super) differs: String,
-    pub(super) figure: Option<FigureFile>,
+    pub(super) figure: Option<FigureField>,
     #[serde(default)]
     pub(super) check: Vec<CheckFile>,
 }
 
-/// `figure`: one committed image of ours shown beside the claim's paragraph.
+/// `figure`: one figure of ours, or a list of them, beside the claim's paragraph.
+#[derive(Deserialize)]
+#[serde(untagged)]
+pub(super) enum FigureField {
+    /// `figure = { image, caption }`.
+    One(FigureFile),
+    /// `figure = [{ image, caption }, …]`.
+    Many(Vec<FigureFile>),
+}
+
+/// One figure: a committed image under `results/`, its caption, and the sheet `claims` draws
+/// as that image, if any.
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(super) struct FigureFile {
     pub(super) image: String,
     pub(super) caption: String,
+    pub(super) sheet: Option<SheetFile>,
+}
+
+/// `sheet = { experiment, map, encoders }`: the comparison sheet of one experiment on one map,
+/// cut down to these encoders.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct SheetFile {
+    pub(super) experiment: String,
+    pub(super) map: String,
+    pub(super) encoders: Vec<String>,
 }
 
 /// One `[[claim.check]]`.

@@ -25,7 +25,7 @@
 //! | `threshold_from`  | string | where the primary's threshold comes from: `paper: <words of the quote that state the number>`, `direction` (a word decides only its direction: a ratio against 1, a sign), `rounding` (an identity) or `none` (an anchor); see `threshold.rs` for the rule, and the quantifier rule the quote sets |
 //! | `fixed`           | string | when the criterion was fixed: `before data`, or `after data: <reason>` |
 //! | `differs`         | string | why our figure and the paper's may differ (population, metric, maps, resolution), for the page's "What we found" |
-//! | `figure`          | table  | optional: `image` (a committed `.png` under `results/`, plain names) and `caption` (what to look at): one figure of ours beside the paragraph, for a claim whose paper evidence is an image |
+//! | `figure`          | table or list | optional: `image` (a `.png` under `results/`, plain names), `caption` (what to look at) and, for a figure `claims` draws itself, `sheet = { experiment, map, encoders }` (that experiment's comparison sheet on one map, only those encoders, written as `claims/<name>.png`): the figures of ours beside the paragraph, for a claim whose paper evidence is an image |
 //! | `[[claim.check]]` | tables | the checks: exactly one with `role = "primary"`, which alone decides the verdict; the others are context, shown under it |
 //!
 //! | key (`[[claim.check]]`) | type | meaning |
@@ -51,10 +51,12 @@
 
 //!
 //! The files: `kind.rs` (the evidence kinds), `paper.rs` (`Paper`, `ClaimDecl`), `check.rs`
-//! (`CheckDecl` and its `Test`), `file.rs` (the keys as written), `parse.rs` (one file),
+//! (`CheckDecl` and its `Test`), `figure.rs` (a claim's figures), `file.rs` (the keys as
+//! written), `parse.rs` (one file),
 //! `validate_check.rs` (one check), `load.rs` (every file of a repository).
 
 mod check;
+mod figure;
 mod file;
 mod kind;
 mod load;
@@ -64,6 +66,7 @@ mod threshold;
 mod validate_check;
 
 pub use check::{CheckDecl, Source, Statistic, Test};
+pub use figure::SheetCrop;
 pub use kind::{Kind, UNTESTABLE};
 pub use load::{load_papers, DIR};
 pub use paper::{ClaimDecl, Paper};

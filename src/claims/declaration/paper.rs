@@ -54,9 +54,9 @@ pub struct ClaimDecl {
     pub fixed: String,
     /// Why our figure and the paper's may differ (`differs`).
     pub differs: String,
-    /// One committed image of ours beside the paragraph (`figure`), for a claim whose paper
-    /// evidence is an image: its path under `results/` and its caption (what to look at).
-    pub figure: Option<(String, String)>,
+    /// The figures of ours beside the paragraph (`figure`), for a claim whose paper evidence
+    /// is an image: each a path under `results/` and a caption (what to look at).
+    pub figures: Vec<super::figure::Figure>,
     /// The checks (`[[claim.check]]`): exactly one primary, the others context.
     pub checks: Vec<CheckDecl>,
 }

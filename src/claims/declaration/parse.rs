@@ -78,16 +78,6 @@ fn no_scene_in_map_sets(sets: &std::collections::BTreeMap<String, Vec<String>>, 
     Ok(())
 }
 
-/// A claim's figure: a `.png` under `results/` named by plain folder and file names, with a
-/// caption.
-fn figure(image: String, caption: String) -> Result<(String, String)> {
-    let plain = image.split('/').all(|p| crate::io::name::check(p).is_ok());
-    if !plain || !image.ends_with(".png") || caption.trim().is_empty() {
-        bail!("figure '{}': a .png under results/ named by plain folder and file names, with a caption", echo(&image));
-    }
-    Ok((image, caption))
-}
-
 /// Parses one declaration file's text; `key` is its stem, `origin` names it in errors.
 pub fn parse(key: &str, text: &str, origin: &Path) -> Result<Paper> {
     let f: PaperFile = crate::pipeline::experiment::parse_toml(text, origin)
@@ -139,9 +129,9 @@ pub fn parse(key: &str, text: &str, origin: &Path) -> Result<Paper> {
         let primary = checks.iter().find(|k| k.primary).expect("one primary");
         check_threshold(kind, &threshold_from, &c.quote, primary).with_context(at)?;
         check_quantifier(kind, &c.quote, primary).with_context(at)?;
-        let figure = c.figure.map(|f| figure(f.image, f.caption)).transpose().with_context(at)?;
+        let figures = super::figure::figures(c.figure).with_context(at)?;
         claims.push(ClaimDecl {
-            figure,
+            figures,
             statement: c.statement.unwrap_or_else(|| c.says.clone()),
             id,
             says: c.says,

@@ -61,7 +61,7 @@ pub(super) fn judge_against_baseline(
         Test::Equal { tolerance, abs_tolerance } => judge_equal(&pairs, tolerance, abs_tolerance, &left_out),
         _ => judge_ratio(k, (set, base), &pairs, &left_out),
     };
-    Ok(SetOutcome { set: set.into(), maps: maps_judged, status, headline, figure, values, excluded })
+    Ok(SetOutcome { set: set.into(), maps: maps_judged, only: None, status, headline, figure, values, excluded })
 }
 
 /// What a baseline test gives a set: status, per-row values, headline and figure.

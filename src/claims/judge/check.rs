@@ -93,7 +93,7 @@ fn judge_bound(k: &CheckDecl, set: &str, maps_judged: usize, picked: &[Picked], 
         excluded,
     });
     let status = Status::pass_if(passing == values.len());
-    SetOutcome { set: set.into(), maps: maps_judged, status, headline, figure, values, excluded }
+    SetOutcome { set: set.into(), maps: maps_judged, only: None, status, headline, figure, values, excluded }
 }
 
 /// `median_at_least`: a map's value is the median of its rows; the median of the maps' values
@@ -121,7 +121,7 @@ fn judge_median(k: &CheckDecl, set: &str, vals: &[(&Picked, f64)], bound: f64, e
     let headline = wording::median_bound(&k.column, (median, bound), (passing, values.len()), noun(set));
     let figure = format!("{} of {}: {headline}", k.column, k.encoder);
     let status = Status::pass_if(median >= bound);
-    SetOutcome { set: set.into(), maps: values.len(), status, headline, figure, values, excluded }
+    SetOutcome { set: set.into(), maps: values.len(), only: None, status, headline, figure, values, excluded }
 }
 
 /// `every_equal`: every value is exactly `value`.
@@ -139,7 +139,7 @@ fn judge_exact(
     let off: Vec<&str> = values.iter().filter(|v| !v.pass).map(|v| v.label.as_str()).collect();
     let (headline, figure) = wording::exact(&k.column, &k.encoder, value, (passing, values.len()), &off, excluded);
     let status = Status::pass_if(passing == values.len());
-    SetOutcome { set: set.into(), maps: maps_judged, status, headline, figure, values, excluded }
+    SetOutcome { set: set.into(), maps: maps_judged, only: None, status, headline, figure, values, excluded }
 }
 
 /// Judges one check on every set it declares. `table` is its evidence, or why there is none.
@@ -152,7 +152,9 @@ pub fn judge_check(paper: &Paper, k: &CheckDecl, table: &std::result::Result<Evi
                     Err(why) => Err(why.clone()),
                     Ok(t) => judge_set(t, k, set, population).map_err(|e| format!("{}: {e:#}", k.source.label())),
                 };
-                out.unwrap_or_else(|why| SetOutcome::untestable(set, 0, why))
+                let mut out = out.unwrap_or_else(|why| SetOutcome::untestable(set, 0, why));
+                out.only = k.maps.clone();
+                out
             })
             .collect();
     CheckOutcome { decl: k.clone(), sets }

@@ -38,6 +38,9 @@ pub struct SetOutcome {
     pub set: String,
     /// Distinct maps judged.
     pub maps: usize,
+    /// The maps the check is restricted to within the set (its `maps`), if it is: the set's
+    /// label then names them, so "all" never stands for a subset.
+    pub only: Option<Vec<String>>,
     /// The check's status on this set.
     pub status: Status,
     /// One short phrase with the number.
@@ -111,6 +114,7 @@ impl SetOutcome {
         SetOutcome {
             set: set.into(),
             maps,
+            only: None,
             status: Status::Untestable(why),
             headline: "no data".into(),
             figure: String::new(),

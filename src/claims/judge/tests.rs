@@ -192,3 +192,13 @@ fn scenes_and_maps_are_judged_apart() {
     assert_eq!(o.maps(), "all (2 maps); scenes (2 constructed scenes)");
     assert_eq!(o.verdict.word(), "partly");
 }
+
+/// A check restricted to some maps (`maps = [...]`) says which: its set is labelled by the
+/// maps it holds, never as the whole set.
+#[test]
+fn a_restricted_set_names_its_maps() {
+    let o = judge(&format!("{PRIMARY}test='ratio_every'\nbelow=1.0\non=['all']\nmaps=['m1','m2']"), "measured");
+    assert_eq!(o.maps(), "m1, m2 (of all; 2 maps)");
+    let o = judge(&format!("{PRIMARY}test='ratio_every'\nbelow=1.0\non=['all']"), "measured");
+    assert_eq!(o.maps(), "all (4 maps)");
+}

@@ -64,10 +64,14 @@ impl ClaimOutcome {
     }
 }
 
-/// `paper (5 maps)`, `scenes (2 constructed scenes)`; a set without a map column is named
-/// alone.
+/// `paper (5 maps)`, `scenes (2 constructed scenes)`; a check restricted to some maps names
+/// them, `pisa_256x128, wells_probulator (of all; 2 maps)`; a set without a map column is
+/// named alone.
 pub fn set_label(s: &SetOutcome) -> String {
-    if s.maps > 0 {
+    if let Some(only) = &s.only {
+        let noun = crate::claims::population::noun(&s.set);
+        format!("{} (of {}; {})", only.join(", "), s.set, n_maps(s.maps, noun))
+    } else if s.maps > 0 {
         format!("{} ({})", s.set, n_maps(s.maps, crate::claims::population::noun(&s.set)))
     } else {
         s.set.clone()
@@ -76,7 +80,9 @@ pub fn set_label(s: &SetOutcome) -> String {
 
 /// `paper 5`: the set and its map count, short (for headlines).
 fn set_short(s: &SetOutcome) -> String {
-    if s.maps > 0 {
+    if let Some(only) = &s.only {
+        only.join(", ")
+    } else if s.maps > 0 {
         format!("{} {}", s.set, s.maps)
     } else {
         s.set.clone()

@@ -45,9 +45,9 @@ fn blend_study(
         let (strip_a, strip_b) = (a.reference.split_off(grid.normals.len()), b.reference.split_off(grid.normals.len()));
         let bl = blend::Blend::new(pair.normal, a, b);
         let (r, s) = blend::study(pair, &bl, &grid.normals, &grid.weights);
+        strips.push(strip::blend_strip(pair, &bl, (&strip_a, &strip_b), &r));
         rows.extend(r);
         sums.extend(s);
-        strips.push(strip::blend_strip(pair, &bl, &strip_a, &strip_b));
     }
     Ok((rows, sums, strips))
 }

@@ -31,6 +31,10 @@ pub struct StripRow {
     pub method: String,
     /// E/π per t (outer, as [`BlendStrip::ts`]) and per normal of [`strip_normals`] (inner).
     pub values: Vec<Vec<Rgb>>,
+    /// Per t, the method's RMSE (E/π) against the blended exact reference over the scored
+    /// hemisphere grid (the `blend_curve` measure's), printed under its disc; `None` for the
+    /// reference row.
+    pub rmse: Vec<Option<f64>>,
 }
 
 /// Everything a blending strip shows.
@@ -59,15 +63,24 @@ impl BlendStrip {
 
 /// The strip of one pair: `ref_a` and `ref_b` are the two bakes' exact references at
 /// [`strip_normals`] of the pair's N, blended linearly; each method of [`blend::METHODS`] is
-/// reconstructed from `bl` at every t and evaluated at the same normals.
-pub fn blend_strip(pair: &blend::Pair, bl: &blend::Blend, ref_a: &[Rgb], ref_b: &[Rgb]) -> BlendStrip {
+/// reconstructed from `bl` at every t and evaluated at the same normals, with its RMSE at that t
+/// from `scored` (the pair's rows of [`blend::study`]).
+pub fn blend_strip(
+    pair: &blend::Pair,
+    bl: &blend::Blend,
+    (ref_a, ref_b): (&[Rgb], &[Rgb]),
+    scored: &[blend::BlendRow],
+) -> BlendStrip {
     let view = View::down(pair.normal, pair.normal_label);
     let disc = strip_disc(&view);
     let ts: Vec<f64> = (0..=10).map(|i| i as f64 / 10.0).collect();
     let mut rows = vec![StripRow {
         method: "reference".into(),
         values: ts.iter().map(|&t| ref_a.iter().zip(ref_b).map(|(x, y)| *x * (1.0 - t) + *y * t).collect()).collect(),
+        rmse: vec![None; ts.len()],
     }];
+    // The study scores t = i/10 exactly as the strip's ts are made, so they match bit for bit.
+    let rmse_at = |m: &str, t: f64| scored.iter().find(|r| r.method == m && r.t == t).map(|r| r.rmse);
     for m in blend::METHODS {
         rows.push(StripRow {
             method: m.into(),
@@ -78,6 +91,7 @@ pub fn blend_strip(pair: &blend::Pair, bl: &blend::Blend, ref_a: &[Rgb], ref_b: 
                     disc.normals.iter().map(|&n| f(n)).collect()
                 })
                 .collect(),
+            rmse: ts.iter().map(|&t| rmse_at(m, t)).collect(),
         });
     }
     BlendStrip {

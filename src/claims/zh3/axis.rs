@@ -3,8 +3,9 @@
 //! solving for the axis can beat the L1 axis when the L2 energy lies elsewhere (Z3); and the
 //! axis weights must match the error weights (Z4).
 
+use super::fringe;
 use super::cases::{cap, enc, exact, fit, probulator, scene, scene_case, values, weights_value, Case};
-use crate::claims::measure::Measure;
+use crate::claims::measure::{Cell, Measure};
 use crate::encoders::encoder::Encoder;
 use crate::math::colour::{Rgb, REC709};
 use crate::math::sh::{delta_light, Sh9};
@@ -158,9 +159,12 @@ fn two_colour_scene() -> Scene {
 }
 
 /// Z2 (ZH3 talk, "per-channel axes can fringe colour"): per map and ZH3 variant (stored,
-/// solved, hallucinated), the chroma error of the per-channel-axis and shared-axis encoders,
-/// and their RMSE under both metrics; sh1 and sh2 for scale. Measure `zh3_chroma`.
-pub(super) fn z2(grid: &OutputGrid, cases: &[Case]) -> Result<Measure> {
+/// solved, hallucinated), the chroma errors of the per-channel-axis and shared-axis encoders
+/// against the reference, the fringe (the colour the zonal band adds: [`xy_error`] against the
+/// SH3 of the same input), the map's axis divergence ([`fringe::axis_divergence`]) and
+/// the RMSE under both metrics; sh1 and sh2 for scale. Measures `zh3_chroma` and, its stored
+/// pair ordered by divergence, `zh3_axis_divergence`.
+pub(super) fn z2(grid: &OutputGrid, cases: &[Case]) -> Result<(Measure, Measure)> {
     let ids = [
         "zh3_stored_channel",
         "zh3_stored_shared",
@@ -177,28 +181,50 @@ pub(super) fn z2(grid: &OutputGrid, cases: &[Case]) -> Result<Measure> {
         "Z2: chroma error = solid-angle RMS over the sphere of |χ(test) − χ(ref)|, χ = max(E,0)/Σ max(E,0) (black \
          = grey); lit_chroma_err weights each normal by solid angle × reference luminance; rmse under both \
          metrics (exact: solid-angle, unclamped; probulator: per-pixel, clamped), 256x128 normals, exact \
-         reference; maps plus a constructed two-colour scene (warm light +x, blue light +y). xy_err (the one Z2 \
-         judges): RMS of the CIE 1931 xy distance (Rec.709 primaries, D65; clamped at 0 as displayed) weighted \
-         by solid angle × reference luminance Y",
-        &["map", "encoder", "metric", "chroma_err", "lit_chroma_err", "xy_err", "rmse"],
+         reference; maps plus a constructed two-colour scene (warm light +x, blue light +y). xy_err: RMS of the \
+         CIE 1931 xy distance (Rec.709 primaries, D65; clamped at 0 as displayed) weighted by solid angle × \
+         reference luminance Y. fringe_xy (the one Z2 judges): the same distance from the encoder to the SH3 \
+         (sh2) of the same input, weighted by solid angle × the SH3's Y: the colour the zonal band adds, since \
+         ZH3 shares L0 and L1 with SH3. axis_divergence_deg / l1_axis_divergence_deg: the largest angle \
+         between two channels' zonal axes as lines (0-90°), of zh3_solved_channel / zh3_stored_channel (the \
+         L1 axes), the same on every row of a map",
+        &[
+            "map",
+            "encoder",
+            "metric",
+            "chroma_err",
+            "lit_chroma_err",
+            "xy_err",
+            "fringe_xy",
+            "axis_divergence_deg",
+            "l1_axis_divergence_deg",
+            "rmse",
+        ],
     );
+    let (sh2, solved, stored) = (enc("sh2", &[])?, enc("zh3_solved_channel", &[])?, enc("zh3_stored_channel", &[])?);
     for case in cases.iter().chain(std::iter::once(&constructed)) {
+        let sh3 = values(fit(sh2.as_ref(), &case.sh).as_ref(), grid);
+        let div = fringe::axis_divergence(fit(solved.as_ref(), &case.sh).as_ref());
+        let l1_div = fringe::axis_divergence(fit(stored.as_ref(), &case.sh).as_ref());
         for id in ids {
             let e = enc(id, &[])?;
             let v = values(fit(e.as_ref(), &case.sh).as_ref(), grid);
             let ce = chroma_error(&v, &case.reference, &grid.weights);
             let cl = chroma_error_lit(&v, &case.reference, &grid.weights);
             let xy = xy_error(&v, &case.reference, &grid.weights);
+            // The fringe: the colour the zonal band adds, against the SH3 of the same input.
+            let fr = xy_error(&v, &sh3, &grid.weights);
             for (metric, f) in
                 [("exact", exact as fn(&dyn Encoder, &Case, &OutputGrid) -> _), ("probulator", probulator)]
             {
                 let r = f(e.as_ref(), case, grid).rmse;
-                let row = vec![case.name.clone().into(), id.into(), metric.into(), ce.into(), cl.into(), xy.into()];
-                m.row(row.into_iter().chain([r.into()]).collect());
+                let row = vec![case.name.clone().into(), id.into(), metric.into()];
+                m.row(row.into_iter().chain([ce, cl, xy, fr, div, l1_div, r].map(Cell::from)).collect());
             }
         }
     }
-    Ok(m)
+    let ordered = fringe::by_divergence(&m);
+    Ok((m, ordered))
 }
 
 /// The constructed scene of Z3: two equal lights along ±x (strong L2 about x, no L1 along x)

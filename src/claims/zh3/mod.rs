@@ -11,13 +11,14 @@
 //! use their closed-form irradiance and SH instead.
 //!
 //! The folder, by concern: what is measured and how (`cases`: the grid, the maps and scenes,
-//! scoring), then the measurements by topic — the zonal axis (`axis`: Z1–Z4), Geomerics
+//! scoring), then the measurements by topic — the zonal axis (`axis`: Z1–Z4; `fringe`: Z2's fringe and axis divergence), Geomerics
 //! (`geomerics`: Z5), blending (`blending`: Z9) and quantisation (`quantisation`: Z10).
 
 mod axis;
 mod blending;
 mod cases;
 mod declared;
+mod fringe;
 mod geomerics;
 mod quantisation;
 mod run;

@@ -22,15 +22,19 @@ pub fn measure(search: &SearchPath, maps: &[String]) -> Result<(Vec<Measure>, Ma
     progress.inc();
     type Step<'a> = (&'static str, Box<dyn Fn() -> Result<Measure> + 'a>);
     let steps: Vec<Step> = vec![
-        ("Z1", Box::new(|| axis::z1(&grid))),
-        ("Z2", Box::new(|| axis::z2(&grid, &cases))),
         ("Z3", Box::new(|| axis::z3(&grid, &cases))),
         ("Z4", Box::new(|| axis::z4(&grid, &cases))),
         ("Z5", Box::new(|| geomerics::z5(&grid, &cases))),
         ("blending", Box::new(|| blending::zh3_blend(&grid))),
         ("quantisation", Box::new(|| quantisation::quantised_sizes(&grid, &cases))),
     ];
-    let mut out = Vec::new();
+    progress.message("Z1");
+    let mut out = vec![axis::z1(&grid)?];
+    progress.inc();
+    progress.message("Z2");
+    let (chroma, ordered) = axis::z2(&grid, &cases)?;
+    out.extend([chroma, ordered]);
+    progress.inc();
     for (what, step) in steps {
         progress.message(what);
         out.push(step()?);
