@@ -17,5 +17,6 @@ pub mod metrics;
 pub mod projection;
 pub mod radiance;
 pub mod row_convolution;
+pub(crate) mod row_fft;
 pub mod scenes;
 pub mod view;
