@@ -21,7 +21,7 @@
 use crate::envmap::moments::{RowMoments, RowPrefix};
 use crate::envmap::LatLong;
 use crate::math::colour::Rgb;
-use crate::reference::row_convolution::{for_each_node, over_input_rows};
+use crate::reference::row_pairs::{for_each_node, over_input_rows};
 use rustfft::num_complex::Complex64;
 use rustfft::{Fft, FftPlanner};
 use std::f64::consts::{FRAC_1_PI, PI};
@@ -128,7 +128,7 @@ struct Work {
 }
 
 /// Convolves every input row into the output rows `rows_out` of `values` (E/π, row-major), by
-/// FFT; `stop` as in `row_convolution::irradiance_latlong`.
+/// FFT; `stop` as in `row_pairs::over_input_rows`.
 pub(crate) fn convolve(
     moments: &RowMoments,
     rule: &[(f64, f64)],
@@ -215,8 +215,11 @@ impl FftPlan {
         // F(π) − F(−π) = 2·closed: the whole circle.
         let turn = 2.0 * closed;
         let f = |e: &Edge| e.sign * g[e.at] + e.wraps * turn;
-        for (k, pair) in kernel.iter_mut().zip(self.edges.windows(2)) {
-            *k = f(&pair[1]) - f(&pair[0]);
+        let mut left = f(&self.edges[0]);
+        for (k, e) in kernel.iter_mut().zip(&self.edges[1..]) {
+            let right = f(e);
+            *k = right - left;
+            left = right;
         }
         true
     }
