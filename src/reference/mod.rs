@@ -17,5 +17,7 @@ pub mod metrics;
 pub mod projection;
 pub mod radiance;
 pub mod row_convolution;
+pub(crate) mod row_fft;
+pub(crate) mod row_pairs;
 pub mod scenes;
 pub mod view;

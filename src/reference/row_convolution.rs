@@ -18,17 +18,12 @@
 //! than the map works the same way.
 
 use crate::envmap::moments::{sin_versin, RowMoments, RowPrefix};
-use crate::envmap::{LatLong, PROGRESS_WIDTH};
-use crate::io::progress::Progress;
+use crate::envmap::LatLong;
 use crate::math::colour::Rgb;
-use crate::math::quadrature::for_each_polar_node;
 use crate::reference::antipode;
-use rayon::prelude::*;
+use crate::reference::row_fft::{self, FftPlan};
+use crate::reference::row_pairs::{for_each_node, over_input_rows};
 use std::f64::consts::{FRAC_1_PI, PI};
-
-/// Input rows are cut into this many chunks whose partial sums are added in chunk order, so
-/// the result does not depend on the thread count.
-const CHUNKS: usize = 8;
 
 /// A mirrored row where more than 1/`DENSE` of the values cancelled is convolved directly:
 /// a normal on its own (`Reference::irradiance_many`) costs about four columns of a row.
@@ -47,10 +42,18 @@ pub(crate) fn irradiance_latlong(
     out: LatLong,
     stop: &(dyn Fn() -> bool + Sync),
 ) -> (Vec<Rgb>, Vec<usize>) {
-    let plan = Plan::new(moments.width(), moments.dtheta(), out.width);
+    let path = if row_fft::applies(moments.width(), out.width) {
+        Path::Fft(FftPlan::new(moments.width(), out.width))
+    } else {
+        Path::Direct(Plan::new(moments.width(), moments.dtheta(), out.width))
+    };
+    let convolve = |rows: &[usize], values: &mut [Rgb]| match &path {
+        Path::Fft(plan) => row_fft::convolve(moments, rule, out, plan, rows, values, stop),
+        Path::Direct(plan) => convolve(moments, rule, out, plan, rows, values, stop),
+    };
     let mut values = vec![Rgb::ZERO; out.height * out.width];
     let top: Vec<usize> = (0..antipode::direct_rows(out)).collect();
-    convolve(moments, rule, out, &plan, &top, &mut values, stop);
+    convolve(&top, &mut values);
     let cancelled = antipode::mirror(moments, rule, out, &mut values);
     let w = out.width;
     let mut per_row = vec![0usize; out.height];
@@ -60,10 +63,17 @@ pub(crate) fn irradiance_latlong(
     let dense = |j: usize| per_row[j] * DENSE > w;
     let redo: Vec<usize> = (0..out.height).filter(|&j| dense(j)).collect();
     if !redo.is_empty() {
-        convolve(moments, rule, out, &plan, &redo, &mut values, stop);
+        convolve(&redo, &mut values);
     }
     let rest = cancelled.into_iter().filter(|&k| !dense(k / w)).collect();
     (values, rest)
+}
+
+/// The two ways of convolving the rows: by FFT where the grid's columns lie on the map's
+/// lattice and it is cheaper ([`row_fft::applies`]), else directly.
+enum Path {
+    Direct(Plan),
+    Fft(FftPlan),
 }
 
 /// Convolves every input row into the output rows `rows_out` of `values` (E/π, row-major).
@@ -77,36 +87,19 @@ fn convolve(
     stop: &(dyn Fn() -> bool + Sync),
 ) {
     let rows = moments.height();
-    let chunks = CHUNKS.min(rows);
-    let per = rows.div_ceil(chunks);
-    let progress = (moments.width() >= PROGRESS_WIDTH).then(|| Progress::new(rows as u64, "exact reference"));
     let n = rows_out.len() * out.width * 3;
-    let partials: Vec<Vec<f64>> = (0..chunks)
-        .into_par_iter()
-        .map(|c| {
-            let mut acc = vec![0.0f64; n];
-            let mut prefix = RowPrefix::new();
-            let mut phased = Phased::new(plan);
-            for j in (c * per)..((c + 1) * per).min(rows) {
-                if stop() {
-                    // Asked to stop: the sum is left partial, and the caller discards it.
-                    break;
-                }
-                moments.fill(j, &mut prefix);
-                phased.fill(moments, &prefix, plan);
-                let (p0, p1) = (PI * j as f64 / rows as f64, PI * (j + 1) as f64 / rows as f64);
-                for (&jo, acc) in rows_out.iter().zip(acc.chunks_exact_mut(out.width * 3)) {
-                    plan.add_row(&phased, rule, out.phi_centre(jo), (p0, p1), acc);
-                }
-                if let Some(p) = &progress {
-                    p.inc();
-                }
-            }
-            acc
-        })
-        .collect();
+    let new = || (vec![0.0f64; n], RowPrefix::new(), Phased::new(plan));
+    let add = |(acc, prefix, phased): &mut (Vec<f64>, RowPrefix, Phased), j: usize| {
+        moments.fill(j, prefix);
+        phased.fill(moments, prefix, plan);
+        let (p0, p1) = (PI * j as f64 / rows as f64, PI * (j + 1) as f64 / rows as f64);
+        for (&jo, acc) in rows_out.iter().zip(acc.chunks_exact_mut(out.width * 3)) {
+            plan.add_row(phased, rule, out.phi_centre(jo), (p0, p1), acc);
+        }
+    };
+    let partials = over_input_rows(moments, new, add, stop);
     let mut total = vec![0.0f64; n];
-    for p in &partials {
+    for (p, _, _) in &partials {
         for (t, v) in total.iter_mut().zip(p) {
             *t += v;
         }
@@ -161,31 +154,15 @@ impl Plan {
 
     /// Adds one input row's part (its polar range `(p0, p1)`) to the output row at polar angle
     /// `phi_o`; `acc` holds that output row class by class, channels interleaved.
-    fn add_row(&self, row: &Phased, rule: &[(f64, f64)], phi_o: f64, (p0, p1): (f64, f64), acc: &mut [f64]) {
-        let (sin_o, cos_o) = phi_o.sin_cos();
-        let half_pi = 0.5 * PI;
-        // Where the kernel's boundary is tangent to a parallel: the rows are split there.
-        let breaks = [(phi_o - half_pi).abs(), PI - (half_pi - phi_o).abs()];
-        for_each_polar_node(p0, p1, &breaks, rule, |phi, wt| {
-            let (s, c) = phi.sin_cos();
-            let (a, b) = (sin_o * s, cos_o * c);
-            let t = if a > 1e-300 {
-                -b / a
-            } else if b > 0.0 {
-                -2.0
-            } else {
-                2.0
-            };
-            if t >= 1.0 {
-                return;
-            }
+    fn add_row(&self, row: &Phased, rule: &[(f64, f64)], phi_o: f64, polar: (f64, f64), acc: &mut [f64]) {
+        for_each_node(rule, phi_o, polar, |a, b, ws, t| {
             // Δ in texels, cos Δ and sin Δ (the whole circle when t ≤ −1).
             let arc = if t <= -1.0 {
                 Arc { delta: 0.5 * self.width as f64, cos: -1.0, sin: 0.0 }
             } else {
                 Arc { delta: t.acos() / self.h, cos: t, sin: ((1.0 - t) * (1.0 + t)).sqrt() }
             };
-            self.add_node(row, (a, b, wt * s), &arc, acc);
+            self.add_node(row, (a, b, ws), &arc, acc);
         });
     }
 
