@@ -94,18 +94,20 @@ fn preset(claim: &ClaimDecl, maps: &[String], shown: &BTreeMap<String, Vec<&Name
 }
 
 /// The claim's figure under the results folder: the declared one, else the sheet
-/// (`<experiment>/sheet_<map>.png`) of the first check on an experiment table for the first of
+/// (`<experiment>/sheet_<map>.png`, or its first page) of the first check on an experiment table for the first of
 /// the claim's maps that has one (`exists`: whether a path under the results folder is a file);
 /// None when neither exists.
 fn figure(claim: &ClaimDecl, maps: &[String], exists: &dyn Fn(&str) -> bool) -> Value {
-    if let Some((image, caption)) = &claim.figure {
-        return json!({ "image": image, "caption": caption });
+    if let Some(f) = claim.figures.first() {
+        return json!({ "image": f.image, "caption": f.caption });
     }
     for k in checks_in_order(claim) {
         let Source::Experiment(exp) = &k.source else { continue };
         for m in maps {
-            let image = format!("{exp}/sheet_{}.png", file_safe(m));
-            if exists(&image) {
+            // A long sheet is split into pages (`sheet_<map>_p1.png`, …): the first page.
+            let whole = format!("{exp}/sheet_{}.png", file_safe(m));
+            let first_page = format!("{exp}/sheet_{}_p1.png", file_safe(m));
+            if let Some(image) = [whole, first_page].into_iter().find(|i| exists(i)) {
                 let caption = format!("the comparison sheet of {exp} for {m}: the reference, each encoding and its signed error");
                 return json!({ "image": image, "caption": caption });
             }
