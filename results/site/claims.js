@@ -2,7 +2,6 @@
 "use strict";
 (function (P) {
   const C = window.PROBELAB_CLAIMS;
-  const I = window.PROBELAB_INDEX;
 
   function verdictClass(v) {
     if (/^holds/.test(v)) return "verdict-holds";
@@ -10,10 +9,48 @@
     return "verdict-other";
   }
 
-  /** The explorer links for the maps a claim names (those the site has). */
-  function explorerLinks(claim) {
-    const named = I.maps.filter(function (m) { return claim.maps.indexOf(m) >= 0 || claim.maps.indexOf(m.replace(/_256x128$/, "")) >= 0; });
-    return named.map(function (m) { return '<a href="index.html#map=' + encodeURIComponent(m) + '"></a>'; });
+  /** The explorer address of a preset on one of its maps. */
+  function presetHref(preset, map) {
+    return "index.html#map=" + encodeURIComponent(map) + "&domain=" + encodeURIComponent(preset.domain) + "&enc=" + preset.encoders.map(encodeURIComponent).join(",");
+  }
+
+  function para(text) {
+    const p = document.createElement("p");
+    p.textContent = text;
+    return p;
+  }
+
+  /** The claim's evidence (its declaration, through the report): figure and explorer preset. */
+  function evidenceParts(claim) {
+    const ev = (C.evidence || {})[claim.id] || {};
+    const parts = [];
+    if (ev.quote) parts.push(para("The paper: \u201c" + ev.quote + "\u201d"));
+    if (ev.preset) {
+      const p = para("Open in the explorer (" + ev.preset.encoders.join(", ") + " on " + ev.preset.domain + "): ");
+      p.className = "preset";
+      ev.preset.maps.forEach(function (m) {
+        const a = document.createElement("a");
+        a.href = presetHref(ev.preset, m);
+        a.textContent = m;
+        p.append(a, " ");
+      });
+      parts.push(p);
+    }
+    if (ev.figure) {
+      const f = document.createElement("figure");
+      const a = document.createElement("a");
+      a.href = "../" + ev.figure.image;
+      const img = document.createElement("img");
+      img.src = "../" + ev.figure.image;
+      img.alt = "results/" + ev.figure.image;
+      img.loading = "lazy";
+      a.appendChild(img);
+      const cap = document.createElement("figcaption");
+      cap.textContent = "results/" + ev.figure.image + ": " + ev.figure.caption;
+      f.append(a, cap);
+      parts.push(f);
+    }
+    return parts;
   }
 
   function detailRow(claim) {
@@ -22,23 +59,14 @@
     tr.hidden = true;
     const td = document.createElement("td");
     td.colSpan = 5;
-    const crit = document.createElement("p");
-    crit.textContent = "Criterion: " + claim.criterion;
-    const maps = document.createElement("p");
-    maps.textContent = "Maps: " + claim.maps + ". ";
-    const links = explorerLinks(claim);
-    if (links.length) {
-      const span = document.createElement("span");
-      span.innerHTML = "Open in the explorer: " + links.join(" ");
-      span.querySelectorAll("a").forEach(function (a) { a.textContent = decodeURIComponent(a.getAttribute("href").split("=")[1]); });
-      maps.appendChild(span);
-    }
     const ev = document.createElement("p");
     const a = document.createElement("a");
     a.href = "../" + claim.detail;
     a.textContent = "Evidence: results/" + claim.detail;
     ev.appendChild(a);
-    td.append(crit, maps, ev);
+    td.append(para("Criterion: " + claim.criterion), para("Maps: " + claim.maps + "."));
+    td.append.apply(td, evidenceParts(claim));
+    td.appendChild(ev);
     tr.appendChild(td);
     return tr;
   }

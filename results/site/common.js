@@ -12,6 +12,20 @@ window.probelab = window.probelab || {};
     return new Float32Array(u8.buffer);
   };
 
+  /**
+   * A grid encoding's E/pi from its data (report::site::encode::i16_difference_base64): the
+   * reference (Float32Array) plus each little-endian int16 step of `b64` times `scale`.
+   */
+  P.decodeDifferences = function (b64, scale, reference) {
+    const bin = atob(b64);
+    const u8 = new Uint8Array(bin.length);
+    for (let i = 0; i < bin.length; i++) u8[i] = bin.charCodeAt(i);
+    const q = new Int16Array(u8.buffer);
+    const out = new Float32Array(q.length);
+    for (let i = 0; i < q.length; i++) out[i] = reference[i] + q[i] * scale;
+    return out;
+  };
+
   /** The file name the report gives a name (report::names::file_safe). */
   P.fileSafe = function (s) {
     return s.replace(/[^A-Za-z0-9._-]/g, "_");

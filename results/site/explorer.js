@@ -25,7 +25,7 @@
     const e = map.domains[domain].encoders.find(function (x) { return x.name === name; });
     if (!e) throw new Error("encoder " + name + " is not shown for map " + map.name + " on " + domain);
     if (e.form === "sh" && !e._coeffs) e._coeffs = e.entries.map(function (x) { return x[3]; });
-    if (e.form === "grid" && !e._values) e._values = P.decodeF32(e.values);
+    if (e.form === "grid" && !e._values) e._values = P.decodeDifferences(e.differences, e.scale, referenceOf(map, domain));
     return e;
   }
 
@@ -250,7 +250,7 @@
       g.querySelector("legend").textContent = f;
       byFamily[f].forEach(function (e) {
         const l = document.createElement("label");
-        l.title = e.basis;
+        l.title = e.basis || map.bases[e.name] || "";
         l.innerHTML = "<input type=checkbox> " + P.markerSvg(I.styles[e.name]) + " <span></span> <small></small>";
         l.querySelector("span").textContent = e.name;
         l.querySelector("small").textContent = e.storage + (e.form === "sh" ? "" : " \u00b7 grid");
@@ -306,7 +306,12 @@
     state.map = I.maps[0];
     readHash();
     const dsel = document.getElementById("domain");
-    I.domains.forEach(function (d) { const o = document.createElement("option"); o.value = d.label; o.textContent = d.label; dsel.appendChild(o); });
+    I.domains.forEach(function (d) {
+      const o = document.createElement("option");
+      o.value = d.label;
+      o.textContent = d.label + (d.normal ? (d.every_encoder ? ": every encoder" : ": lightmap, occlusion and SH encoders") : ": a probe");
+      dsel.appendChild(o);
+    });
     dsel.value = state.domain;
     dsel.addEventListener("change", function () { state.domain = dsel.value; chooseMap(state.map).catch(P.fail); });
     const ex = document.getElementById("exposure");
