@@ -85,7 +85,7 @@ mod tests {
     use super::*;
     use crate::claims::zh3::cases::{enc, fit};
     use crate::math::sh::delta_light;
-    use crate::Rgb;
+    use crate::math::colour::Rgb;
 
     /// Two channels lit from +x and +y are 90° apart; a channel lit from −x lies on the same
     /// line as one lit from +x (0°); a shared axis has no divergence.

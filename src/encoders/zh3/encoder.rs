@@ -194,6 +194,10 @@ impl Encoder for Zh3Encoder {
     fn family(&self) -> Family {
         Family::Zh3
     }
+    /// Quantised (`ratio8`, FORMULAS §11), it loses precision by design, as the quantised SH do.
+    fn degrades_input(&self) -> bool {
+        self.quantise
+    }
     fn stored_scalars(&self) -> usize {
         match self.method {
             Method::Stored | Method::Solved(Zonal::Stored) => 15,

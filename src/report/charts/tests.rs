@@ -591,7 +591,7 @@ fn many_maps_and_encoders_become_a_heatmap_of_ratios() {
         }
     }
     let Outcome::Drawn { caption, text, image, .. } = rmse_dots(&csv(&s), "x", &[base]).unwrap() else { panic!() };
-    assert!(caption.contains(&format!("relative to `{base}`")), "{caption}");
+    assert!(caption.contains(&format!("as a ratio to `{base}`")), "{caption}");
     let cells: Vec<&str> = text.iter().map(|t| t.text.as_str()).collect();
     assert!(cells.contains(&"2") && cells.contains(&"0.2"), "{:?}", &cells[..40]);
     assert!(image.height() <= MAX_HEIGHT, "{}", image.height());
