@@ -46,7 +46,9 @@ fn main() {
 fn viewer_browser() {
     println!("cargo::rerun-if-env-changed=PROBELAB_CHROMIUM");
     let ci = env::var("CI").is_ok_and(|v| v == "true" || v == "1");
-    let chromium = env::var_os("PROBELAB_CHROMIUM").filter(|v| !v.is_empty()).map_or_else(|| PathBuf::from("/usr/bin/chromium"), PathBuf::from);
+    let chromium = env::var_os("PROBELAB_CHROMIUM")
+        .filter(|v| !v.is_empty())
+        .map_or_else(|| PathBuf::from("/usr/bin/chromium"), PathBuf::from);
     if chromium.is_file() {
         println!("cargo::rerun-if-changed={}", chromium.display());
     }

@@ -38,8 +38,8 @@
 
 mod budgets;
 pub mod canvas;
-pub mod claim_figures;
 pub mod charts;
+pub mod claim_figures;
 pub mod csvfile;
 mod draw_sheets;
 mod folders;

@@ -100,7 +100,6 @@ pub fn write_png(path: &Path, img: &RgbImage) -> Result<()> {
     crate::io::atomic::write(path, &png_bytes(img)?)
 }
 
-
 #[cfg(test)]
 mod tests {
     use super::*;

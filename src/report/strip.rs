@@ -57,11 +57,7 @@ pub fn draw(strip: &BlendStrip) -> Result<RgbImage> {
             format!(
                 "{}; exposure from the first row's mean{}",
                 tone.describe(),
-                if numbers {
-                    "; under each disc: RMSE vs the blended reference (hemisphere)"
-                } else {
-                    ""
-                }
+                if numbers { "; under each disc: RMSE vs the blended reference (hemisphere)" } else { "" }
             ),
             MARGIN,
             MARGIN + 26 + LINE_H,
@@ -124,7 +120,9 @@ mod tests {
             ts: ts.clone(),
             rows,
         };
-        let img = draw(&strip(vec![StripRow { method: "sh1 of blended SH".into(), values: values.clone(), rmse: vec![] }])).unwrap();
+        let img =
+            draw(&strip(vec![StripRow { method: "sh1 of blended SH".into(), values: values.clone(), rmse: vec![] }]))
+                .unwrap();
         let (d, cell) = (STRIP_DISC as u32, STRIP_DISC as u32 + 8);
         assert_eq!(img.width(), 2 * MARGIN + LABEL_W + 3 * cell);
         let head = MARGIN + 26 + 2 * LINE_H + 22;

@@ -87,7 +87,8 @@ mod tests {
         let one = claim("{ image = 'x/a.png', caption = 'look' }").unwrap();
         assert_eq!(one.claims[0].figures.len(), 1);
         assert!(one.claims[0].figures[0].sheet.is_none());
-        let sheet = "{ image = 'claims/s.png', caption = 'c', sheet = { experiment = 'e', map = 'm', encoders = ['a', 'b'] } }";
+        let sheet =
+            "{ image = 'claims/s.png', caption = 'c', sheet = { experiment = 'e', map = 'm', encoders = ['a', 'b'] } }";
         let two = claim(&format!("[{{ image = 'x/a.png', caption = 'look' }}, {sheet}]")).unwrap();
         let figs = &two.claims[0].figures;
         assert_eq!(figs.len(), 2);

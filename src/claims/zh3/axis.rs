@@ -3,8 +3,8 @@
 //! solving for the axis can beat the L1 axis when the L2 energy lies elsewhere (Z3); and the
 //! axis weights must match the error weights (Z4).
 
-use super::fringe;
 use super::cases::{cap, enc, exact, fit, probulator, scene, scene_case, values, weights_value, Case};
+use super::fringe;
 use crate::claims::measure::{Cell, Measure};
 use crate::encoders::encoder::Encoder;
 use crate::math::colour::{Rgb, REC709};

@@ -46,12 +46,10 @@ pub(super) fn by_divergence(chroma: &Measure) -> Measure {
         _ => 0.0,
     };
     let (map, enc, metric) = (col("map"), col("encoder"), col("metric"));
-    let (fr, xy, div, l1) = (col("fringe_xy"), col("xy_err"), col("axis_divergence_deg"), col("l1_axis_divergence_deg"));
-    let rows: Vec<&Vec<Cell>> = chroma
-        .rows
-        .iter()
-        .filter(|r| text(r, metric) == "exact" && PAIR.contains(&text(r, enc).as_str()))
-        .collect();
+    let (fr, xy, div, l1) =
+        (col("fringe_xy"), col("xy_err"), col("axis_divergence_deg"), col("l1_axis_divergence_deg"));
+    let rows: Vec<&Vec<Cell>> =
+        chroma.rows.iter().filter(|r| text(r, metric) == "exact" && PAIR.contains(&text(r, enc).as_str())).collect();
     let mut maps: Vec<(String, f64)> = Vec::new();
     for r in &rows {
         if !maps.iter().any(|(m, _)| *m == text(r, map)) {
@@ -84,8 +82,8 @@ pub(super) fn by_divergence(chroma: &Measure) -> Measure {
 mod tests {
     use super::*;
     use crate::claims::zh3::cases::{enc, fit};
-    use crate::math::sh::delta_light;
     use crate::math::colour::Rgb;
+    use crate::math::sh::delta_light;
 
     /// Two channels lit from +x and +y are 90° apart; a channel lit from −x lies on the same
     /// line as one lit from +x (0°); a shared axis has no divergence.

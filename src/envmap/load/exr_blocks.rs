@@ -57,9 +57,8 @@ pub(super) fn decode(
     let batch = BATCH_PER_THREAD * rayon::current_num_threads().max(1);
     let mut coverage = Coverage::new(target.width, target.height);
     loop {
-        let compressed = guarded(path, FORMAT, || {
-            chunks.by_ref().take(batch).collect::<Result<Vec<Chunk>, _>>().map_err(fail)
-        })?;
+        let compressed =
+            guarded(path, FORMAT, || chunks.by_ref().take(batch).collect::<Result<Vec<Chunk>, _>>().map_err(fail))?;
         if compressed.is_empty() {
             break;
         }

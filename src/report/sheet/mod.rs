@@ -32,8 +32,8 @@ mod tests;
 mod thumbnail;
 
 pub use compose::{experiment_sheet, share_error_scale};
-pub use thumbnail::latlong_thumbnail;
 pub use layout::MAX_SCALE;
-pub use pages::{file_page, page_file, MAX_PAGE_H};
 pub use layout::{LINE_H, MARGIN};
+pub use pages::{file_page, page_file, MAX_PAGE_H};
 pub use render::Sheet;
+pub use thumbnail::latlong_thumbnail;

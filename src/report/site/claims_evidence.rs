@@ -40,7 +40,12 @@ fn checks_in_order(claim: &ClaimDecl) -> impl Iterator<Item = &crate::claims::de
 /// The maps the claim's checks name, the primary's first: a check's `maps`, else its named map
 /// sets, else (for the set `all`) its experiment's maps or the paper's measurement maps; only
 /// maps the site lists, each once.
-fn claim_maps(paper: &Paper, claim: &ClaimDecl, experiment_maps: &BTreeMap<String, Vec<String>>, listed: &[String]) -> Vec<String> {
+fn claim_maps(
+    paper: &Paper,
+    claim: &ClaimDecl,
+    experiment_maps: &BTreeMap<String, Vec<String>>,
+    listed: &[String],
+) -> Vec<String> {
     let mut out: Vec<String> = Vec::new();
     for k in checks_in_order(claim) {
         let mut named: Vec<String> = k.maps.clone().unwrap_or_default();
@@ -108,7 +113,8 @@ fn figure(claim: &ClaimDecl, maps: &[String], exists: &dyn Fn(&str) -> bool) -> 
             let whole = format!("{exp}/sheet_{}.png", file_safe(m));
             let first_page = format!("{exp}/sheet_{}_p1.png", file_safe(m));
             if let Some(image) = [whole, first_page].into_iter().find(|i| exists(i)) {
-                let caption = format!("the comparison sheet of {exp} for {m}: the reference, each encoding and its signed error");
+                let caption =
+                    format!("the comparison sheet of {exp} for {m}: the reference, each encoding and its signed error");
                 return json!({ "image": image, "caption": caption });
             }
         }

@@ -51,7 +51,11 @@ pub(super) fn site_domains() -> Vec<SiteDomain> {
         SiteDomain { label: "sphere", normal: None, shows: Shows::Every },
         SiteDomain { label: "hemisphere:+y", normal: Some(DVec3::Y), shows: Shows::Every },
     ];
-    v.extend(SURFACE_NORMALS.iter().map(|&(label, n)| SiteDomain { label, normal: Some(n), shows: Shows::SurfaceAndPage }));
+    v.extend(SURFACE_NORMALS.iter().map(|&(label, n)| SiteDomain {
+        label,
+        normal: Some(n),
+        shows: Shows::SurfaceAndPage,
+    }));
     v
 }
 

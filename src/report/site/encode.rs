@@ -80,7 +80,8 @@ mod tests {
     /// RFC 4648 §10's test vectors.
     #[test]
     fn base64_matches_the_rfc_vectors() {
-        let cases = [("", ""), ("f", "Zg=="), ("fo", "Zm8="), ("foo", "Zm9v"), ("foob", "Zm9vYg=="), ("fooba", "Zm9vYmE=")];
+        let cases =
+            [("", ""), ("f", "Zg=="), ("fo", "Zm8="), ("foo", "Zm9v"), ("foob", "Zm9vYg=="), ("fooba", "Zm9vYmE=")];
         for (plain, coded) in cases {
             assert_eq!(base64(plain.as_bytes()), coded);
         }
@@ -103,10 +104,12 @@ mod tests {
         let (coded, scale) = i16_difference_base64(&values, &reference);
         assert_eq!(scale, (2.5 - 2.4) / 32767.0);
         assert_eq!(coded.len(), base64(&[0; 8]).len());
-        let bytes: Vec<u8> = (0..4).flat_map(|i| {
-            let d = values[i] - f64::from(reference[i] as f32);
-            ((d / scale).round() as i16).to_le_bytes()
-        }).collect();
+        let bytes: Vec<u8> = (0..4)
+            .flat_map(|i| {
+                let d = values[i] - f64::from(reference[i] as f32);
+                ((d / scale).round() as i16).to_le_bytes()
+            })
+            .collect();
         assert_eq!(coded, base64(&bytes));
         assert_eq!(i16::from_le_bytes([bytes[4], bytes[5]]), -32767);
         for i in 0..4 {

@@ -45,7 +45,9 @@ pub(super) fn map_data(map: &EnvMap, encoders: &[&NamedEncoder]) -> Result<Value
 fn share_bases(domain: &mut Value, bases: &mut serde_json::Map<String, Value>) {
     let Some(rows) = domain.get_mut("encoders").and_then(Value::as_array_mut) else { return };
     for row in rows {
-        let (Some(name), Some(basis)) = (row["name"].as_str().map(str::to_string), row.get("basis").cloned()) else { continue };
+        let (Some(name), Some(basis)) = (row["name"].as_str().map(str::to_string), row.get("basis").cloned()) else {
+            continue;
+        };
         let kept = bases.entry(name).or_insert_with(|| basis.clone());
         if *kept == basis {
             row.as_object_mut().map(|o| o.remove("basis"));
@@ -84,7 +86,8 @@ fn domain_data(data: &MapData, d: &SiteDomain, encoders: &[&NamedEncoder]) -> Va
                 "basis": stored.basis,
             });
             if form == PageForm::Grid {
-                let values: Vec<f64> = evaluate(fit.as_ref(), &grid.normals).iter().flat_map(|v| v.to_array()).collect();
+                let values: Vec<f64> =
+                    evaluate(fit.as_ref(), &grid.normals).iter().flat_map(|v| v.to_array()).collect();
                 let (coded, scale) = i16_difference_base64(&values, &reference_flat);
                 row["differences"] = Value::String(coded);
                 row["scale"] = json!(scale);
@@ -92,7 +95,14 @@ fn domain_data(data: &MapData, d: &SiteDomain, encoders: &[&NamedEncoder]) -> Va
                 let entries: Vec<Value> = stored
                     .entries
                     .iter()
-                    .map(|s| json!([s.name, s.unit.label(), s.role.to_string(), s.value.components().into_iter().map(sig7).collect::<Vec<_>>()]))
+                    .map(|s| {
+                        json!([
+                            s.name,
+                            s.unit.label(),
+                            s.role.to_string(),
+                            s.value.components().into_iter().map(sig7).collect::<Vec<_>>()
+                        ])
+                    })
                     .collect();
                 row["entries"] = Value::Array(entries);
             }

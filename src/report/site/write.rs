@@ -83,8 +83,14 @@ pub(crate) fn write_site(
     let evidence = claims_evidence(&papers, &shown, &experiment_maps, &listed, &exists);
     let mut files: Vec<(PathBuf, String)> = vec![
         (data_dir.join("index.js"), script("PROBELAB_INDEX", None, &index_data(&listed, &names_once))),
-        (data_dir.join("claims.js"), script("PROBELAB_CLAIMS", None, &claims_data(read_claims(opts.out)?.as_ref(), evidence))),
-        (data_dir.join("landscape.js"), script("PROBELAB_LANDSCAPE", None, &landscape_data(&landscape_tables(opts.out)?))),
+        (
+            data_dir.join("claims.js"),
+            script("PROBELAB_CLAIMS", None, &claims_data(read_claims(opts.out)?.as_ref(), evidence)),
+        ),
+        (
+            data_dir.join("landscape.js"),
+            script("PROBELAB_LANDSCAPE", None, &landscape_data(&landscape_tables(opts.out)?)),
+        ),
     ];
     files.extend(ASSETS.iter().map(|(name, text)| (site.join(name), text.to_string())));
     for (path, text) in files {
