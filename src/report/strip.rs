@@ -45,25 +45,25 @@ pub fn draw(strip: &BlendStrip) -> Result<RgbImage> {
     // Room under each disc for its RMSE, when the strip prints them.
     let numbers = rows.iter().any(|r| r.rmse.iter().any(Option::is_some));
     let text_h = if numbers { LINE_H } else { 0 };
-    let head = MARGIN + 26 + 2 * LINE_H + 22;
+    // The caption's lines: the view, the tone map, and what the numbers under the discs are.
+    let mut caption = vec![
+        format!("E/π, {}", strip.view.caption),
+        format!("{}; exposure from the first row's mean", tone.describe()),
+    ];
+    if numbers {
+        caption.push("under each disc: RMSE vs the blended reference (hemisphere)".to_string());
+    }
+    let head = MARGIN + 26 + caption.len() as u32 * LINE_H + 22;
     let label_w = rows.iter().map(|r| text_width(&r.method, BODY, true) + 14).fold(LABEL_W, u32::max);
-    let w = 2 * MARGIN + label_w + ts.len() as u32 * cell;
+    // Wide enough for the title and every caption line, so no text is cut at the right edge.
+    let text_w = caption.iter().map(|c| text_width(c, BODY, false)).chain([text_width(title, TITLE, true)]).max();
+    let w = (2 * MARGIN + label_w + ts.len() as u32 * cell).max(2 * MARGIN + text_w.unwrap_or(0));
     let h = head + rows.len() as u32 * (cell + 4 + text_h) + MARGIN;
     let mut img = RgbImage::from_pixel(w, h, image::Rgb(PAPER));
-    let mut labels = vec![
-        Label::new(title, MARGIN, MARGIN, TITLE).bold(),
-        Label::new(format!("E/π, {}", strip.view.caption), MARGIN, MARGIN + 26, BODY),
-        Label::new(
-            format!(
-                "{}; exposure from the first row's mean{}",
-                tone.describe(),
-                if numbers { "; under each disc: RMSE vs the blended reference (hemisphere)" } else { "" }
-            ),
-            MARGIN,
-            MARGIN + 26 + LINE_H,
-            BODY,
-        ),
-    ];
+    let mut labels = vec![Label::new(title, MARGIN, MARGIN, TITLE).bold()];
+    for (i, line) in caption.iter().enumerate() {
+        labels.push(Label::new(line, MARGIN, MARGIN + 26 + i as u32 * LINE_H, BODY));
+    }
     for (k, t) in ts.iter().enumerate() {
         let x = MARGIN + label_w + k as u32 * cell + cell / 2;
         labels.push(Label::new(format!("t = {}", sig(*t, 2)), x, head - 20, BODY).centre());
@@ -124,15 +124,23 @@ mod tests {
             draw(&strip(vec![StripRow { method: "sh1 of blended SH".into(), values: values.clone(), rmse: vec![] }]))
                 .unwrap();
         let (d, cell) = (STRIP_DISC as u32, STRIP_DISC as u32 + 8);
-        assert_eq!(img.width(), 2 * MARGIN + LABEL_W + 3 * cell);
+        // Three discs are narrower than the caption's tone line: the strip widens to its longest
+        // line, so no text reaches (and is cut at) the right edge.
+        assert!(img.width() > 2 * MARGIN + LABEL_W + 3 * cell, "the case tests the widening");
         let head = MARGIN + 26 + 2 * LINE_H + 22;
+        for y in 0..head {
+            for x in img.width() - MARGIN..img.width() {
+                assert_eq!(img.get_pixel(x, y).0, PAPER, "text in the right margin at ({x}, {y})");
+            }
+        }
         assert_eq!(img.height(), head + (cell + 4) + MARGIN);
         let centre = |k: u32| img.get_pixel(MARGIN + LABEL_W + k * cell + 4 + d / 2, head + 4 + d / 2).0;
         assert_ne!(centre(0), centre(2), "the two ends differ");
         let bad = StripRow { method: "x".into(), values: vec![vec![Rgb::ZERO; normals.len()]], rmse: vec![] };
         assert!(draw(&strip(vec![bad])).is_err());
-        // Printing each cell's RMSE adds a line of text under every row's discs.
         let numbered = StripRow { method: "m".into(), values, rmse: vec![Some(0.1), None, Some(0.25)] };
-        assert_eq!(draw(&strip(vec![numbered])).unwrap().height(), head + (cell + 4 + LINE_H) + MARGIN);
+        // Printing each cell's RMSE adds a line of text under every row's discs, and a caption
+        // line saying what they are.
+        assert_eq!(draw(&strip(vec![numbered])).unwrap().height(), head + LINE_H + (cell + 4 + LINE_H) + MARGIN);
     }
 }
