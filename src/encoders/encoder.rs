@@ -214,6 +214,15 @@ pub trait Encoder: Send + Sync {
     }
     /// Fits the encoding.
     fn fit(&self, input: &FitInput) -> Box<dyn Fitted>;
+    /// Fits each of `probes` on the sphere, as [`Encoder::fit`] of [`FitInput::sphere`] does,
+    /// and hands each fit with its index to `visit`, in order: the batch form probe sets score
+    /// through. By default one boxed fit at a time; an encoder may override it to build the
+    /// same fits without allocating ([`fit_each_unboxed`]).
+    fn fit_sphere_each(&self, probes: &[Sh9], visit: &mut dyn FnMut(usize, &dyn Fitted)) {
+        for (i, p) in probes.iter().enumerate() {
+            visit(i, self.fit(&FitInput::sphere(p)).as_ref());
+        }
+    }
     /// Whether the peer tool clamps this encoder's output at zero before scoring
     /// (FORMULAS §10); only `--metric probulator` reads this.
     fn peer_clamps(&self) -> bool {
@@ -307,6 +316,14 @@ pub trait Fitted: Send + Sync {
     fn sphere_sq_error(&self, reference: &Sh9) -> Option<f64> {
         let c = self.sh3()?;
         Some((0..crate::math::sh::N_SH).map(|i| (c[i] - reference[i]).length_squared()).sum())
+    }
+}
+
+/// [`Encoder::fit_sphere_each`] for an encoder whose sphere fit of a probe is `fit(probe)`, a
+/// value: each fit lives on the stack while `visit` reads it.
+pub fn fit_each_unboxed<F: Fitted>(probes: &[Sh9], visit: &mut dyn FnMut(usize, &dyn Fitted), fit: impl Fn(&Sh9) -> F) {
+    for (i, p) in probes.iter().enumerate() {
+        visit(i, &fit(p));
     }
 }
 

@@ -17,7 +17,7 @@
 //!
 //! TOML keys: none. Degenerate inputs: R0 ≤ 0 gives 0; R1 = 0 gives the constant R0.
 
-use crate::encoders::encoder::{Encoder, Family, FitInput, Fitted, Params};
+use crate::encoders::encoder::{fit_each_unboxed, Encoder, Family, FitInput, Fitted, Params};
 use crate::encoders::stored::{Role, Stored, Unit, Value};
 use crate::math::colour::Rgb;
 use crate::math::sh::{basis, Sh9, N_SH};
@@ -149,6 +149,13 @@ impl Fitted for GeomericsFit {
     }
 }
 
+impl Geomerics {
+    /// The fit of radiance SH `sh`, with this variant's normalisation.
+    fn fit_geomerics(&self, sh: &Sh9) -> GeomericsFit {
+        GeomericsFit(if self.peer { fit_peer(sh) } else { fit(sh) })
+    }
+}
+
 impl Encoder for Geomerics {
     fn id(&self) -> &str {
         if self.peer {
@@ -164,8 +171,10 @@ impl Encoder for Geomerics {
         12
     }
     fn fit(&self, input: &FitInput) -> Box<dyn Fitted> {
-        let sh = input.visible_sh;
-        Box::new(GeomericsFit(if self.peer { fit_peer(sh) } else { fit(sh) }))
+        Box::new(self.fit_geomerics(input.visible_sh))
+    }
+    fn fit_sphere_each(&self, probes: &[Sh9], visit: &mut dyn FnMut(usize, &dyn Fitted)) {
+        fit_each_unboxed(probes, visit, |p| self.fit_geomerics(p));
     }
     /// The peer tool scores its Geomerics without clamping (FORMULAS §10).
     fn peer_clamps(&self) -> bool {

@@ -13,7 +13,7 @@
 //! Degenerate inputs need no fallback: the fit is a linear map of the coefficients (black in,
 //! black out; a 1e-300 L1 band stays 1e-300), so every finite input gives a finite output.
 
-use crate::encoders::encoder::{Encoder, Family, FitInput, Fitted, Params};
+use crate::encoders::encoder::{fit_each_unboxed, Encoder, Family, FitInput, Fitted, Params};
 use crate::encoders::stored::{Role, Stored, Unit, SH_IRRADIANCE};
 use crate::math::colour::Rgb;
 use crate::math::sh::Sh9;
@@ -31,6 +31,13 @@ impl ShEncoder {
     pub fn new(max_band: usize) -> Self {
         let id = ["sh0", "sh1", "sh2"][max_band.min(2)];
         ShEncoder { id, max_band: max_band.min(2) }
+    }
+}
+
+impl ShEncoder {
+    /// The fit of radiance SH `sh`: truncated, then convolved with the clamped cosine.
+    fn fit_sh(&self, sh: &Sh9) -> ShIrradiance {
+        ShIrradiance(sh.truncate(self.max_band).convolve_cosine(), self.max_band)
     }
 }
 
@@ -69,7 +76,10 @@ impl Encoder for ShEncoder {
         3 * (self.max_band + 1) * (self.max_band + 1)
     }
     fn fit(&self, input: &FitInput) -> Box<dyn Fitted> {
-        Box::new(ShIrradiance(input.visible_sh.truncate(self.max_band).convolve_cosine(), self.max_band))
+        Box::new(self.fit_sh(input.visible_sh))
+    }
+    fn fit_sphere_each(&self, probes: &[Sh9], visit: &mut dyn FnMut(usize, &dyn Fitted)) {
+        fit_each_unboxed(probes, visit, |p| self.fit_sh(p));
     }
     /// Band 0 alone is the mean radiance, E/π = (1/4π)∫L dω ≥ 0. With band 1 a single light
     /// gives (1/4π)·e·(1 + 2 n·d), negative facing away from it.

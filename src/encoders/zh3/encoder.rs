@@ -1,12 +1,12 @@
 //! A configured ZH3 encoder (one of the ids of [`crate::encoders::zh3`]'s table): its fit, with
 //! the solver's diagnostics, its stored form and its bytes when quantised.
 
-use crate::encoders::encoder::{Encoder, Family, FitInput, Fitted};
+use crate::encoders::encoder::{fit_each_unboxed, Encoder, Family, FitInput, Fitted};
 use crate::encoders::quantise;
 use crate::encoders::stored::{sh_name, Role, Stored, Unit, Value};
 use crate::encoders::zh3::model::{hallucinate, solved, stored, AxisRule, Zh3};
 use crate::encoders::zh3::serialise::{decode_zh3, encode_zh3};
-use crate::encoders::zh3::solve::{Curve, Formulation, SolverSettings, Zonal};
+use crate::encoders::zh3::solve::{Curve, Formulation, SolveStats, SolverSettings, Zonal};
 use crate::math::colour::Rgb;
 use crate::math::sh::Sh9;
 use anyhow::Result;
@@ -39,16 +39,21 @@ pub struct Zh3Encoder {
     pub(super) quantise: bool,
 }
 
-/// The fitted ZH3, expanded to irradiance SH3.
+/// The fitted ZH3, expanded to irradiance SH3. Its diagnostics are built when asked for, from
+/// the encoder's settings and the solve's statistics it keeps, so a fit allocates nothing.
 pub struct Zh3Fit {
     /// The fitted ZH3.
     pub zh3: Zh3,
     sh: Sh9,
-    diagnostics: Vec<(&'static str, f64)>,
-    /// Whether k is stored (15 scalars) or hallucinated at decode time (12).
-    k_stored: bool,
-    /// Whether the channels share one zonal axis.
-    shared: bool,
+    /// What the diagnostics echo: the encoder's method, axis rule, channel weights and settings.
+    method: Method,
+    rule: AxisRule,
+    err_w: Rgb,
+    settings: SolverSettings,
+    /// The solve's statistics (solved variants).
+    stats: Option<SolveStats>,
+    /// The length of the stored bytes the fit went through (quantised variants).
+    bytes: Option<usize>,
 }
 
 /// How a stored ZH3 reconstructs (FORMULAS §2–5).
@@ -69,14 +74,15 @@ impl Fitted for Zh3Fit {
     /// L0 and L1 as E/π SH (12 scalars), then k when it is stored (15); the zonal axis, the
     /// ratio r and a hallucinated k are derived (FORMULAS §5).
     fn stored(&self) -> Stored {
-        let basis = if self.k_stored { ZH3_BASIS.to_string() } else { format!("{ZH3_BASIS}{ZH3_HALLUCINATED}") };
+        let k_stored = curve_of(self.method).is_none();
+        let basis = if k_stored { ZH3_BASIS.to_string() } else { format!("{ZH3_BASIS}{ZH3_HALLUCINATED}") };
         let mut s = Stored::new(basis);
         for i in 0..4 {
             s.rgb(sh_name(i), Unit::Irradiance, self.sh[i]);
         }
-        let k_role = if self.k_stored { Role::Stored } else { Role::Derived };
+        let k_role = if k_stored { Role::Stored } else { Role::Derived };
         s.push(k_role, "k", Unit::Irradiance, Value::Rgb(self.zh3.k));
-        if self.shared {
+        if matches!(self.rule, AxisRule::Shared(_)) {
             if let Some(a) = self.zh3.axes[0] {
                 s.push(Role::Derived, "zonal_axis", Unit::Direction, Value::Vector(a));
             }
@@ -90,8 +96,47 @@ impl Fitted for Zh3Fit {
         s.push(Role::Derived, "ratio", Unit::Unitless, Value::Rgb(self.zh3.ratios()));
         s
     }
+    /// The axis weights (shared axis), the solve's weights, statistics and settings (solved),
+    /// the curve's coefficients (polynomial curve) and the stored length (quantised), in that
+    /// order.
     fn diagnostics(&self) -> Vec<(&'static str, f64)> {
-        self.diagnostics.clone()
+        let mut diag: Vec<(&'static str, f64)> = Vec::new();
+        if let AxisRule::Shared(w) = self.rule {
+            diag.extend([("axis_wr", w.x), ("axis_wg", w.y), ("axis_wb", w.z)]);
+        }
+        if let (Method::Solved(zonal), Some(st)) = (self.method, &self.stats) {
+            if matches!(self.rule, AxisRule::Shared(_)) {
+                diag.extend([("err_wr", self.err_w.x), ("err_wg", self.err_w.y), ("err_wb", self.err_w.z)]);
+            }
+            let set = &self.settings;
+            diag.extend([
+                ("runs", st.runs as f64),
+                ("iters", st.iters as f64),
+                ("cost_evals", st.cost_evals as f64),
+                ("grad_evals", st.grad_evals as f64),
+                ("evals", st.evals as f64),
+                ("failures", st.failures as f64),
+                ("objective", st.objective),
+                ("objective_l1_axis", st.objective_l1_axis),
+                ("best_start", st.best_start as f64),
+                ("max_iters", set.max_iters as f64),
+                ("tol_grad", set.tol_grad),
+                ("tol_cost", set.tol_cost),
+                ("memory", set.memory as f64),
+                ("starts", set.starts as f64),
+            ]);
+            if zonal == Zonal::Stored {
+                diag.push(("reduced", (set.formulation == Formulation::Axis) as u8 as f64));
+                diag.push(("screen", set.screen as f64));
+            }
+        }
+        if let Some(Curve::Poly([c1, c2, c3])) = curve_of(self.method) {
+            diag.extend([("c1", c1), ("c2", c2), ("c3", c3)]);
+        }
+        if let Some(n) = self.bytes {
+            diag.push(("bytes", n as f64));
+        }
+        diag
     }
     /// Every variant (hallucinated, stored, solved, quantised) is evaluated as its SH3
     /// expansion (FORMULAS §5), so it is exactly that SH3.
@@ -101,78 +146,49 @@ impl Fitted for Zh3Fit {
 }
 
 impl Zh3Encoder {
-    /// Fits from a radiance SH: the encoding, and the diagnostics to report.
+    /// Fits from a radiance SH: the encoding, and what its diagnostics report.
     pub fn fit_zh3(&self, radiance: &Sh9) -> Zh3Fit {
         let irr = radiance.convolve_cosine();
-        let mut diag: Vec<(&'static str, f64)> = Vec::new();
-        if let AxisRule::Shared(w) = self.rule {
-            diag.extend([("axis_wr", w.x), ("axis_wg", w.y), ("axis_wb", w.z)]);
-        }
-        let (zh3, curve) = match self.method {
-            Method::Hallucinate(curve) => (hallucinate(&irr, self.rule, curve), Some(curve)),
+        let (zh3, stats) = match self.method {
+            Method::Hallucinate(curve) => (hallucinate(&irr, self.rule, curve), None),
             Method::Stored => (stored(&irr, self.rule), None),
             Method::Solved(zonal) => {
                 let s = solved(&irr, self.rule, self.err_w, zonal, &self.settings);
-                if matches!(self.rule, AxisRule::Shared(_)) {
-                    diag.extend([("err_wr", self.err_w.x), ("err_wg", self.err_w.y), ("err_wb", self.err_w.z)]);
-                }
-                let st = &s.stats;
-                let set = &self.settings;
-                diag.extend([
-                    ("runs", st.runs as f64),
-                    ("iters", st.iters as f64),
-                    ("cost_evals", st.cost_evals as f64),
-                    ("grad_evals", st.grad_evals as f64),
-                    ("evals", st.evals as f64),
-                    ("failures", st.failures as f64),
-                    ("objective", st.objective),
-                    ("objective_l1_axis", st.objective_l1_axis),
-                    ("best_start", st.best_start as f64),
-                    ("max_iters", set.max_iters as f64),
-                    ("tol_grad", set.tol_grad),
-                    ("tol_cost", set.tol_cost),
-                    ("memory", set.memory as f64),
-                    ("starts", set.starts as f64),
-                ]);
-                if zonal == Zonal::Stored {
-                    diag.push(("reduced", (set.formulation == Formulation::Axis) as u8 as f64));
-                    diag.push(("screen", set.screen as f64));
-                }
-                let curve = match zonal {
-                    Zonal::Hallucinated(c) => Some(c),
-                    Zonal::Stored => None,
-                };
-                (s.zh3, curve)
+                (s.zh3, Some(s.stats))
             }
         };
-        if let Some(Curve::Poly([c1, c2, c3])) = curve {
-            diag.extend([("c1", c1), ("c2", c2), ("c3", c3)]);
-        }
-        let zh3 = if self.quantise {
+        let (zh3, bytes) = if self.quantise {
             // The stored bytes, decoded: what a shader would read.
             let bytes = self.encode(&zh3);
-            diag.push(("bytes", bytes.len() as f64));
-            self.decode(&bytes).expect("encode_zh3 writes 13 or 16 bytes")
+            (self.decode(&bytes).expect("encode_zh3 writes 13 or 16 bytes"), Some(bytes.len()))
         } else {
-            zh3
+            (zh3, None)
         };
         Zh3Fit {
             zh3,
             sh: zh3.to_sh(),
-            diagnostics: diag,
-            k_stored: self.curve().is_none(),
-            shared: matches!(self.rule, AxisRule::Shared(_)),
+            method: self.method,
+            rule: self.rule,
+            err_w: self.err_w,
+            settings: self.settings,
+            stats,
+            bytes,
         }
+    }
+}
+
+/// The curve that gives k when none is stored (hallucinated variants), or None (stored k).
+fn curve_of(method: Method) -> Option<Curve> {
+    match method {
+        Method::Hallucinate(c) | Method::Solved(Zonal::Hallucinated(c)) => Some(c),
+        Method::Stored | Method::Solved(Zonal::Stored) => None,
     }
 }
 
 impl Zh3Encoder {
     /// The curve that gives k when none is stored (hallucinated variants), or None (stored k).
     fn curve(&self) -> Option<Curve> {
-        match self.method {
-            Method::Hallucinate(c) | Method::Solved(Zonal::Hallucinated(c)) => Some(c),
-            Method::Stored | Method::Solved(Zonal::Stored) => None,
-        }
+        curve_of(self.method)
     }
 
     /// The bytes this encoder stores for a ZH3 when quantised ([`encode_zh3`]): 16 with a
@@ -215,6 +231,9 @@ impl Encoder for Zh3Encoder {
     }
     fn fit(&self, input: &FitInput) -> Box<dyn Fitted> {
         Box::new(self.fit_zh3(input.visible_sh))
+    }
+    fn fit_sphere_each(&self, probes: &[Sh9], visit: &mut dyn FnMut(usize, &dyn Fitted)) {
+        fit_each_unboxed(probes, visit, |p| self.fit_zh3(p));
     }
     /// The solved variants run L-BFGS: `probelab check` gives them the iterative tolerance.
     fn is_iterative(&self) -> bool {

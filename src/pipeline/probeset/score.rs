@@ -19,7 +19,7 @@
 //!
 //! rel_rmse = rmse / RMS of the reference over the sphere (closed form).
 
-use crate::encoders::encoder::{FitInput, Fitted};
+use crate::encoders::encoder::Fitted;
 use crate::encoders::NamedEncoder;
 use crate::math::colour::Rgb;
 use crate::math::sh::{Sh9, N_SH};
@@ -124,7 +124,8 @@ pub struct EncoderStats {
     pub closed_form: u64,
     /// Probes whose error came from quadrature.
     pub quadrature: u64,
-    /// Wall seconds spent fitting and scoring this encoder (summed over shards when merged).
+    /// Its share of the wall time: thread seconds spent fitting and scoring this encoder,
+    /// divided by the worker threads (summed over shards when merged).
     pub seconds: f64,
     /// Per-probe sphere RMSE of E/π.
     pub rmse: Summary,
@@ -232,9 +233,33 @@ pub fn peak_memory_bytes() -> Option<u64> {
     Some(kb * 1024)
 }
 
+/// Probes one task scores with every encoder in turn: few enough that the block's probes and
+/// references stay in the core's cache while each encoder reads them.
+const BLOCK: usize = 256;
+
+/// One probe's error under one encoder: rmse and rel_rmse.
+type ProbeError = (f64, f64);
+
+/// What one block tells the fold about one encoder.
+#[derive(Clone, Copy, Default)]
+struct Tally {
+    /// Thread seconds the encoder's fits and errors took on the block.
+    seconds: f64,
+    /// Probes whose error came from the closed form.
+    closed: u64,
+    /// The first probe of the block (its index there) with a non-finite error.
+    first_bad: Option<usize>,
+}
+
 /// Scores `encoders` over every probe `source` yields, `chunk` probes at a time; `sink`
 /// receives each chunk first (e.g. to save the set). Statistics are exact and order-free, so
 /// the result does not depend on threads or chunk size (timings aside).
+///
+/// A chunk is cut into blocks of [`BLOCK`] probes scored in parallel, each by every encoder
+/// in turn (a probe's reference and its RMS are computed once); then each encoder's errors are
+/// folded into its statistics, the encoders' summaries in parallel. An encoder's `seconds`
+/// are the thread seconds of its fits and errors divided by the worker threads: its share
+/// of the wall time.
 pub fn score(
     source: &mut Source,
     source_id: &str,
@@ -247,51 +272,45 @@ pub fn score(
     let t0 = Instant::now();
     let mut stats: Vec<EncoderStats> = encoders.iter().map(EncoderStats::new).collect();
     let (mut probes, mut input_s) = (0u64, 0.0);
+    let mut errors: Vec<ProbeError> = Vec::new();
+    let mut tallies: Vec<Tally> = Vec::new();
+    let threads = rayon::current_num_threads() as f64;
     loop {
         let t = Instant::now();
         let Some(set) = source.next_chunk(chunk.max(1))? else { break };
         input_s += t.elapsed().as_secs_f64();
         sink(&set)?;
         probes += set.len() as u64;
-        for (e, st) in encoders.iter().zip(stats.iter_mut()) {
-            let t = Instant::now();
-            let values: Vec<(f64, f64, Method)> = set
-                .par_iter()
-                .with_min_len(256)
-                .map(|p| {
-                    let reference = p.convolve_cosine();
-                    let fit = e.encoder.fit(&FitInput::sphere(p));
-                    let (rmse, method) = probe_rmse(fit.as_ref(), &reference, rule);
-                    let rms = sh_rms(&reference);
-                    let rel = if rms > 0.0 {
-                        rmse / rms
-                    } else if rmse == 0.0 {
-                        0.0
-                    } else {
-                        f64::INFINITY
-                    };
-                    (rmse, rel, method)
-                })
-                .collect();
-            // A non-finite error is the probe's arithmetic overflowing (or an encoder bug): an
-            // error naming the probe, never a value dropped from the statistics.
-            if let Some(k) = values.iter().position(|v| !v.0.is_finite() || !v.1.is_finite()) {
-                let (rmse, rel, _) = values[k];
-                bail!(
-                    "{}: encoder {} gives a non-finite error on this probe (rmse {rmse}, rel_rmse {rel}): its \
-                     coefficients overflow or underflow the encoder's arithmetic; scale the probe set",
-                    source.locate(k, set.len()),
-                    e.name
-                );
+        let ne = encoders.len();
+        errors.clear();
+        errors.resize(set.len() * ne, (0.0, 0.0));
+        tallies.clear();
+        tallies.resize(set.len().div_ceil(BLOCK) * ne, Tally::default());
+        set.par_chunks(BLOCK)
+            .zip(errors.par_chunks_mut(BLOCK * ne))
+            .zip(tallies.par_chunks_mut(ne))
+            .for_each(|((block, out), tally)| score_block(block, encoders, rule, out, tally));
+        for (e, st) in stats.iter_mut().enumerate() {
+            for (b, tally) in tallies.chunks(ne).enumerate() {
+                let Tally { seconds, closed, first_bad } = tally[e];
+                if let Some(i) = first_bad {
+                    let len = set.len().min((b + 1) * BLOCK) - b * BLOCK;
+                    let (rmse, rel) = errors[b * BLOCK * ne + e * len + i];
+                    // A non-finite error is the probe's arithmetic overflowing (or an encoder
+                    // bug): an error naming the probe, never a value dropped from the statistics.
+                    bail!(
+                        "{}: encoder {} gives a non-finite error on this probe (rmse {rmse}, rel_rmse {rel}): its \
+                         coefficients overflow or underflow the encoder's arithmetic; scale the probe set",
+                        source.locate(b * BLOCK + i, set.len()),
+                        st.name
+                    );
+                }
+                st.seconds += seconds / threads;
+                st.closed_form += closed;
+                st.quadrature += (set.len().min((b + 1) * BLOCK) - b * BLOCK) as u64 - closed;
             }
-            // The two summaries fold on two threads (adding is exact and order-free).
-            let (rmse, rel) = (&mut st.rmse, &mut st.rel_rmse);
-            rayon::join(|| values.iter().for_each(|v| rmse.add(v.0)), || values.iter().for_each(|v| rel.add(v.1)));
-            let closed = values.iter().filter(|v| v.2 == Method::ClosedForm).count() as u64;
-            st.closed_form += closed;
-            st.quadrature += values.len() as u64 - closed;
-            st.seconds += t.elapsed().as_secs_f64();
         }
+        fold(&mut stats, &errors, set.len(), ne);
     }
     Ok(SetStats {
         source: source_id.to_string(),
@@ -305,6 +324,62 @@ pub fn score(
         threads: rayon::current_num_threads(),
         encoders: stats,
     })
+}
+
+/// Scores one block of probes with every encoder: `out` holds the block's errors encoder by
+/// encoder (`out[e * len + i]`), `tally` what the fold needs per encoder.
+fn score_block(
+    block: &[Sh9],
+    encoders: &[NamedEncoder],
+    rule: &SphereRule,
+    out: &mut [ProbeError],
+    tally: &mut [Tally],
+) {
+    let references: Vec<(Sh9, f64)> = block
+        .iter()
+        .map(|p| {
+            let r = p.convolve_cosine();
+            (r, sh_rms(&r))
+        })
+        .collect();
+    for ((e, out), tally) in encoders.iter().zip(out.chunks_mut(block.len())).zip(tally) {
+        let t = Instant::now();
+        let mut closed = 0;
+        e.encoder.fit_sphere_each(block, &mut |i, fit| {
+            let (reference, rms) = &references[i];
+            let (rmse, method) = probe_rmse(fit, reference, rule);
+            closed += u64::from(method == Method::ClosedForm);
+            let rel = if *rms > 0.0 {
+                rmse / rms
+            } else if rmse == 0.0 {
+                0.0
+            } else {
+                f64::INFINITY
+            };
+            out[i] = (rmse, rel);
+        });
+        tally.closed = closed;
+        tally.first_bad = out.iter().position(|v| !v.0.is_finite() || !v.1.is_finite());
+        tally.seconds = t.elapsed().as_secs_f64();
+    }
+}
+
+/// Folds a chunk's errors (laid out as [`score_block`] writes them, blocks in order) into each
+/// encoder's two summaries, all summaries in parallel (adding is exact and order-free).
+fn fold(stats: &mut [EncoderStats], errors: &[ProbeError], len: usize, ne: usize) {
+    let mut summaries: Vec<(usize, bool, &mut Summary)> = stats
+        .iter_mut()
+        .enumerate()
+        .flat_map(|(e, st)| [(e, false, &mut st.rmse), (e, true, &mut st.rel_rmse)])
+        .collect();
+    summaries.par_iter_mut().for_each(|(e, rel, summary)| {
+        for (b, block) in errors.chunks(BLOCK * ne).enumerate() {
+            let n = len.min((b + 1) * BLOCK) - b * BLOCK;
+            for v in &block[*e * n..(*e + 1) * n] {
+                summary.add(if *rel { v.1 } else { v.0 });
+            }
+        }
+    });
 }
 
 impl SetStats {
@@ -437,6 +512,7 @@ pub const SUMMARY_COLUMNS: &[&str] = &[
 pub(super) mod tests {
     use super::*;
     use crate::encoders::build_list;
+    use crate::encoders::encoder::FitInput;
     use crate::math::sh::delta_light;
     use crate::pipeline::probeset::synth::scene_palette;
 
@@ -537,6 +613,33 @@ pub(super) mod tests {
         }
         for id in ["sh1", "sh2", "geomerics", "zh3_hallucinate", "zh3_stored_shared", "zh3_solved_shared", "sh2_q28"] {
             assert!(claimed.contains(&id), "{id} lost its closed form: {claimed:?}");
+        }
+    }
+
+    /// The batch fits probe sets score through are each encoder's fits: for every registered
+    /// encoder, `fit_sphere_each` visits every probe once, in order, with a fit whose output,
+    /// closed-form error, stored form and diagnostics equal those of `fit` bit for bit.
+    #[test]
+    fn batch_fits_are_the_encoders_fits() {
+        let s = Synth::new(9, scene_palette());
+        let probes = s.probes(0, 40);
+        let normals = crate::reference::domain::fibonacci_sphere(16);
+        for k in crate::encoders::REGISTRY {
+            let e = crate::encoders::build(k.id, None, toml::Table::new()).unwrap();
+            let mut seen = Vec::new();
+            e.encoder.fit_sphere_each(&probes, &mut |i, batch| {
+                seen.push(i);
+                let p = &probes[i];
+                let fit = e.encoder.fit(&FitInput::sphere(p));
+                let r = p.convolve_cosine();
+                assert_eq!(batch.sphere_sq_error(&r), fit.sphere_sq_error(&r), "{} probe {i}", k.id);
+                for &n in &normals {
+                    assert_eq!(batch.irradiance(n), fit.irradiance(n), "{} probe {i} at {n}", k.id);
+                }
+                assert_eq!(format!("{:?}", batch.stored()), format!("{:?}", fit.stored()), "{}", k.id);
+                assert_eq!(batch.diagnostics(), fit.diagnostics(), "{}", k.id);
+            });
+            assert_eq!(seen, (0..probes.len()).collect::<Vec<_>>(), "{}", k.id);
         }
     }
 
