@@ -32,14 +32,47 @@ pub fn to_half(v: f32) -> f32 {
     f16::from_bits(half_bits(v)).to_f32()
 }
 
+/// The half bits a stored half contributes to the pixel sha256: its own bits, −0 as +0. For
+/// every half that is not NaN this is [`half_bits`] of its f32 value (a half converts to f32
+/// exactly and back), so a decoder of half samples can form the digest's bytes without
+/// converting back (a NaN is refused by [`EnvMap::new`] anyway).
+pub(crate) fn stored_half_bits(h: f16) -> u16 {
+    match h.to_bits() {
+        0x8000 => 0,
+        b => b,
+    }
+}
+
+/// The pixel sha256 fed row by row: its size first, then the half bits of every row from the
+/// top, in order (what [`pixel_sha256_of`] hashes, for a decoder that meets the rows in order).
+pub(crate) struct PixelStream(Sha256);
+
+impl PixelStream {
+    /// A digest of a `width`×`height` map, its size already hashed.
+    pub(crate) fn new(width: usize, height: usize) -> Self {
+        let mut h = Sha256::new();
+        h.update((width as u32).to_le_bytes());
+        h.update((height as u32).to_le_bytes());
+        PixelStream(h)
+    }
+
+    /// Adds the next rows' half bits (each value u16 LE, R, G, B per texel).
+    pub(crate) fn update(&mut self, half_bytes: &[u8]) {
+        self.0.update(half_bytes);
+    }
+
+    /// The digest in lower-case hex.
+    pub(crate) fn finish(self) -> String {
+        self.0.finalize().iter().map(|b| format!("{b:02x}")).collect()
+    }
+}
+
 /// The pixel sha256 of a `width`×`height` grid of row-major texels (lower-case hex), as the
 /// module documentation defines it. The half bits of a batch of rows are formed on the run's
 /// threads while the previous batch is digested (two batches of at most [`HASH_BATCH_BYTES`]
 /// alive at once); the digest sees the same bytes in the same order.
 pub fn pixel_sha256_of(width: usize, height: usize, texels: &[Texel]) -> String {
-    let mut h = Sha256::new();
-    h.update((width as u32).to_le_bytes());
-    h.update((height as u32).to_le_bytes());
+    let mut h = PixelStream::new(width, height);
     let w = width.max(1);
     let rows_per_batch = (HASH_BATCH_BYTES / (6 * w)).max(1);
     let mut batches = texels.chunks(rows_per_batch * w);
@@ -48,7 +81,7 @@ pub fn pixel_sha256_of(width: usize, height: usize, texels: &[Texel]) -> String 
         let (_, next) = rayon::join(|| h.update(&bytes), || batches.next().map(half_bytes));
         ready = next;
     }
-    h.finalize().iter().map(|b| format!("{b:02x}")).collect()
+    h.finish()
 }
 
 /// The bytes one batch of texels adds to the pixel sha256 (each value's half bits, u16 LE).
@@ -123,6 +156,19 @@ mod tests {
         // The size is part of the identity: the same 6 values as a 1x... grid cannot exist
         // (2:1 only), so compare against the same texels hashed with another width field.
         assert_ne!(pixel_sha256_of(1, 2, map.texels()), want);
+    }
+
+    /// Every half that is not NaN contributes its own bits (−0 as +0), as its f32 value would:
+    /// all 65,536 bit patterns.
+    #[test]
+    fn stored_halves_hash_as_their_values() {
+        for bits in 0..=u16::MAX {
+            let h = f16::from_bits(bits);
+            if !h.is_nan() {
+                assert_eq!(stored_half_bits(h), half_bits(h.to_f32()), "{bits:#06x}");
+            }
+        }
+        assert_eq!(stored_half_bits(f16::from_bits(0x8000)), 0);
     }
 
     #[test]

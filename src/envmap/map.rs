@@ -27,7 +27,8 @@ pub struct EnvMap {
     pub path: Option<PathBuf>,
     /// The sha256 (hex) of the file it was read from, if from a file.
     pub sha256: Option<String>,
-    /// Its pixel sha256 (`identity`), when opened through the search path.
+    /// Its pixel sha256 (`identity`), when opened through the search path, or when formed
+    /// while an OpenEXR file was decoded (`envmap::load`).
     pub pixel_sha256: Option<String>,
     /// The product of the `EXPOSURE=` values of the Radiance file it was read from, which the
     /// file's pixel values were divided by to give radiance (Radiance's rule); 1 for any other

@@ -307,7 +307,7 @@ impl SearchPath {
         let mut rejected = Vec::new();
         for c in self.candidates(name) {
             let mut map = load::load(&c.path)?;
-            let pixels = identity::pixel_sha256(&map);
+            let pixels = map.pixel_sha256.clone().unwrap_or_else(|| identity::pixel_sha256(&map));
             if let Some(k) = wanted.filter(|k| k.pixel_sha256 != pixels) {
                 rejected.push(passed_over(&c.path, &map, &pixels, k));
                 continue;

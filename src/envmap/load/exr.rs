@@ -19,9 +19,14 @@ use std::sync::atomic::Ordering;
 
 /// Reads an OpenEXR file: header first (validated by [`check_exr_header`]), then the
 /// pixels of the selected R, G, B channels as f32. Returns width, height and row-major
-/// texels (row 0 at the top of the data window), and the primaries the file states (its
-/// `chromaticities` attribute).
-pub(super) fn read_exr(path: &Path, file: &mut (impl Read + Seek), len: u64) -> Result<(Decoded, Stated), LoadError> {
+/// texels (row 0 at the top of the data window), the primaries the file states (its
+/// `chromaticities` attribute), and the texels' pixel sha256 when it was formed while
+/// decoding (`envmap::identity`; not when colour is still to be converted).
+pub(super) fn read_exr(
+    path: &Path,
+    file: &mut (impl Read + Seek),
+    len: u64,
+) -> Result<(Decoded, Stated, Option<String>), LoadError> {
     const FORMAT: &str = "OpenEXR";
     let (mut reader, _) = watched(path, file)?;
     header::exr(&mut reader, len).map_err(|cause| LoadError::Header { path: path.to_path_buf(), cause })?;
@@ -38,9 +43,11 @@ pub(super) fn read_exr(path: &Path, file: &mut (impl Read + Seek), len: u64) -> 
     let progress = (width >= crate::envmap::PROGRESS_WIDTH)
         .then(|| crate::io::progress::Progress::new(height as u64, &format!("decoding {}", path.display())));
     let (reader, hit_eof) = watched(path, file)?;
-    let target = Target { width, height, rgb, progress: progress.as_ref() };
-    let texels = decode(path, reader, len, &hit_eof, &target)?;
-    Ok(((width, height, texels), Stated { primaries, ..Stated::default() }))
+    // The texels are final as decoded unless primaries other than Rec.709 are converted.
+    let hash = primaries.is_none_or(|p| p.is_rec709());
+    let target = Target { width, height, rgb, hash, progress: progress.as_ref() };
+    let (texels, pixel_sha256) = decode(path, reader, len, &hit_eof, &target)?;
+    Ok(((width, height, texels), Stated { primaries, ..Stated::default() }, pixel_sha256))
 }
 
 /// Validates OpenEXR meta data before any pixel is read: no deep data, one part, a size

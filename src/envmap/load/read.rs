@@ -55,11 +55,11 @@ pub fn load(path: &Path) -> Result<EnvMap, LoadError> {
         let hasher = s.spawn(move || sha256_hex_of(hashed));
         let decoded = match format {
             Format::Exr => read_exr(path, &mut file, meta.len()),
-            Format::Hdr => read_hdr(path, &mut file, meta.len()),
+            Format::Hdr => read_hdr(path, &mut file, meta.len()).map(|(d, s)| (d, s, None)),
         };
         (decoded, hasher.join().unwrap_or_else(|_| Err(io::Error::other("the hashing thread failed"))))
     });
-    let ((width, height, mut texels), stated) = decoded?;
+    let ((width, height, mut texels), stated, pixels) = decoded?;
     let colour = super::colour::apply(path, width, &mut texels, &stated)?;
     let digest = digest.map_err(|e| io_err("read file", e))?;
     let name = path.file_stem().unwrap_or(path.as_os_str()).to_string_lossy().into_owned();
@@ -68,6 +68,9 @@ pub fn load(path: &Path) -> Result<EnvMap, LoadError> {
     map.path = Some(path.to_path_buf());
     map.sha256 = Some(digest);
     map.exposure = stated.exposure;
+    // A pixel sha256 formed while decoding names the texels as decoded: kept only when the
+    // colour left them as they were.
+    map.pixel_sha256 = pixels.filter(|_| colour.is_empty() && stated.exposure == 1.0);
     map.colour = colour;
     Ok(map)
 }
