@@ -202,10 +202,8 @@ fn same_caps(cases: &[Case]) -> Vec<Vec<usize>> {
 
 /// Fills `fit_ns` and `eval_ns` of the rows of one map, `rows[c]` being the rows of
 /// `cases[c]` and `inputs[c]` what scoring fitted them from (with the case's light, whose
-/// caches scoring filled): after scoring, so timing never touches the numbers
-/// ([`crate::pipeline::timing`]). The cases are spread over the worker threads, each case
-/// timed whole on one thread, so every core times (one thread timed while the others idled);
-/// a measurement then runs beside another measurement, never beside scoring.
+/// caches scoring filled): sequentially, after scoring, so timing never touches the numbers
+/// ([`crate::pipeline::timing`]).
 fn fill_timing(
     exp: &Experiment,
     cases: &[Case],
@@ -216,31 +214,22 @@ fn fill_timing(
     if !settings.timing || settings.cancelled() {
         return;
     }
+    let _span = settings.span("timing pass");
     let progress = (cases.len() > 1).then(|| Progress::new(cases.len() as u64, "timing pass: cases"));
-    let measured: Vec<Option<Vec<(f64, f64)>>> = cases
-        .par_iter()
-        .zip(inputs)
-        .with_max_len(1)
-        .map(|(case, (inputs, light))| {
-            if settings.cancelled() {
-                return None;
-            }
-            let _span = settings.span("timing pass");
-            let input = inputs.fit_input(case, Some(light));
-            let normals = timing::subsample(&case.domain.output_grid(exp.resolution).normals, timing::EVAL_NORMALS);
-            let times = exp.encoders.iter().map(|e| timing::measure(e.encoder.as_ref(), &input, &normals)).collect();
-            progress.iter().for_each(Progress::inc);
-            Some(times)
-        })
-        .collect();
-    for (rows, times) in rows.iter_mut().zip(measured) {
-        let Some(times) = times else { return };
-        for (named, (fit_ns, eval_ns)) in exp.encoders.iter().zip(times) {
+    for ((case, (inputs, light)), rows) in cases.iter().zip(inputs).zip(rows.iter_mut()) {
+        if settings.cancelled() {
+            return;
+        }
+        let input = inputs.fit_input(case, Some(light));
+        let normals = timing::subsample(&case.domain.output_grid(exp.resolution).normals, timing::EVAL_NORMALS);
+        for named in &exp.encoders {
+            let (fit_ns, eval_ns) = timing::measure(named.encoder.as_ref(), &input, &normals);
             for r in rows.iter_mut().filter(|r| r.encoder == named.name) {
                 r.fit_ns = Some(fit_ns);
                 r.eval_ns = Some(eval_ns);
             }
         }
+        progress.iter().for_each(Progress::inc);
     }
 }
 
