@@ -332,7 +332,12 @@ impl Experiment {
     /// folders searched.
     pub fn run(&self, root: impl AsRef<Path>) -> Result<Vec<Row>> {
         let search = SearchPath::from_env(root.as_ref().join("envmaps"));
-        let report = crate::pipeline::runner::run(&self.exp, &search, &Default::default())?;
+        let report = crate::pipeline::runner::run(
+            &self.exp,
+            &search,
+            &Default::default(),
+            &crate::pipeline::reuse::ReferenceCache::new(None),
+        )?;
         if !report.missing.is_empty() {
             bail!(
                 "experiment {}: map(s) not found: {}",

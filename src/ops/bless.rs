@@ -52,7 +52,12 @@ pub fn bless(env: &Env, opts: &BlessOptions) -> Result<BlessOutcome> {
     }
     if all || opts.experiments.iter().any(|e| e == "claims") {
         let run = claims::run(&env.root, &env.search, &out, ClaimsMode::Bless)?;
-        super::claims::write_strips(env, &out, &run)?;
+        super::claims::write_strips(
+            env,
+            &out,
+            &run,
+            &crate::pipeline::reuse::ReferenceCache::new(env.settings.profile),
+        )?;
         outcome.claims = Some(run);
     }
     Ok(outcome)

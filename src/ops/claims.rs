@@ -7,6 +7,7 @@
 pub mod text;
 
 use super::Env;
+use crate::pipeline::reuse::ReferenceCache;
 use crate::regression::claims::{self, ClaimsMode, ClaimsRun};
 use anyhow::Result;
 use std::path::{Path, PathBuf};
@@ -41,19 +42,20 @@ pub fn claims(env: &Env, opts: &ClaimsOptions) -> Result<ClaimsOutcome> {
     let out = env.results(opts.out.clone());
     let _lock = env.writing(&out)?;
     let run = claims::run(&env.root, &env.search, &out, ClaimsMode::Write)?;
-    let strips = write_strips(env, &out, &run)?;
+    let strips = write_strips(env, &out, &run, &ReferenceCache::new(env.settings.profile))?;
     Ok(ClaimsOutcome { run, strips, out })
 }
 
 /// Draws the lightmap study's blending strips and the claims pages' own figures (the claims'
 /// cut-down sheets, the blending charts; report layer) and writes them under `<out>/claims/`,
-/// each atomically; returns how many strips (`claims`, `bless`, `reproduce`).
-pub(crate) fn write_strips(env: &Env, out: &Path, run: &ClaimsRun) -> Result<usize> {
+/// each atomically; returns how many strips (`claims`, `bless`, `reproduce`). The sheets'
+/// references are kept in and read from `cache`.
+pub(crate) fn write_strips(env: &Env, out: &Path, run: &ClaimsRun, cache: &ReferenceCache) -> Result<usize> {
     let strips = crate::report::strip::pngs(&run.strips)?;
     for (name, bytes) in &strips {
         crate::io::atomic::write(&out.join("claims").join(name), bytes)?;
     }
-    let sheets = crate::report::claim_figures::claim_sheets(&env.root, &env.search, out)?;
+    let sheets = crate::report::claim_figures::claim_sheets(&env.root, &env.search, out, cache)?;
     for (name, bytes) in sheets.iter().chain(&crate::report::claim_figures::blend_charts(out)?) {
         crate::io::atomic::write(&out.join(name), bytes)?;
     }

@@ -9,6 +9,7 @@ use super::json::{self, MapEntry};
 use super::source::Texels;
 use crate::encoders;
 use crate::pipeline::experiment::{parse_resolution, DomainKind, Effect, Experiment};
+use crate::pipeline::reuse::ReferenceCache;
 use crate::pipeline::runner;
 use crate::pipeline::table::{self, Row};
 use crate::reference::domain::{expand_orientations, parse_axis, Orientation};
@@ -90,7 +91,7 @@ pub fn eval(env: &Env, o: &EvalOptions) -> Result<Evaluated> {
         EvalMaps::Named(maps) => {
             let exp = experiment(maps.clone(), o)?;
             env.refuse_long_experiments(std::slice::from_ref(&exp))?;
-            let report = runner::run(&exp, &env.search, &env.settings)?;
+            let report = runner::run(&exp, &env.search, &env.settings, &ReferenceCache::new(env.settings.profile))?;
             if !report.missing.is_empty() {
                 bail!("map(s) not found: {}", env.search.missing_maps(&report.missing, &report.missing_why));
             }

@@ -6,6 +6,7 @@
 pub mod text;
 
 use super::Env;
+use crate::pipeline::reuse::ReferenceCache;
 /// The largest `--scale` of the comparison sheets.
 pub use crate::report::sheet::MAX_SCALE;
 use crate::report::Generated;
@@ -25,18 +26,13 @@ pub fn report(env: &Env, opts: &ReportOptions) -> Result<Generated> {
     env.checkout()?;
     let out = env.results(opts.out.clone());
     let _lock = env.writing(&out)?;
-    generate(env, &out, opts.sheet_scale)
+    generate(env, &out, opts.sheet_scale, &ReferenceCache::new(env.settings.profile))
 }
 
 /// Writes `<out>/REPORT.md` with its pictures, the comparison sheets at `sheet_scale`, under a
-/// lock the caller holds (`report`, `reproduce`).
-pub(crate) fn generate(env: &Env, out: &Path, sheet_scale: u32) -> Result<Generated> {
-    let options = crate::report::Options {
-        root: &env.root,
-        out,
-        search: &env.search,
-        sheet_scale,
-        profile: env.settings.profile,
-    };
+/// lock the caller holds (`report`, `reproduce`), the sheets' references kept in and read from
+/// `cache` (its profile times the report's phases).
+pub(crate) fn generate(env: &Env, out: &Path, sheet_scale: u32, cache: &ReferenceCache) -> Result<Generated> {
+    let options = crate::report::Options { root: &env.root, out, search: &env.search, sheet_scale, references: cache };
     crate::report::generate(&options)
 }

@@ -10,6 +10,7 @@ use super::context::experiment_outputs_distinct;
 use super::Env;
 use crate::io::progress::Progress;
 use crate::pipeline::experiment::{list_experiments, Experiment};
+use crate::pipeline::reuse::ReferenceCache;
 use crate::pipeline::runner::{self, RunReport};
 use crate::regression::claims::{self, ClaimsMode, ClaimsRun};
 use crate::regression::guard::{self, PartialCheck, Stored};
@@ -87,12 +88,12 @@ struct Runs<'a> {
 }
 
 /// Runs every experiment before anything is written (a failing run writes nothing).
-fn run_all<'a>(exps: &'a [Experiment], env: &Env) -> Result<Runs<'a>> {
+fn run_all<'a>(exps: &'a [Experiment], env: &Env, cache: &ReferenceCache) -> Result<Runs<'a>> {
     let mut runs = Runs::default();
     let progress = Progress::new(exps.len() as u64, "experiments");
     for exp in exps {
         progress.message(exp.name.clone());
-        let report = runner::run(exp, &env.search, &env.settings)?;
+        let report = runner::run(exp, &env.search, &env.settings, cache)?;
         if report.missing.is_empty() {
             runs.done.push((exp, report));
         } else if report.missing.len() == exp.maps.len() {
@@ -115,7 +116,9 @@ pub fn reproduce(env: &Env, opts: &ReproduceOptions) -> Result<ReproduceOutcome>
     let exps = list_experiments(&dir)?.iter().map(|p| Experiment::load(p)).collect::<Result<Vec<_>>>()?;
     experiment_outputs_distinct(&out, &exps)?;
     env.refuse_long_experiments(&exps)?;
-    let runs = run_all(&exps, env)?;
+    // One cache for the runs, the claims' sheets and the report's: no reference computed twice.
+    let cache = ReferenceCache::new(env.settings.profile);
+    let runs = run_all(&exps, env, &cache)?;
     let mut results = Vec::new();
     let mut missing = MissingMaps::default();
     let entry = |exp: &Experiment, outcome: Reproduced| ExperimentOutcome {
@@ -143,7 +146,7 @@ pub fn reproduce(env: &Env, opts: &ReproduceOptions) -> Result<ReproduceOutcome>
     // The claims, judged on the tables just written (and the measurements, when their maps are
     // here), before the report that presents them.
     let claims = claims::run(&env.root, &env.search, &out, ClaimsMode::Write)?;
-    super::claims::write_strips(env, &out, &claims)?;
-    let report = super::report::generate(env, &out, 1)?;
+    super::claims::write_strips(env, &out, &claims, &cache)?;
+    let report = super::report::generate(env, &out, 1, &cache)?;
     Ok(ReproduceOutcome { experiments: exps.len(), results, claims, report, missing })
 }

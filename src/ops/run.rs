@@ -8,6 +8,7 @@ pub mod text;
 use super::context::experiment_outputs_distinct;
 use super::Env;
 use crate::pipeline::experiment::{self, Experiment};
+use crate::pipeline::reuse::ReferenceCache;
 use crate::pipeline::runner::{self, RunReport};
 use crate::regression::guard::{self, Stored};
 use anyhow::{bail, Result};
@@ -59,8 +60,10 @@ pub fn run(env: &Env, opts: &RunOptions) -> Result<RunOutcome> {
     experiment_outputs_distinct(&out, &exps)?;
     env.refuse_long_experiments(&exps)?;
     let mut done = Vec::new();
+    // The experiments' cases that are the same on a map share one reference.
+    let cache = ReferenceCache::new(env.settings.profile);
     for exp in &exps {
-        let report = runner::run(exp, &env.search, &env.settings)?;
+        let report = runner::run(exp, &env.search, &env.settings, &cache)?;
         if !report.missing.is_empty() {
             bail!(
                 "{}\nnothing written. Searched: {}",

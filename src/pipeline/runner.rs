@@ -6,158 +6,25 @@
 //! Only declared effects are simulated: with no effect the reference has no caps and the
 //! visible SH is the probe SH (no masked projection is computed).
 
-use crate::encoders::encoder::{Encoder, FitInput, Fitted};
-use crate::envmap::moments::RowMoments;
+use crate::encoders::encoder::{Encoder, Fitted};
 use crate::envmap::search::{OpenError, SearchPath};
 use crate::envmap::EnvMap;
 use crate::io::progress::Progress;
-use crate::math::cap::Cap;
 use crate::math::colour::Rgb;
-use crate::math::sh::Sh9;
-use crate::pipeline::experiment::{DomainKind, Effect, Experiment};
+use crate::pipeline::experiment::Experiment;
+use crate::pipeline::reuse::{cap_bits, ReferenceCache};
 use crate::pipeline::settings::RunSettings;
 use crate::pipeline::table::Row;
 use crate::pipeline::timing;
-use crate::reference::domain::{frame_to, Domain, OutputGrid};
-use crate::reference::exact::Reference;
+use crate::reference::domain::{Domain, OutputGrid};
 use crate::reference::metrics::{score, Metric, Scores};
-use crate::reference::projection::{project, project_visible};
-use crate::reference::radiance::{MapLight, RadianceSource};
+use crate::reference::radiance::MapLight;
 use anyhow::{bail, Result};
 use glam::DVec3;
 use rayon::prelude::*;
 use std::path::PathBuf;
 
-/// One surface configuration to score: where n′ ranges and what light is visible.
-#[derive(Clone, Debug)]
-pub struct Case {
-    /// Where the output normals n′ range (sphere or hemisphere about N).
-    pub domain: Domain,
-    /// `sphere` or `hemisphere:<orientation>` (or `sphere@<orientation>` for a sphere domain
-    /// with effects about N).
-    pub domain_label: String,
-    /// The orientation set N was drawn from ("-" without one).
-    pub orientation_set: String,
-    /// The effects applied, joined with "+" ("none" without any).
-    pub effects_label: String,
-    /// The visibility caps the light is restricted to (hemisphere and cone effects).
-    pub masks: Vec<Cap>,
-    /// The surface normal N; None for the sphere probe case.
-    pub normal: Option<DVec3>,
-    /// The cone effect's (centre, cos α), if any.
-    pub cone: Option<(DVec3, f64)>,
-    /// The albedo ρ of the surface below the horizon under the `self_bounce` effect.
-    pub albedo: Option<f64>,
-}
-
-impl Case {
-    /// The whole sphere: no normal, no effect (a probe; an experiment without orientations).
-    pub fn sphere() -> Case {
-        Case {
-            domain: Domain::Sphere,
-            domain_label: "sphere".into(),
-            orientation_set: "-".into(),
-            effects_label: "none".into(),
-            masks: vec![],
-            normal: None,
-            cone: None,
-            albedo: None,
-        }
-    }
-}
-
-impl Case {
-    /// A surface of unit normal `n` lit by the light above its horizon, normals n′ over the
-    /// hemisphere about it, no other effect (what `eval --domain hemisphere:AXIS`, the API's
-    /// `Surface::Normal` and the results viewer score), labelled `label`.
-    pub fn hemisphere(n: DVec3, label: String) -> Case {
-        Case {
-            domain: Domain::Hemisphere { normal: n },
-            domain_label: label,
-            orientation_set: "-".into(),
-            effects_label: "hemisphere".into(),
-            masks: vec![Cap::hemisphere(n)],
-            normal: Some(n),
-            cone: None,
-            albedo: None,
-        }
-    }
-}
-
-/// The cases an experiment declares.
-pub fn cases(exp: &Experiment) -> Vec<Case> {
-    if exp.orientations.is_empty() {
-        return vec![Case::sphere()];
-    }
-    let mut out = Vec::new();
-    for o in &exp.orientations {
-        let n = o.normal;
-        let (domain, domain_label) = match exp.domain {
-            DomainKind::Sphere => (Domain::Sphere, format!("sphere@{}", o.label)),
-            DomainKind::Hemisphere => (Domain::Hemisphere { normal: n }, format!("hemisphere:{}", o.label)),
-        };
-        // Effect variants: the cartesian product of every effect's parameter lists.
-        let mut variants: Vec<Variant> = vec![(vec![], vec![], None, None)];
-        for e in &exp.effects {
-            let mut next = Vec::new();
-            for (masks, labels, cone, albedo) in &variants {
-                match e {
-                    Effect::Hemisphere => {
-                        let mut m = masks.clone();
-                        m.push(Cap::hemisphere(n));
-                        let mut l = labels.clone();
-                        l.push("hemisphere".into());
-                        next.push((m, l, *cone, *albedo));
-                    }
-                    Effect::SelfBounce { albedo: values } => {
-                        for &a in values {
-                            let mut l = labels.clone();
-                            l.push(format!("self_bounce(albedo={a})"));
-                            next.push((masks.clone(), l, *cone, Some(a)));
-                        }
-                    }
-                    Effect::Cone { cos_alpha, tilt_deg } => {
-                        for &t in tilt_deg {
-                            let c = cone_centre(n, t);
-                            for &ca in cos_alpha {
-                                let mut m = masks.clone();
-                                m.push(Cap::new(c, ca));
-                                let mut l = labels.clone();
-                                l.push(format!("cone(cos={ca},tilt={t}deg)"));
-                                next.push((m, l, Some((c, ca)), *albedo));
-                            }
-                        }
-                    }
-                }
-            }
-            variants = next;
-        }
-        for (masks, labels, cone, albedo) in variants {
-            out.push(Case {
-                domain: domain.clone(),
-                domain_label: domain_label.clone(),
-                orientation_set: o.set.clone(),
-                effects_label: if labels.is_empty() { "none".into() } else { labels.join("+") },
-                masks,
-                normal: Some(n),
-                cone,
-                albedo,
-            });
-        }
-    }
-    out
-}
-
-/// One effect combination while the cartesian product is built: caps, labels, cone, albedo.
-type Variant = (Vec<Cap>, Vec<String>, Option<(DVec3, f64)>, Option<f64>);
-
-/// The cone centre: N tilted by `tilt_deg` towards the tangent of N's frame (the image of +X
-/// under the rotation taking +Y to N).
-pub fn cone_centre(n: DVec3, tilt_deg: f64) -> DVec3 {
-    let t = tilt_deg.to_radians();
-    let tangent = frame_to(n) * DVec3::X;
-    (n * t.cos() + tangent * t.sin()).normalize()
-}
+pub use super::cases::{cases, Case, CaseData, CaseInputs, MapData};
 
 /// Identity of a map used in a run (for provenance).
 #[derive(Clone, Debug)]
@@ -203,8 +70,9 @@ pub const CAPPED_CASE_SETUP: &str = "case setup (masked SH, capped reference)";
 
 /// Runs an experiment over the maps the search path finds. Maps that are not found (or, for a
 /// known map, found only in files with other pixels: `SearchPath::open`) are listed in
-/// `missing`; a map that is found but cannot be read is an error.
-pub fn run(exp: &Experiment, search: &SearchPath, settings: &RunSettings) -> Result<RunReport> {
+/// `missing`; a map that is found but cannot be read is an error. References are kept in and
+/// read from `cache` (the workflow's: experiments of one workflow share their cases').
+pub fn run(exp: &Experiment, search: &SearchPath, settings: &RunSettings, cache: &ReferenceCache) -> Result<RunReport> {
     let mut rows = Vec::new();
     let mut maps = Vec::new();
     let mut missing: Vec<(usize, String, String)> = Vec::new();
@@ -262,7 +130,7 @@ pub fn run(exp: &Experiment, search: &SearchPath, settings: &RunSettings) -> Res
             exposure: map.exposure,
             colour: map.colour.clone(),
         });
-        rows.extend(run_map(exp, &map, settings));
+        rows.extend(run_map_reusing(exp, &map, settings, cache));
         settings.check_cancelled()?;
         progress.inc();
     }
@@ -272,132 +140,18 @@ pub fn run(exp: &Experiment, search: &SearchPath, settings: &RunSettings) -> Res
     Ok(RunReport { rows, maps, missing, missing_why })
 }
 
-/// Per-map data computed once and shared by every case: the row moments (for the reference
-/// and masked projections) and the probe's L2 SH.
-pub struct MapData<'m> {
-    /// The map.
-    pub map: &'m EnvMap,
-    /// Prefix sums of the map's row moments.
-    pub moments: RowMoments<'m>,
-    /// The map's L2 radiance SH (the probe).
-    pub probe_sh: Sh9,
-}
-
-impl<'m> MapData<'m> {
-    /// Computes the moments and the probe SH of `map`.
-    pub fn new(map: &'m EnvMap) -> Self {
-        MapData { map, moments: RowMoments::new(map), probe_sh: project(map) }
-    }
-}
-
-/// What every encoder is fitted from in one case, owned (the timing pass keeps it after the
-/// case's reference is gone): the probe's SH, the SH of the light visible under the case's
-/// caps, and the exact E/π at N.
-#[derive(Clone, Copy, Debug)]
-pub struct CaseInputs {
-    /// The probe's L2 radiance SH (the whole map).
-    pub probe_sh: Sh9,
-    /// L2 radiance SH of the light visible under the case's caps.
-    pub visible_sh: Sh9,
-    /// Exact E/π at N; None without a surface normal.
-    pub exact_at_normal: Option<Rgb>,
-}
-
-impl CaseInputs {
-    /// The fit input of `case` (its surface normal, cone and albedo) from these inputs and the
-    /// case's visible light (`None`: encoders fall back to the light of the visible SH).
-    pub fn fit_input<'s>(&'s self, case: &Case, light: Option<&'s dyn RadianceSource>) -> FitInput<'s> {
-        FitInput {
-            probe_sh: &self.probe_sh,
-            visible_sh: &self.visible_sh,
-            surface_normal: case.normal,
-            cone: case.cone,
-            exact_at_normal: self.exact_at_normal,
-            surface_albedo: case.albedo,
-            radiance: light,
-        }
-    }
-}
-
-/// Per-case data: the fit inputs, the exact reference under the case's caps, and the visible
-/// light itself (lazy: nothing is computed unless an encoder asks). Sweeps, claims and sheets
-/// build it too, so everything scores the same inputs.
-pub struct CaseData<'a> {
-    /// The case scored.
-    pub case: &'a Case,
-    /// What the encoders are fitted from.
-    pub inputs: CaseInputs,
-    /// The exact reference under the case's caps.
-    pub reference: Reference<'a>,
-    /// The visible light (lazy).
-    pub light: MapLight<'a>,
-}
-
-impl<'a> CaseData<'a> {
-    /// Only the declared effects are simulated: with no caps the visible SH is the probe SH.
-    pub fn new(data: &'a MapData, case: &'a Case, polar_nodes: usize) -> Self {
-        let visible_sh = if case.masks.is_empty() {
-            data.probe_sh
-        } else {
-            project_visible(&data.moments, &case.masks, polar_nodes)
-        };
-        let reference = Reference::new(&data.moments, case.masks.clone(), polar_nodes);
-        let exact_at_normal = case.normal.map(|n| reference.irradiance(n));
-        let light = MapLight::new(data.map, &data.moments, case.masks.clone(), polar_nodes);
-        CaseData { case, inputs: CaseInputs { probe_sh: data.probe_sh, visible_sh, exact_at_normal }, reference, light }
-    }
-
-    /// What every encoder is fitted from.
-    pub fn fit_input(&self) -> FitInput<'_> {
-        self.inputs.fit_input(self.case, Some(&self.light))
-    }
-
-    /// The reference E/π at `normals`: the exact irradiance under the case's caps plus, under
-    /// the `self_bounce` effect, the light of the surface below the horizon.
-    pub fn reference_many(&self, normals: &[DVec3]) -> Vec<Rgb> {
-        let mut v = self.reference.irradiance_many(normals);
-        self.add_self_bounce(normals, &mut v);
-        v
-    }
-
-    /// The reference E/π on an output grid (the fast lat-long path where it applies), with the
-    /// self-bounce as in [`CaseData::reference_many`].
-    pub fn reference_on(&self, grid: &OutputGrid) -> Vec<Rgb> {
-        self.reference_on_until(grid, &|| false)
-    }
-
-    /// [`Self::reference_on`], checking `stop` between the map's rows (on the lat-long path):
-    /// once it says stop, the values mean nothing.
-    pub fn reference_on_until(&self, grid: &OutputGrid, stop: &(dyn Fn() -> bool + Sync)) -> Vec<Rgb> {
-        let mut v = match grid.latlong {
-            Some(ll) => self.reference.irradiance_latlong_until(ll, stop),
-            None => self.reference.irradiance_many(&grid.normals),
-        };
-        self.add_self_bounce(&grid.normals, &mut v);
-        v
-    }
-
-    /// Self-bounce (hemispherical-lighting talk; `Effect::SelfBounce`). The model: the surface
-    /// below the horizon is an infinite Lambertian plane of albedo ρ, lit by the exact
-    /// irradiance at N (I_z, E/π units, so the plane's irradiance is π·I_z); it reflects the
-    /// uniform radiance ρ·I_z into every direction below the horizon. A uniform radiance L
-    /// over the half-space ω·N < 0 gives E/π = L·(1 − H(n′)) at a normal n′, with
-    /// H(n′) = (1 + n′·N)/2 the hemisphere light; so the reference gains
-    /// ρ·I_z·(1 − H(n′)). Nothing is added without the effect.
-    fn add_self_bounce(&self, normals: &[DVec3], values: &mut [Rgb]) {
-        let (Some(rho), Some(n), Some(iz)) = (self.case.albedo, self.case.normal, self.inputs.exact_at_normal) else {
-            return;
-        };
-        for (v, &np) in values.iter_mut().zip(normals) {
-            *v += iz * (rho * (1.0 - np.dot(n)) * 0.5);
-        }
-    }
-}
-
 /// Scores every encoder of the experiment on one in-memory map. With `settings.cancel` set
 /// while it runs, the work stops early and the rows mean nothing: the caller checks
 /// [`RunSettings::check_cancelled`] before using them.
 pub fn run_map(exp: &Experiment, map: &EnvMap, settings: &RunSettings) -> Vec<Row> {
+    run_map_reusing(exp, map, settings, &ReferenceCache::new(settings.profile))
+}
+
+/// [`run_map`], its references kept in and read from `cache`. Cases whose caps are the same
+/// (the `self_bounce` albedos of one orientation, an orientation listed twice) share their
+/// reference: they run one after another, the first computing it, while different caps run in
+/// parallel.
+pub fn run_map_reusing(exp: &Experiment, map: &EnvMap, settings: &RunSettings, cache: &ReferenceCache) -> Vec<Row> {
     let data = {
         let _s = settings.span("row moments + SH projection");
         MapData::new(map)
@@ -408,17 +162,42 @@ pub fn run_map(exp: &Experiment, map: &EnvMap, settings: &RunSettings) -> Vec<Ro
     let all = cases(exp);
     // Per case, so that a map of many cases shows its progress and the time left.
     let progress = (all.len() > 1).then(|| Progress::new(all.len() as u64, &format!("{}: cases", map.name)));
-    let (mut per_case, inputs): (Vec<Vec<Row>>, Vec<(CaseInputs, MapLight)>) = all
+    let mut done: Vec<(usize, CaseRun)> = same_caps(&all)
         .par_iter()
-        .map(|case| {
-            let done = run_case(exp, &data, case, settings);
-            progress.iter().for_each(Progress::inc);
-            done
+        .flat_map_iter(|group| {
+            let runs: Vec<(usize, CaseRun)> = group
+                .iter()
+                .map(|&i| {
+                    let run = run_case(exp, &data, &all[i], settings, cache);
+                    progress.iter().for_each(Progress::inc);
+                    (i, run)
+                })
+                .collect();
+            runs
         })
-        .unzip();
+        .collect();
     drop(progress);
+    done.sort_by_key(|(i, _)| *i);
+    let (mut per_case, inputs): (Vec<Vec<Row>>, Vec<(CaseInputs, MapLight)>) = done.into_iter().map(|(_, r)| r).unzip();
     fill_timing(exp, &all, &inputs, &mut per_case, settings);
     per_case.into_iter().flatten().collect()
+}
+
+/// What one case's run gives: its rows and the inputs they were fitted from.
+type CaseRun<'d> = (Vec<Row>, (CaseInputs, MapLight<'d>));
+
+/// The indices of `cases` grouped by their caps (bit for bit), each group in case order, the
+/// groups in the order of their first case.
+fn same_caps(cases: &[Case]) -> Vec<Vec<usize>> {
+    let mut groups: Vec<(Vec<[u64; 4]>, Vec<usize>)> = Vec::new();
+    for (i, c) in cases.iter().enumerate() {
+        let b = cap_bits(&c.masks);
+        match groups.iter_mut().find(|g| g.0 == b) {
+            Some(g) => g.1.push(i),
+            None => groups.push((b, vec![i])),
+        }
+    }
+    groups.into_iter().map(|g| g.1).collect()
 }
 
 /// Fills `fit_ns` and `eval_ns` of the rows of one map, `rows[c]` being the rows of
@@ -464,11 +243,12 @@ fn run_case<'d>(
     data: &'d MapData,
     case: &'d Case,
     settings: &RunSettings,
-) -> (Vec<Row>, (CaseInputs, MapLight<'d>)) {
+    cache: &'d ReferenceCache,
+) -> CaseRun<'d> {
     let map = data.map;
     let cd = {
         let _s = settings.span(if case.masks.is_empty() { "case setup" } else { CAPPED_CASE_SETUP });
-        CaseData::new(data, case, exp.polar_nodes)
+        CaseData::new(data, case, exp.polar_nodes).reusing(cache)
     };
     let reference = &cd.reference;
     let input = cd.fit_input();
@@ -487,7 +267,6 @@ fn run_case<'d>(
         let sphere = matches!(domain, Domain::Sphere);
         if !grids.iter().any(|g| g.0 == res && g.1 == sphere) {
             let grid = domain.output_grid(res);
-            let _s = settings.span("reference");
             let values = cd.reference_on_until(&grid, &|| settings.cancelled());
             grids.push((res, sphere, grid, values));
         }
@@ -572,6 +351,7 @@ pub fn score_values(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::pipeline::cases::cone_centre;
     use crate::reference::domain::expand_orientations;
 
     /// Self-bounce on a constant map of radiance A (FORMULAS §8; `Effect::SelfBounce`). The

@@ -60,8 +60,10 @@ pub fn bless(
     let tolerances = Tolerances::load(root)?;
     let mut staged = Vec::new();
     let mut skipped = Vec::new();
+    // The experiments' cases that are the same on a map share one reference.
+    let cache = crate::pipeline::reuse::ReferenceCache::new(settings.profile);
     for exp in &exps {
-        let report = runner::run(exp, search, settings)?;
+        let report = runner::run(exp, search, settings, &cache)?;
         if !report.missing.is_empty() {
             if !names.is_empty() {
                 bail!(

@@ -311,9 +311,11 @@ pub fn check_experiments(
         maps: Vec::new(),
         seconds: 0.0,
     };
+    // The experiments' cases that are the same on a map share one reference.
+    let cache = crate::pipeline::reuse::ReferenceCache::new(request.settings.profile);
     for exp in &exps {
         let t = std::time::Instant::now();
-        let report = runner::run(exp, search, &request.settings)?;
+        let report = runner::run(exp, search, &request.settings, &cache)?;
         let c = compare_with_baseline(&out.join(&exp.name), exp, &report, &tolerances, request.policy)?;
         checked(&c, t.elapsed().as_secs_f64())?;
         all.maps.extend(report.maps);

@@ -10,13 +10,20 @@ use super::{charts, png, sheet};
 use crate::claims::declaration::{load_papers, SheetCrop};
 use crate::envmap::search::SearchPath;
 use crate::pipeline::experiment::Experiment;
+use crate::pipeline::reuse::ReferenceCache;
 use anyhow::{anyhow, Context, Result};
 use std::path::Path;
 
 /// The claims' sheets (of the declarations under `root`'s `experiments/`), as (path under the
-/// results folder, PNG bytes), in the declarations' order. A sheet whose map is not on the search path is not drawn (its committed picture
+/// results folder, PNG bytes), in the declarations' order, their references kept in and read
+/// from `cache`. A sheet whose map is not on the search path is not drawn (its committed picture
 /// stands, like any figure of a map this machine lacks).
-pub fn claim_sheets(root: &Path, search: &SearchPath, results: &Path) -> Result<Vec<(String, Vec<u8>)>> {
+pub fn claim_sheets(
+    root: &Path,
+    search: &SearchPath,
+    results: &Path,
+    cache: &ReferenceCache,
+) -> Result<Vec<(String, Vec<u8>)>> {
     let papers = load_papers(&root.join("experiments"))?;
     let mut out = Vec::new();
     for f in papers.iter().flat_map(|p| &p.claims).flat_map(|c| &c.figures) {
@@ -24,7 +31,7 @@ pub fn claim_sheets(root: &Path, search: &SearchPath, results: &Path) -> Result<
         if search.resolve(&crop.map).is_err() {
             continue;
         }
-        let bytes = draw_crop(root, search, results, crop).with_context(|| format!("figure {}", f.image))?;
+        let bytes = draw_crop(root, search, results, crop, cache).with_context(|| format!("figure {}", f.image))?;
         out.push((f.image.clone(), bytes));
     }
     Ok(out)
@@ -32,7 +39,13 @@ pub fn claim_sheets(root: &Path, search: &SearchPath, results: &Path) -> Result<
 
 /// One cut-down sheet: the experiment with only the crop's encoders, in the crop's order, on
 /// its map, with the figures of the experiment's committed table when it has them.
-fn draw_crop(root: &Path, search: &SearchPath, results: &Path, crop: &SheetCrop) -> Result<Vec<u8>> {
+fn draw_crop(
+    root: &Path,
+    search: &SearchPath,
+    results: &Path,
+    crop: &SheetCrop,
+    cache: &ReferenceCache,
+) -> Result<Vec<u8>> {
     let mut exp = Experiment::load(&root.join("experiments").join(format!("{}.toml", crop.experiment)))?;
     let mut kept = Vec::new();
     for name in &crop.encoders {
@@ -47,7 +60,7 @@ fn draw_crop(root: &Path, search: &SearchPath, results: &Path, crop: &SheetCrop)
     let table_path = results.join(&crop.experiment).join("table.csv");
     let table = if table_path.is_file() { Some(CsvTable::read(&table_path)?) } else { None };
     let map = search.load(&crop.map)?;
-    let (sheet, _) = sheet::experiment_sheet(&exp, &map, table.as_ref(), 1, None)?;
+    let (sheet, _) = sheet::experiment_sheet(&exp, &map, table.as_ref(), 1, cache)?;
     png::png_bytes(&sheet.draw()?)
 }
 

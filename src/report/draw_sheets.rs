@@ -63,10 +63,10 @@ pub(super) fn experiment_sheets(
         .par_iter()
         .map(|m| -> Result<(String, sheet::Sheet)> {
             let map = {
-                let _s = profile::span(opts.profile, "report: decode");
+                let _s = profile::span(opts.references.profile(), "report: decode");
                 opts.search.load(m)?
             };
-            let (sheet, _) = sheet::experiment_sheet(exp, &map, table.as_ref(), opts.sheet_scale, opts.profile)?;
+            let (sheet, _) = sheet::experiment_sheet(exp, &map, table.as_ref(), opts.sheet_scale, opts.references)?;
             Ok((m.clone(), sheet))
         })
         .collect::<Result<Vec<_>>>()?;
@@ -84,11 +84,11 @@ pub(super) fn experiment_sheets(
         .par_iter()
         .map(|(name, sheet)| -> Result<String> {
             let image = {
-                let _s = profile::span(opts.profile, "report: draw");
+                let _s = profile::span(opts.references.profile(), "report: draw");
                 sheet.draw()?
             };
             {
-                let _s = profile::span(opts.profile, "report: PNG encode");
+                let _s = profile::span(opts.references.profile(), "report: PNG encode");
                 png::write_png(&dir.join(name), &image)?;
             }
             progress.log(format!("wrote {}", dir.join(name).display()));

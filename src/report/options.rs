@@ -2,7 +2,7 @@
 //! what a run returns ([`Generated`]: the files written, what this machine lacked).
 
 use crate::envmap::search::SearchPath;
-use crate::io::profile::Profile;
+use crate::pipeline::reuse::ReferenceCache;
 use std::path::{Path, PathBuf};
 
 /// Where the report reads and writes.
@@ -16,8 +16,9 @@ pub struct Options<'a> {
     /// The comparison sheets' scale (`report --scale`, 1..=[`sheet::MAX_SCALE`]): every measure
     /// of a sheet times this; 1 is the standard sheet. Charts do not depend on it.
     pub sheet_scale: u32,
-    /// Where the report's phases are timed (`--profile`), if anywhere.
-    pub profile: Option<&'a Profile>,
+    /// Where the sheets' references are kept and looked up; its profile (`--profile`), if
+    /// any, is where the report's phases are timed.
+    pub references: &'a ReferenceCache<'a>,
 }
 
 /// What a report run produced. The pages written depend only on the committed files (results,

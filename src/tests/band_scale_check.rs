@@ -41,7 +41,13 @@ fn check_catches_a_changed_band_scale() {
     let i = exp.encoders.iter().position(|e| e.name == "sh1").expect("generated_scenes has sh1");
     exp.encoders[i] = NamedEncoder { name: "sh1".into(), encoder: Box::new(BrokenSh1) };
     let search = SearchPath::new(vec![repo().join("envmaps")]);
-    let report = crate::pipeline::runner::run(&exp, &search, &Default::default()).unwrap();
+    let report = crate::pipeline::runner::run(
+        &exp,
+        &search,
+        &Default::default(),
+        &crate::pipeline::reuse::ReferenceCache::new(None),
+    )
+    .unwrap();
     let tolerances = Tolerances::load(&repo()).unwrap();
     let c = compare_with_baseline(
         &repo().join("results/generated_scenes"),

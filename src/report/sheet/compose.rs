@@ -11,9 +11,10 @@ use super::render::{Sheet, SheetRow};
 use super::thumbnail::latlong_thumbnail;
 use crate::encoders::encoder::Fitted;
 use crate::envmap::EnvMap;
-use crate::io::profile::{self, Profile};
+use crate::io::profile;
 use crate::math::colour::{luminance, Rgb};
 use crate::pipeline::experiment::Experiment;
+use crate::pipeline::reuse::ReferenceCache;
 use crate::pipeline::runner::{cases, evaluate, score_fit, Case, CaseData, MapData};
 use crate::reference::domain::Domain;
 use crate::reference::metrics::Metric;
@@ -47,20 +48,23 @@ pub fn representative_case(all: &[Case]) -> usize {
 /// visible on the error spheres; so it is not done.)
 /// At `scale` N the discs are [`DISC`]·N pixels across, each pixel's normal evaluated, and
 /// the thumbnail is filtered at [`THUMB_W`]·N; the figures do not depend on the scale. The
-/// reference and the encoders' evaluation are timed on `timed_on` (`--profile`), if given.
+/// reference at each disc is kept in and read from `cache` (so the sheets of a workflow that
+/// draw the same case of a map at the same size compute it once), and timed on the cache's
+/// profile (`--profile`), as is the encoders' evaluation.
 pub fn experiment_sheet(
     exp: &Experiment,
     map: &EnvMap,
     table: Option<&CsvTable>,
     scale: u32,
-    timed_on: Option<&Profile>,
+    cache: &ReferenceCache,
 ) -> Result<(Sheet, SheetScores)> {
     ensure!((1..=MAX_SCALE).contains(&scale), "sheet scale {scale}: must be 1 to {MAX_SCALE}");
     let data = MapData::new(map);
     let all = cases(exp);
     let ci = representative_case(&all);
     let case = &all[ci];
-    let cd = CaseData::new(&data, case, exp.polar_nodes);
+    let cd = CaseData::new(&data, case, exp.polar_nodes).reusing(cache);
+    let timed_on = cache.profile();
     let input = cd.fit_input();
     let fitted: Vec<Box<dyn Fitted>> = exp.encoders.iter().map(|e| e.encoder.fit(&input)).collect();
     let names: Vec<String> = exp.encoders.iter().map(|e| e.name.clone()).collect();
@@ -73,10 +77,8 @@ pub fn experiment_sheet(
 
     let views = case_views(case);
     let discs: Vec<Disc> = views.iter().map(|v| Disc::new(v, (scale * DISC) as usize)).collect();
-    let reference: Vec<Vec<Rgb>> = {
-        let _s = profile::span(timed_on, "report: reference (sheets)");
-        discs.iter().map(|d| cd.reference_many(&d.normals)).collect()
-    };
+    let reference: Vec<Vec<Rgb>> =
+        discs.iter().map(|d| cd.reference_many_as(&d.normals, "report: reference (sheets)")).collect();
     let values: Vec<Vec<Vec<Rgb>>> = {
         let _s = profile::span(timed_on, "report: encoder eval (sheets)");
         fitted.iter().map(|f| discs.iter().map(|d| evaluate(f.as_ref(), &d.normals)).collect()).collect()

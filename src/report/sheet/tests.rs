@@ -10,6 +10,7 @@ use crate::envmap::EnvMap;
 use crate::math::colour::Rgb;
 use crate::pipeline::experiment::Experiment;
 use crate::pipeline::experiment::ExperimentFile;
+use crate::pipeline::reuse::ReferenceCache;
 use crate::report::canvas::CELL;
 use crate::report::csvfile::CsvTable;
 use crate::report::text::text_width;
@@ -30,7 +31,7 @@ fn scene_map(id: &str, width: usize) -> EnvMap {
 fn constant_map_reference_sphere_is_uniform() {
     let exp = experiment("maps = ['gen_constant']\nencoders = ['sh1']\nresolution = [32, 16]");
     let map = scene_map("gen_constant", 64);
-    let (sheet, _) = experiment_sheet(&exp, &map, None, 1, None).unwrap();
+    let (sheet, _) = experiment_sheet(&exp, &map, None, 1, &ReferenceCache::new(None)).unwrap();
     // The reference of a constant map of radiance 1 is E/π = 1 everywhere.
     let dev = sheet.reference.iter().flatten().map(|c| (*c - Rgb::ONE).abs().max_element()).fold(0.0, f64::max);
     assert!(dev < 1e-4, "reference deviates from 1 by {dev}");
@@ -66,7 +67,7 @@ fn sheet_size_follows_rows_and_views() {
         let extra = if hemi { "domain = 'hemisphere'\norientations = ['up']\neffects = ['hemisphere']\n" } else { "" };
         let exp = experiment(&format!("maps = ['m']\nencoders = [{encoders}]\nresolution = [16, 8]\n{extra}"));
         let map = scene_map("gen_sun_sky", 32);
-        experiment_sheet(&exp, &map, None, 1, None).unwrap().0.draw().unwrap().dimensions()
+        experiment_sheet(&exp, &map, None, 1, &ReferenceCache::new(None)).unwrap().0.draw().unwrap().dimensions()
     };
     // Expected sizes from the published measures, derived here by hand.
     let h = |rows: u32| HEADER_H + COLHEAD_H + rows * ROW_H + MARGIN;
@@ -86,7 +87,8 @@ fn long_names_widen_the_label_column() {
         "maps = ['m']\nencoders = ['sh1', { kind = 'sh2', name = 'sh2_with_a_very_long_descriptive_name' }]\n\
          resolution = [16, 8]",
     );
-    let (sheet, _) = experiment_sheet(&exp, &scene_map("gen_sun_sky", 32), None, 1, None).unwrap();
+    let (sheet, _) =
+        experiment_sheet(&exp, &scene_map("gen_sun_sky", 32), None, 1, &ReferenceCache::new(None)).unwrap();
     let lay = sheet.layout();
     let name = "sh2_with_a_very_long_descriptive_name";
     let want = text_width(name, NAME_PX, true) + 14;
@@ -102,7 +104,8 @@ fn long_names_widen_the_label_column() {
 #[test]
 fn drawn_colour_bar_matches_the_map_left_to_right() {
     let exp = experiment("maps = ['m']\nencoders = ['sh1']\nresolution = [16, 8]");
-    let (sheet, _) = experiment_sheet(&exp, &scene_map("gen_two_lights", 32), None, 1, None).unwrap();
+    let (sheet, _) =
+        experiment_sheet(&exp, &scene_map("gen_two_lights", 32), None, 1, &ReferenceCache::new(None)).unwrap();
     let img = sheet.draw().unwrap();
     let (bx, by) = sheet.layout().colour_bar();
     for x in 0..BAR_W {
@@ -120,7 +123,8 @@ fn drawn_colour_bar_matches_the_map_left_to_right() {
 #[test]
 fn over_brightening_is_brighter_and_red() {
     let exp = experiment("maps = ['m']\nencoders = ['sh0']\nresolution = [32, 16]");
-    let (sheet, _) = experiment_sheet(&exp, &scene_map("gen_hemisphere", 64), None, 1, None).unwrap();
+    let (sheet, _) =
+        experiment_sheet(&exp, &scene_map("gen_hemisphere", 64), None, 1, &ReferenceCache::new(None)).unwrap();
     let img = sheet.draw().unwrap();
     let lay = sheet.layout();
     let at = |col: u32, fy: f64| {
@@ -147,7 +151,7 @@ fn sheet_figures_equal_the_runner_table() {
     );
     let map = scene_map("gen_sky_sun", 64);
     let rows = crate::pipeline::runner::run_map(&exp, &map, &Default::default());
-    let (sheet, s) = experiment_sheet(&exp, &map, None, 1, None).unwrap();
+    let (sheet, s) = experiment_sheet(&exp, &map, None, 1, &ReferenceCache::new(None)).unwrap();
     assert_eq!((s.case_label.as_str(), s.source), ("hemisphere:+y", "computed"));
     assert_eq!(sheet.views.len(), 1);
     for (name, f) in &s.figures {
@@ -156,7 +160,7 @@ fn sheet_figures_equal_the_runner_table() {
     }
     // Read back from the table's CSV: the same figures to the CSV's round-trip precision.
     let t = CsvTable::parse(Path::new("table.csv"), &crate::pipeline::table::to_csv(&rows).unwrap()).unwrap();
-    let (sheet2, s2) = experiment_sheet(&exp, &map, Some(&t), 1, None).unwrap();
+    let (sheet2, s2) = experiment_sheet(&exp, &map, Some(&t), 1, &ReferenceCache::new(None)).unwrap();
     assert_eq!(s2.source, "table.csv");
     assert_eq!(s2.figures, s.figures);
     assert_eq!(sheet2.rows[2].under_err, sheet.rows[2].under_err);
@@ -166,7 +170,10 @@ fn sheet_figures_equal_the_runner_table() {
 fn at_scales(toml: &str, map: &str, s: u32) -> (Sheet, Sheet) {
     let exp = experiment(toml);
     let map = scene_map(map, 32);
-    (experiment_sheet(&exp, &map, None, 1, None).unwrap().0, experiment_sheet(&exp, &map, None, s, None).unwrap().0)
+    (
+        experiment_sheet(&exp, &map, None, 1, &ReferenceCache::new(None)).unwrap().0,
+        experiment_sheet(&exp, &map, None, s, &ReferenceCache::new(None)).unwrap().0,
+    )
 }
 
 /// At scale 2 the sheet is exactly twice as wide and tall, from the layout and in the drawn
@@ -283,7 +290,8 @@ fn sheet_labels_stay_apart_and_on_the_canvas() {
     for toml in [sphere.as_str(), hemi] {
         for s in [1, 2] {
             let exp = experiment(toml);
-            let (sheet, _) = experiment_sheet(&exp, &scene_map("gen_sun_sky", 32), None, s, None).unwrap();
+            let (sheet, _) =
+                experiment_sheet(&exp, &scene_map("gen_sun_sky", 32), None, s, &ReferenceCache::new(None)).unwrap();
             let (img, labels) = sheet.draw_with_labels().unwrap();
             let (w, h) = (img.width() as i32, img.height() as i32);
             let boxes: Vec<_> = labels.iter().map(|l| (l.text.clone(), l.bounds())).collect();
@@ -304,11 +312,11 @@ fn scales_outside_one_to_eight_are_refused() {
     let exp = experiment("maps = ['m']\nencoders = ['sh1']\nresolution = [16, 8]");
     let map = scene_map("gen_constant", 16);
     for s in [0, MAX_SCALE + 1] {
-        let e = experiment_sheet(&exp, &map, None, s, None).err().expect("refused").to_string();
+        let e = experiment_sheet(&exp, &map, None, s, &ReferenceCache::new(None)).err().expect("refused").to_string();
         assert!(e.contains(&format!("sheet scale {s}")) && e.contains("1 to 8"), "{e}");
     }
     // A sheet whose discs do not match its scale is refused, not drawn misplaced.
-    let (mut sheet, _) = experiment_sheet(&exp, &map, None, 1, None).unwrap();
+    let (mut sheet, _) = experiment_sheet(&exp, &map, None, 1, &ReferenceCache::new(None)).unwrap();
     sheet.scale = 2;
     assert!(sheet.draw().unwrap_err().to_string().contains("96 px across, not 192"));
 }
@@ -319,7 +327,7 @@ fn scales_outside_one_to_eight_are_refused() {
 #[test]
 fn a_sheet_taller_than_the_limit_splits_into_pages() {
     let exp = experiment("maps = ['m']\nencoders = ['sh1']\nresolution = [16, 8]");
-    let (one, _) = experiment_sheet(&exp, &scene_map("gen_sun_sky", 32), None, 1, None).unwrap();
+    let (one, _) = experiment_sheet(&exp, &scene_map("gen_sun_sky", 32), None, 1, &ReferenceCache::new(None)).unwrap();
     let with_rows = |n: usize| {
         let mut s = one.clone();
         s.rows = (0..n).map(|i| SheetRow { name: format!("enc{i}"), ..one.rows[0].clone() }).collect();
