@@ -313,24 +313,26 @@ impl<const N: usize> MultiStart<'_, N> {
         }
     }
 
-    /// Screened multi-start: the reduced objective at every candidate direction, per axis;
-    /// one L-BFGS run from the best combination (the objective is separable across axes), and
-    /// a second from the best candidate at least 45° from where the first one ended.
-    fn screened(&self, mut dirs: Vec<Option<DVec3>>, stats: &mut SolveStats, best: &mut Best) {
-        let n_starts = dirs.len();
-        dirs.extend(screen_lines(self.settings.screen).iter().copied().map(Some));
-        // Value-only screening: the group constants once, the band-2 basis once per direction.
-        let consts = self.screen_constants();
-        let mut ys: Vec<Option<[f64; 5]>> = dirs[..n_starts].iter().map(|d| d.map(|d| band2(d.normalize()))).collect();
-        ys.extend(screen_bases(self.settings.screen).iter().copied().map(Some));
-        let pick = self.screen_best(&dirs, &ys, &consts, stats);
+    /// Screened multi-start: the reduced objective at every candidate direction, per axis, computed
+    /// once; one L-BFGS run from the best combination (the objective is separable across axes),
+    /// and a second from the best candidate at least 45° from where the first one ended.
+    fn screened(&self, dirs: Vec<Option<DVec3>>, stats: &mut SolveStats, best: &mut Best) {
+        let screen = Screen::new(self, &dirs, stats);
+        let pick = screen.best(|_, _| true);
         let x0 = self.start(&|i| pick[i].1);
         let start = pick.iter().map(|p| p.2).max().unwrap_or(0);
         let end = self.run_if_axis(x0, stats);
         self.consider(&end, start, best);
-        // A second run, in case the grid's best point sat in the wrong basin.
-        let second = self.screen_away_from(&dirs, &ys, &consts, &end);
-        if second.iter().all(|s| s.1.is_some()) && !self.second_run_futile(&second, &consts, &end) {
+        // A second run, in case the grid's best point sat in the wrong basin: the best line at
+        // least 45° from the axis the first run reached (per axis, as lines).
+        let cos45 = std::f64::consts::FRAC_1_SQRT_2;
+        let ends: Vec<DVec3> = (0..self.groups.len())
+            .map(|i| DVec3::new(end[3 * i], end[3 * i + 1], end[3 * i + 2]).normalize_or_zero())
+            .collect();
+        let second = screen.best(|i, a| a.dot(ends[i]).abs() <= cos45);
+        let second: Pick =
+            second.into_iter().enumerate().map(|(i, (f, _, si))| (f, screen.unit_of(si, i), si)).collect();
+        if second.iter().all(|s| s.1.is_some()) && !self.second_run_futile(&second, &screen.consts, &end) {
             let x1 = self.start(&|i| second[i].1);
             let start = second.iter().map(|p| p.2).max().unwrap_or(0);
             let end = run_lbfgs(self.t, self.form, x1, self.settings, stats);
@@ -367,71 +369,101 @@ impl<const N: usize> MultiStart<'_, N> {
             })
             .collect()
     }
+}
 
-    /// F(a) up to a constant: −(a·U)²/S − Σ w^err (4π/5)(Y₂(a)·T₂)².
-    fn screen_value(&self, consts: &[(DVec3, f64)], i: usize, g: Group, a: DVec3, y: &[f64; 5]) -> f64 {
-        let (big_u, inv_s) = consts[i];
-        let mut f = -inv_s * a.dot(big_u).powi(2);
-        for &c in g {
-            let yt: f64 = (0..5).map(|m| y[m] * self.t.t2[c][m]).sum();
-            f -= self.t.err_w[c] * FOUR_PI_OVER_5 * yt * yt;
+/// The screened values of one solve: per group and per candidate direction (the starts, then
+/// the screening lines), the unit axis line and the reduced objective there up to a constant
+/// (+∞ where there is no axis). Computed once and read by both picks of
+/// [`MultiStart::screened`].
+struct Screen {
+    /// Per group: U and 1/S (see [`MultiStart::screen_constants`]).
+    consts: Vec<(DVec3, f64)>,
+    /// The candidate directions (None: the given L1's axis).
+    dirs: Vec<Option<DVec3>>,
+    /// Unit axis line per group and candidate (index `i * dirs.len() + si`; zero where there is
+    /// none).
+    units: Vec<DVec3>,
+    /// The screened value per group and candidate (same index).
+    values: Vec<f64>,
+}
+
+impl Screen {
+    /// The screened values at the start directions `starts` and the screening lines, per group
+    /// (each one counted as an evaluation).
+    fn new<const N: usize>(run: &MultiStart<'_, N>, starts: &[Option<DVec3>], stats: &mut SolveStats) -> Self {
+        let consts = run.screen_constants();
+        let (lines, bases) = (screen_lines(run.settings.screen), screen_bases(run.settings.screen));
+        let dirs: Vec<Option<DVec3>> = starts.iter().copied().chain(lines.iter().copied().map(Some)).collect();
+        let n = dirs.len() * run.groups.len();
+        let mut s = Screen { consts, dirs, units: Vec::with_capacity(n), values: Vec::with_capacity(n) };
+        for (i, g) in run.groups.iter().enumerate() {
+            let kernel = ScreenKernel::new(run.t, s.consts[i], g);
+            for d in starts {
+                let a = d.unwrap_or(run.given_axes[g[0]]).normalize_or_zero();
+                let y = match d {
+                    Some(d) => band2(d.normalize()),
+                    None => band2(a),
+                };
+                s.units.push(a);
+                s.values.push(if a == DVec3::ZERO { f64::INFINITY } else { kernel.value(a, &y) });
+            }
+            s.units.extend(bases.iter().map(|b| b.0));
+            s.values.extend(bases.iter().map(|(a, y)| kernel.value(*a, y)));
+        }
+        stats.evals += s.values.iter().filter(|f| **f != f64::INFINITY).count() as u32;
+        s
+    }
+
+    /// Per group, the candidate of least value among those `admit` lets through (given the
+    /// group and the unit line): the value, the candidate's direction and its index.
+    fn best(&self, admit: impl Fn(usize, DVec3) -> bool) -> Pick {
+        let n = self.dirs.len();
+        (0..self.values.len() / n.max(1))
+            .map(|i| {
+                let mut p = (f64::INFINITY, None, 0);
+                for (si, (&f, &a)) in
+                    self.values[i * n..(i + 1) * n].iter().zip(&self.units[i * n..(i + 1) * n]).enumerate()
+                {
+                    if f < p.0 && admit(i, a) {
+                        p = (f, self.dirs[si], si as u32);
+                    }
+                }
+                p
+            })
+            .collect()
+    }
+
+    /// The unit line of candidate `si` for group `i` (None where there is no axis), as the
+    /// second pick starts from it.
+    fn unit_of(&self, si: u32, i: usize) -> Option<DVec3> {
+        let u = self.units[i * self.dirs.len() + si as usize];
+        (u != DVec3::ZERO).then_some(u)
+    }
+}
+
+/// One group's screened value, F(a) up to a constant: −(a·U)²/S − Σ w^err (4π/5)(Y₂(a)·T₂)²,
+/// with the group's constants gathered once.
+struct ScreenKernel<'t> {
+    big_u: DVec3,
+    inv_s: f64,
+    /// Per channel of the group: w^err·4π/5 and its L2 band.
+    channels: Vec<(f64, &'t [f64; 5])>,
+}
+
+impl<'t> ScreenKernel<'t> {
+    fn new(t: &'t Target, (big_u, inv_s): (DVec3, f64), g: Group) -> Self {
+        ScreenKernel { big_u, inv_s, channels: g.iter().map(|&c| (t.err_w[c] * FOUR_PI_OVER_5, &t.t2[c])).collect() }
+    }
+
+    /// The value at unit line `a` with band-2 basis `y`.
+    #[inline]
+    fn value(&self, a: DVec3, y: &[f64; 5]) -> f64 {
+        let mut f = -self.inv_s * a.dot(self.big_u).powi(2);
+        for &(wk, t2) in &self.channels {
+            let yt: f64 = (0..5).map(|m| y[m] * t2[m]).sum();
+            f -= wk * yt * yt;
         }
         f
-    }
-
-    /// Per group, the candidate direction of least screened value (each one counted as an
-    /// evaluation).
-    fn screen_best(
-        &self,
-        dirs: &[Option<DVec3>],
-        ys: &[Option<[f64; 5]>],
-        consts: &[(DVec3, f64)],
-        stats: &mut SolveStats,
-    ) -> Pick {
-        let mut pick: Pick = vec![(f64::INFINITY, None, 0); self.groups.len()];
-        for (si, d) in dirs.iter().enumerate() {
-            let shared_y = ys[si];
-            for (i, g) in self.groups.iter().enumerate() {
-                let a = d.unwrap_or(self.given_axes[g[0]]).normalize_or_zero();
-                if a == DVec3::ZERO {
-                    continue;
-                }
-                let y = shared_y.unwrap_or_else(|| band2(a));
-                let f = self.screen_value(consts, i, g, a, &y);
-                stats.evals += 1;
-                if f < pick[i].0 {
-                    pick[i] = (f, *d, si as u32);
-                }
-            }
-        }
-        pick
-    }
-
-    /// Per group, the candidate of least screened value at least 45° from the axis `end`
-    /// reached (per axis, as lines).
-    fn screen_away_from(
-        &self,
-        dirs: &[Option<DVec3>],
-        ys: &[Option<[f64; 5]>],
-        consts: &[(DVec3, f64)],
-        end: &SVector<f64, N>,
-    ) -> Pick {
-        let cos45 = std::f64::consts::FRAC_1_SQRT_2;
-        let mut second: Pick = vec![(f64::INFINITY, None, 0); self.groups.len()];
-        for (i, g) in self.groups.iter().enumerate() {
-            let e = DVec3::new(end[3 * i], end[3 * i + 1], end[3 * i + 2]).normalize_or_zero();
-            for (si, d) in dirs.iter().enumerate() {
-                let u = d.unwrap_or(self.given_axes[g[0]]).normalize_or_zero();
-                if u == DVec3::ZERO || u.dot(e).abs() > cos45 {
-                    continue;
-                }
-                let f = self.screen_value(consts, i, g, u, &ys[si].unwrap_or_else(|| band2(u)));
-                if f < second[i].0 {
-                    second[i] = (f, Some(u), si as u32);
-                }
-            }
-        }
-        second
     }
 }
 
@@ -449,10 +481,13 @@ pub(super) fn screen_lines(n: usize) -> std::borrow::Cow<'static, [DVec3]> {
     }
 }
 
-/// The band-2 basis at each of [`screen_lines`] (normalised first). Cached for the default n.
-fn screen_bases(n: usize) -> std::borrow::Cow<'static, [[f64; 5]]> {
-    static DEFAULT: std::sync::OnceLock<Vec<[f64; 5]>> = std::sync::OnceLock::new();
-    let make = |n: usize| -> Vec<[f64; 5]> { screen_lines(n).iter().map(|d| band2(d.normalize())).collect() };
+/// Each of [`screen_lines`] as a unit vector, with the band-2 basis there (of the line
+/// normalised first). Cached for the default n.
+fn screen_bases(n: usize) -> std::borrow::Cow<'static, [(DVec3, [f64; 5])]> {
+    static DEFAULT: std::sync::OnceLock<Vec<(DVec3, [f64; 5])>> = std::sync::OnceLock::new();
+    let make = |n: usize| -> Vec<(DVec3, [f64; 5])> {
+        screen_lines(n).iter().map(|d| (d.normalize_or_zero(), band2(d.normalize()))).collect()
+    };
     if n == SolverSettings::default().screen {
         std::borrow::Cow::Borrowed(DEFAULT.get_or_init(|| make(n)).as_slice())
     } else {
