@@ -43,7 +43,7 @@ pub(crate) fn irradiance_latlong(
     stop: &(dyn Fn() -> bool + Sync),
 ) -> (Vec<Rgb>, Vec<usize>) {
     let path = if row_fft::applies(moments.width(), out.width) {
-        Path::Fft(FftPlan::new(moments.width(), out.width))
+        Path::Fft(FftPlan::new(out.width))
     } else {
         Path::Direct(Plan::new(moments.width(), moments.dtheta(), out.width))
     };
@@ -69,8 +69,8 @@ pub(crate) fn irradiance_latlong(
     (values, rest)
 }
 
-/// The two ways of convolving the rows: by FFT where the grid's columns lie on the map's
-/// lattice and it is cheaper ([`row_fft::applies`]), else directly.
+/// The two ways of convolving the rows: by FFT where the grid's columns are the map's
+/// ([`row_fft::applies`]), else directly.
 enum Path {
     Direct(Plan),
     Fft(FftPlan),
