@@ -509,12 +509,6 @@ fn run_case<'d>(
                     let _s = settings.span("score");
                     score_values(named.encoder.as_ref(), &test, grid, ref_values, *metric)
                 };
-                let diagnostics = fit
-                    .diagnostics()
-                    .iter()
-                    .map(|(k, v)| format!("{k}={}", crate::pipeline::table::num(*v)))
-                    .collect::<Vec<_>>()
-                    .join(";");
                 Row {
                     map: map.name.clone(),
                     encoder: named.name.clone(),
@@ -528,7 +522,7 @@ fn run_case<'d>(
                     resolution: format!("{}x{}", grid.resolution.0, grid.resolution.1),
                     units: "E/pi".into(),
                     reference: described.clone(),
-                    diagnostics,
+                    diagnostics: diagnostics(fit.as_ref()),
                     at_normal_abs_err: case
                         .normal
                         .zip(exact_at_normal)
@@ -541,6 +535,13 @@ fn run_case<'d>(
         rows.extend(scored);
     }
     (rows, (cd.inputs, cd.light))
+}
+
+/// A fit's diagnostics as the table's `key=value;…` cell.
+fn diagnostics(fit: &dyn Fitted) -> String {
+    let cells: Vec<String> =
+        fit.diagnostics().iter().map(|(k, v)| format!("{k}={}", crate::pipeline::table::num(*v))).collect();
+    cells.join(";")
 }
 
 /// Evaluates a fit at every normal: E/π, in parallel, in the normals' order.

@@ -18,8 +18,7 @@
 //! end each output row is transformed back, two channels per inverse transform. Cost per row
 //! pair: ≈ W for the kernel, half a complex FFT of W and 3·(W/2 + 1) complex-by-real
 //! multiply-adds, against 24·w per polar node directly (benches/README.md). The per-row work is
-//! compiled twice: for baseline x86-64 and, picked at run time, with AVX2 (the same operations
-//! four wide; the values are bit-identical, `tests::avx2_rows_equal_the_portable_rows`).
+//! compiled twice, for baseline x86-64 and with AVX2 (`row_pairs::has_avx2`).
 
 use crate::envmap::moments::{RowMoments, RowPrefix};
 use crate::envmap::LatLong;
@@ -95,34 +94,10 @@ struct Work {
 }
 
 /// Convolves every input row into the output rows `rows_out` of `values` (E/π, row-major), by
-/// FFT; `stop` as in `row_pairs::over_input_rows`.
-pub(crate) fn convolve(
-    moments: &RowMoments,
-    rule: &[(f64, f64)],
-    out: LatLong,
-    plan: &FftPlan,
-    rows_out: &[usize],
-    values: &mut [Rgb],
-    stop: &(dyn Fn() -> bool + Sync),
-) {
-    convolve_with(moments, rule, out, plan, rows_out, values, stop, has_avx2());
-}
-
-/// Whether this CPU runs the AVX2 copy of the per-row work.
-fn has_avx2() -> bool {
-    #[cfg(target_arch = "x86_64")]
-    {
-        std::is_x86_feature_detected!("avx2")
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    {
-        false
-    }
-}
-
-/// [`convolve`], the per-row work compiled for AVX2 when `avx2` (which the CPU must have).
+/// FFT; `stop` as in `row_pairs::over_input_rows`; the per-row work compiled for AVX2 when
+/// `avx2` (`row_pairs::has_avx2` must have said so).
 #[allow(clippy::too_many_arguments)]
-fn convolve_with(
+pub(crate) fn convolve(
     moments: &RowMoments,
     rule: &[(f64, f64)],
     out: LatLong,
@@ -150,8 +125,7 @@ fn convolve_with(
         let row = InputRow { plan, rule, out, rows_out, j, rows: moments.height() };
         #[cfg(target_arch = "x86_64")]
         if avx2 {
-            // SAFETY: `avx2` is true only where the CPU has AVX2 (`has_avx2`, or a test that
-            // asked it first).
+            // SAFETY: `avx2` is true only where the CPU has AVX2 (`row_pairs::has_avx2`).
             unsafe { add_input_row_avx2(&row, work) };
             return;
         }
@@ -370,6 +344,7 @@ mod tests {
     use crate::envmap::EnvMap;
     use crate::math::quadrature::gauss_legendre;
     use crate::reference::exact::Reference;
+    use crate::reference::row_pairs::has_avx2;
 
     fn map_of(w: usize, h: usize) -> EnvMap {
         EnvMap::from_fn("t", w, h, move |i, j| {
@@ -385,7 +360,7 @@ mod tests {
         let plan = FftPlan::new(ow);
         let mut fast = vec![Rgb::ZERO; ow * oh];
         let rows: Vec<usize> = (0..oh).collect();
-        convolve_with(&rm, &gauss_legendre(2), LatLong::new(ow, oh), &plan, &rows, &mut fast, &|| false, avx2);
+        convolve(&rm, &gauss_legendre(2), LatLong::new(ow, oh), &plan, &rows, &mut fast, &|| false, avx2);
         fast
     }
 
@@ -412,12 +387,11 @@ mod tests {
     }
 
     /// The AVX2 copy of the per-row work does the same operations four wide, so its values are
-    /// the portable copy's to the bit (skipped where the CPU has no AVX2).
+    /// the portable copy's to the bit (nothing to compare where the CPU has no AVX2).
     #[test]
     fn avx2_rows_equal_the_portable_rows() {
         if !has_avx2() {
-            eprintln!("skipped: this CPU has no AVX2");
-            return;
+            return; // Nothing to compare: this CPU runs the portable copy only.
         }
         for (mw, mh, oh) in [(48, 24, 24), (10, 5, 7), (256, 128, 64)] {
             let map = map_of(mw, mh);
