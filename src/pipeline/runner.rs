@@ -256,6 +256,7 @@ fn run_case<'d>(
         let _s = settings.span("fit");
         exp.encoders.iter().map(|e| e.encoder.fit(&input)).collect()
     };
+    let (described, exact_at_normal) = (reference.describe(), cd.inputs.exact_at_normal);
     let mut rows = Vec::new();
     // One output grid (and one reference evaluation) per distinct metric grid.
     let mut grids: Vec<ScoredGrid> = Vec::new();
@@ -272,45 +273,54 @@ fn run_case<'d>(
         }
         // Cannot fail: the grid was pushed just above when it was not there.
         let (_, _, grid, ref_values) = grids.iter().find(|g| g.0 == res && g.1 == sphere).expect("grid just added");
-        for (named, fit) in exp.encoders.iter().zip(&fitted) {
-            let test = {
-                let _s = settings.span("render (encoder eval)");
-                evaluate(fit.as_ref(), &grid.normals)
-            };
-            let scores = {
-                let _s = settings.span("score");
-                score_values(named.encoder.as_ref(), &test, grid, ref_values, *metric)
-            };
-            let diagnostics = fit
-                .diagnostics()
-                .iter()
-                .map(|(k, v)| format!("{k}={}", crate::pipeline::table::num(*v)))
-                .collect::<Vec<_>>()
-                .join(";");
-            rows.push(Row {
-                map: map.name.clone(),
-                encoder: named.name.clone(),
-                domain: case.domain_label.clone(),
-                metric: metric.name().into(),
-                scores,
-                stored_scalars: named.encoder.stored_scalars(),
-                orientation_set: case.orientation_set.clone(),
-                effects: case.effects_label.clone(),
-                weighting: metric.weighting().into(),
-                resolution: format!("{}x{}", grid.resolution.0, grid.resolution.1),
-                units: "E/pi".into(),
-                reference: reference.describe(),
-                diagnostics,
-                at_normal_abs_err: case
-                    .normal
-                    .zip(cd.inputs.exact_at_normal)
-                    .map(|(n, e)| (fit.irradiance(n) - e).abs().max_element()),
-                fit_ns: None,
-                eval_ns: None,
-            });
-        }
+        // The encoders on the pool (each evaluation is itself parallel over the normals), the
+        // rows in the encoders' order.
+        let scored: Vec<Row> = exp
+            .encoders
+            .par_iter()
+            .zip(&fitted)
+            .map(|(named, fit)| {
+                let test = {
+                    let _s = settings.span("render (encoder eval)");
+                    evaluate(fit.as_ref(), &grid.normals)
+                };
+                let scores = {
+                    let _s = settings.span("score");
+                    score_values(named.encoder.as_ref(), &test, grid, ref_values, *metric)
+                };
+                Row {
+                    map: map.name.clone(),
+                    encoder: named.name.clone(),
+                    domain: case.domain_label.clone(),
+                    metric: metric.name().into(),
+                    scores,
+                    stored_scalars: named.encoder.stored_scalars(),
+                    orientation_set: case.orientation_set.clone(),
+                    effects: case.effects_label.clone(),
+                    weighting: metric.weighting().into(),
+                    resolution: format!("{}x{}", grid.resolution.0, grid.resolution.1),
+                    units: "E/pi".into(),
+                    reference: described.clone(),
+                    diagnostics: diagnostics(fit.as_ref()),
+                    at_normal_abs_err: case
+                        .normal
+                        .zip(exact_at_normal)
+                        .map(|(n, e)| (fit.irradiance(n) - e).abs().max_element()),
+                    fit_ns: None,
+                    eval_ns: None,
+                }
+            })
+            .collect();
+        rows.extend(scored);
     }
     (rows, (cd.inputs, cd.light))
+}
+
+/// A fit's diagnostics as the table's `key=value;…` cell.
+fn diagnostics(fit: &dyn Fitted) -> String {
+    let cells: Vec<String> =
+        fit.diagnostics().iter().map(|(k, v)| format!("{k}={}", crate::pipeline::table::num(*v))).collect();
+    cells.join(";")
 }
 
 /// Evaluates a fit at every normal: E/π, in parallel, in the normals' order.

@@ -22,7 +22,7 @@ use crate::envmap::LatLong;
 use crate::math::colour::Rgb;
 use crate::reference::antipode;
 use crate::reference::row_fft::{self, FftPlan};
-use crate::reference::row_pairs::{for_each_node, over_input_rows};
+use crate::reference::row_pairs::{for_each_node, has_avx2, over_input_rows};
 use std::f64::consts::{FRAC_1_PI, PI};
 
 /// A mirrored row where more than 1/`DENSE` of the values cancelled is convolved directly:
@@ -43,13 +43,14 @@ pub(crate) fn irradiance_latlong(
     stop: &(dyn Fn() -> bool + Sync),
 ) -> (Vec<Rgb>, Vec<usize>) {
     let path = if row_fft::applies(moments.width(), out.width) {
-        Path::Fft(FftPlan::new(moments.width(), out.width))
+        Path::Fft(FftPlan::new(out.width))
     } else {
         Path::Direct(Plan::new(moments.width(), moments.dtheta(), out.width))
     };
+    let avx2 = has_avx2();
     let convolve = |rows: &[usize], values: &mut [Rgb]| match &path {
-        Path::Fft(plan) => row_fft::convolve(moments, rule, out, plan, rows, values, stop),
-        Path::Direct(plan) => convolve(moments, rule, out, plan, rows, values, stop),
+        Path::Fft(plan) => row_fft::convolve(moments, rule, out, plan, rows, values, stop, avx2),
+        Path::Direct(plan) => convolve(moments, rule, out, plan, rows, values, stop, avx2),
     };
     let mut values = vec![Rgb::ZERO; out.height * out.width];
     let top: Vec<usize> = (0..antipode::direct_rows(out)).collect();
@@ -69,14 +70,16 @@ pub(crate) fn irradiance_latlong(
     (values, rest)
 }
 
-/// The two ways of convolving the rows: by FFT where the grid's columns lie on the map's
-/// lattice and it is cheaper ([`row_fft::applies`]), else directly.
+/// The two ways of convolving the rows: by FFT where the grid's columns are the map's
+/// ([`row_fft::applies`]), else directly.
 enum Path {
     Direct(Plan),
     Fft(FftPlan),
 }
 
-/// Convolves every input row into the output rows `rows_out` of `values` (E/π, row-major).
+/// Convolves every input row into the output rows `rows_out` of `values` (E/π, row-major); the
+/// per-row work compiled for AVX2 when `avx2` (`row_pairs::has_avx2` must have said so).
+#[allow(clippy::too_many_arguments)]
 fn convolve(
     moments: &RowMoments,
     rule: &[(f64, f64)],
@@ -85,22 +88,26 @@ fn convolve(
     rows_out: &[usize],
     values: &mut [Rgb],
     stop: &(dyn Fn() -> bool + Sync),
+    avx2: bool,
 ) {
-    let rows = moments.height();
     let n = rows_out.len() * out.width * 3;
-    let new = || (vec![0.0f64; n], RowPrefix::new(), Phased::new(plan));
-    let add = |(acc, prefix, phased): &mut (Vec<f64>, RowPrefix, Phased), j: usize| {
-        moments.fill(j, prefix);
-        phased.fill(moments, prefix, plan);
-        let (p0, p1) = (PI * j as f64 / rows as f64, PI * (j + 1) as f64 / rows as f64);
-        for (&jo, acc) in rows_out.iter().zip(acc.chunks_exact_mut(out.width * 3)) {
-            plan.add_row(phased, rule, out.phi_centre(jo), (p0, p1), acc);
+    let new = || Sums { acc: vec![0.0f64; n], prefix: RowPrefix::new(), phased: Phased::new(plan), nodes: Vec::new() };
+    let add = |sums: &mut Sums, j: usize| {
+        moments.fill(j, &mut sums.prefix);
+        let row = InputRow { moments, plan, rule, out, rows_out, j };
+        #[cfg(target_arch = "x86_64")]
+        if avx2 {
+            // SAFETY: `avx2` is true only where the CPU has AVX2 (`row_pairs::has_avx2`).
+            unsafe { add_input_row_avx2(&row, sums) };
+            return;
         }
+        let _ = avx2;
+        add_input_row(&row, sums);
     };
     let partials = over_input_rows(moments, new, add, stop);
     let mut total = vec![0.0f64; n];
-    for (p, _, _) in &partials {
-        for (t, v) in total.iter_mut().zip(p) {
+    for p in &partials {
+        for (t, v) in total.iter_mut().zip(&p.acc) {
             *t += v;
         }
     }
@@ -110,6 +117,49 @@ fn convolve(
         for (k, v) in classes.chunks_exact(3).enumerate() {
             let (c, t) = (k / plan.g, k % plan.g);
             row[c + plan.q * t] = Rgb::new(v[0], v[1], v[2]) * FRAC_1_PI;
+        }
+    }
+}
+
+/// What a chunk of input rows keeps: the output rows' sums (class-major, as [`Plan::add_node`]
+/// writes them) and its work buffers.
+struct Sums {
+    acc: Vec<f64>,
+    prefix: RowPrefix,
+    phased: Phased,
+    /// One row pair's polar nodes: a, b, weight and cos Δ (`row_pairs::for_each_node`).
+    nodes: Vec<(f64, f64, f64, f64)>,
+}
+
+/// One input row j against the output rows `rows_out`.
+struct InputRow<'a> {
+    moments: &'a RowMoments<'a>,
+    plan: &'a Plan,
+    rule: &'a [(f64, f64)],
+    out: LatLong,
+    rows_out: &'a [usize],
+    j: usize,
+}
+
+/// [`add_input_row`] compiled for AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn add_input_row_avx2(row: &InputRow, sums: &mut Sums) {
+    add_input_row(row, sums);
+}
+
+/// Adds input row `row.j` (its moments in `sums.prefix`) to every output row: the row pair's
+/// polar nodes are listed first, so that their arcs run here and not in a callback.
+#[inline(always)]
+fn add_input_row(row: &InputRow, sums: &mut Sums) {
+    let (plan, rows) = (row.plan, row.moments.height());
+    sums.phased.fill(row.moments, &sums.prefix, plan);
+    let polar = (PI * row.j as f64 / rows as f64, PI * (row.j + 1) as f64 / rows as f64);
+    for (&jo, acc) in row.rows_out.iter().zip(sums.acc.chunks_exact_mut(row.out.width * 3)) {
+        sums.nodes.clear();
+        for_each_node(row.rule, row.out.phi_centre(jo), polar, |a, b, ws, t| sums.nodes.push((a, b, ws, t)));
+        for &(a, b, ws, t) in &sums.nodes {
+            plan.add_node(&sums.phased, (a, b, ws), &plan.arc(t), acc);
         }
     }
 }
@@ -152,24 +202,20 @@ impl Plan {
         Plan { width, h, g, p, q, centre, at }
     }
 
-    /// Adds one input row's part (its polar range `(p0, p1)`) to the output row at polar angle
-    /// `phi_o`; `acc` holds that output row class by class, channels interleaved.
-    fn add_row(&self, row: &Phased, rule: &[(f64, f64)], phi_o: f64, polar: (f64, f64), acc: &mut [f64]) {
-        for_each_node(rule, phi_o, polar, |a, b, ws, t| {
-            // Δ in texels, cos Δ and sin Δ (the whole circle when t ≤ −1).
-            let arc = if t <= -1.0 {
-                Arc { delta: 0.5 * self.width as f64, cos: -1.0, sin: 0.0 }
-            } else {
-                Arc { delta: t.acos() / self.h, cos: t, sin: ((1.0 - t) * (1.0 + t)).sqrt() }
-            };
-            self.add_node(row, (a, b, ws), &arc, acc);
-        });
+    /// A polar node's half-arc from t = cos Δ (the whole circle when t ≤ −1).
+    #[inline(always)]
+    fn arc(&self, t: f64) -> Arc {
+        if t <= -1.0 {
+            Arc { delta: 0.5 * self.width as f64, cos: -1.0, sin: 0.0 }
+        } else {
+            Arc { delta: t.acos() / self.h, cos: t, sin: ((1.0 - t) * (1.0 + t)).sqrt() }
+        }
     }
 
     /// One arc end of a class: where its three channels start in [`Phased`], and the factors
     /// of C0, Re C1″, Im C1″ and L there. `e` is +1 for the upper end, −1 for the lower, and
     /// `ws` carries the end's sign.
-    #[inline]
+    #[inline(always)]
     fn end(&self, centre: f64, arc: &Arc, e: f64, (a, b, ws): (f64, f64, f64)) -> (usize, [f64; 4]) {
         // The end at u = centre ± Δ texels lies in texel k, a fraction f·h into it.
         let u = centre + e * arc.delta;
@@ -186,7 +232,7 @@ impl Plan {
     }
 
     /// One polar node: the kernel a·cos + b with weight `ws` over the arc ±Δ.
-    #[inline]
+    #[inline(always)]
     fn add_node(&self, row: &Phased, kernel: (f64, f64, f64), arc: &Arc, acc: &mut [f64]) {
         let n = 3 * self.g;
         let (a, b, ws) = kernel;
@@ -230,6 +276,7 @@ impl Phased {
         Phased { c0: vec![0.0; n], c1r: vec![0.0; n], c1i: vec![0.0; n], l: vec![0.0; n] }
     }
 
+    #[inline(always)]
     fn fill(&mut self, moments: &RowMoments, row: &RowPrefix, plan: &Plan) {
         let w = plan.width;
         let cum = row.cum();
@@ -274,6 +321,32 @@ mod tests {
                 }
             }
             assert!(seen.iter().all(|&n| n == 1), "{w} onto {out}");
+        }
+    }
+
+    /// The AVX2 copy of the per-row work does the same operations four wide, so its values are
+    /// the portable copy's to the bit (nothing to compare where the CPU has no AVX2): classes of one and
+    /// of several columns, a grid finer than the map.
+    #[test]
+    fn avx2_rows_equal_the_portable_rows() {
+        if !has_avx2() {
+            return; // Nothing to compare: this CPU runs the portable copy only.
+        }
+        for (mw, ow, oh) in [(100, 24, 13), (64, 16, 8), (20, 64, 9)] {
+            let map = crate::envmap::EnvMap::from_fn("t", mw, mw / 2, |i, j| {
+                [((i * 7 + j * 3) % 11) as f32 + 0.1, if i == 3 && j == 2 { 900.0 } else { 0.0 }, 1.0]
+            })
+            .unwrap();
+            let rm = RowMoments::new(&map);
+            let plan = Plan::new(mw, rm.dtheta(), ow);
+            let rule = crate::math::quadrature::gauss_legendre(2);
+            let rows: Vec<usize> = (0..oh).collect();
+            let run = |avx2: bool| {
+                let mut v = vec![Rgb::ZERO; ow * oh];
+                convolve(&rm, &rule, LatLong::new(ow, oh), &plan, &rows, &mut v, &|| false, avx2);
+                v
+            };
+            assert_eq!(run(true), run(false), "{mw} onto {ow}x{oh}");
         }
     }
 }

@@ -1,22 +1,24 @@
-//! The exact reference's row convolution by FFT, for a grid whose columns lie on the map's
-//! lattice (FORMULAS §1; `row_convolution.rs` has the direct path and the problem).
+//! The exact reference's row convolution by FFT, for a grid whose columns are the map's
+//! (W = w; FORMULAS §1; `row_convolution.rs` has the direct path and the problem).
 //!
-//! When the grid width w divides the map width W (p = W/w texels per column), output column i
-//! is centred (i + ½)·p texels from θ = −π, and the input row's part of it is a circular
-//! cross-correlation over the map's W cells: out[i] = Σₖ L[k]·κ[(k − i·p) mod W], with κ[m] the
-//! clamped-cosine kernel integrated exactly over the cell m − p/2 … m + 1 − p/2 texels from the
-//! column centre, summed over the row pair's polar nodes. κ is built from its primitive
-//! F(u) = Σₙ wₙ·sign(u)·(aₙ sin min(|u|, Δₙ) + bₙ min(|u|, Δₙ)) at the W + 1 cell edges
-//! (a = sin φₒ sin φ, b = cos φₒ cos φ, cos Δ = −b/a; F(u + 2π) = F(u) + F(π) − F(−π)), so every
-//! cell integral is exact, as in the direct path; only the transforms round.
+//! Output column i is centred on map cell i, and the input row's part of it is a circular
+//! cross-correlation over the map's W cells: out[i] = Σₖ L[k]·κ[(k − i) mod W], with κ[m] the
+//! clamped-cosine kernel integrated exactly over the cell m − ½ … m + ½ texels from the column
+//! centre, summed over the row pair's polar nodes. κ is built from its primitive
+//! F(u) = Σₙ wₙ·sign(u)·(aₙ sin min(|u|, Δₙ) + bₙ min(|u|, Δₙ)) at the cell edges
+//! (a = sin φₒ sin φ, b = cos φₒ cos φ, cos Δ = −b/a), so every cell integral is exact, as in
+//! the direct path; only the transforms round. The kernel is even (κ[m] = κ[W − m]: the cosine
+//! is even about the column centre, which is a cell centre), so it is G(|u|) = F(|u|) at the
+//! ⌊W/2⌋ edges below π, differenced, and mirrored; and its spectrum K̂ is real, so the
+//! correlation's Ŷ = L̂·conj(K̂) is L̂·K̂, two real products a bin.
 //!
 //! Per input row its three channels' spectra are taken once; per row pair two kernels share one
-//! complex transform (packed as real and imaginary parts), and their spectra multiply the row's
-//! into the output rows' spectra, f = 0..W/2 (the rest is Hermitian). At the end each output
-//! row's spectrum is folded to w frequencies (sampling every p-th lag: Σₗ Ŷ[f + l·w]) and
-//! transformed back, two channels per inverse transform. Cost per row pair: ≈ 3W for the kernel,
-//! half a complex FFT of W and 3·(W/2 + 1) complex multiply-adds, against 24·w per polar node
-//! directly; so it is used only while W/w ≤ [`MAX_RATIO`] (benches/README.md).
+//! complex transform (as real and imaginary parts, which are their two real spectra), and those
+//! multiply the row's into the output rows' spectra, f = 0..W/2 (the rest is Hermitian). At the
+//! end each output row is transformed back, two channels per inverse transform. Cost per row
+//! pair: ≈ W for the kernel, half a complex FFT of W and 3·(W/2 + 1) complex-by-real
+//! multiply-adds, against 24·w per polar node directly (benches/README.md). The per-row work is
+//! compiled twice, for baseline x86-64 and with AVX2 (`row_pairs::has_avx2`).
 
 use crate::envmap::moments::{RowMoments, RowPrefix};
 use crate::envmap::LatLong;
@@ -27,75 +29,34 @@ use rustfft::{Fft, FftPlanner};
 use std::f64::consts::{FRAC_1_PI, PI};
 use std::sync::Arc;
 
-/// The largest W/w the FFT path takes. Its cost per row pair grows with W·log₂W, the direct
-/// path's with w times the polar nodes (≈ 24·w·2.1 flops): by operation count the FFT is ahead
-/// only at W = w (≈ 10k against 12.9k flops at 256; at W = 2w ≈ 21k), see benches/README.md.
-pub(crate) const MAX_RATIO: usize = 1;
-
-/// Whether the FFT path computes a map of width `map_width` onto a grid of width `out_width`.
+/// Whether the FFT path computes a map of width `map_width` onto a grid of width `out_width`:
+/// only at W = w. Elsewhere the columns either leave the map's lattice (one transform per gcd
+/// class) or, at W = k·w, the transform of W costs more than w columns directly (benches/README.md).
 pub(crate) fn applies(map_width: usize, out_width: usize) -> bool {
-    out_width > 0 && map_width % out_width == 0 && map_width / out_width <= MAX_RATIO
+    out_width > 0 && map_width == out_width
 }
 
-/// One cell edge of the kernel's lattice: which distinct |u| it has, the sign of u, and
-/// whether u was taken one turn back (then F gains one full-circle integral).
-#[derive(Clone, Copy)]
-struct Edge {
-    at: usize,
-    sign: f64,
-    wraps: f64,
-}
-
-/// The transforms and the kernel's edge geometry for one map width against one grid width.
+/// The transforms and the kernel's edge geometry for one width W = w.
 pub(crate) struct FftPlan {
-    /// Map width W.
+    /// Map and grid width W.
     width: usize,
-    /// Grid width w.
-    out_width: usize,
     forward: Arc<dyn Fft<f64>>,
     inverse: Arc<dyn Fft<f64>>,
-    /// The W + 1 cell edges from the first column's centre.
-    edges: Vec<Edge>,
-    /// The distinct |u| of the edges, ascending, with their sines.
-    offsets: Vec<(f64, f64)>,
+    /// The cell edges' |u| below π, xₔ = (2d + 1)·π/W for d = 0..⌊W/2⌋, ascending.
+    xs: Vec<f64>,
+    /// Their sines.
+    sins: Vec<f64>,
 }
 
 impl FftPlan {
-    /// The plan for W = `width` onto w = `out_width` ([`applies`] must hold).
-    pub(crate) fn new(width: usize, out_width: usize) -> Self {
-        let p = width / out_width;
-        // Edge e is u = (2e − p)·π/W from the first column's centre: integers v = 2e − p in
-        // half texels, taken into (−W, W] (one turn back beyond π).
+    /// The plan for a map and grid of width `width`.
+    pub(crate) fn new(width: usize) -> Self {
         let half = PI / width as f64;
-        let vs: Vec<(i64, bool)> = (0..=width as i64)
-            .map(|e| {
-                let v = 2 * e - p as i64;
-                if v > width as i64 {
-                    (v - 2 * width as i64, true)
-                } else {
-                    (v, false)
-                }
-            })
-            .collect();
-        let mut abs: Vec<i64> = vs.iter().map(|&(v, _)| v.abs()).collect();
-        abs.sort_unstable();
-        abs.dedup();
-        let edges = vs
-            .iter()
-            .map(|&(v, wrapped)| Edge {
-                at: abs.binary_search(&v.abs()).unwrap_or(0),
-                sign: if v < 0 { -1.0 } else { 1.0 },
-                wraps: if wrapped { 1.0 } else { 0.0 },
-            })
-            .collect();
-        // |u| = π at v = W: its sine is 0 exactly, not sin(π) rounded.
-        let offsets = abs
-            .iter()
-            .map(|&v| if v == width as i64 { (PI, 0.0) } else { (v as f64 * half, (v as f64 * half).sin()) })
-            .collect();
+        let xs: Vec<f64> = (0..width / 2).map(|d| (2 * d + 1) as f64 * half).collect();
+        let sins = xs.iter().map(|x| x.sin()).collect();
         let mut planner = FftPlanner::new();
-        let (forward, inverse) = (planner.plan_fft_forward(width), planner.plan_fft_inverse(out_width));
-        FftPlan { width, out_width, forward, inverse, edges, offsets }
+        let (forward, inverse) = (planner.plan_fft_forward(width), planner.plan_fft_inverse(width));
+        FftPlan { width, forward, inverse, xs, sins }
     }
 
     /// Spectrum length kept per channel, W/2 + 1.
@@ -113,22 +74,29 @@ struct Node {
     wb: f64,
 }
 
-/// What a chunk of input rows keeps: the output rows' spectra and its work buffers.
+/// What a chunk of input rows keeps: the output rows' spectra and its work buffers. Spectra of
+/// real sequences are kept as bins f = 0..W/2, real and imaginary parts interleaved.
 struct Work {
-    /// Per output row, per channel, the W/2 + 1 bins of Ŷ.
-    acc: Vec<Complex64>,
+    /// Per output row, per channel, the spectrum Ŷ.
+    acc: Vec<f64>,
     prefix: RowPrefix,
-    /// The input row's three spectra, W/2 + 1 bins each.
-    row: Vec<Complex64>,
+    /// The input row's three spectra.
+    row: Vec<f64>,
     buf: Vec<Complex64>,
     scratch: Vec<Complex64>,
     nodes: Vec<Node>,
+    /// G at the edges below π and one beyond.
     g: Vec<f64>,
-    kernels: [Vec<f64>; 2],
+    /// The pair's two half-kernels κ[0..=⌊W/2⌋].
+    halves: [Vec<f64>; 2],
+    /// The pair's two real kernel spectra, each value twice (for a bin's real and imaginary parts).
+    spectra: [Vec<f64>; 2],
 }
 
 /// Convolves every input row into the output rows `rows_out` of `values` (E/π, row-major), by
-/// FFT; `stop` as in `row_pairs::over_input_rows`.
+/// FFT; `stop` as in `row_pairs::over_input_rows`; the per-row work compiled for AVX2 when
+/// `avx2` (`row_pairs::has_avx2` must have said so).
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn convolve(
     moments: &RowMoments,
     rule: &[(f64, f64)],
@@ -137,89 +105,133 @@ pub(crate) fn convolve(
     rows_out: &[usize],
     values: &mut [Rgb],
     stop: &(dyn Fn() -> bool + Sync),
+    avx2: bool,
 ) {
     let (bins, w) = (plan.bins(), plan.width);
     let scratch_len = plan.forward.get_inplace_scratch_len().max(plan.inverse.get_inplace_scratch_len());
     let new = || Work {
-        acc: vec![Complex64::default(); rows_out.len() * 3 * bins],
+        acc: vec![0.0; rows_out.len() * 3 * 2 * bins],
         prefix: RowPrefix::new(),
-        row: vec![Complex64::default(); 3 * bins],
+        row: vec![0.0; 3 * 2 * bins],
         buf: vec![Complex64::default(); w],
         scratch: vec![Complex64::default(); scratch_len],
         nodes: Vec::new(),
-        g: vec![0.0; plan.offsets.len()],
-        kernels: [vec![0.0; w], vec![0.0; w]],
+        g: vec![0.0; plan.xs.len() + 1],
+        halves: [vec![0.0; plan.xs.len() + 1], vec![0.0; plan.xs.len() + 1]],
+        spectra: [vec![0.0; 2 * bins], vec![0.0; 2 * bins]],
     };
-    let rows = moments.height();
     let add = |work: &mut Work, j: usize| {
         moments.fill(j, &mut work.prefix);
-        row_spectra(plan, work);
-        let polar = (PI * j as f64 / rows as f64, PI * (j + 1) as f64 / rows as f64);
-        for (pair, acc) in rows_out.chunks(2).zip(work.acc.chunks_mut(2 * 3 * bins)) {
-            let mut any = false;
-            for (k, &jo) in pair.iter().enumerate() {
-                work.nodes.clear();
-                for_each_node(rule, out.phi_centre(jo), polar, |a, b, ws, t| work.nodes.push(node(a, b, ws, t)));
-                any |= plan.kernel(&mut work.nodes, &mut work.g, &mut work.kernels[k]);
-            }
-            if any {
-                add_pair(plan, work.buf.as_mut_slice(), &mut work.scratch, &work.kernels, pair.len(), &work.row, acc);
-            }
+        let row = InputRow { plan, rule, out, rows_out, j, rows: moments.height() };
+        #[cfg(target_arch = "x86_64")]
+        if avx2 {
+            // SAFETY: `avx2` is true only where the CPU has AVX2 (`row_pairs::has_avx2`).
+            unsafe { add_input_row_avx2(&row, work) };
+            return;
         }
+        let _ = avx2;
+        add_input_row(&row, work);
     };
     let partials = over_input_rows(moments, new, add, stop);
-    let mut total = vec![Complex64::default(); rows_out.len() * 3 * bins];
+    let mut total = vec![0.0; rows_out.len() * 3 * 2 * bins];
     for p in &partials {
         for (t, v) in total.iter_mut().zip(&p.acc) {
             *t += v;
         }
     }
-    let mut buf = vec![Complex64::default(); plan.out_width];
+    let mut buf = vec![Complex64::default(); w];
     let mut scratch = vec![Complex64::default(); scratch_len];
-    for (&jo, spectra) in rows_out.iter().zip(total.chunks_exact(3 * bins)) {
+    for (&jo, spectra) in rows_out.iter().zip(total.chunks_exact(3 * 2 * bins)) {
         let row = &mut values[jo * out.width..][..out.width];
         back(plan, spectra, &mut buf, &mut scratch, row);
     }
 }
 
+/// One input row j against the output rows `rows_out`.
+struct InputRow<'a> {
+    plan: &'a FftPlan,
+    rule: &'a [(f64, f64)],
+    out: LatLong,
+    rows_out: &'a [usize],
+    j: usize,
+    /// The map's rows.
+    rows: usize,
+}
+
+/// [`add_input_row`] compiled for AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn add_input_row_avx2(row: &InputRow, work: &mut Work) {
+    add_input_row(row, work);
+}
+
+/// Adds input row `row.j` (its moments in `work.prefix`) to every output row's spectra.
+#[inline(always)]
+fn add_input_row(row: &InputRow, work: &mut Work) {
+    let plan = row.plan;
+    let bins = plan.bins();
+    row_spectra(plan, work);
+    let (j, rows) = (row.j, row.rows);
+    let polar = (PI * j as f64 / rows as f64, PI * (j + 1) as f64 / rows as f64);
+    for (pair, acc) in row.rows_out.chunks(2).zip(work.acc.chunks_mut(2 * 3 * 2 * bins)) {
+        let mut any = false;
+        for (k, &jo) in pair.iter().enumerate() {
+            work.nodes.clear();
+            for_each_node(row.rule, row.out.phi_centre(jo), polar, |a, b, ws, t| work.nodes.push(node(a, b, ws, t)));
+            any |= plan.kernel(&mut work.nodes, &mut work.g, &mut work.halves[k]);
+        }
+        if any {
+            pair_spectra(plan, &mut work.buf, &mut work.scratch, &work.halves, pair.len(), &mut work.spectra);
+            let (acc0, acc1) = acc.split_at_mut((3 * 2 * bins).min(acc.len()));
+            multiply_add(&work.row, &work.spectra[0], acc0);
+            if pair.len() == 2 {
+                multiply_add(&work.row, &work.spectra[1], acc1);
+            }
+        }
+    }
+}
+
 /// A polar node from its kernel a·cos + b, weight `ws` and threshold t = cos Δ (t ≤ −1: the
 /// whole circle).
+#[inline(always)]
 fn node(a: f64, b: f64, ws: f64, t: f64) -> Node {
     let (delta, sin) = if t <= -1.0 { (PI, 0.0) } else { (t.acos(), ((1.0 - t) * (1.0 + t)).sqrt()) };
     Node { delta, sin, wa: ws * a, wb: ws * b }
 }
 
 impl FftPlan {
-    /// Fills `kernel` with κ[m], m = 0..W, from the row pair's `nodes`; false (and `kernel`
-    /// zero) when there are none. `g` is work space: G(|u|) at the distinct offsets.
-    fn kernel(&self, nodes: &mut [Node], g: &mut [f64], kernel: &mut [f64]) -> bool {
+    /// Fills `half` with κ[m], m = 0..=⌊W/2⌋ (κ[W − m] = κ[m]), from the row pair's `nodes`;
+    /// false (and `half` zero) when there are none. `g` is work space: G(xₔ) at the edges below
+    /// π, and one beyond.
+    #[inline(always)]
+    fn kernel(&self, nodes: &mut [Node], g: &mut [f64], half: &mut [f64]) -> bool {
         if nodes.is_empty() {
-            kernel.fill(0.0);
+            half.fill(0.0);
             return false;
         }
         nodes.sort_by(|x, y| x.delta.total_cmp(&y.delta));
         // G(x) = Σ over nodes with Δ > x of (wa sin x + wb x), plus Σ over the others of
-        // (wa sin Δ + wb Δ): sweep x upwards, nodes dropping out as x passes their Δ.
+        // (wa sin Δ + wb Δ): x upwards, nodes dropping out as x passes their Δ.
+        let n = self.xs.len();
         let mut d = 0;
         let mut closed = 0.0;
-        for (n, node) in nodes.iter().enumerate() {
-            let (wa, wb) = nodes[n..].iter().fold((0.0, 0.0), |(a, b), o| (a + o.wa, b + o.wb));
-            while d < g.len() && self.offsets[d].0 < node.delta {
-                let (x, s) = self.offsets[d];
-                g[d] = (wa * s + wb * x) + closed;
-                d += 1;
+        for (k, node) in nodes.iter().enumerate() {
+            let (wa, wb) = nodes[k..].iter().fold((0.0, 0.0), |(a, b), o| (a + o.wa, b + o.wb));
+            let end = d + self.xs[d..].partition_point(|&x| x < node.delta);
+            for ((g, &x), &s) in g[d..end].iter_mut().zip(&self.xs[d..end]).zip(&self.sins[d..end]) {
+                *g = (wa * s + wb * x) + closed;
             }
+            d = end;
             closed += node.wa * node.sin + node.wb * node.delta;
         }
-        g[d..].fill(closed);
-        // F(π) − F(−π) = 2·closed: the whole circle.
-        let turn = 2.0 * closed;
-        let f = |e: &Edge| e.sign * g[e.at] + e.wraps * turn;
-        let mut left = f(&self.edges[0]);
-        for (k, e) in kernel.iter_mut().zip(&self.edges[1..]) {
-            let right = f(e);
-            *k = right - left;
-            left = right;
+        g[d..n].fill(closed);
+        // The edge after the last one below π: π itself (W odd, F(π) = closed), or π + π/W
+        // (W even: F(π + y) = F(π) + F(π) − F(π − y), the whole circle's integral being 2·closed).
+        g[n] = if self.width % 2 == 1 { closed } else { 2.0 * closed - g[n - 1] };
+        // κ[0] spans −x₀ … x₀: G(x₀) − (−G(x₀)); κ[m] spans xₘ₋₁ … xₘ.
+        half[0] = 2.0 * g[0];
+        for ((h, &hi), &lo) in half[1..=n].iter_mut().zip(&g[1..=n]).zip(&g[..n]) {
+            *h = hi - lo;
         }
         true
     }
@@ -227,6 +239,7 @@ impl FftPlan {
 
 /// The three channels' spectra of the input row in `work.prefix`, into `work.row` (channels 0
 /// and 1 packed in one transform).
+#[inline(always)]
 fn row_spectra(plan: &FftPlan, work: &mut Work) {
     let (w, bins) = (plan.width, plan.bins());
     for (k, z) in work.buf.iter_mut().enumerate() {
@@ -234,75 +247,82 @@ fn row_spectra(plan: &FftPlan, work: &mut Work) {
         *z = Complex64::new(t.x, t.y);
     }
     plan.forward.process_with_scratch(&mut work.buf, &mut work.scratch);
-    let (c01, c2) = work.row.split_at_mut(2 * bins);
-    let (c0, c1) = c01.split_at_mut(bins);
+    let (c01, c2) = work.row.split_at_mut(4 * bins);
+    let (c0, c1) = c01.split_at_mut(2 * bins);
     for f in 0..bins {
         let (x, y) = unpack(&work.buf, f, w);
-        c0[f] = x;
-        c1[f] = y;
+        (c0[2 * f], c0[2 * f + 1]) = (x.re, x.im);
+        (c1[2 * f], c1[2 * f + 1]) = (y.re, y.im);
     }
     for (k, z) in work.buf.iter_mut().enumerate() {
         *z = Complex64::new(work.prefix.texel(k).z, 0.0);
     }
     plan.forward.process_with_scratch(&mut work.buf, &mut work.scratch);
-    c2.copy_from_slice(&work.buf[..bins]);
+    for (c, z) in c2.chunks_exact_mut(2).zip(&work.buf[..bins]) {
+        (c[0], c[1]) = (z.re, z.im);
+    }
 }
 
 /// The spectra of the two real sequences packed as Z = x + i·y, at bin f of W.
-#[inline]
+#[inline(always)]
 fn unpack(z: &[Complex64], f: usize, w: usize) -> (Complex64, Complex64) {
     let (a, b) = (z[f], z[(w - f) % w].conj());
     ((a + b) * 0.5, (a - b) * Complex64::new(0.0, -0.5))
 }
 
-/// Transforms the pair's kernels (`count` of them, 1 or 2) together and adds the input row's
-/// spectra times their conjugates to the pair's output rows in `acc`.
-fn add_pair(
+/// The real spectra of the pair's kernels (`count` of them, 1 or 2) from their halves, both in
+/// one transform (κ₀ + i·κ₁: both spectra are real, so they are its real and imaginary parts),
+/// into `spectra`, each value twice.
+#[inline(always)]
+fn pair_spectra(
     plan: &FftPlan,
     buf: &mut [Complex64],
     scratch: &mut [Complex64],
-    kernels: &[Vec<f64>; 2],
+    halves: &[Vec<f64>; 2],
     count: usize,
-    row: &[Complex64],
-    acc: &mut [Complex64],
+    spectra: &mut [Vec<f64>; 2],
 ) {
-    let (w, bins) = (plan.width, plan.bins());
+    let w = plan.width;
     for (m, z) in buf.iter_mut().enumerate() {
-        let im = if count == 2 { kernels[1][m] } else { 0.0 };
-        *z = Complex64::new(kernels[0][m], im);
+        let at = m.min(w - m);
+        let im = if count == 2 { halves[1][at] } else { 0.0 };
+        *z = Complex64::new(halves[0][at], im);
     }
     plan.forward.process_with_scratch(buf, scratch);
-    let (acc0, acc1) = acc.split_at_mut((3 * bins).min(acc.len()));
-    for f in 0..bins {
-        let (k0, k1) = unpack(buf, f, w);
-        let (k0, k1) = (k0.conj(), k1.conj());
-        for ch in 0..3 {
-            let l = row[ch * bins + f];
-            acc0[ch * bins + f] += l * k0;
-            if count == 2 {
-                acc1[ch * bins + f] += l * k1;
-            }
+    let [s0, s1] = spectra;
+    for ((k0, k1), z) in s0.chunks_exact_mut(2).zip(s1.chunks_exact_mut(2)).zip(buf.iter()) {
+        (k0[0], k0[1]) = (z.re, z.re);
+        (k1[0], k1[1]) = (z.im, z.im);
+    }
+}
+
+/// Ŷ += L̂·K̂ for each of the row's three channel spectra (`row`) against one real kernel
+/// spectrum (`spectrum`, each value twice): one multiply-add per real number.
+#[inline(always)]
+fn multiply_add(row: &[f64], spectrum: &[f64], acc: &mut [f64]) {
+    for (l, a) in row.chunks_exact(spectrum.len()).zip(acc.chunks_exact_mut(spectrum.len())) {
+        for ((a, l), k) in a.iter_mut().zip(l).zip(spectrum) {
+            *a += l * k;
         }
     }
 }
 
-/// One output row from its three channels' spectra Ŷ (W/2 + 1 bins each): folded to the grid's
-/// w bins (out[i] = Y[i·p]), transformed back (channels 0 and 1 together), scaled by 1/(W·π).
-fn back(plan: &FftPlan, spectra: &[Complex64], buf: &mut [Complex64], scratch: &mut [Complex64], row: &mut [Rgb]) {
-    let (w, bins, n) = (plan.width, plan.bins(), plan.out_width);
+/// One output row from its three channels' spectra Ŷ (W/2 + 1 bins each, interleaved),
+/// transformed back (channels 0 and 1 together) and scaled by 1/(W·π).
+fn back(plan: &FftPlan, spectra: &[f64], buf: &mut [Complex64], scratch: &mut [Complex64], row: &mut [Rgb]) {
+    let (w, bins) = (plan.width, plan.bins());
     // Ŷ at any bin of W, from the kept half by Hermitian symmetry.
     let full = |ch: usize, f: usize| {
-        let s = &spectra[ch * bins..][..bins];
+        let s = &spectra[ch * 2 * bins..][..2 * bins];
         if f < bins {
-            s[f]
+            Complex64::new(s[2 * f], s[2 * f + 1])
         } else {
-            s[w - f].conj()
+            Complex64::new(s[2 * (w - f)], -s[2 * (w - f) + 1])
         }
     };
-    let fold = |ch: usize, f: usize| (0..w / n).map(|l| full(ch, f + l * n)).sum::<Complex64>();
     let scale = FRAC_1_PI / w as f64;
     for (f, z) in buf.iter_mut().enumerate() {
-        *z = fold(0, f) + fold(1, f) * Complex64::new(0.0, 1.0);
+        *z = full(0, f) + full(1, f) * Complex64::new(0.0, 1.0);
     }
     plan.inverse.process_with_scratch(buf, scratch);
     for (v, z) in row.iter_mut().zip(buf.iter()) {
@@ -310,7 +330,7 @@ fn back(plan: &FftPlan, spectra: &[Complex64], buf: &mut [Complex64], scratch: &
         v.y = (z.im * scale).max(0.0);
     }
     for (f, z) in buf.iter_mut().enumerate() {
-        *z = fold(2, f);
+        *z = full(2, f);
     }
     plan.inverse.process_with_scratch(buf, scratch);
     for (v, z) in row.iter_mut().zip(buf.iter()) {
@@ -324,54 +344,65 @@ mod tests {
     use crate::envmap::EnvMap;
     use crate::math::quadrature::gauss_legendre;
     use crate::reference::exact::Reference;
+    use crate::reference::row_pairs::has_avx2;
+
+    fn map_of(w: usize, h: usize) -> EnvMap {
+        EnvMap::from_fn("t", w, h, move |i, j| {
+            let v = ((i * 7 + j * 3) % 11) as f32 * 0.5 + 0.1;
+            [v, if i == w / 3 && j == h / 4 { 900.0 } else { 0.0 }, (j as f32 + 1.0).recip()]
+        })
+        .unwrap()
+    }
+
+    /// Rows `0..oh` of a `ow`-wide grid by FFT from `map`, the per-row work portable or AVX2.
+    fn fft_rows(map: &EnvMap, ow: usize, oh: usize, avx2: bool) -> Vec<Rgb> {
+        let rm = RowMoments::new(map);
+        let plan = FftPlan::new(ow);
+        let mut fast = vec![Rgb::ZERO; ow * oh];
+        let rows: Vec<usize> = (0..oh).collect();
+        convolve(&rm, &gauss_legendre(2), LatLong::new(ow, oh), &plan, &rows, &mut fast, &|| false, avx2);
+        fast
+    }
 
     /// Every output row by FFT against the per-normal path (each normal integrated on its own
-    /// from the row moments, no transform), at W/w = 1 to 6 (column centres on cell centres and
-    /// on cell edges; odd and even grid widths; a one-column grid), whether or not
-    /// [`applies`] would pick the FFT for that size.
+    /// from the row moments, no transform): widths whose half is even and odd, two columns,
+    /// odd and even grid heights (a map is twice as wide as high, so W is even).
     #[test]
     fn fft_rows_equal_the_per_normal_path() {
-        let map_of = |w: usize, h: usize| {
-            EnvMap::from_fn("t", w, h, move |i, j| {
-                let v = ((i * 7 + j * 3) % 11) as f32 * 0.5 + 0.1;
-                [v, if i == w / 3 && j == h / 4 { 900.0 } else { 0.0 }, (j as f32 + 1.0).recip()]
-            })
-            .unwrap()
-        };
-        for (mw, mh, ow, oh) in [
-            (48, 24, 48, 24),
-            (48, 24, 24, 13),
-            (42, 21, 14, 8),
-            (40, 20, 10, 9),
-            (30, 15, 6, 4),
-            (42, 21, 7, 4),
-            (10, 5, 10, 5),
-            (6, 3, 1, 3),
-        ] {
+        for (mw, mh, oh) in [(48, 24, 24), (48, 24, 13), (10, 5, 5), (10, 5, 8), (6, 3, 3), (2, 1, 2), (2, 1, 3)] {
             let map = map_of(mw, mh);
+            let fast = fft_rows(&map, mw, oh, false);
             let rm = RowMoments::new(&map);
-            let rule = gauss_legendre(2);
-            let out = LatLong::new(ow, oh);
-            let plan = FftPlan::new(mw, ow);
-            let mut fast = vec![Rgb::ZERO; ow * oh];
-            let rows: Vec<usize> = (0..oh).collect();
-            convolve(&rm, &rule, out, &plan, &rows, &mut fast, &|| false);
             let r = Reference::new(&rm, vec![], 2);
+            let out = LatLong::new(mw, oh);
             let top = fast.iter().map(|v| v.max_element()).fold(0.0, f64::max);
             for j in 0..oh {
-                for i in 0..ow {
+                for i in 0..mw {
                     let want = r.irradiance(out.direction(i, j));
-                    let d = (fast[j * ow + i] - want).abs().max_element();
-                    assert!(d <= 1e-12 * top, "{mw}x{mh} onto {ow}x{oh} ({i},{j}): {} vs {want}", fast[j * ow + i]);
+                    let d = (fast[j * mw + i] - want).abs().max_element();
+                    assert!(d <= 1e-12 * top, "{mw}x{mh} onto {mw}x{oh} ({i},{j}): {} vs {want}", fast[j * mw + i]);
                 }
             }
         }
     }
 
-    /// The rule: the FFT where the grid width divides the map's at most [`MAX_RATIO`] times.
+    /// The AVX2 copy of the per-row work does the same operations four wide, so its values are
+    /// the portable copy's to the bit (nothing to compare where the CPU has no AVX2).
     #[test]
-    fn applies_where_the_columns_are_on_the_lattice() {
-        assert!(applies(256, 256) && applies(7, 7) && applies(256 * MAX_RATIO, 256));
-        assert!(!applies(1000, 256) && !applies(256, 512) && !applies(256 * (MAX_RATIO + 1), 256) && !applies(4, 0));
+    fn avx2_rows_equal_the_portable_rows() {
+        if !has_avx2() {
+            return; // Nothing to compare: this CPU runs the portable copy only.
+        }
+        for (mw, mh, oh) in [(48, 24, 24), (10, 5, 7), (256, 128, 64)] {
+            let map = map_of(mw, mh);
+            assert_eq!(fft_rows(&map, mw, oh, true), fft_rows(&map, mw, oh, false), "{mw}x{mh}");
+        }
+    }
+
+    /// The rule: the FFT exactly where the grid's width is the map's.
+    #[test]
+    fn applies_where_the_columns_are_the_maps() {
+        assert!(applies(256, 256) && applies(7, 7) && applies(1, 1));
+        assert!(!applies(1000, 256) && !applies(256, 512) && !applies(512, 256) && !applies(4, 0));
     }
 }

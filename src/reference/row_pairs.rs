@@ -1,7 +1,8 @@
 //! What both ways of convolving the exact reference's rows share (`row_convolution`, the direct
 //! path; `row_fft`, by FFT): the driver over the map's rows, in chunks on the thread pool with
 //! the cancellation check between rows, and the polar nodes of one input row against one output
-//! row with their clamped-cosine kernels (FORMULAS §1).
+//! row with their clamped-cosine kernels (FORMULAS §1), and whether the CPU runs both paths' AVX2
+//! copies of their per-row work.
 
 use crate::envmap::moments::RowMoments;
 use crate::envmap::PROGRESS_WIDTH;
@@ -9,6 +10,21 @@ use crate::io::progress::Progress;
 use crate::math::quadrature::for_each_polar_node;
 use rayon::prelude::*;
 use std::f64::consts::PI;
+
+/// Whether this CPU runs the AVX2 copies of the row kernels (`row_convolution`, `row_fft`):
+/// each path's per-input-row work is compiled twice, for baseline x86-64 and with AVX2, the
+/// same operations four wide instead of two (no fused multiply-adds), so the values are the
+/// same to the bit; each path's tests compare the two.
+pub(crate) fn has_avx2() -> bool {
+    #[cfg(target_arch = "x86_64")]
+    {
+        std::is_x86_feature_detected!("avx2")
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        false
+    }
+}
 
 /// Input rows are cut into this many chunks whose partial sums are added in chunk order, so
 /// the result does not depend on the thread count.
