@@ -159,6 +159,9 @@ fn groups(rows: &[Row]) -> Vec<Group<'_>> {
     out
 }
 
+/// The summary's file name, beside its experiment's table.
+pub const SUMMARY: &str = "summary.csv";
+
 /// `summary.csv`: per orientation, per map and per orientation set.
 pub fn summary_csv(rows: &[Row], baseline: Option<&str>) -> Result<Vec<u8>> {
     let base: HashMap<_, &Row> =
@@ -234,7 +237,7 @@ pub fn summary_csv(rows: &[Row], baseline: Option<&str>) -> Result<Vec<u8>> {
 
 /// Writes `summary.csv` into `dir`, ratios against `baseline` when one is declared.
 pub fn write(dir: &Path, baseline: Option<&str>, rows: &[Row]) -> Result<()> {
-    crate::io::atomic::write(&dir.join("summary.csv"), &summary_csv(rows, baseline)?)
+    crate::io::atomic::write(&dir.join(SUMMARY), &summary_csv(rows, baseline)?)
 }
 
 /// The rows the summary and claims tests share: encoders `op` and `base` on maps `m1` and `m2`,

@@ -6,6 +6,7 @@ use crate::envmap::search::SearchPath;
 use crate::pipeline::experiment::Experiment;
 use crate::pipeline::runner::{self, RunReport};
 use crate::pipeline::settings::RunSettings;
+use crate::pipeline::summary::SUMMARY;
 use crate::regression::baseline::TABLE;
 use crate::regression::check::{compare_with_baseline, select, ExperimentCheck, MapPolicy, Selection};
 use crate::regression::provenance::{self, Provenance};
@@ -94,9 +95,16 @@ pub fn bless(
 }
 
 /// The files of an experiment's baseline, in the order [`crate::io::atomic::write_set`] renames them:
-/// the table, then the provenance that vouches for it.
+/// the table, then the provenance that vouches for it, then (when the experiment declares a
+/// `[summary]`) the summary derived from that table. Written with the table, the summary never
+/// lags behind it: a `bless` that left the summary of an older run would have `run`/`reproduce`
+/// rewrite it from the kept table on a fresh clone.
 pub fn baseline_files(exp: &Experiment, report: &RunReport, root: &Path) -> Result<Vec<(String, Vec<u8>)>> {
     let table = crate::pipeline::table::to_csv(&report.rows)?;
     let prov = Provenance::new(exp, report, &table, root).to_toml()?;
-    Ok(vec![(TABLE.to_string(), table), (provenance::FILE_NAME.to_string(), prov.into_bytes())])
+    let mut files = vec![(TABLE.to_string(), table), (provenance::FILE_NAME.to_string(), prov.into_bytes())];
+    if let Some(baseline) = &exp.summary {
+        files.push((SUMMARY.to_string(), crate::pipeline::summary::summary_csv(&report.rows, baseline.as_deref())?));
+    }
+    Ok(files)
 }

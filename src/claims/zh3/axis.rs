@@ -7,7 +7,7 @@ use super::cases::{cap, enc, exact, fit, probulator, scene, scene_case, values, 
 use super::fringe;
 use crate::claims::measure::{Cell, Measure};
 use crate::encoders::encoder::Encoder;
-use crate::math::colour::{Rgb, REC709};
+use crate::math::colour::{xy_error, Rgb, REC709};
 use crate::math::sh::{delta_light, Sh9};
 use crate::pipeline::runner::score_values;
 use crate::reference::domain::OutputGrid;
@@ -97,53 +97,6 @@ fn chroma_error(test: &[Rgb], reference: &[Rgb], w: &[f64]) -> f64 {
 fn chroma_error_lit(test: &[Rgb], reference: &[Rgb], w: &[f64]) -> f64 {
     let lw: Vec<f64> = reference.iter().zip(w).map(|(r, w)| w * (r.element_sum() / 3.0).max(0.0)).collect();
     chroma_error(test, reference, &lw)
-}
-
-/// The standard Rec.709/sRGB (D65) RGB → CIE XYZ matrix, by rows (X, Y, Z).
-const RGB_TO_XYZ: [Rgb; 3] = [
-    Rgb::new(0.4124564, 0.3575761, 0.1804375),
-    Rgb::new(0.2126729, 0.7151522, 0.0721750),
-    Rgb::new(0.0193339, 0.1191920, 0.9503041),
-];
-
-/// CIE 1931 xy chromaticity of a displayed linear Rec.709 colour (clamped at 0, as displayed),
-/// through the standard Rec.709/sRGB (D65) RGB → XYZ matrix; black is the D65 white point.
-pub fn cie_xy(e: Rgb) -> (f64, f64) {
-    let c = e.max(Rgb::ZERO);
-    let [x, y, z] = RGB_TO_XYZ.map(|row| row.dot(c));
-    let s = x + y + z;
-    if s > 0.0 {
-        (x / s, y / s)
-    } else {
-        (0.3127, 0.3290)
-    }
-}
-
-/// The luminance Y of a linear Rec.709 colour, clamped at 0: CIE Y, the middle row of
-/// [`RGB_TO_XYZ`], so the chroma error weights by the same Y its chromaticities are taken
-/// with. Those are the Rec.709 weights to seven digits; [`crate::math::colour::REC709`] rounds
-/// them to four and would move Z2's published figures.
-fn luminance(e: Rgb) -> f64 {
-    RGB_TO_XYZ[1].dot(e).max(0.0)
-}
-
-/// The chroma error of claim Z2, a documented standard metric: the RMS of the CIE 1931 xy
-/// distance between test and reference chromaticities ([`cie_xy`]), each normal weighted by
-/// its solid angle times the reference luminance Y, so that what is lit counts and dark
-/// regions (whose chromaticity is noise) do not.
-pub fn xy_error(test: &[Rgb], reference: &[Rgb], w: &[f64]) -> f64 {
-    let (mut s, mut ws) = (0.0, 0.0);
-    for ((t, r), &wi) in test.iter().zip(reference).zip(w) {
-        let ((tx, ty), (rx, ry)) = (cie_xy(*t), cie_xy(*r));
-        let wl = wi * luminance(*r);
-        s += wl * ((tx - rx).powi(2) + (ty - ry).powi(2));
-        ws += wl;
-    }
-    if ws > 0.0 {
-        (s / ws).sqrt()
-    } else {
-        0.0
-    }
 }
 
 /// A scene with two coloured lights 90° apart, whose channels have different L1 axes.
@@ -332,31 +285,6 @@ mod tests {
         assert_eq!(chroma(Rgb::new(-1.0, 1.0, 0.0)), Rgb::new(0.0, 1.0, 0.0));
         let e = chroma_error(&[Rgb::new(1.0, 0.0, 0.0)], &[Rgb::new(0.0, 1.0, 0.0)], &[1.0]);
         assert!((e - 2f64.sqrt()).abs() < 1e-15);
-    }
-
-    /// The Rec.709 primaries and white have their standard CIE 1931 xy chromaticities (ITU-R
-    /// BT.709: red (0.64, 0.33), green (0.30, 0.60), blue (0.15, 0.06), D65 (0.3127, 0.3290)),
-    /// to the 4 digits the standard gives.
-    #[test]
-    fn cie_xy_of_the_rec709_primaries() {
-        let near = |(x, y): (f64, f64), (ex, ey): (f64, f64)| (x - ex).abs() < 1e-4 && (y - ey).abs() < 1e-4;
-        assert!(near(cie_xy(Rgb::new(1.0, 0.0, 0.0)), (0.64, 0.33)));
-        assert!(near(cie_xy(Rgb::new(0.0, 2.0, 0.0)), (0.30, 0.60)));
-        assert!(near(cie_xy(Rgb::new(0.0, 0.0, 0.5)), (0.15, 0.06)));
-        assert!(near(cie_xy(Rgb::splat(3.0)), (0.3127, 0.3290)));
-        assert_eq!(cie_xy(Rgb::ZERO), (0.3127, 0.3290));
-    }
-
-    /// xy_error weights by the reference's luminance: a wrong colour where the reference is
-    /// black counts for nothing; red shown where green is lit counts the red–green distance
-    /// √(0.34² + 0.27²) = 0.4342 in full.
-    #[test]
-    fn xy_error_counts_what_is_lit() {
-        let (r, g) = (Rgb::new(1.0, 0.0, 0.0), Rgb::new(0.0, 1.0, 0.0));
-        let e = xy_error(&[r, r], &[g, Rgb::ZERO], &[1.0, 1.0]);
-        assert!((e - (0.34f64.powi(2) + 0.27f64.powi(2)).sqrt()).abs() < 2e-4, "{e}");
-        assert_eq!(xy_error(&[r], &[Rgb::ZERO], &[1.0]), 0.0);
-        assert_eq!(xy_error(&[g * 5.0], &[g], &[1.0]), 0.0);
     }
 
     /// Z1 needs no maps. ZH3 of a zonal light is its SH3 (a zonal function's band-2 part is a

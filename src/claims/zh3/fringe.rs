@@ -3,7 +3,7 @@
 //! interfere"): how far apart the channels' zonal axes are (the axis divergence), and the
 //! maps ordered by it. The fringe itself (ZH3 against the SH3 it approximates, whose L0 and
 //! L1 it shares, so every difference comes from the zonal approximation of L2) is
-//! `axis::xy_error` against the SH3, taken in `axis::z2`.
+//! `math::colour::xy_error` against the SH3, taken in `axis::z2`.
 
 use crate::claims::measure::{Cell, Measure};
 use crate::encoders::encoder::Fitted;

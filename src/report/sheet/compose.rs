@@ -5,6 +5,7 @@
 use super::super::csvfile::CsvTable;
 use super::super::number::{percent, sig};
 use super::super::tone::{range_of, row_percentile, ErrorScale, ErrorScope, Tone, SCALE_PERCENTILE};
+use super::chroma::{chroma_of, share_chroma, Chroma};
 use super::figures::{figures_from_table, RowFigures, SheetScores};
 use super::layout::{DISC, MAX_SCALE, THUMB_W};
 use super::render::{Sheet, SheetRow};
@@ -98,7 +99,7 @@ pub fn experiment_sheet(
 
     let described = Described { reference: cd.reference.describe(), source, metric };
     let lines = header_lines(exp, case, all.len(), &described, &tone, &error);
-    let sheet = Sheet {
+    let mut sheet = Sheet {
         title: format!("{} - {}", exp.name, map.name),
         lines,
         thumbnail: Some(latlong_thumbnail(map, scale * THUMB_W)),
@@ -113,8 +114,10 @@ pub fn experiment_sheet(
         scale,
         tone,
         error,
+        chroma: Chroma::NotDrawn { largest: 0.0 },
         rows,
     };
+    sheet.chroma = chroma_of(&[&sheet], ErrorScope::Sheet);
     let scores = SheetScores {
         case_label: case.domain_label.clone(),
         figures: names.into_iter().zip(figures).collect(),
@@ -271,11 +274,13 @@ fn error_scale_line(error: &ErrorScale) -> String {
     )
 }
 
-/// Gives every sheet of an experiment one error scale: the median over the rows of all its
+/// Gives every sheet of an experiment one error scale, and one chroma decision and scale
+/// ([`share_chroma`]): the median over the rows of all its
 /// sheets of each row's high percentile of |relative error| ([`range_of`]), each under its own
 /// sheet's floor; the header line says so.
 pub fn share_error_scale<'a>(sheets: impl Iterator<Item = &'a mut Sheet>) {
-    let sheets: Vec<&mut Sheet> = sheets.collect();
+    let mut sheets: Vec<&mut Sheet> = sheets.collect();
+    share_chroma(&mut sheets);
     let all: Vec<f64> = sheets.iter().flat_map(|s| row_percentiles(&s.reference, &s.rows, &s.error)).collect();
     let range = range_of(all);
     for s in sheets {

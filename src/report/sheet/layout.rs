@@ -1,5 +1,5 @@
 //! The measures and geometry of a comparison sheet at scale 1 — disc, cells, rows, margins,
-//! header, thumbnail, colour bar — and [`SheetLayout`], which places every cell, disc and the
+//! header, thumbnail, colour bars — and [`SheetLayout`], which places every cell, disc and the
 //! colour bar at the sheet's scale (each measure times the scale).
 
 use super::super::text::{text_width, BODY, HEADING};
@@ -11,7 +11,7 @@ pub const DISC: u32 = 96;
 pub const CELL_W: u32 = DISC + 12;
 /// A sphere's cell height: the disc and 8 px.
 pub const CELL_H: u32 = DISC + 8;
-/// Three text lines under each row of spheres (the figures, and the share that saturates).
+/// Three text lines under each row of spheres (the figures, and the shares that saturate).
 pub const ROW_H: u32 = CELL_H + 60;
 /// The narrowest label column; wider when a name or storage note needs it ([`label_width`]).
 pub const LABEL_W: u32 = 128;
@@ -34,17 +34,22 @@ pub const THUMB_H: u32 = 128;
 pub const HEADER_H: u32 = MARGIN + 26 + HEADER_LINES * LINE_H + 8 + THUMB_H + 22;
 /// The view captions and column names above the rows.
 pub const COLHEAD_H: u32 = 42;
-/// The narrowest sheet: a narrower grid of cells is widened to this.
-pub const MIN_W: u32 = 640;
 /// The error colour bar's width.
 pub const BAR_W: u32 = 256;
 /// The error colour bar's height.
 pub const BAR_H: u32 = 16;
+/// The width the error colour bar and its title take, where the chroma bar begins after it.
+pub const ERROR_BAR_SPAN: u32 = 340;
+/// The width the chroma colour bar and its text take.
+pub const CHROMA_SPAN: u32 = 330;
+/// The narrowest sheet, to which a narrower grid of cells is widened: both colour bars (or the
+/// error bar and the note saying why there are no chroma discs) and their text side by side.
+pub const MIN_W: u32 = MARGIN + THUMB_W + 28 + ERROR_BAR_SPAN + CHROMA_SPAN + MARGIN;
 /// The largest sheet scale (`--scale`): 8 draws a 96 px disc at 768 px.
 pub const MAX_SCALE: u32 = 8;
 
 /// The geometry of a comparison sheet: one row per encoder, three columns (reference, encoder,
-/// relative error) per view.
+/// relative error) per view, and a fourth (chroma error) when the sheet draws chroma discs.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SheetLayout {
     /// The rows of spheres: one per encoder.
@@ -55,6 +60,8 @@ pub struct SheetLayout {
     pub label_w: u32,
     /// Every measure is this many times its scale-1 value (1..=[`MAX_SCALE`]).
     pub scale: u32,
+    /// Whether each view has a fourth, chroma-error column (and the header its colour bar).
+    pub chroma: bool,
 }
 
 /// The label column's width: [`LABEL_W`], or the widest measured name (bold) or storage note
@@ -68,13 +75,18 @@ pub fn label_width<'a>(rows: impl IntoIterator<Item = (&'a str, &'a str)>) -> u3
 impl SheetLayout {
     /// Width × height in pixels: the scale-1 size times the scale.
     pub fn size(&self) -> (u32, u32) {
-        let grid_w = 2 * MARGIN + self.label_w + self.views * 3 * CELL_W + self.views.saturating_sub(1) * VIEW_GAP;
+        let grid_w =
+            2 * MARGIN + self.label_w + self.views * self.columns() * CELL_W + self.views.saturating_sub(1) * VIEW_GAP;
         let s = self.scale;
         (s * grid_w.max(MIN_W), s * (HEADER_H + COLHEAD_H + self.rows * ROW_H + MARGIN))
     }
-    /// Top-left pixel of the cell (row, view, column 0..3).
+    /// The columns of each view: reference, encoder, relative error, and chroma error if drawn.
+    pub fn columns(&self) -> u32 {
+        3 + u32::from(self.chroma)
+    }
+    /// Top-left pixel of the cell (row, view, column 0..[`SheetLayout::columns`]).
     pub fn cell(&self, row: u32, view: u32, col: u32) -> (u32, u32) {
-        let x = MARGIN + self.label_w + view * (3 * CELL_W + VIEW_GAP) + col * CELL_W;
+        let x = MARGIN + self.label_w + view * (self.columns() * CELL_W + VIEW_GAP) + col * CELL_W;
         (self.scale * x, self.scale * (HEADER_H + COLHEAD_H + row * ROW_H))
     }
     /// Top-left pixel of the disc in the cell (row, view, column 0..3), [`DISC`]·scale across.
@@ -85,5 +97,15 @@ impl SheetLayout {
     /// Top-left pixel of the colour bar.
     pub fn colour_bar(&self) -> (u32, u32) {
         (self.scale * (MARGIN + THUMB_W + 28), self.scale * (MARGIN + 26 + HEADER_LINES * LINE_H + 8 + 44))
+    }
+    /// Top-left pixel of the chroma colour bar, right of the error bar (where a sheet without
+    /// chroma discs says why).
+    pub fn chroma_bar(&self) -> (u32, u32) {
+        let (x, y) = self.colour_bar();
+        (x + self.scale * ERROR_BAR_SPAN, y)
+    }
+    /// The width, at this scale, that the chroma bar's text may take.
+    pub fn chroma_text_width(&self) -> u32 {
+        self.size().0 - self.scale * MARGIN - self.chroma_bar().0
     }
 }

@@ -1,6 +1,7 @@
 //! Comparison sheets (`sheet_<map>.png`): for one experiment on one map, a row per encoder and,
 //! per view of the sphere of normals ([`View`](crate::reference::view::View)), three lit
-//! spheres: the reference, the encoder and its signed relative error. All spheres of a sheet
+//! spheres: the reference, the encoder and its signed relative error; and a fourth, the
+//! encoder's chroma error (CIE 1931 xy distance), on sheets whose encoders differ in colour. All spheres of a sheet
 //! share one [`Tone`](super::tone::Tone); the error sphere's colour scale is the sheet's
 //! [`ErrorScale`](super::tone::ErrorScale) (both in `tone.rs`). A sphere domain is drawn front
 //! and top; a hemisphere domain as a disc looking down N.
@@ -19,9 +20,11 @@
 //!
 //! Files: `layout.rs` (the measures and [`SheetLayout`]), `render.rs` ([`Sheet`] painted),
 //! `thumbnail.rs` (the map's thumbnail), `figures.rs` (the figures under each row),
+//! `chroma.rs` (the chroma discs: CIE xy distance, their scale and when they are drawn),
 //! `compose.rs` ([`experiment_sheet`]: a sheet made from an experiment and a map), `pages.rs`
 //! (a long sheet split into pages no taller than [`MAX_PAGE_H`]).
 
+mod chroma;
 mod compose;
 mod figures;
 mod layout;

@@ -1,16 +1,17 @@
 //! A comparison sheet as drawn: [`Sheet`] and its [`SheetRow`]s, painted at the sheet's scale
-//! (title, header lines, thumbnail, the error colour bar, the view captions, three spheres per
-//! view per row and the figures under them).
+//! (title, header lines, thumbnail, the error and chroma colour bars, the view captions, three
+//! spheres per view per row — four with the chroma discs — and the figures under them).
 
 use super::super::canvas::{fill, paint_disc, CELL, PAPER};
 use super::super::number::percent;
 use super::super::text::{draw_labels, even_px, fit_text, wrap, Label, BODY, TITLE};
 use super::super::tone::{diverging, ErrorScale, Tone};
+use super::chroma::{chroma_bar, disc_figure, saturation, sequential, Chroma};
 use super::layout::{
     label_width, SheetLayout, BAR_H, BAR_W, CELL_H, CELL_W, DISC, HEADER_H, HEADER_LINES, LINE_H, MARGIN, MAX_SCALE,
     NAME_PX, NOTE_PX, THUMB_H,
 };
-use crate::math::colour::Rgb;
+use crate::math::colour::{xy_distance, Rgb};
 use crate::reference::view::{Disc, View};
 use anyhow::{ensure, Result};
 use image::RgbImage;
@@ -56,6 +57,8 @@ pub struct Sheet {
     pub tone: Tone,
     /// The error spheres' colour scale: the denominator's floor and the saturating range.
     pub error: ErrorScale,
+    /// The chroma discs: drawn on their scale, or not and why ([`super::chroma`]).
+    pub chroma: Chroma,
     /// One row per encoder, in the experiment's order.
     pub rows: Vec<SheetRow>,
 }
@@ -114,14 +117,21 @@ impl Sheet {
                 format!("{name} {}", percent(share))
             })
             .collect();
-        format!("error beyond ±{} (saturated): {} of the disc", percent(self.error.range), shares.join(", "))
+        let chroma = self.chroma.range().map(|r| saturation(self, row, r)).unwrap_or_default();
+        format!("error beyond ±{} (saturated): {} of the disc{chroma}", percent(self.error.range), shares.join(", "))
     }
 
     /// The sheet's geometry; the label column measured at scale 1 (so every measure of a sheet
     /// at scale N is exactly N times its scale-1 value).
     pub fn layout(&self) -> SheetLayout {
         let label_w = label_width(self.rows.iter().map(|r| (r.name.as_str(), r.note.as_str())));
-        SheetLayout { rows: self.rows.len() as u32, views: self.views.len() as u32, label_w, scale: self.scale }
+        SheetLayout {
+            rows: self.rows.len() as u32,
+            views: self.views.len() as u32,
+            label_w,
+            scale: self.scale,
+            chroma: self.chroma.range().is_some(),
+        }
     }
 
     /// Draws the sheet at its scale: positions, lengths and text sizes are the scale-1 ones
@@ -161,12 +171,14 @@ impl Sheet {
         }
         let (bx, by) = lay.colour_bar();
         colour_bar(&mut img, &mut labels, bx, by, &self.error, s);
+        chroma_bar(&mut img, &mut labels, lay.chroma_bar(), lay.chroma_text_width(), &self.chroma, s);
 
         let head_y = s * HEADER_H;
         for (v, view) in self.views.iter().enumerate() {
             let (x, _) = lay.cell(0, v as u32, 0);
             labels.push(Label::new(&view.caption, x, head_y, text_px(BODY, s)).bold());
-            for (c, name) in ["reference", "encoder", "rel. error"].iter().enumerate() {
+            let names = ["reference", "encoder", "rel. error", "chroma err."];
+            for (c, name) in names[..lay.columns() as usize].iter().enumerate() {
                 let cx = x + c as u32 * cell_w + cell_w / 2;
                 labels.push(Label::new(*name, cx, head_y + s * 20, text_px(BODY, s)).centre().grey());
             }
@@ -178,16 +190,25 @@ impl Sheet {
             for (v, disc) in self.discs.iter().enumerate() {
                 let refs = &self.reference[v];
                 let vals = &row.values[v];
-                for col in 0..3u32 {
+                for col in 0..lay.columns() {
                     let (x, y) = lay.cell(r as u32, v as u32, col);
                     fill(&mut img, x + s * 2, y, cell_w - s * 4, cell_h, CELL);
                     let (dx, dy) = lay.disc(r as u32, v as u32, col);
                     match col {
                         0 => paint_disc(&mut img, dx, dy, disc, CELL, |i| self.tone.map(refs[i])),
                         1 => paint_disc(&mut img, dx, dy, disc, CELL, |i| self.tone.map(vals[i])),
-                        _ => paint_disc(&mut img, dx, dy, disc, CELL, |i| {
+                        2 => paint_disc(&mut img, dx, dy, disc, CELL, |i| {
                             self.error.color(self.error.relative(refs[i], vals[i]))
                         }),
+                        _ => {
+                            let range = self.chroma.range().unwrap_or(1.0);
+                            paint_disc(&mut img, dx, dy, disc, CELL, |i| {
+                                sequential(xy_distance(vals[i], refs[i]) / range)
+                            });
+                            let (cx, cy) = lay.cell(r as u32, v as u32, col);
+                            let at = (cx + cell_w / 2, cy + cell_h + s * 4);
+                            labels.push(Label::new(disc_figure(vals, refs), at.0, at.1, text_px(BODY, s)).centre());
+                        }
                     }
                 }
                 // The figures are the whole domain's: print them once, under the first view.

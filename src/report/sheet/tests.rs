@@ -1,5 +1,6 @@
 //! The comparison sheets' unit tests: pixels, layout, scales, figures and labels.
 
+use super::chroma::*;
 use super::compose::*;
 use super::figures::*;
 use super::layout::*;
@@ -7,14 +8,14 @@ use super::layout::{NAME_PX, NOTE_PX};
 use super::render::text_px;
 use super::render::*;
 use crate::envmap::EnvMap;
-use crate::math::colour::Rgb;
+use crate::math::colour::{luminance, Rgb};
 use crate::pipeline::experiment::Experiment;
 use crate::pipeline::experiment::ExperimentFile;
 use crate::pipeline::reuse::ReferenceCache;
 use crate::report::canvas::CELL;
 use crate::report::csvfile::CsvTable;
 use crate::report::text::text_width;
-use crate::report::tone::diverging;
+use crate::report::tone::{diverging, ErrorScope};
 use std::path::Path;
 
 fn experiment(toml: &str) -> Experiment {
@@ -63,19 +64,22 @@ fn constant_map_reference_sphere_is_uniform() {
 
 #[test]
 fn sheet_size_follows_rows_and_views() {
-    let mk = |encoders: &str, hemi: bool| {
+    let mk = |encoders: &str, hemi: bool, map: &str| {
         let extra = if hemi { "domain = 'hemisphere'\norientations = ['up']\neffects = ['hemisphere']\n" } else { "" };
         let exp = experiment(&format!("maps = ['m']\nencoders = [{encoders}]\nresolution = [16, 8]\n{extra}"));
-        let map = scene_map("gen_sun_sky", 32);
+        let map = scene_map(map, 32);
         experiment_sheet(&exp, &map, None, 1, &ReferenceCache::new(None)).unwrap().0.draw().unwrap().dimensions()
     };
-    // Expected sizes from the published measures, derived here by hand.
+    // Expected sizes from the published measures, derived here by hand. The sun and sky differ
+    // in colour (four columns a view: the chroma discs); the constant map is grey (three).
     let h = |rows: u32| HEADER_H + COLHEAD_H + rows * ROW_H + MARGIN;
-    let w2 = 2 * MARGIN + LABEL_W + 6 * CELL_W + VIEW_GAP;
-    assert_eq!(mk("'sh1'", false), (w2, h(1)));
-    assert_eq!(mk("'sh0','sh1','sh2'", false), (w2, h(3)));
-    let w1 = (2 * MARGIN + LABEL_W + 3 * CELL_W).max(MIN_W);
-    assert_eq!(mk("'sh0','sh2'", true), (w1, h(2)));
+    let w2 = 2 * MARGIN + LABEL_W + 8 * CELL_W + VIEW_GAP;
+    assert_eq!(mk("'sh1'", false, "gen_sun_sky"), (w2.max(MIN_W), h(1)));
+    assert_eq!(mk("'sh0','sh1','sh2'", false, "gen_sun_sky"), (w2.max(MIN_W), h(3)));
+    let w1 = (2 * MARGIN + LABEL_W + 4 * CELL_W).max(MIN_W);
+    assert_eq!(mk("'sh0','sh2'", true, "gen_sun_sky"), (w1, h(2)));
+    let w3 = 2 * MARGIN + LABEL_W + 6 * CELL_W + VIEW_GAP;
+    assert_eq!(mk("'sh1'", false, "gen_constant"), (w3.max(MIN_W), h(1)));
     assert_eq!(h(3) - h(1), 2 * ROW_H);
 }
 
@@ -95,7 +99,7 @@ fn long_names_widen_the_label_column() {
     assert!(want > LABEL_W, "the test name must be wider than the default column");
     assert_eq!(lay.label_w, want);
     let (w, _) = lay.size();
-    assert_eq!(w, 2 * MARGIN + want + 6 * CELL_W + VIEW_GAP);
+    assert_eq!(w, 2 * MARGIN + want + 8 * CELL_W + VIEW_GAP, "four columns a view: the chroma discs");
     // The name ends at least 14 px before the first cell.
     assert!(MARGIN + text_width(name, NAME_PX, true) + 14 <= lay.cell(0, 0, 0).0);
     assert_eq!(label_width([("sh1", "12 scalars")]), LABEL_W);
@@ -188,8 +192,8 @@ fn scale_two_doubles_every_measure() {
     let h = |rows: u32| HEADER_H + COLHEAD_H + rows * ROW_H + MARGIN;
     let label = text_width(long, NAME_PX, true) + 14;
     for (toml, want1) in [
-        (sphere.as_str(), (2 * MARGIN + label + 6 * CELL_W + VIEW_GAP, h(2))),
-        (hemi, ((2 * MARGIN + LABEL_W + 3 * CELL_W).max(MIN_W), h(2))),
+        (sphere.as_str(), (2 * MARGIN + label + 8 * CELL_W + VIEW_GAP, h(2))),
+        (hemi, ((2 * MARGIN + LABEL_W + 4 * CELL_W).max(MIN_W), h(2))),
     ] {
         let (one, two) = at_scales(toml, "gen_sun_sky", 2);
         let (l1, l2) = (one.layout(), two.layout());
@@ -204,6 +208,7 @@ fn scale_two_doubles_every_measure() {
             assert_eq!((dx2, dy2), (2 * dx1, 2 * dy1));
         }
         assert_eq!(l2.colour_bar(), (2 * l1.colour_bar().0, 2 * l1.colour_bar().1));
+        assert_eq!(l2.chroma_bar(), (2 * l1.chroma_bar().0, 2 * l1.chroma_bar().1));
         assert!(two.discs.iter().all(|d| d.d == 2 * DISC as usize));
         assert_eq!(two.thumbnail.as_ref().unwrap().dimensions(), (2 * THUMB_W, 2 * THUMB_H));
         for row in &two.rows {
@@ -287,11 +292,12 @@ fn sheet_labels_stay_apart_and_on_the_canvas() {
         format!("maps = ['m']\nencoders = ['sh0', 'sh1', {{ kind = 'sh2', name = '{long}' }}]\nresolution = [16, 8]");
     let hemi = "maps = ['m']\nencoders = ['sh0','sh2','zh3_hallucinate']\nresolution = [16, 8]\n\
                 domain = 'hemisphere'\norientations = ['up']\neffects = ['hemisphere']";
-    for toml in [sphere.as_str(), hemi] {
+    // The sun and sky draw chroma discs and their bar; the grey constant map the note why not.
+    for (toml, map) in [(sphere.as_str(), "gen_sun_sky"), (hemi, "gen_sun_sky"), (hemi, "gen_constant")] {
         for s in [1, 2] {
             let exp = experiment(toml);
             let (sheet, _) =
-                experiment_sheet(&exp, &scene_map("gen_sun_sky", 32), None, s, &ReferenceCache::new(None)).unwrap();
+                experiment_sheet(&exp, &scene_map(map, 32), None, s, &ReferenceCache::new(None)).unwrap();
             let (img, labels) = sheet.draw_with_labels().unwrap();
             let (w, h) = (img.width() as i32, img.height() as i32);
             let boxes: Vec<_> = labels.iter().map(|l| (l.text.clone(), l.bounds())).collect();
@@ -366,4 +372,69 @@ fn page_files_name_their_map_and_page() {
     assert_eq!(file_page("sheet_pmndrs_p3.png", &maps), Some((1, 3)));
     assert_eq!(file_page("sheet_pmndrs_pX.png", &maps), None);
     assert_eq!(file_page("chart_rmse.png", &maps), None);
+}
+
+/// The chroma discs are drawn exactly where an encoding differs in colour: not on the grey
+/// constant map (every E/π grey, so every xy distance 0 and the sheet says why), not on a
+/// coloured map whose only encoding is the reference itself, and on the two coloured lights,
+/// where sh0's one colour (their mean) is far from both. Sharing over an experiment draws
+/// them on every sheet (one range) when one sheet needs them.
+#[test]
+fn chroma_discs_are_drawn_where_encodings_differ_in_colour() {
+    let exp = experiment("maps = ['m']\nencoders = ['sh0', 'sh2']\nresolution = [16, 8]");
+    let (mut grey, _) = experiment_sheet(&exp, &scene_map("gen_constant", 32), None, 1, &ReferenceCache::new(None)).unwrap();
+    let Chroma::NotDrawn { largest } = grey.chroma else { panic!("grey: {:?}", grey.chroma) };
+    assert!(largest < 1e-12, "{largest}");
+    let (_, labels) = grey.draw_with_labels().unwrap();
+    let all: Vec<&str> = labels.iter().flat_map(|l| l.text.split_whitespace()).collect();
+    let why = all.join(" ");
+    assert!(why.contains("not drawn") && why.contains(&CHROMA_FLOOR.to_string()), "{why}");
+    assert!(!labels.iter().any(|l| l.text == "chroma err."), "no chroma column");
+
+    let (mut two, _) = experiment_sheet(&exp, &scene_map("gen_two_lights", 32), None, 1, &ReferenceCache::new(None)).unwrap();
+    let Chroma::Drawn { range, scope } = two.chroma else { panic!("two lights: {:?}", two.chroma) };
+    assert_eq!(scope, ErrorScope::Sheet);
+    assert!(range > CHROMA_FLOOR, "{range}");
+    let mut exact = two.clone();
+    for row in &mut exact.rows {
+        row.values.clone_from(&exact.reference);
+    }
+    assert!(matches!(chroma_of(&[&exact], ErrorScope::Sheet), Chroma::NotDrawn { largest } if largest == 0.0));
+
+    share_error_scale([&mut grey, &mut two].into_iter());
+    assert_eq!(grey.chroma, two.chroma);
+    assert!(matches!(grey.chroma, Chroma::Drawn { scope: ErrorScope::Experiment, .. }));
+}
+
+/// The chroma disc of a row shows the xy distance of each pixel on the sequential map over
+/// 0..R (a pixel checked at the disc's centre, where the coverage is whole), the chroma bar
+/// runs that map left to right, and the map's luminance falls with the distance.
+#[test]
+fn chroma_disc_and_bar_show_the_xy_distance() {
+    let exp = experiment("maps = ['m']\nencoders = ['sh0', 'sh1']\nresolution = [16, 8]");
+    let (sheet, _) = experiment_sheet(&exp, &scene_map("gen_two_lights", 32), None, 1, &ReferenceCache::new(None)).unwrap();
+    let range = sheet.chroma.range().expect("drawn");
+    let img = sheet.draw().unwrap();
+    let lay = sheet.layout();
+    let disc = &sheet.discs[0];
+    let k = (DISC / 2 * DISC + DISC / 2) as usize;
+    let i = disc.index[k].expect("the centre is covered");
+    for r in 0..2 {
+        let (dx, dy) = lay.disc(r, 0, 3);
+        let want = sequential(
+            crate::math::colour::xy_distance(sheet.rows[r as usize].values[0][i], sheet.reference[0][i]) / range,
+        );
+        assert_eq!(img.get_pixel(dx + DISC / 2, dy + DISC / 2).0, want, "row {r}");
+    }
+    let (bx, by) = lay.chroma_bar();
+    for x in 0..BAR_W {
+        assert_eq!(img.get_pixel(bx + x, by + BAR_H / 2).0, sequential((x as f64 + 0.5) / BAR_W as f64));
+    }
+    let lum = |c: [u8; 3]| luminance(Rgb::from_array(c.map(f64::from)));
+    assert_eq!(sequential(0.0), [247, 252, 245]);
+    for k in 1..=64 {
+        assert!(lum(sequential(k as f64 / 64.0)) < lum(sequential((k - 1) as f64 / 64.0)), "falls at {k}");
+    }
+    assert_eq!(sequential(3.0), sequential(1.0));
+    assert_eq!(sequential(f64::NAN), sequential(0.0));
 }
