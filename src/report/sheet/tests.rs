@@ -296,8 +296,7 @@ fn sheet_labels_stay_apart_and_on_the_canvas() {
     for (toml, map) in [(sphere.as_str(), "gen_sun_sky"), (hemi, "gen_sun_sky"), (hemi, "gen_constant")] {
         for s in [1, 2] {
             let exp = experiment(toml);
-            let (sheet, _) =
-                experiment_sheet(&exp, &scene_map(map, 32), None, s, &ReferenceCache::new(None)).unwrap();
+            let (sheet, _) = experiment_sheet(&exp, &scene_map(map, 32), None, s, &ReferenceCache::new(None)).unwrap();
             let (img, labels) = sheet.draw_with_labels().unwrap();
             let (w, h) = (img.width() as i32, img.height() as i32);
             let boxes: Vec<_> = labels.iter().map(|l| (l.text.clone(), l.bounds())).collect();
@@ -382,7 +381,8 @@ fn page_files_name_their_map_and_page() {
 #[test]
 fn chroma_discs_are_drawn_where_encodings_differ_in_colour() {
     let exp = experiment("maps = ['m']\nencoders = ['sh0', 'sh2']\nresolution = [16, 8]");
-    let (mut grey, _) = experiment_sheet(&exp, &scene_map("gen_constant", 32), None, 1, &ReferenceCache::new(None)).unwrap();
+    let (mut grey, _) =
+        experiment_sheet(&exp, &scene_map("gen_constant", 32), None, 1, &ReferenceCache::new(None)).unwrap();
     let Chroma::NotDrawn { largest } = grey.chroma else { panic!("grey: {:?}", grey.chroma) };
     assert!(largest < 1e-12, "{largest}");
     let (_, labels) = grey.draw_with_labels().unwrap();
@@ -391,7 +391,8 @@ fn chroma_discs_are_drawn_where_encodings_differ_in_colour() {
     assert!(why.contains("not drawn") && why.contains(&CHROMA_FLOOR.to_string()), "{why}");
     assert!(!labels.iter().any(|l| l.text == "chroma err."), "no chroma column");
 
-    let (mut two, _) = experiment_sheet(&exp, &scene_map("gen_two_lights", 32), None, 1, &ReferenceCache::new(None)).unwrap();
+    let (mut two, _) =
+        experiment_sheet(&exp, &scene_map("gen_two_lights", 32), None, 1, &ReferenceCache::new(None)).unwrap();
     let Chroma::Drawn { range, scope } = two.chroma else { panic!("two lights: {:?}", two.chroma) };
     assert_eq!(scope, ErrorScope::Sheet);
     assert!(range > CHROMA_FLOOR, "{range}");
@@ -412,7 +413,8 @@ fn chroma_discs_are_drawn_where_encodings_differ_in_colour() {
 #[test]
 fn chroma_disc_and_bar_show_the_xy_distance() {
     let exp = experiment("maps = ['m']\nencoders = ['sh0', 'sh1']\nresolution = [16, 8]");
-    let (sheet, _) = experiment_sheet(&exp, &scene_map("gen_two_lights", 32), None, 1, &ReferenceCache::new(None)).unwrap();
+    let (sheet, _) =
+        experiment_sheet(&exp, &scene_map("gen_two_lights", 32), None, 1, &ReferenceCache::new(None)).unwrap();
     let range = sheet.chroma.range().expect("drawn");
     let img = sheet.draw().unwrap();
     let lay = sheet.layout();
