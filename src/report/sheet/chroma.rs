@@ -9,17 +9,17 @@
 //! and the sheet says why. R is chosen as the error scale's range is: per row, the
 //! [`SCALE_PERCENTILE`](crate::report::tone::SCALE_PERCENTILE) of the xy distance over its lit
 //! pixels; the median over the rows of every sheet of the experiment, rounded up to 1-2-5
-//! ([`range_of`]). Under each chroma disc: the RMS xy distance over the disc's pixels, each
+//! ([`range_of`](super::super::tone::range_of)). Under each chroma disc: the RMS xy distance over the disc's pixels, each
 //! weighted by the reference's luminance Y ([`xy_error`], weight 1 per pixel); each row
 //! states the share of its chroma pixels beyond R.
 
 use super::super::canvas::fill;
-use super::super::number::{percent, sig};
+use super::super::number::sig;
 use super::super::text::{wrap, Label, BODY};
-use super::super::tone::{range_of, row_percentile, ErrorScope};
+use super::super::tone::ErrorScope;
+use super::layout::text_px;
 use super::layout::{BAR_H, BAR_W};
-use super::render::{text_px, Sheet, SheetRow};
-use crate::math::colour::{luminance, xy_distance, xy_error, Rgb};
+use crate::math::colour::{xy_error, Rgb};
 use image::RgbImage;
 use plotters::style::text_anchor::HPos;
 
@@ -74,56 +74,9 @@ pub fn sequential(v: f64) -> [u8; 3] {
     [0, 1, 2].map(|k| (a[k] as f64 + (b[k] as f64 - a[k] as f64) * f).round() as u8)
 }
 
-/// Per row of `sheet`, its lit pixels' xy distances (every view's disc), as f32.
-fn lit_distances(sheet: &Sheet, row: &SheetRow) -> Vec<f32> {
-    row.values
-        .iter()
-        .zip(&sheet.reference)
-        .flat_map(|(vals, refs)| vals.iter().zip(refs))
-        .filter(|(_, r)| luminance(**r) >= sheet.error.floor)
-        .map(|(v, r)| xy_distance(*v, *r) as f32)
-        .collect()
-}
-
-/// The chroma discs of sheets drawn with one scale (`scope`): drawn when some row of some sheet
-/// exceeds [`CHROMA_FLOOR`] on a lit pixel, R the median over all their rows of each row's
-/// high percentile ([`range_of`]).
-pub fn chroma_of(sheets: &[&Sheet], scope: ErrorScope) -> Chroma {
-    let per_row: Vec<Vec<f32>> = sheets.iter().flat_map(|s| s.rows.iter().map(|r| lit_distances(s, r))).collect();
-    let largest = per_row.iter().flatten().copied().filter(|d| d.is_finite()).fold(0.0f32, f32::max) as f64;
-    if largest <= CHROMA_FLOOR {
-        return Chroma::NotDrawn { largest };
-    }
-    Chroma::Drawn { range: range_of(per_row.into_iter().map(row_percentile).collect()), scope }
-}
-
-/// Gives every sheet of an experiment one chroma decision and scale ([`chroma_of`] over all).
-pub fn share_chroma(sheets: &mut [&mut Sheet]) {
-    let chroma = chroma_of(&sheets.iter().map(|s| &**s).collect::<Vec<_>>(), ErrorScope::Experiment);
-    for s in sheets.iter_mut() {
-        s.chroma = chroma;
-    }
-}
-
 /// The RMS xy distance over a disc's pixels, weighted by the reference's luminance Y.
 pub fn disc_figure(vals: &[Rgb], refs: &[Rgb]) -> String {
     format!("xy RMS {}", sig(xy_error(vals, refs, &vec![1.0; vals.len()]), 2))
-}
-
-/// The share of a row's chroma pixels beyond R, per view, for the row's saturation line.
-pub fn saturation(sheet: &Sheet, row: &SheetRow, range: f64) -> String {
-    let shares: Vec<String> = sheet
-        .views
-        .iter()
-        .zip(row.values.iter().zip(&sheet.reference))
-        .map(|(view, (vals, refs))| {
-            let n = vals.len().max(1);
-            let beyond = vals.iter().zip(refs).filter(|(v, r)| xy_distance(**v, **r) > range).count();
-            let name = view.caption.split(':').next().unwrap_or("disc");
-            format!("{name} {}", percent(beyond as f64 / n as f64))
-        })
-        .collect();
-    format!("; xy beyond {}: {}", sig(range, 2), shares.join(", "))
 }
 
 /// Draws the chroma colour bar at (x0, y0) — its title, meaning, ticks 0, R/2, R and how R was

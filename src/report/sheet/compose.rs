@@ -5,7 +5,7 @@
 use super::super::csvfile::CsvTable;
 use super::super::number::{percent, sig};
 use super::super::tone::{range_of, row_percentile, ErrorScale, ErrorScope, Tone, SCALE_PERCENTILE};
-use super::chroma::{chroma_of, share_chroma, Chroma};
+use super::chroma::{Chroma, CHROMA_FLOOR};
 use super::figures::{figures_from_table, RowFigures, SheetScores};
 use super::layout::{DISC, MAX_SCALE, THUMB_W};
 use super::render::{Sheet, SheetRow};
@@ -13,7 +13,7 @@ use super::thumbnail::latlong_thumbnail;
 use crate::encoders::encoder::Fitted;
 use crate::envmap::EnvMap;
 use crate::io::profile;
-use crate::math::colour::{luminance, Rgb};
+use crate::math::colour::{luminance, xy_distance, Rgb};
 use crate::pipeline::experiment::Experiment;
 use crate::pipeline::reuse::ReferenceCache;
 use crate::pipeline::runner::{cases, evaluate, score_fit, Case, CaseData, MapData};
@@ -290,5 +290,36 @@ pub fn share_error_scale<'a>(sheets: impl Iterator<Item = &'a mut Sheet>) {
         for l in s.lines.iter_mut().filter(|l| **l == old) {
             l.clone_from(&new);
         }
+    }
+}
+
+/// Per row of `sheet`, its lit pixels' xy distances (every view's disc), as f32.
+fn lit_distances(sheet: &Sheet, row: &SheetRow) -> Vec<f32> {
+    row.values
+        .iter()
+        .zip(&sheet.reference)
+        .flat_map(|(vals, refs)| vals.iter().zip(refs))
+        .filter(|(_, r)| luminance(**r) >= sheet.error.floor)
+        .map(|(v, r)| xy_distance(*v, *r) as f32)
+        .collect()
+}
+
+/// The chroma discs of sheets drawn with one scale (`scope`): drawn when some row of some sheet
+/// exceeds [`CHROMA_FLOOR`] on a lit pixel, R the median over all their rows of each row's
+/// high percentile ([`range_of`]).
+pub fn chroma_of(sheets: &[&Sheet], scope: ErrorScope) -> Chroma {
+    let per_row: Vec<Vec<f32>> = sheets.iter().flat_map(|s| s.rows.iter().map(|r| lit_distances(s, r))).collect();
+    let largest = per_row.iter().flatten().copied().filter(|d| d.is_finite()).fold(0.0f32, f32::max) as f64;
+    if largest <= CHROMA_FLOOR {
+        return Chroma::NotDrawn { largest };
+    }
+    Chroma::Drawn { range: range_of(per_row.into_iter().map(row_percentile).collect()), scope }
+}
+
+/// Gives every sheet of an experiment one chroma decision and scale ([`chroma_of`] over all).
+pub fn share_chroma(sheets: &mut [&mut Sheet]) {
+    let chroma = chroma_of(&sheets.iter().map(|s| &**s).collect::<Vec<_>>(), ErrorScope::Experiment);
+    for s in sheets.iter_mut() {
+        s.chroma = chroma;
     }
 }

@@ -2,7 +2,7 @@
 //! header, thumbnail, colour bars — and [`SheetLayout`], which places every cell, disc and the
 //! colour bar at the sheet's scale (each measure times the scale).
 
-use super::super::text::{text_width, BODY, HEADING};
+use super::super::text::{even_px, text_width, BODY, HEADING};
 
 /// A sphere's (disc's) diameter at scale 1, in pixels. Every measure below is in pixels at
 /// scale 1.
@@ -108,4 +108,10 @@ impl SheetLayout {
     pub fn chroma_text_width(&self) -> u32 {
         self.size().0 - self.scale * MARGIN - self.chroma_bar().0
     }
+}
+
+/// A text size at sheet scale `s`: the scale-1 size rounded to even pixels ([`even_px`]),
+/// times `s`, so it stays even (plotters keeps glyphs on the baseline only at even sizes).
+pub(super) fn text_px(size: f64, s: u32) -> f64 {
+    even_px(size) * s as f64
 }

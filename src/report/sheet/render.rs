@@ -3,13 +3,13 @@
 //! spheres per view per row — four with the chroma discs — and the figures under them).
 
 use super::super::canvas::{fill, paint_disc, CELL, PAPER};
-use super::super::number::percent;
-use super::super::text::{draw_labels, even_px, fit_text, wrap, Label, BODY, TITLE};
+use super::super::number::{percent, sig};
+use super::super::text::{draw_labels, fit_text, wrap, Label, BODY, TITLE};
 use super::super::tone::{diverging, ErrorScale, Tone};
-use super::chroma::{chroma_bar, disc_figure, saturation, sequential, Chroma};
+use super::chroma::{chroma_bar, disc_figure, sequential, Chroma};
 use super::layout::{
-    label_width, SheetLayout, BAR_H, BAR_W, CELL_H, CELL_W, DISC, HEADER_H, HEADER_LINES, LINE_H, MARGIN, MAX_SCALE,
-    NAME_PX, NOTE_PX, THUMB_H,
+    label_width, text_px, SheetLayout, BAR_H, BAR_W, CELL_H, CELL_W, DISC, HEADER_H, HEADER_LINES, LINE_H, MARGIN,
+    MAX_SCALE, NAME_PX, NOTE_PX, THUMB_H,
 };
 use crate::math::colour::{xy_distance, Rgb};
 use crate::reference::view::{Disc, View};
@@ -61,12 +61,6 @@ pub struct Sheet {
     pub chroma: Chroma,
     /// One row per encoder, in the experiment's order.
     pub rows: Vec<SheetRow>,
-}
-
-/// A text size at sheet scale `s`: the scale-1 size rounded to even pixels ([`even_px`]),
-/// times `s`, so it stays even (plotters keeps glyphs on the baseline only at even sizes).
-pub(super) fn text_px(size: f64, s: u32) -> f64 {
-    even_px(size) * s as f64
 }
 
 /// Draws the horizontal colour bar of an error scale at (x0, y0), with its title, its meaning
@@ -149,7 +143,7 @@ impl Sheet {
         }
         let lay = self.layout();
         let (w, h) = lay.size();
-        let (margin, cell_w, cell_h) = (s * MARGIN, s * CELL_W, s * CELL_H);
+        let (margin, cell_w) = (s * MARGIN, s * CELL_W);
         let mut img = RgbImage::from_pixel(w, h, image::Rgb(PAPER));
         let mut labels = Vec::new();
         labels.push(Label::new(&self.title, margin, margin, text_px(TITLE, s)).bold());
@@ -183,6 +177,16 @@ impl Sheet {
                 labels.push(Label::new(*name, cx, head_y + s * 20, text_px(BODY, s)).centre().grey());
             }
         }
+        self.draw_rows(&mut img, &mut labels, &lay);
+        draw_labels(&mut img, &labels)?;
+        Ok((img, labels))
+    }
+
+    /// Each encoding's row: its name and note, its discs per view, and the figures under the
+    /// first view's discs.
+    fn draw_rows(&self, img: &mut RgbImage, labels: &mut Vec<Label>, lay: &SheetLayout) {
+        let s = self.scale;
+        let (margin, cell_w, cell_h) = (s * MARGIN, s * CELL_W, s * CELL_H);
         for (r, row) in self.rows.iter().enumerate() {
             let (_, y) = lay.cell(r as u32, 0, 0);
             labels.push(Label::new(&row.name, margin, y + s * (CELL_H / 2 - 18), text_px(NAME_PX, s)).bold());
@@ -192,17 +196,17 @@ impl Sheet {
                 let vals = &row.values[v];
                 for col in 0..lay.columns() {
                     let (x, y) = lay.cell(r as u32, v as u32, col);
-                    fill(&mut img, x + s * 2, y, cell_w - s * 4, cell_h, CELL);
+                    fill(img, x + s * 2, y, cell_w - s * 4, cell_h, CELL);
                     let (dx, dy) = lay.disc(r as u32, v as u32, col);
                     match col {
-                        0 => paint_disc(&mut img, dx, dy, disc, CELL, |i| self.tone.map(refs[i])),
-                        1 => paint_disc(&mut img, dx, dy, disc, CELL, |i| self.tone.map(vals[i])),
-                        2 => paint_disc(&mut img, dx, dy, disc, CELL, |i| {
+                        0 => paint_disc(img, dx, dy, disc, CELL, |i| self.tone.map(refs[i])),
+                        1 => paint_disc(img, dx, dy, disc, CELL, |i| self.tone.map(vals[i])),
+                        2 => paint_disc(img, dx, dy, disc, CELL, |i| {
                             self.error.color(self.error.relative(refs[i], vals[i]))
                         }),
                         _ => {
                             let range = self.chroma.range().unwrap_or(1.0);
-                            paint_disc(&mut img, dx, dy, disc, CELL, |i| {
+                            paint_disc(img, dx, dy, disc, CELL, |i| {
                                 sequential(xy_distance(vals[i], refs[i]) / range)
                             });
                             let (cx, cy) = lay.cell(r as u32, v as u32, col);
@@ -228,7 +232,21 @@ impl Sheet {
                 labels.push(Label::new(self.saturation_line(row), x, y0 + cell_h + s * 40, text_px(BODY, s)));
             }
         }
-        draw_labels(&mut img, &labels)?;
-        Ok((img, labels))
     }
+}
+
+/// The share of a row's chroma pixels beyond R, per view, for the row's saturation line.
+fn saturation(sheet: &Sheet, row: &SheetRow, range: f64) -> String {
+    let shares: Vec<String> = sheet
+        .views
+        .iter()
+        .zip(row.values.iter().zip(&sheet.reference))
+        .map(|(view, (vals, refs))| {
+            let n = vals.len().max(1);
+            let beyond = vals.iter().zip(refs).filter(|(v, r)| xy_distance(**v, **r) > range).count();
+            let name = view.caption.split(':').next().unwrap_or("disc");
+            format!("{name} {}", percent(beyond as f64 / n as f64))
+        })
+        .collect();
+    format!("; xy beyond {}: {}", sig(range, 2), shares.join(", "))
 }

@@ -1,11 +1,12 @@
 //! The comparison sheets' unit tests: pixels, layout, scales, figures and labels.
 
 use super::chroma::*;
+use super::compose::chroma_of;
 use super::compose::*;
 use super::figures::*;
+use super::layout::text_px;
 use super::layout::*;
 use super::layout::{NAME_PX, NOTE_PX};
-use super::render::text_px;
 use super::render::*;
 use crate::envmap::EnvMap;
 use crate::math::colour::{luminance, Rgb};
