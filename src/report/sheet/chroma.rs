@@ -122,8 +122,8 @@ pub fn chroma_bar(img: &mut RgbImage, labels: &mut Vec<Label>, (x0, y0): (u32, u
         ErrorScope::Sheet => "this sheet's scale",
     };
     let how = format!(
-        "{whose}: median of the rows' 95th percentiles on lit pixels (Y_ref >= 1% of its mean), up to 1-2-5; \
-         drawn as an encoding exceeds {CHROMA_FLOOR} there"
+        "{whose}: median of the rows' 95th percentiles on lit pixels (Y_ref >= 1% of its mean) over \
+         the rows above {CHROMA_FLOOR}, up to 1-2-5; drawn as an encoding exceeds {CHROMA_FLOOR} there"
     );
     note(labels, x0, y0 + bar_h + s * 24, &how);
 }

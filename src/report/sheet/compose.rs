@@ -305,15 +305,19 @@ fn lit_distances(sheet: &Sheet, row: &SheetRow) -> Vec<f32> {
 }
 
 /// The chroma discs of sheets drawn with one scale (`scope`): drawn when some row of some sheet
-/// exceeds [`CHROMA_FLOOR`] on a lit pixel, R the median over all their rows of each row's
-/// high percentile ([`range_of`]).
+/// exceeds [`CHROMA_FLOOR`] on a lit pixel, R the median of each row's high percentile
+/// ([`range_of`]) over the rows whose percentile exceeds the floor, so the grey scenes of an
+/// experiment, where every encoding keeps the colour, do not shrink the scale of those in colour.
 pub fn chroma_of(sheets: &[&Sheet], scope: ErrorScope) -> Chroma {
     let per_row: Vec<Vec<f32>> = sheets.iter().flat_map(|s| s.rows.iter().map(|r| lit_distances(s, r))).collect();
     let largest = per_row.iter().flatten().copied().filter(|d| d.is_finite()).fold(0.0f32, f32::max) as f64;
     if largest <= CHROMA_FLOOR {
         return Chroma::NotDrawn { largest };
     }
-    Chroma::Drawn { range: range_of(per_row.into_iter().map(row_percentile).collect()), scope }
+    let coloured: Vec<f64> = per_row.into_iter().map(row_percentile).filter(|p| *p > CHROMA_FLOOR).collect();
+    // Every row's percentile at or under the floor while some pixel exceeds it: the floor's scale.
+    let range = if coloured.is_empty() { CHROMA_FLOOR } else { range_of(coloured) };
+    Chroma::Drawn { range, scope }
 }
 
 /// Gives every sheet of an experiment one chroma decision and scale ([`chroma_of`] over all).

@@ -206,9 +206,7 @@ impl Sheet {
                         }),
                         _ => {
                             let range = self.chroma.range().unwrap_or(1.0);
-                            paint_disc(img, dx, dy, disc, CELL, |i| {
-                                sequential(xy_distance(vals[i], refs[i]) / range)
-                            });
+                            paint_disc(img, dx, dy, disc, CELL, |i| sequential(xy_distance(vals[i], refs[i]) / range));
                             let (cx, cy) = lay.cell(r as u32, v as u32, col);
                             let at = (cx + cell_w / 2, cy + cell_h + s * 4);
                             labels.push(Label::new(disc_figure(vals, refs), at.0, at.1, text_px(BODY, s)).centre());

@@ -406,6 +406,9 @@ fn chroma_discs_are_drawn_where_encodings_differ_in_colour() {
     share_error_scale([&mut grey, &mut two].into_iter());
     assert_eq!(grey.chroma, two.chroma);
     assert!(matches!(grey.chroma, Chroma::Drawn { scope: ErrorScope::Experiment, .. }));
+    // The grey map's rows (every distance 0) do not shrink the shared scale: it is the scale of
+    // the rows in colour, here the two lights' own.
+    assert_eq!(two.chroma.range(), Some(range), "the grey rows left out of the shared scale");
 }
 
 /// The chroma disc of a row shows the xy distance of each pixel on the sequential map over
