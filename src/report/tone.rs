@@ -149,10 +149,18 @@ pub fn diverging(v: f64) -> [u8; 3] {
 /// [`diverging`] before rounding to 8 bits.
 fn diverging_exact(v: f64) -> [f64; 3] {
     let v = if v.is_finite() { v.clamp(-1.0, 1.0) } else { 0.0 };
-    let s = (v + 1.0) * 4.0;
+    ramp(&RDBU, (v + 1.0) * 0.5)
+}
+
+/// A 9-class colour table at t in [0, 1] (clamped; a value not finite reads 0), linearly
+/// interpolated between its classes, before rounding to 8 bits: the one ramp behind the
+/// diverging error map and the sheets' sequential chroma map.
+pub fn ramp(classes: &[[u8; 3]; 9], t: f64) -> [f64; 3] {
+    let t = if t.is_finite() { t.clamp(0.0, 1.0) } else { 0.0 };
+    let s = t * 8.0;
     let i = (s.floor() as usize).min(7);
     let f = s - i as f64;
-    let (a, b) = (RDBU[i], RDBU[i + 1]);
+    let (a, b) = (classes[i], classes[i + 1]);
     [0, 1, 2].map(|k| a[k] as f64 + (b[k] as f64 - a[k] as f64) * f)
 }
 

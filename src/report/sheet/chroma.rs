@@ -16,7 +16,7 @@
 use super::super::canvas::fill;
 use super::super::number::sig;
 use super::super::text::{wrap, Label, BODY};
-use super::super::tone::ErrorScope;
+use super::super::tone::{ramp, ErrorScope};
 use super::layout::text_px;
 use super::layout::{BAR_H, BAR_W};
 use crate::math::colour::{xy_error, Rgb};
@@ -66,12 +66,7 @@ const GREENS: [[u8; 3]; 9] = [
 
 /// The sequential colour map at v (clamped to [0, 1]), linearly interpolated between classes.
 pub fn sequential(v: f64) -> [u8; 3] {
-    let v = if v.is_finite() { v.clamp(0.0, 1.0) } else { 0.0 };
-    let s = v * 8.0;
-    let i = (s.floor() as usize).min(7);
-    let f = s - i as f64;
-    let (a, b) = (GREENS[i], GREENS[i + 1]);
-    [0, 1, 2].map(|k| (a[k] as f64 + (b[k] as f64 - a[k] as f64) * f).round() as u8)
+    ramp(&GREENS, v).map(|c| c.round() as u8)
 }
 
 /// The RMS xy distance over a disc's pixels, weighted by the reference's luminance Y.
