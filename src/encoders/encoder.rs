@@ -223,6 +223,15 @@ pub trait Encoder: Send + Sync {
             visit(i, self.fit(&FitInput::sphere(p)).as_ref());
         }
     }
+    /// The closed-form sphere error ([`Fitted::sphere_sq_error`]) of the sphere fit of each of
+    /// `probes` against its E/π SH3 `irradiance[i]`, which must be `probes[i].convolve_cosine()`,
+    /// written to `out[i]`: the numbers of the fits, bit for bit, without handing each fit to a
+    /// visitor (probe sets score through it). False (the default) when the encoder has no such
+    /// batch; `out` is then to be ignored and the caller fits each probe.
+    fn sphere_sq_errors(&self, probes: &[Sh9], irradiance: &[Sh9], out: &mut [f64]) -> bool {
+        let _ = (probes, irradiance, out);
+        false
+    }
     /// Whether the peer tool clamps this encoder's output at zero before scoring
     /// (FORMULAS §10); only `--metric probulator` reads this.
     fn peer_clamps(&self) -> bool {
@@ -325,6 +334,24 @@ pub fn fit_each_unboxed<F: Fitted>(probes: &[Sh9], visit: &mut dyn FnMut(usize, 
     for (i, p) in probes.iter().enumerate() {
         visit(i, &fit(p));
     }
+}
+
+/// [`Encoder::sphere_sq_errors`] for an encoder whose sphere fit of a probe is `fit(probe)`, a
+/// value with a closed-form error: each fit lives on the stack, its error called statically.
+/// False as soon as a fit has no closed form.
+pub fn sq_errors_unboxed<F: Fitted>(
+    probes: &[Sh9],
+    irradiance: &[Sh9],
+    out: &mut [f64],
+    fit: impl Fn(&Sh9) -> F,
+) -> bool {
+    for ((p, r), o) in probes.iter().zip(irradiance).zip(out) {
+        match fit(p).sphere_sq_error(r) {
+            Some(e) => *o = e,
+            None => return false,
+        }
+    }
+    true
 }
 
 /// Encoder settings from an experiment file or the command line. Every key must be read:

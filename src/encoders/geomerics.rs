@@ -17,7 +17,7 @@
 //!
 //! TOML keys: none. Degenerate inputs: R0 ≤ 0 gives 0; R1 = 0 gives the constant R0.
 
-use crate::encoders::encoder::{fit_each_unboxed, Encoder, Family, FitInput, Fitted, Params};
+use crate::encoders::encoder::{fit_each_unboxed, sq_errors_unboxed, Encoder, Family, FitInput, Fitted, Params};
 use crate::encoders::stored::{Role, Stored, Unit, Value};
 use crate::math::colour::Rgb;
 use crate::math::sh::{basis, Sh9, N_SH};
@@ -175,6 +175,9 @@ impl Encoder for Geomerics {
     }
     fn fit_sphere_each(&self, probes: &[Sh9], visit: &mut dyn FnMut(usize, &dyn Fitted)) {
         fit_each_unboxed(probes, visit, |p| self.fit_geomerics(p));
+    }
+    fn sphere_sq_errors(&self, probes: &[Sh9], irradiance: &[Sh9], out: &mut [f64]) -> bool {
+        sq_errors_unboxed(probes, irradiance, out, |p| self.fit_geomerics(p))
     }
     /// The peer tool scores its Geomerics without clamping (FORMULAS §10).
     fn peer_clamps(&self) -> bool {

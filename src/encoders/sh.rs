@@ -13,7 +13,7 @@
 //! Degenerate inputs need no fallback: the fit is a linear map of the coefficients (black in,
 //! black out; a 1e-300 L1 band stays 1e-300), so every finite input gives a finite output.
 
-use crate::encoders::encoder::{fit_each_unboxed, Encoder, Family, FitInput, Fitted, Params};
+use crate::encoders::encoder::{fit_each_unboxed, sq_errors_unboxed, Encoder, Family, FitInput, Fitted, Params};
 use crate::encoders::stored::{Role, Stored, Unit, SH_IRRADIANCE};
 use crate::math::colour::Rgb;
 use crate::math::sh::Sh9;
@@ -80,6 +80,9 @@ impl Encoder for ShEncoder {
     }
     fn fit_sphere_each(&self, probes: &[Sh9], visit: &mut dyn FnMut(usize, &dyn Fitted)) {
         fit_each_unboxed(probes, visit, |p| self.fit_sh(p));
+    }
+    fn sphere_sq_errors(&self, probes: &[Sh9], irradiance: &[Sh9], out: &mut [f64]) -> bool {
+        sq_errors_unboxed(probes, irradiance, out, |p| self.fit_sh(p))
     }
     /// Band 0 alone is the mean radiance, E/π = (1/4π)∫L dω ≥ 0. With band 1 a single light
     /// gives (1/4π)·e·(1 + 2 n·d), negative facing away from it.

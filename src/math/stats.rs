@@ -44,6 +44,7 @@ impl PartialEq for ExactSum {
 
 impl ExactSum {
     /// Adds a finite value (non-finite values are the caller's to count; they are ignored here).
+    #[inline]
     pub fn add(&mut self, v: f64) {
         if !v.is_finite() || v == 0.0 {
             return;
@@ -206,6 +207,7 @@ impl Sketch {
     }
 
     /// Adds a finite non-negative value (the caller counts anything else).
+    #[inline]
     pub fn add(&mut self, v: f64) {
         match Self::bucket(v) {
             Ok(i) => self.counts[i] += 1,
@@ -305,6 +307,7 @@ pub struct Summary {
 impl Summary {
     /// Adds one value: finite non-negative values are folded in, anything else only counted in
     /// `invalid`.
+    #[inline]
     pub fn add(&mut self, v: f64) {
         if !v.is_finite() || v < 0.0 {
             self.invalid += 1;

@@ -1,7 +1,7 @@
 //! A configured ZH3 encoder (one of the ids of [`crate::encoders::zh3`]'s table): its fit, with
 //! the solver's diagnostics, its stored form and its bytes when quantised.
 
-use crate::encoders::encoder::{fit_each_unboxed, Encoder, Family, FitInput, Fitted};
+use crate::encoders::encoder::{fit_each_unboxed, sq_errors_unboxed, Encoder, Family, FitInput, Fitted};
 use crate::encoders::quantise;
 use crate::encoders::stored::{sh_name, Role, Stored, Unit, Value};
 use crate::encoders::zh3::model::{hallucinate, solved, stored, AxisRule, Zh3};
@@ -234,6 +234,21 @@ impl Encoder for Zh3Encoder {
     }
     fn fit_sphere_each(&self, probes: &[Sh9], visit: &mut dyn FnMut(usize, &dyn Fitted)) {
         fit_each_unboxed(probes, visit, |p| self.fit_zh3(p));
+    }
+    /// The closed-form variants (hallucinated or stored k, not quantised) score straight from
+    /// the ZH3 ([`Zh3::sphere_sq_error`]), the others through their fits.
+    fn sphere_sq_errors(&self, probes: &[Sh9], irradiance: &[Sh9], out: &mut [f64]) -> bool {
+        if self.quantise || matches!(self.method, Method::Solved(_)) {
+            return sq_errors_unboxed(probes, irradiance, out, |p| self.fit_zh3(p));
+        }
+        for (irr, o) in irradiance.iter().zip(out) {
+            let zh3 = match self.method {
+                Method::Hallucinate(curve) => hallucinate(irr, self.rule, curve),
+                _ => stored(irr, self.rule),
+            };
+            *o = zh3.sphere_sq_error(irr);
+        }
+        true
     }
     /// The solved variants run L-BFGS: `probelab check` gives them the iterative tolerance.
     fn is_iterative(&self) -> bool {

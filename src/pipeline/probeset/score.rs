@@ -93,7 +93,7 @@ pub enum Method {
 /// when the fit has one ([`Fitted::sphere_sq_error`]: SH3 fits, Geomerics), else by `rule`.
 pub fn probe_rmse(fit: &dyn Fitted, reference: &Sh9, rule: &SphereRule) -> (f64, Method) {
     match fit.sphere_sq_error(reference) {
-        Some(se) => ((se.max(0.0) / (3.0 * 4.0 * PI)).sqrt(), Method::ClosedForm),
+        Some(se) => (closed_form_rmse(se), Method::ClosedForm),
         None => {
             let mut se = 0.0;
             for (&(n, w), y) in rule.nodes.iter().zip(&rule.basis) {
@@ -106,6 +106,11 @@ pub fn probe_rmse(fit: &dyn Fitted, reference: &Sh9, rule: &SphereRule) -> (f64,
             ((se / 3.0).sqrt(), Method::Quadrature)
         }
     }
+}
+
+/// The sphere RMSE (RGB mean) of a closed-form squared error ∫|ΔE|² dω summed over RGB.
+fn closed_form_rmse(se: f64) -> f64 {
+    (se.max(0.0) / (3.0 * 4.0 * PI)).sqrt()
 }
 
 /// RMS over the sphere of SH (RGB mean), closed form.
@@ -327,7 +332,9 @@ pub fn score(
 }
 
 /// Scores one block of probes with every encoder: `out` holds the block's errors encoder by
-/// encoder (`out[e * len + i]`), `tally` what the fold needs per encoder.
+/// encoder (`out[e * len + i]`), `tally` what the fold needs per encoder. An encoder with
+/// batch closed-form errors ([`crate::encoders::encoder::Encoder::sphere_sq_errors`]) gives
+/// them straight from the block's irradiance; any other is fitted probe by probe.
 fn score_block(
     block: &[Sh9],
     encoders: &[NamedEncoder],
@@ -335,29 +342,34 @@ fn score_block(
     out: &mut [ProbeError],
     tally: &mut [Tally],
 ) {
-    let references: Vec<(Sh9, f64)> = block
-        .iter()
-        .map(|p| {
-            let r = p.convolve_cosine();
-            (r, sh_rms(&r))
-        })
-        .collect();
+    let references: Vec<Sh9> = block.iter().map(Sh9::convolve_cosine).collect();
+    let rms: Vec<f64> = references.iter().map(sh_rms).collect();
+    let mut se = vec![0.0; block.len()];
+    let relative = |rmse: f64, rms: f64| {
+        if rms > 0.0 {
+            rmse / rms
+        } else if rmse == 0.0 {
+            0.0
+        } else {
+            f64::INFINITY
+        }
+    };
     for ((e, out), tally) in encoders.iter().zip(out.chunks_mut(block.len())).zip(tally) {
         let t = Instant::now();
         let mut closed = 0;
-        e.encoder.fit_sphere_each(block, &mut |i, fit| {
-            let (reference, rms) = &references[i];
-            let (rmse, method) = probe_rmse(fit, reference, rule);
-            closed += u64::from(method == Method::ClosedForm);
-            let rel = if *rms > 0.0 {
-                rmse / rms
-            } else if rmse == 0.0 {
-                0.0
-            } else {
-                f64::INFINITY
-            };
-            out[i] = (rmse, rel);
-        });
+        if e.encoder.sphere_sq_errors(block, &references, &mut se) {
+            for ((o, &se), &rms) in out.iter_mut().zip(&se).zip(&rms) {
+                let rmse = closed_form_rmse(se);
+                *o = (rmse, relative(rmse, rms));
+            }
+            closed = block.len() as u64;
+        } else {
+            e.encoder.fit_sphere_each(block, &mut |i, fit| {
+                let (rmse, method) = probe_rmse(fit, &references[i], rule);
+                closed += u64::from(method == Method::ClosedForm);
+                out[i] = (rmse, relative(rmse, rms[i]));
+            });
+        }
         tally.closed = closed;
         tally.first_bad = out.iter().position(|v| !v.0.is_finite() || !v.1.is_finite());
         tally.seconds = t.elapsed().as_secs_f64();
@@ -640,6 +652,37 @@ pub(super) mod tests {
                 assert_eq!(batch.diagnostics(), fit.diagnostics(), "{}", k.id);
             });
             assert_eq!(seen, (0..probes.len()).collect::<Vec<_>>(), "{}", k.id);
+        }
+    }
+
+    /// The batch errors probe sets score through are each encoder's fits' errors: for every
+    /// registered encoder with a batch, bit for bit `fit(..).sphere_sq_error`, on synthetic
+    /// probes and on probes whose L1 vanishes in every channel or in one (no zonal axis there).
+    #[test]
+    fn batch_errors_are_the_fits_errors() {
+        let mut probes = Synth::new(11, scene_palette()).probes(0, 40);
+        probes.push(crate::math::sh::constant(Rgb::new(0.2, 0.3, 0.4)));
+        probes.push(delta_light(DVec3::new(0.3, -0.8, 0.52).normalize(), Rgb::new(1.0, 0.0, 2.0)));
+        probes.push(probes[3] + delta_light(DVec3::X, Rgb::new(0.0, 0.5, 0.0)));
+        let irradiance: Vec<Sh9> = probes.iter().map(Sh9::convolve_cosine).collect();
+        let mut batched = Vec::new();
+        for k in crate::encoders::REGISTRY {
+            let e = crate::encoders::build(k.id, None, toml::Table::new()).unwrap();
+            let mut out = vec![f64::NAN; probes.len()];
+            if !e.encoder.sphere_sq_errors(&probes, &irradiance, &mut out) {
+                continue;
+            }
+            batched.push(k.id);
+            for (i, (p, r)) in probes.iter().zip(&irradiance).enumerate() {
+                let want = e.encoder.fit(&FitInput::sphere(p)).sphere_sq_error(r).unwrap();
+                assert_eq!(out[i].to_bits(), want.to_bits(), "{} probe {i}: {} vs {want}", k.id, out[i]);
+            }
+        }
+        for id in ["sh1", "sh2", "geomerics", "zh3_hallucinate", "zh3_hallucinate_channel", "zh3_hallucinate_ambdir"] {
+            assert!(batched.contains(&id), "{id} lost its batch errors: {batched:?}");
+        }
+        for id in ["zh3_hallucinate_sphere", "zh3_stored_channel", "zh3_stored_shared"] {
+            assert!(batched.contains(&id), "{id} lost its batch errors: {batched:?}");
         }
     }
 
