@@ -212,7 +212,10 @@ fn item_pages(dir: &Path, out: &mut Vec<String>) {
 }
 
 /// `cargo doc --no-deps --lib` into its own folder under `target/`, and the item pages it
-/// writes. The first run also checks the dependencies' metadata (about a minute on two cores).
+/// writes. The first run also checks the dependencies' metadata, without the dev profile's
+/// `opt-level = 3` for dependencies and without debug information: rustdoc reads only the
+/// dependencies' metadata, but the build scripts and proc macros it needs are compiled in full,
+/// and optimised they cost 2.4 times as much CPU (every page written is byte-identical).
 #[test]
 fn the_public_surface_is_small() {
     let exe = std::env::current_exe().expect("the test binary's path");
@@ -220,6 +223,7 @@ fn the_public_surface_is_small() {
     let status = Command::new(env!("CARGO"))
         .args(["doc", "--quiet", "--no-deps", "--lib", "--target-dir"])
         .arg(&target)
+        .args(["--config", "profile.dev.package.\"*\".opt-level = 0", "--config", "profile.dev.debug = false"])
         .current_dir(repo())
         .status()
         .expect("run cargo doc");

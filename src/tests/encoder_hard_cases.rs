@@ -32,7 +32,8 @@
 //! 5. `sphere_error_at_most_sh() == Some(l)`: sphere rmse against E_vis ≤ that of the SH
 //!    projection of the visible radiance through band l (computed from its definition here,
 //!    `Sh9::truncate` + `convolve_cosine`, not through any encoder).
-//! 6. `is_scale_covariant()`: fit(k·input) = k·fit(input) at every normal, k = 1e-30, 0.37,
+//! 6. `is_scale_covariant()`: fit(k·input) = k·fit(input) at every third normal of the grid
+//!    (`SCALE_STRIDE`: every output is smooth on a far larger scale), k = 1e-30, 0.37,
 //!    3.7e5, 1e30 (each where k times the input's smallest and largest non-zero coefficient
 //!    stays a normal f64), to 1e-7 of the largest output.
 //! 7. `promises_non_negative()`: every output on the sphere of normals is ≥ 0.
@@ -64,6 +65,15 @@ const LSQ_REL: f64 = 1e-5;
 const LSQ_ABS: f64 = 1e-9;
 /// Scale covariance: relative to the largest output.
 const SCALE_TOL: f64 = 1e-7;
+/// Scale covariance is compared at every third normal of the output grid (2731 of 8192: every
+/// row, every third column, the columns shifting by one each row since 128 = 3·42 + 2), about
+/// 8.4° apart in azimuth and 2.8° in polar angle. The identity is pointwise between two fits of
+/// the same encoder, and every output is smooth on a far larger scale (the sharpest lobes are
+/// the spherical Gaussians' λ = 6 radiance lobes, about 23° wide, and irradiance is their
+/// cosine-convolved, smoother form), so a scale-dependent branch, offset or lobe shows at these
+/// normals as it does at all of them; the maximum it is measured against stays that of the
+/// whole grid. Comparing 4 scales at every normal was about a third of this test's CPU time.
+const SCALE_STRIDE: usize = 3;
 
 /// Whether k times the input keeps every non-zero coefficient a normal f64 (with room for a
 /// few products).
@@ -250,6 +260,7 @@ fn scale_covariance(f: &FittedCase) -> Vec<String> {
             .normals
             .iter()
             .zip(&f.out_sphere)
+            .step_by(SCALE_STRIDE)
             .map(|(&n, v)| ((fk.irradiance(n) / k) - *v).abs().max_element())
             .fold(0.0, f64::max);
         if worst.is_nan() || worst > SCALE_TOL * m {
