@@ -90,7 +90,7 @@ impl RowPrefix {
         self.j
     }
     /// The W+1 cumulative moments at the texel edges.
-    #[inline]
+    #[cfg(test)]
     pub fn cum(&self) -> &[Moments] {
         &self.cum
     }
@@ -194,6 +194,22 @@ impl<'m> RowMoments<'m> {
         row.cum = cum;
         row.texels.clear();
         row.texels.extend(self.map.row(j).iter().map(|t| Rgb::new(t[0] as f64, t[1] as f64, t[2] as f64)));
+    }
+
+    /// Walks row j's m0 and m1 prefix sums without storing them: `at(k, L, F)` for each texel k,
+    /// with its radiance L and the cumulative moments F at its left edge (zero at k = 0). The
+    /// same sums in the same order as [`Self::fill`], so the same bits as the prefix it fills; the
+    /// row's last edge is [`Self::row_total01`].
+    #[inline(always)]
+    pub fn prefix01(&self, j: usize, mut at: impl FnMut(usize, Rgb, &Moments01)) {
+        let mut acc = Moments01::default();
+        for (k, (t, &[(r1, i1), _])) in self.map.row(j).iter().zip(&self.weights).enumerate() {
+            let l = Rgb::new(t[0] as f64, t[1] as f64, t[2] as f64);
+            at(k, l, &acc);
+            acc.m0 += l * self.dtheta;
+            acc.m1[0] += l * r1;
+            acc.m1[1] += l * i1;
+        }
     }
 
     /// Row j's prefix, newly allocated (see [`Self::fill`] to reuse one).
@@ -328,7 +344,7 @@ impl<'m> RowMoments<'m> {
 
 /// The widest partial texel (radians) for which [`sin_versin`] uses its series: maps at least
 /// 63 texels wide.
-const SERIES_MAX: f64 = 0.1;
+pub(crate) const SERIES_MAX: f64 = 0.1;
 
 /// (sin x, 1 − cos x) of a partial texel, 0 ≤ x ≤ one texel width. For x ≤ 0.1 by the Taylor
 /// series through x⁹ and x¹⁰ (the first omitted terms, x¹¹/11! and x¹²/12!, are below 3e-18
@@ -337,14 +353,21 @@ const SERIES_MAX: f64 = 0.1;
 #[inline]
 pub(crate) fn sin_versin(x: f64) -> (f64, f64) {
     if x.abs() <= SERIES_MAX {
-        let z = x * x;
-        let s = x * (1.0 + z * (-1.0 / 6.0 + z * (1.0 / 120.0 + z * (-1.0 / 5040.0 + z * (1.0 / 362_880.0)))));
-        let v = z * (0.5 + z * (-1.0 / 24.0 + z * (1.0 / 720.0 + z * (-1.0 / 40_320.0 + z * (1.0 / 3_628_800.0)))));
-        (s, v)
+        sin_versin_series(x)
     } else {
         let half = (0.5 * x).sin();
         (x.sin(), 2.0 * half * half)
     }
+}
+
+/// [`sin_versin`]'s series branch alone, for |x| ≤ [`SERIES_MAX`]: no branch, so a loop of
+/// it vectorises (the same operations, so the same bits as [`sin_versin`] there).
+#[inline(always)]
+pub(crate) fn sin_versin_series(x: f64) -> (f64, f64) {
+    let z = x * x;
+    let s = x * (1.0 + z * (-1.0 / 6.0 + z * (1.0 / 120.0 + z * (-1.0 / 5040.0 + z * (1.0 / 362_880.0)))));
+    let v = z * (0.5 + z * (-1.0 / 24.0 + z * (1.0 / 720.0 + z * (-1.0 / 40_320.0 + z * (1.0 / 3_628_800.0)))));
+    (s, v)
 }
 
 trait CosSin {
@@ -451,6 +474,17 @@ mod tests {
                 assert!((step.m1[0] - l * re).abs().max_element() <= 1e-12, "row {j} texel {k}");
                 assert!((step.m1[1] - l * im).abs().max_element() <= 1e-12, "row {j} texel {k}");
             }
+            // The streamed m0, m1 prefix (the direct row convolution's) is the stored one's, bit
+            // for bit, texel by texel.
+            let mut seen = 0;
+            rm.prefix01(j, |k, l, m| {
+                assert_eq!((k, l), (seen, row.texel(k)));
+                assert_eq!((m.m0, m.m1), (row.cum()[k].m0, row.cum()[k].m1), "row {j} edge {k}");
+                seen += 1;
+            });
+            assert_eq!(seen, map.width());
+            let t = rm.row_total01(j);
+            assert_eq!((t.m0, t.m1), (row.cum()[map.width()].m0, row.cum()[map.width()].m1));
         }
     }
 

@@ -17,7 +17,7 @@
 //! whatever the two widths (a W that is a multiple of w is the case q = 1), and a grid finer
 //! than the map works the same way.
 
-use crate::envmap::moments::{sin_versin, RowMoments, RowPrefix};
+use crate::envmap::moments::{sin_versin, sin_versin_series, Moments01, RowMoments, SERIES_MAX};
 use crate::envmap::LatLong;
 use crate::math::colour::Rgb;
 use crate::reference::antipode;
@@ -91,9 +91,13 @@ fn convolve(
     avx2: bool,
 ) {
     let n = rows_out.len() * out.width * 3;
-    let new = || Sums { acc: vec![0.0f64; n], prefix: RowPrefix::new(), phased: Phased::new(plan), nodes: Vec::new() };
+    let new = || Sums {
+        acc: vec![0.0f64; n],
+        phased: Phased::new(plan),
+        nodes: Vec::new(),
+        ends: [ClassEnds::new(plan.q), ClassEnds::new(plan.q)],
+    };
     let add = |sums: &mut Sums, j: usize| {
-        moments.fill(j, &mut sums.prefix);
         let row = InputRow { moments, plan, rule, out, rows_out, j };
         #[cfg(target_arch = "x86_64")]
         if avx2 {
@@ -125,10 +129,11 @@ fn convolve(
 /// writes them) and its work buffers.
 struct Sums {
     acc: Vec<f64>,
-    prefix: RowPrefix,
     phased: Phased,
     /// One row pair's polar nodes: a, b, weight and cos Δ (`row_pairs::for_each_node`).
     nodes: Vec<(f64, f64, f64, f64)>,
+    /// One polar node's upper and lower arc ends, every class's.
+    ends: [ClassEnds; 2],
 }
 
 /// One input row j against the output rows `rows_out`.
@@ -148,18 +153,18 @@ fn add_input_row_avx2(row: &InputRow, sums: &mut Sums) {
     add_input_row(row, sums);
 }
 
-/// Adds input row `row.j` (its moments in `sums.prefix`) to every output row: the row pair's
-/// polar nodes are listed first, so that their arcs run here and not in a callback.
+/// Adds input row `row.j` to every output row: the row pair's polar nodes are listed first, so
+/// that their arcs run here and not in a callback.
 #[inline(always)]
 fn add_input_row(row: &InputRow, sums: &mut Sums) {
     let (plan, rows) = (row.plan, row.moments.height());
-    sums.phased.fill(row.moments, &sums.prefix, plan);
+    sums.phased.fill(row.moments, row.j, plan);
     let polar = (PI * row.j as f64 / rows as f64, PI * (row.j + 1) as f64 / rows as f64);
     for (&jo, acc) in row.rows_out.iter().zip(sums.acc.chunks_exact_mut(row.out.width * 3)) {
         sums.nodes.clear();
         for_each_node(row.rule, row.out.phi_centre(jo), polar, |a, b, ws, t| sums.nodes.push((a, b, ws, t)));
         for &(a, b, ws, t) in &sums.nodes {
-            plan.add_node(&sums.phased, (a, b, ws), &plan.arc(t), acc);
+            plan.add_node(&sums.phased, (a, b, ws), &plan.arc(t), &mut sums.ends, acc);
         }
     }
 }
@@ -187,8 +192,12 @@ struct Plan {
     q: usize,
     /// Per class c, the centre of its first column in texels from θ = −π: (c + ½)·p/q.
     centre: Vec<f64>,
-    /// Per edge e = 0..=3W of [`Phased`], where its three channels start: phase e mod p, then
-    /// e / p within the phase (a table: no division in the inner loops).
+    /// [`Phased`] holds the edges k = −lo..W + lo, lo = ⌊W/2⌋ + 2: an arc end lies within half
+    /// a turn (plus rounding) of a first column's centre, which is within the first p texels,
+    /// and a class's last column is W − p texels past its first.
+    lo: usize,
+    /// Per stored edge e = k + lo, where its three channels start in [`Phased`]: phase e mod p,
+    /// then e / p within the phase (a table: no division in the inner loops).
     at: Vec<usize>,
 }
 
@@ -197,9 +206,11 @@ impl Plan {
         let g = gcd(width, out_width);
         let (p, q) = (width / g, out_width / g);
         let centre = (0..q).map(|c| ((2 * c + 1) * p) as f64 / (2 * q) as f64).collect();
-        let len = 3 * g + 1;
-        let at = (0..=3 * width).map(|e| ((e % p) * len + e / p) * 3).collect();
-        Plan { width, h, g, p, q, centre, at }
+        let lo = width / 2 + 2;
+        let edges = width + 2 * lo;
+        let len = edges.div_ceil(p);
+        let at = (0..edges).map(|e| ((e % p) * len + e / p) * 3).collect();
+        Plan { width, h, g, p, q, centre, lo, at }
     }
 
     /// A polar node's half-arc from t = cos Δ (the whole circle when t ≤ −1).
@@ -212,34 +223,60 @@ impl Plan {
         }
     }
 
-    /// One arc end of a class: where its three channels start in [`Phased`], and the factors
-    /// of C0, Re C1″, Im C1″ and L there. `e` is +1 for the upper end, −1 for the lower, and
-    /// `ws` carries the end's sign.
+    /// One arc end of every class, into `out`: the texel k it lies in, and the factors of C0,
+    /// Re C1″, Im C1″ and L there. `e` is +1 for the upper end, −1 for the lower, and `ws`
+    /// carries the end's sign. A loop over the classes with no branch where the partial texel's
+    /// sine and versine take the series (texels at most [`SERIES_MAX`] wide), so it runs four
+    /// classes a step where the CPU has AVX2.
     #[inline(always)]
-    fn end(&self, centre: f64, arc: &Arc, e: f64, (a, b, ws): (f64, f64, f64)) -> (usize, [f64; 4]) {
-        // The end at u = centre ± Δ texels lies in texel k, a fraction f·h into it.
-        let u = centre + e * arc.delta;
-        let k = u.floor();
-        let f = (u - k) * self.h;
-        let (sf, vf) = sin_versin(f);
-        // z = e^{i(u_centre − k)h} = e^{i(f ∓ Δ)}, the column centre seen from the edge.
-        let cf = 1.0 - vf;
-        let (zc, zs) = (arc.cos * cf + e * arc.sin * sf, arc.cos * sf - e * arc.sin * cf);
-        // The partial texel: L·z·(sin f − i(1 − cos f)); κ is its real part over L.
-        let kappa = zc * sf + zs * vf;
-        let off = (k as i64 + self.width as i64) as usize;
-        (self.at[off], [ws * b, ws * a * zc, -ws * a * zs, ws * (b * f + a * kappa)])
+    fn ends(&self, arc: &Arc, e: f64, kernel: (f64, f64, f64), out: &mut ClassEnds) {
+        if self.h <= SERIES_MAX {
+            self.ends_with(arc, e, kernel, out, sin_versin_series);
+        } else {
+            self.ends_with(arc, e, kernel, out, sin_versin);
+        }
     }
 
-    /// One polar node: the kernel a·cos + b with weight `ws` over the arc ±Δ.
+    /// [`Self::ends`] with the partial texel's (sin, versin) from `sv`.
     #[inline(always)]
-    fn add_node(&self, row: &Phased, kernel: (f64, f64, f64), arc: &Arc, acc: &mut [f64]) {
+    fn ends_with(&self, arc: &Arc, e: f64, (a, b, ws): (f64, f64, f64), out: &mut ClassEnds, sv: fn(f64) -> (f64, f64)) {
+        let q = self.q;
+        let (centre, ks) = (&self.centre[..q], &mut out.k[..q]);
+        let (x1, x2, x3) = (&mut out.x1[..q], &mut out.x2[..q], &mut out.x3[..q]);
+        out.x0 = ws * b;
+        for c in 0..q {
+            // The end at u = centre ± Δ texels lies in texel k, a fraction f·h into it.
+            let u = centre[c] + e * arc.delta;
+            let k = u.floor();
+            let f = (u - k) * self.h;
+            let (sf, vf) = sv(f);
+            // z = e^{i(u_centre − k)h} = e^{i(f ∓ Δ)}, the column centre seen from the edge.
+            let cf = 1.0 - vf;
+            let (zc, zs) = (arc.cos * cf + e * arc.sin * sf, arc.cos * sf - e * arc.sin * cf);
+            // The partial texel: L·z·(sin f − i(1 − cos f)); κ is its real part over L.
+            let kappa = zc * sf + zs * vf;
+            ks[c] = k;
+            x1[c] = ws * a * zc;
+            x2[c] = -ws * a * zs;
+            x3[c] = ws * (b * f + a * kappa);
+        }
+    }
+
+    /// One polar node: the kernel a·cos + b with weight `ws` over the arc ±Δ; `ends` is work
+    /// space for its two ends.
+    #[inline(always)]
+    fn add_node(&self, row: &Phased, kernel: (f64, f64, f64), arc: &Arc, ends: &mut [ClassEnds; 2], acc: &mut [f64]) {
         let n = 3 * self.g;
         let (a, b, ws) = kernel;
-        for (c, &centre) in self.centre.iter().enumerate() {
-            let (hi, [h0, h1, h2, h3]) = self.end(centre, arc, 1.0, kernel);
-            let (lo, [l0, l1, l2, l3]) = self.end(centre, arc, -1.0, (a, b, -ws));
-            let o = &mut acc[c * n..][..n];
+        let [up, down] = ends;
+        self.ends(arc, 1.0, kernel, up);
+        self.ends(arc, -1.0, (a, b, -ws), down);
+        let at = |k: f64| self.at[(k as i64 + self.lo as i64) as usize];
+        let (h0, l0) = (up.x0, down.x0);
+        for (c, o) in acc.chunks_exact_mut(n).enumerate() {
+            let (hi, lo) = (at(up.k[c]), at(down.k[c]));
+            let (h1, h2, h3) = (up.x1[c], up.x2[c], up.x3[c]);
+            let (l1, l2, l3) = (down.x1[c], down.x2[c], down.x3[c]);
             let (a0, a1, a2, a3) = (&row.c0[hi..][..n], &row.c1r[hi..][..n], &row.c1i[hi..][..n], &row.l[hi..][..n]);
             let (b0, b1, b2, b3) = (&row.c0[lo..][..n], &row.c1r[lo..][..n], &row.c1i[lo..][..n], &row.l[lo..][..n]);
             // Nine slices of one length, indexed together (the bounds checks are hoisted).
@@ -252,6 +289,23 @@ impl Plan {
     }
 }
 
+/// One arc end of every class of a polar node (structure of arrays, one entry a class): the
+/// texel k the end lies in, and the factors of C0 (`x0`, the same for every class), Re C1″,
+/// Im C1″ and L there.
+struct ClassEnds {
+    k: Vec<f64>,
+    x0: f64,
+    x1: Vec<f64>,
+    x2: Vec<f64>,
+    x3: Vec<f64>,
+}
+
+impl ClassEnds {
+    fn new(q: usize) -> Self {
+        ClassEnds { k: vec![0.0; q], x0: 0.0, x1: vec![0.0; q], x2: vec![0.0; q], x3: vec![0.0; q] }
+    }
+}
+
 /// The kernel's half-arc on one parallel: Δ in texels, cos Δ and sin Δ.
 struct Arc {
     delta: f64,
@@ -259,43 +313,58 @@ struct Arc {
     sin: f64,
 }
 
-/// One input row's cumulative moments at its texel edges over three turns (edges −W..2W, the
-/// whole turns' totals added), with C1 rotated by e^{iθ_edge}, and the texel right of each
-/// edge; stored phase by phase (edge e at [`Plan::at`]: phase e mod p, then e / p) so a class's
-/// columns read consecutive values, the three channels of an edge side by side.
+/// One input row's cumulative moments at its texel edges k = −lo..W + lo ([`Plan::lo`]; whole
+/// turns' totals added past the row's ends), with C1 rotated by e^{iθ_edge}, and the texel
+/// right of each edge; stored phase by phase (edge k at [`Plan::at`]: phase (k + lo) mod p,
+/// then (k + lo) / p) so a class's columns read consecutive values, the three channels of an
+/// edge side by side.
 struct Phased {
     c0: Vec<f64>,
     c1r: Vec<f64>,
     c1i: Vec<f64>,
     l: Vec<f64>,
+    /// The row's W left edges in order: cumulative m0 and m1, the texel, e^{iθ_edge}.
+    edges: Vec<(Moments01, Rgb, (f64, f64))>,
 }
 
 impl Phased {
     fn new(plan: &Plan) -> Self {
-        let n = plan.p * (3 * plan.g + 1) * 3;
-        Phased { c0: vec![0.0; n], c1r: vec![0.0; n], c1i: vec![0.0; n], l: vec![0.0; n] }
+        let n = plan.p * plan.at.len().div_ceil(plan.p) * 3;
+        let edges = Vec::with_capacity(plan.width);
+        Phased { c0: vec![0.0; n], c1r: vec![0.0; n], c1i: vec![0.0; n], l: vec![0.0; n], edges }
     }
 
+    /// Row j's values: its prefix sums in order (`RowMoments::prefix01`), then written phase by
+    /// phase, so that the writes run along the arrays (written edge by edge, every store would
+    /// land on another cache line of a table larger than the cache at 16k).
     #[inline(always)]
-    fn fill(&mut self, moments: &RowMoments, row: &RowPrefix, plan: &Plan) {
-        let w = plan.width;
-        let cum = row.cum();
-        let total = cum[w];
-        for e in 0..=3 * w {
-            let k = e as i64 - w as i64;
-            let wraps = k.div_euclid(w as i64) as f64;
-            let kk = k.rem_euclid(w as i64) as usize;
-            let m = cum[kk];
-            // e^{iθ_edge(k)}
-            let (ct, st) = moments.edge_cis1(kk);
-            let l = row.texel(kk);
-            let at = plan.at[e];
-            for ch in 0..3 {
-                let (r, i) = (m.m1[0][ch] + wraps * total.m1[0][ch], m.m1[1][ch] + wraps * total.m1[1][ch]);
-                self.c0[at + ch] = m.m0[ch] + wraps * total.m0[ch];
-                self.c1r[at + ch] = r * ct - i * st;
-                self.c1i[at + ch] = r * st + i * ct;
-                self.l[at + ch] = l[ch];
+    fn fill(&mut self, moments: &RowMoments, j: usize, plan: &Plan) {
+        self.edges.clear();
+        moments.prefix01(j, |kk, l, m| self.edges.push((*m, l, moments.edge_cis1(kk))));
+        let total = moments.row_total01(j);
+        let (w, p, lo, edges) = (plan.width, plan.p, plan.lo as i64, plan.at.len());
+        let slots = edges.div_ceil(p);
+        for ph in 0..p.min(edges) {
+            // Edge e = ph + p·s is k = e − lo = kk + wraps·W, stepping p texels a slot.
+            let k = ph as i64 - lo;
+            let mut wraps = k.div_euclid(w as i64);
+            let mut kk = (k - wraps * w as i64) as usize;
+            let base = ph * slots * 3;
+            for at in (0..slots).take_while(|s| ph + p * s < edges).map(|s| base + 3 * s) {
+                let (m, l, (ct, st)) = &self.edges[kk];
+                let wr = wraps as f64;
+                for ch in 0..3 {
+                    let (r, i) = (m.m1[0][ch] + wr * total.m1[0][ch], m.m1[1][ch] + wr * total.m1[1][ch]);
+                    self.c0[at + ch] = m.m0[ch] + wr * total.m0[ch];
+                    self.c1r[at + ch] = r * ct - i * st;
+                    self.c1i[at + ch] = r * st + i * ct;
+                    self.l[at + ch] = l[ch];
+                }
+                kk += p;
+                while kk >= w {
+                    kk -= w;
+                    wraps += 1;
+                }
             }
         }
     }
