@@ -328,11 +328,24 @@ fn pair_spectra(
     count: usize,
     spectra: &mut [Vec<f64>; 2],
 ) {
-    let w = plan.width;
-    for (m, z) in buf.iter_mut().enumerate() {
-        let at = m.min(w - m);
-        let im = if count == 2 { halves[1][at] } else { 0.0 };
-        *z = Complex64::new(halves[0][at], im);
+    // κ[m] for m ≤ W/2, then κ[W − m] mirrored: straight loops, no index folding per value.
+    let (low, high) = buf.split_at_mut(plan.width / 2 + 1);
+    let n = high.len();
+    let [h0, h1] = halves;
+    if count == 2 {
+        for ((z, &re), &im) in low.iter_mut().zip(h0).zip(h1) {
+            *z = Complex64::new(re, im);
+        }
+        for ((z, &re), &im) in high.iter_mut().zip(h0[1..=n].iter().rev()).zip(h1[1..=n].iter().rev()) {
+            *z = Complex64::new(re, im);
+        }
+    } else {
+        for (z, &re) in low.iter_mut().zip(h0) {
+            *z = Complex64::new(re, 0.0);
+        }
+        for (z, &re) in high.iter_mut().zip(h0[1..=n].iter().rev()) {
+            *z = Complex64::new(re, 0.0);
+        }
     }
     plan.forward.process_with_scratch(buf, scratch);
     let [s0, s1] = spectra;
