@@ -7,8 +7,13 @@ use glam::DVec3;
 /// The unit direction of azimuth θ and polar angle φ (FORMULAS §1):
 /// (sin φ sin θ, cos φ, −sin φ cos θ).
 pub fn direction(theta: f64, phi: f64) -> DVec3 {
-    let (st, ct) = theta.sin_cos();
-    let (sp, cp) = phi.sin_cos();
+    direction_of(theta.sin_cos(), phi.sin_cos())
+}
+
+/// [`direction`] from the sines and cosines of θ and φ, (sin θ, cos θ) and (sin φ, cos φ): for
+/// a grid of directions, whose rows and columns share them.
+#[inline]
+pub fn direction_of((st, ct): (f64, f64), (sp, cp): (f64, f64)) -> DVec3 {
     DVec3::new(sp * st, cp, -sp * ct)
 }
 

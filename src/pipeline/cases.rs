@@ -6,7 +6,7 @@
 
 use crate::encoders::encoder::FitInput;
 use crate::envmap::moments::RowMoments;
-use crate::envmap::EnvMap;
+use crate::envmap::{EnvMap, LatLong};
 use crate::math::cap::Cap;
 use crate::math::colour::Rgb;
 use crate::math::sh::Sh9;
@@ -248,18 +248,23 @@ impl<'a> CaseData<'a> {
         CaseData { cache: Some(cache), ..self }
     }
 
-    /// The capped reference (no self-bounce) at `normals` by `path`: `compute`'s values, or
-    /// the cache's when it has this key; None only when `compute` was stopped.
+    /// The capped reference (no self-bounce) at `normals`, on the lat-long path when `grid`
+    /// (`normals` are then that grid's), else per normal: `compute`'s values, or the cache's
+    /// when it has this key; None only when `compute` was stopped.
     fn capped(
         &self,
-        path: Path,
+        grid: Option<LatLong>,
         normals: &[DVec3],
         phase: &'static str,
         compute: impl FnOnce() -> Option<Vec<Rgb>>,
     ) -> Option<Vec<Rgb>> {
         match self.cache {
             Some(cache) => {
-                let key = self.map_sha256.map(|m| Key::new(m, &self.case.masks, self.polar_nodes, path, normals));
+                let (masks, nodes) = (&self.case.masks, self.polar_nodes);
+                let key = self.map_sha256.map(|m| match grid {
+                    Some(grid) => Key::latlong(m, masks, nodes, grid),
+                    None => Key::new(m, masks, nodes, Path::PerNormal, normals),
+                });
                 cache.values(key, phase, compute)
             }
             None => compute(),
@@ -281,7 +286,7 @@ impl<'a> CaseData<'a> {
     pub fn reference_many_as(&self, normals: &[DVec3], phase: &'static str) -> Vec<Rgb> {
         let compute = || Some(self.reference.irradiance_many(normals));
         // Cannot fail: the per-normal path is never stopped.
-        let mut v = self.capped(Path::PerNormal, normals, phase, compute).expect("never stopped");
+        let mut v = self.capped(None, normals, phase, compute).expect("never stopped");
         self.add_self_bounce(normals, &mut v);
         v
     }
@@ -295,13 +300,13 @@ impl<'a> CaseData<'a> {
     /// [`Self::reference_on`], checking `stop` between the map's rows (on the lat-long path):
     /// once it says stop, the values mean nothing.
     pub fn reference_on_until(&self, grid: &OutputGrid, stop: &(dyn Fn() -> bool + Sync)) -> Vec<Rgb> {
-        let (path, compute): (Path, Box<dyn FnOnce() -> Vec<Rgb>>) = match grid.latlong {
-            Some(ll) => (Path::LatLong, Box::new(move || self.reference.irradiance_latlong_until(ll, stop))),
-            None => (Path::PerNormal, Box::new(|| self.reference.irradiance_many(&grid.normals))),
+        let compute: Box<dyn FnOnce() -> Vec<Rgb>> = match grid.latlong {
+            Some(ll) => Box::new(move || self.reference.irradiance_latlong_until(ll, stop)),
+            None => Box::new(|| self.reference.irradiance_many(&grid.normals)),
         };
         // Stopped values are handed back (they mean nothing) but never kept.
         let mut stopped = None;
-        let kept = self.capped(path, &grid.normals, REFERENCE, || {
+        let kept = self.capped(grid.latlong, &grid.normals, REFERENCE, || {
             let v = compute();
             if stop() {
                 stopped = Some(v);

@@ -10,8 +10,9 @@
 //! The key is everything the values depend on: the map's pixel sha256 (a map without one,
 //! held only in memory, is never kept), the caps (each axis and cosine, bit for bit), the polar
 //! nodes, which path evaluates them (the lat-long grid's or the per-normal one, which agree
-//! only to rounding) and the sha256 of the normals' bits with their count. So a value handed
-//! back is the very value the caller would have computed, bit for bit.
+//! only to rounding) and the sha256 of the normals' bits with their count (on the lat-long
+//! path, the grid's size, which fixes its normals). So a value handed back is the very value
+//! the caller would have computed, bit for bit.
 //!
 //! Memory stays bounded: at most [`BUDGET_BYTES`] of values are kept; past it the least
 //! recently used are dropped first (a dropped value is computed again when asked for). The
@@ -20,6 +21,7 @@
 use crate::io::profile::{self, Profile};
 use crate::math::cap::Cap;
 use crate::math::colour::Rgb;
+use crate::envmap::LatLong;
 use glam::DVec3;
 use sha2::{Digest, Sha256};
 use std::collections::HashMap;
@@ -60,21 +62,37 @@ impl Key {
     /// `polar_nodes`, evaluated by `path` at `normals`.
     pub fn new(map: &str, caps: &[Cap], polar_nodes: usize, path: Path, normals: &[DVec3]) -> Key {
         let mut h = Sha256::new();
-        for n in normals {
-            for c in n.to_array() {
-                h.update(c.to_bits().to_le_bytes());
-            }
+        // The bits go to the digest a block of normals at a time (a call per value costs more
+        // than the digest of its eight bytes).
+        let mut bytes = Vec::with_capacity(24 * NORMALS_PER_UPDATE);
+        for block in normals.chunks(NORMALS_PER_UPDATE) {
+            bytes.clear();
+            bytes.extend(block.iter().flat_map(|n| n.to_array()).flat_map(|c| c.to_bits().to_le_bytes()));
+            h.update(&bytes);
         }
+        Key { map: map.to_string(), caps: cap_bits(caps), polar_nodes, path, normals: h.finalize().into(), count: normals.len() }
+    }
+
+    /// The key of the reference on the lat-long output grid `grid` (`Path::LatLong`): its
+    /// values are a function of the grid's size, which fixes its normals, so the size stands
+    /// for them (no digest of its normals' bits).
+    pub fn latlong(map: &str, caps: &[Cap], polar_nodes: usize, grid: LatLong) -> Key {
+        let mut normals = [0u8; 32];
+        normals[..8].copy_from_slice(&(grid.width as u64).to_le_bytes());
+        normals[8..16].copy_from_slice(&(grid.height as u64).to_le_bytes());
         Key {
             map: map.to_string(),
             caps: cap_bits(caps),
             polar_nodes,
-            path,
-            normals: h.finalize().into(),
-            count: normals.len(),
+            path: Path::LatLong,
+            normals,
+            count: grid.width * grid.height,
         }
     }
 }
+
+/// Normals whose bits [`Key::new`] hands the digest in one call.
+const NORMALS_PER_UPDATE: usize = 256;
 
 /// Each cap's axis and cosine, bit for bit: caps equal here bound the same light.
 pub fn cap_bits(caps: &[Cap]) -> Vec<[u64; 4]> {
@@ -224,6 +242,26 @@ mod tests {
         assert_eq!(cache.values(key("c", &[], Path::LatLong, &normals), "t", || None), None);
         assert_eq!(cache.values(key("c", &[], Path::LatLong, &normals), "t", || one(6.0)), one(6.0));
         assert_eq!(cache.counts(), (11, 1));
+    }
+
+    /// A lat-long grid's key is its size's: grids of other sizes, the per-normal path at the
+    /// same normals, another map or other caps are other keys.
+    #[test]
+    fn a_latlong_key_is_the_grid_size() {
+        let grid = LatLong::new(4, 2);
+        let normals: Vec<DVec3> = (0..2).flat_map(|j| (0..4).map(move |i| grid.direction(i, j))).collect();
+        let k = Key::latlong("a", &[], 2, grid);
+        assert_eq!(k, Key::latlong("a", &[], 2, LatLong::new(4, 2)));
+        for other in [
+            Key::latlong("a", &[], 2, LatLong::new(2, 4)),
+            Key::latlong("a", &[], 2, LatLong::new(8, 1)),
+            Key::latlong("b", &[], 2, grid),
+            Key::latlong("a", &[Cap::hemisphere(DVec3::Y)], 2, grid),
+            Key::latlong("a", &[], 3, grid),
+            Key::new("a", &[], 2, Path::PerNormal, &normals),
+        ] {
+            assert_ne!(k, other);
+        }
     }
 
     /// Past the budget the least recently used value goes first; a value over the whole budget

@@ -34,23 +34,48 @@ pub(crate) fn direct_rows(out: LatLong) -> usize {
     }
 }
 
+/// Each input row's polar nodes when no breakpoint splits it, (sin φ, cos φ, weight) each:
+/// what [`linear_parts`] reads for every output row whose breakpoints miss the row (most of
+/// them), instead of taking the same sines again.
+fn unsplit_nodes(rule: &[(f64, f64)], rows: usize) -> Vec<Vec<(f64, f64, f64)>> {
+    (0..rows)
+        .map(|j| {
+            let mut nodes = Vec::with_capacity(rule.len());
+            let (p0, p1) = (PI * j as f64 / rows as f64, PI * (j + 1) as f64 / rows as f64);
+            for_each_polar_node(p0, p1, &[], rule, |phi, wt| {
+                let (s, c) = phi.sin_cos();
+                nodes.push((s, c, wt));
+            });
+            nodes
+        })
+        .collect()
+}
+
 /// n·M₁ integrated with the polar nodes of output row `jo`, for the normals of that row, as
-/// three parts: ∫∫ L n·ω = z + x·cos θₙ − y·sin θₙ (before the 1/π).
-fn linear_parts(moments: &RowMoments, rule: &[(f64, f64)], phi_o: f64) -> [Rgb; 3] {
+/// three parts: ∫∫ L n·ω = z + x·cos θₙ − y·sin θₙ (before the 1/π). `unsplit` are
+/// [`unsplit_nodes`]; a row that one of the output row's breakpoints splits takes its own.
+fn linear_parts(moments: &RowMoments, rule: &[(f64, f64)], unsplit: &[Vec<(f64, f64, f64)>], phi_o: f64) -> [Rgb; 3] {
     let (sin_o, cos_o) = phi_o.sin_cos();
     let half_pi = 0.5 * PI;
     let breaks = [(phi_o - half_pi).abs(), PI - (half_pi - phi_o).abs()];
     let rows = moments.height();
     let mut parts = [Rgb::ZERO; 3];
-    for j in 0..rows {
+    for (j, nodes) in unsplit.iter().enumerate() {
         let total = moments.row_total(j);
         let (p0, p1) = (PI * j as f64 / rows as f64, PI * (j + 1) as f64 / rows as f64);
         let (mut sa, mut sb) = (0.0, 0.0);
-        for_each_polar_node(p0, p1, &breaks, rule, |phi, wt| {
-            let (s, c) = phi.sin_cos();
+        let mut add = |s: f64, c: f64, wt: f64| {
             sa += wt * s * sin_o * s;
             sb += wt * s * cos_o * c;
-        });
+        };
+        if breaks.iter().any(|&b| b > p0 && b < p1) {
+            for_each_polar_node(p0, p1, &breaks, rule, |phi, wt| {
+                let (s, c) = phi.sin_cos();
+                add(s, c, wt);
+            });
+        } else {
+            nodes.iter().for_each(|&(s, c, wt)| add(s, c, wt));
+        }
         parts[0] += total.m0 * sb;
         parts[1] += total.m1[0] * sa;
         parts[2] += total.m1[1] * sa;
@@ -71,11 +96,12 @@ pub(crate) fn mirror(moments: &RowMoments, rule: &[(f64, f64)], out: LatLong, va
     let (w, h) = (out.width, out.height);
     let top = direct_rows(out);
     let mut cancelled = Vec::new();
+    let unsplit = unsplit_nodes(rule, moments.height());
+    let columns: Vec<(f64, f64)> = (0..w).map(|i| out.theta_centre(i).sin_cos()).collect();
     for jo in top..h {
         let src = h - 1 - jo;
-        let [z, x, y] = linear_parts(moments, rule, out.phi_centre(src));
-        for i in 0..w {
-            let (sin_t, cos_t) = out.theta_centre(i).sin_cos();
+        let [z, x, y] = linear_parts(moments, rule, &unsplit, out.phi_centre(src));
+        for (i, &(sin_t, cos_t)) in columns.iter().enumerate() {
             let linear = (z + x * cos_t - y * sin_t) * FRAC_1_PI;
             let e = values[src * w + i] - linear;
             let at = jo * w + (i + w / 2) % w;

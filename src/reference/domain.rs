@@ -2,6 +2,7 @@
 //! weights, and the surface orientations (normals N) of hemisphere experiments.
 
 use crate::envmap::LatLong;
+use crate::math::convention::direction_of;
 use anyhow::{bail, Result};
 use glam::{DQuat, DVec3};
 
@@ -40,12 +41,14 @@ impl Domain {
             Domain::Sphere => {
                 let mut normals = Vec::with_capacity(res.0 * res.1);
                 let mut weights = Vec::with_capacity(res.0 * res.1);
+                // `g.direction(i, j)` to the bit, its sines and cosines taken once a column and
+                // once a row.
+                let columns: Vec<(f64, f64)> = (0..g.width).map(|i| g.theta_centre(i).sin_cos()).collect();
                 for j in 0..g.height {
                     let w = g.solid_angle(j);
-                    for i in 0..g.width {
-                        normals.push(g.direction(i, j));
-                        weights.push(w);
-                    }
+                    let row = g.phi_centre(j).sin_cos();
+                    normals.extend(columns.iter().map(|&column| direction_of(column, row)));
+                    weights.extend(std::iter::repeat_n(w, g.width));
                 }
                 OutputGrid { normals, weights, latlong: Some(g), resolution: res }
             }
@@ -140,6 +143,18 @@ pub fn expand_orientations(name: &str) -> Result<Vec<Orientation>> {
 mod tests {
     use super::*;
     use std::f64::consts::PI;
+
+    #[test]
+    fn sphere_normals_are_the_grid_directions() {
+        for (w, h) in [(1, 1), (5, 3), (256, 128)] {
+            let g = LatLong::new(w, h);
+            let grid = Domain::Sphere.output_grid((w, h));
+            for (k, n) in grid.normals.iter().enumerate() {
+                assert_eq!(*n, g.direction(k % w, k / w), "{w}x{h} normal {k}");
+            }
+            assert_eq!(grid.normals.len(), w * h);
+        }
+    }
 
     #[test]
     fn weights_sum_to_domain_solid_angle() {

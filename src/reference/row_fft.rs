@@ -12,18 +12,23 @@
 //! ⌊W/2⌋ edges below π, differenced, and mirrored; and its spectrum K̂ is real, so the
 //! correlation's Ŷ = L̂·conj(K̂) is L̂·K̂, two real products a bin.
 //!
-//! Per input row its three channels' spectra are taken once; per row pair two kernels share one
-//! complex transform (as real and imaginary parts, which are their two real spectra), and those
-//! multiply the row's into the output rows' spectra, f = 0..W/2 (the rest is Hermitian). At the
-//! end each output row is transformed back, two channels per inverse transform. Cost per row
-//! pair: ≈ W for the kernel, half a complex FFT of W and 3·(W/2 + 1) complex-by-real
-//! multiply-adds, against 24·w per polar node directly (benches/README.md). The per-row work is
-//! compiled twice, for baseline x86-64 and with AVX2 (`row_pairs::has_avx2`).
+//! Every input row's three channels' spectra are taken once, first. Then each pair of output
+//! rows is one task: per input row, in order, the two output rows' kernels share one complex
+//! transform (as real and imaginary parts, which are their two real spectra), and those multiply
+//! the input row's into the pair's spectra, f = 0..W/2 (the rest is Hermitian); at the end the
+//! task transforms its two rows back, two channels per inverse transform. A task's sums stay in
+//! its own few kilobytes (no partial sums per chunk of input rows to allocate, fault in and
+//! add up), and the order of every sum is fixed whatever the thread count. Cost per row pair:
+//! ≈ W for the kernel, half a complex FFT of W and 3·(W/2 + 1) complex-by-real multiply-adds,
+//! against 24·w per polar node directly (benches/README.md). The per-pair work is compiled
+//! twice, for baseline x86-64 and with AVX2 (`row_pairs::has_avx2`).
 
 use crate::envmap::moments::{RowMoments, RowPrefix};
-use crate::envmap::LatLong;
+use crate::envmap::{LatLong, PROGRESS_WIDTH};
+use crate::io::progress::Progress;
 use crate::math::colour::Rgb;
-use crate::reference::row_pairs::{for_each_node, over_input_rows};
+use crate::reference::row_pairs::for_each_node;
+use rayon::prelude::*;
 use rustfft::num_complex::Complex64;
 use rustfft::{Fft, FftPlanner};
 use std::f64::consts::{FRAC_1_PI, PI};
@@ -63,6 +68,11 @@ impl FftPlan {
     fn bins(&self) -> usize {
         self.width / 2 + 1
     }
+
+    /// Scratch length of both transforms.
+    fn scratch_len(&self) -> usize {
+        self.forward.get_inplace_scratch_len().max(self.inverse.get_inplace_scratch_len())
+    }
 }
 
 /// One polar node's kernel on a parallel: weight·(a cos u + b) over |u| < Δ.
@@ -74,14 +84,11 @@ struct Node {
     wb: f64,
 }
 
-/// What a chunk of input rows keeps: the output rows' spectra and its work buffers. Spectra of
+/// A task's work buffers (one task: an output row pair against every input row). Spectra of
 /// real sequences are kept as bins f = 0..W/2, real and imaginary parts interleaved.
 struct Work {
-    /// Per output row, per channel, the spectrum Ŷ.
+    /// Per output row of the pair, per channel, the spectrum Ŷ.
     acc: Vec<f64>,
-    prefix: RowPrefix,
-    /// The input row's three spectra.
-    row: Vec<f64>,
     buf: Vec<Complex64>,
     scratch: Vec<Complex64>,
     nodes: Vec<Node>,
@@ -93,9 +100,30 @@ struct Work {
     spectra: [Vec<f64>; 2],
 }
 
+impl Work {
+    fn new(plan: &FftPlan) -> Self {
+        let (bins, edges) = (plan.bins(), plan.xs.len() + 1);
+        Work {
+            acc: vec![0.0; 2 * ROW * bins],
+            buf: vec![Complex64::default(); plan.width],
+            scratch: vec![Complex64::default(); plan.scratch_len()],
+            nodes: Vec::new(),
+            g: vec![0.0; edges],
+            halves: [vec![0.0; edges], vec![0.0; edges]],
+            spectra: [vec![0.0; 2 * bins], vec![0.0; 2 * bins]],
+        }
+    }
+}
+
+/// Reals a row's three spectra take, per bin: 3 channels × (real, imaginary).
+const ROW: usize = 3 * 2;
+
 /// Convolves every input row into the output rows `rows_out` of `values` (E/π, row-major), by
-/// FFT; `stop` as in `row_pairs::over_input_rows`; the per-row work compiled for AVX2 when
-/// `avx2` (`row_pairs::has_avx2` must have said so).
+/// FFT: the input rows' spectra are taken once, then each pair of output rows is one task on
+/// the thread pool, which sums its spectra over the input rows in order (so the values do not
+/// depend on the thread count) and transforms them back. `stop` is checked before each input
+/// row: once it says stop, the values mean nothing (the caller discards them). The per-pair work
+/// is compiled for AVX2 when `avx2` (`row_pairs::has_avx2` must have said so).
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn convolve(
     moments: &RowMoments,
@@ -107,85 +135,104 @@ pub(crate) fn convolve(
     stop: &(dyn Fn() -> bool + Sync),
     avx2: bool,
 ) {
-    let (bins, w) = (plan.bins(), plan.width);
-    let scratch_len = plan.forward.get_inplace_scratch_len().max(plan.inverse.get_inplace_scratch_len());
-    let new = || Work {
-        acc: vec![0.0; rows_out.len() * 3 * 2 * bins],
-        prefix: RowPrefix::new(),
-        row: vec![0.0; 3 * 2 * bins],
-        buf: vec![Complex64::default(); w],
-        scratch: vec![Complex64::default(); scratch_len],
-        nodes: Vec::new(),
-        g: vec![0.0; plan.xs.len() + 1],
-        halves: [vec![0.0; plan.xs.len() + 1], vec![0.0; plan.xs.len() + 1]],
-        spectra: [vec![0.0; 2 * bins], vec![0.0; 2 * bins]],
-    };
-    let add = |work: &mut Work, j: usize| {
-        moments.fill(j, &mut work.prefix);
-        let row = InputRow { plan, rule, out, rows_out, j, rows: moments.height() };
-        #[cfg(target_arch = "x86_64")]
-        if avx2 {
-            // SAFETY: `avx2` is true only where the CPU has AVX2 (`row_pairs::has_avx2`).
-            unsafe { add_input_row_avx2(&row, work) };
-            return;
-        }
-        let _ = avx2;
-        add_input_row(&row, work);
-    };
-    let partials = over_input_rows(moments, new, add, stop);
-    let mut total = vec![0.0; rows_out.len() * 3 * 2 * bins];
-    for p in &partials {
-        for (t, v) in total.iter_mut().zip(&p.acc) {
-            *t += v;
-        }
-    }
-    let mut buf = vec![Complex64::default(); w];
-    let mut scratch = vec![Complex64::default(); scratch_len];
-    for (&jo, spectra) in rows_out.iter().zip(total.chunks_exact(3 * 2 * bins)) {
-        let row = &mut values[jo * out.width..][..out.width];
-        back(plan, spectra, &mut buf, &mut scratch, row);
+    let inputs = input_spectra(moments, plan, stop);
+    let w = plan.width;
+    let pairs = rows_out.chunks(2).len();
+    let progress = (w >= PROGRESS_WIDTH).then(|| Progress::new(pairs as u64, "exact reference"));
+    let rows: Vec<Vec<Rgb>> = rows_out
+        .par_chunks(2)
+        .map_init(
+            || Work::new(plan),
+            |work, rows| {
+                let pair = OutputPair { plan, rule, out, rows, inputs: &inputs, height: moments.height() };
+                add_input_rows(&pair, work, stop, avx2);
+                let mut values = vec![Rgb::ZERO; rows.len() * w];
+                for (row, spectra) in values.chunks_exact_mut(w).zip(work.acc.chunks_exact(ROW * plan.bins())) {
+                    back(plan, spectra, &mut work.buf, &mut work.scratch, row);
+                }
+                if let Some(p) = &progress {
+                    p.inc();
+                }
+                values
+            },
+        )
+        .collect();
+    for (&jo, row) in rows_out.iter().zip(rows.iter().flat_map(|r| r.chunks_exact(w))) {
+        values[jo * out.width..][..out.width].copy_from_slice(row);
     }
 }
 
-/// One input row j against the output rows `rows_out`.
-struct InputRow<'a> {
+/// Every input row's three spectra ([`row_spectra`]), row after row, `ROW`·(W/2 + 1) reals a
+/// row, taken in parallel; left zero from where `stop` said stop.
+fn input_spectra(moments: &RowMoments, plan: &FftPlan, stop: &(dyn Fn() -> bool + Sync)) -> Vec<f64> {
+    let len = ROW * plan.bins();
+    let mut spectra = vec![0.0; moments.height() * len];
+    let init = || (RowPrefix::new(), vec![Complex64::default(); plan.width], vec![Complex64::default(); plan.scratch_len()]);
+    spectra.par_chunks_mut(len).enumerate().for_each_init(init, |(prefix, buf, scratch), (j, row)| {
+        if !stop() {
+            moments.fill(j, prefix);
+            row_spectra(plan, prefix, buf, scratch, row);
+        }
+    });
+    spectra
+}
+
+/// One or two output rows against every input row.
+struct OutputPair<'a> {
     plan: &'a FftPlan,
     rule: &'a [(f64, f64)],
     out: LatLong,
-    rows_out: &'a [usize],
-    j: usize,
+    /// The output rows (one or two).
+    rows: &'a [usize],
+    /// Every input row's spectra ([`input_spectra`]).
+    inputs: &'a [f64],
     /// The map's rows.
-    rows: usize,
+    height: usize,
 }
 
-/// [`add_input_row`] compiled for AVX2.
+/// [`add_input_rows`], its loops compiled for AVX2 when `avx2`.
+fn add_input_rows(pair: &OutputPair, work: &mut Work, stop: &(dyn Fn() -> bool + Sync), avx2: bool) {
+    #[cfg(target_arch = "x86_64")]
+    if avx2 {
+        // SAFETY: `avx2` is true only where the CPU has AVX2 (`row_pairs::has_avx2`).
+        unsafe { add_input_rows_avx2(pair, work, stop) };
+        return;
+    }
+    let _ = avx2;
+    add_input_rows_portable(pair, work, stop);
+}
+
+/// [`add_input_rows_portable`] compiled for AVX2.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-fn add_input_row_avx2(row: &InputRow, work: &mut Work) {
-    add_input_row(row, work);
+fn add_input_rows_avx2(pair: &OutputPair, work: &mut Work, stop: &(dyn Fn() -> bool + Sync)) {
+    add_input_rows_portable(pair, work, stop);
 }
 
-/// Adds input row `row.j` (its moments in `work.prefix`) to every output row's spectra.
+/// Sets `work.acc` to the pair's output spectra: Σ over the input rows j, in order, of
+/// L̂ⱼ·K̂ⱼ,ⱼₒ for each output row jₒ of the pair.
 #[inline(always)]
-fn add_input_row(row: &InputRow, work: &mut Work) {
-    let plan = row.plan;
-    let bins = plan.bins();
-    row_spectra(plan, work);
-    let (j, rows) = (row.j, row.rows);
-    let polar = (PI * j as f64 / rows as f64, PI * (j + 1) as f64 / rows as f64);
-    for (pair, acc) in row.rows_out.chunks(2).zip(work.acc.chunks_mut(2 * 3 * 2 * bins)) {
+fn add_input_rows_portable(pair: &OutputPair, work: &mut Work, stop: &(dyn Fn() -> bool + Sync)) {
+    let plan = pair.plan;
+    let row_len = ROW * plan.bins();
+    work.acc.fill(0.0);
+    for (j, row) in pair.inputs.chunks_exact(row_len).enumerate() {
+        if stop() {
+            break;
+        }
+        let polar = (PI * j as f64 / pair.height as f64, PI * (j + 1) as f64 / pair.height as f64);
         let mut any = false;
-        for (k, &jo) in pair.iter().enumerate() {
+        for (k, &jo) in pair.rows.iter().enumerate() {
             work.nodes.clear();
-            for_each_node(row.rule, row.out.phi_centre(jo), polar, |a, b, ws, t| work.nodes.push(node(a, b, ws, t)));
+            for_each_node(pair.rule, pair.out.phi_centre(jo), polar, |a, b, ws, t| work.nodes.push(node(a, b, ws, t)));
             any |= plan.kernel(&mut work.nodes, &mut work.g, &mut work.halves[k]);
         }
         if any {
-            pair_spectra(plan, &mut work.buf, &mut work.scratch, &work.halves, pair.len(), &mut work.spectra);
-            let (acc0, acc1) = acc.split_at_mut((3 * 2 * bins).min(acc.len()));
-            multiply_add(&work.row, &work.spectra[0], acc0);
-            if pair.len() == 2 {
-                multiply_add(&work.row, &work.spectra[1], acc1);
+            pair_spectra(plan, &mut work.buf, &mut work.scratch, &work.halves, pair.rows.len(), &mut work.spectra);
+            let (acc0, acc1) = work.acc.split_at_mut(row_len);
+            multiply_add(row, &work.spectra[0], acc0);
+            if pair.rows.len() == 2 {
+                multiply_add(row, &work.spectra[1], acc1);
             }
         }
     }
@@ -237,28 +284,27 @@ impl FftPlan {
     }
 }
 
-/// The three channels' spectra of the input row in `work.prefix`, into `work.row` (channels 0
-/// and 1 packed in one transform).
-#[inline(always)]
-fn row_spectra(plan: &FftPlan, work: &mut Work) {
+/// The three channels' spectra of the input row in `prefix`, into `row` (`ROW`·(W/2 + 1)
+/// reals; channels 0 and 1 packed in one transform).
+fn row_spectra(plan: &FftPlan, prefix: &RowPrefix, buf: &mut [Complex64], scratch: &mut [Complex64], row: &mut [f64]) {
     let (w, bins) = (plan.width, plan.bins());
-    for (k, z) in work.buf.iter_mut().enumerate() {
-        let t = work.prefix.texel(k);
+    for (k, z) in buf.iter_mut().enumerate() {
+        let t = prefix.texel(k);
         *z = Complex64::new(t.x, t.y);
     }
-    plan.forward.process_with_scratch(&mut work.buf, &mut work.scratch);
-    let (c01, c2) = work.row.split_at_mut(4 * bins);
+    plan.forward.process_with_scratch(buf, scratch);
+    let (c01, c2) = row.split_at_mut(4 * bins);
     let (c0, c1) = c01.split_at_mut(2 * bins);
     for f in 0..bins {
-        let (x, y) = unpack(&work.buf, f, w);
+        let (x, y) = unpack(buf, f, w);
         (c0[2 * f], c0[2 * f + 1]) = (x.re, x.im);
         (c1[2 * f], c1[2 * f + 1]) = (y.re, y.im);
     }
-    for (k, z) in work.buf.iter_mut().enumerate() {
-        *z = Complex64::new(work.prefix.texel(k).z, 0.0);
+    for (k, z) in buf.iter_mut().enumerate() {
+        *z = Complex64::new(prefix.texel(k).z, 0.0);
     }
-    plan.forward.process_with_scratch(&mut work.buf, &mut work.scratch);
-    for (c, z) in c2.chunks_exact_mut(2).zip(&work.buf[..bins]) {
+    plan.forward.process_with_scratch(buf, scratch);
+    for (c, z) in c2.chunks_exact_mut(2).zip(&buf[..bins]) {
         (c[0], c[1]) = (z.re, z.im);
     }
 }
@@ -282,11 +328,24 @@ fn pair_spectra(
     count: usize,
     spectra: &mut [Vec<f64>; 2],
 ) {
-    let w = plan.width;
-    for (m, z) in buf.iter_mut().enumerate() {
-        let at = m.min(w - m);
-        let im = if count == 2 { halves[1][at] } else { 0.0 };
-        *z = Complex64::new(halves[0][at], im);
+    // κ[m] for m ≤ W/2, then κ[W − m] mirrored: straight loops, no index folding per value.
+    let (low, high) = buf.split_at_mut(plan.width / 2 + 1);
+    let n = high.len();
+    let [h0, h1] = halves;
+    if count == 2 {
+        for ((z, &re), &im) in low.iter_mut().zip(h0).zip(h1) {
+            *z = Complex64::new(re, im);
+        }
+        for ((z, &re), &im) in high.iter_mut().zip(h0[1..=n].iter().rev()).zip(h1[1..=n].iter().rev()) {
+            *z = Complex64::new(re, im);
+        }
+    } else {
+        for (z, &re) in low.iter_mut().zip(h0) {
+            *z = Complex64::new(re, 0.0);
+        }
+        for (z, &re) in high.iter_mut().zip(h0[1..=n].iter().rev()) {
+            *z = Complex64::new(re, 0.0);
+        }
     }
     plan.forward.process_with_scratch(buf, scratch);
     let [s0, s1] = spectra;

@@ -1,6 +1,6 @@
 //! What both ways of convolving the exact reference's rows share (`row_convolution`, the direct
-//! path; `row_fft`, by FFT): the driver over the map's rows, in chunks on the thread pool with
-//! the cancellation check between rows, and the polar nodes of one input row against one output
+//! path; `row_fft`, by FFT): the direct path's driver over the map's rows, in chunks on the
+//! thread pool with the cancellation check between rows, and the polar nodes of one input row against one output
 //! row with their clamped-cosine kernels (FORMULAS §1), and whether the CPU runs both paths' AVX2
 //! copies of their per-row work.
 
