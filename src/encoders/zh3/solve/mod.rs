@@ -36,6 +36,7 @@
 //! objective and gradient, and the argmin problem) is kept apart from the solver driving it
 //! (`solver.rs`: the multi-start and the screened start, L-BFGS runs).
 
+mod drive;
 mod problem;
 mod solver;
 #[cfg(test)]
