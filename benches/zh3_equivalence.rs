@@ -1,10 +1,8 @@
 //! Check (not a timing): the default ZH3 axis solve against the previous one, per probe.
 //!
 //! The previous solve always ran L-BFGS twice (from the best screened axis line, then from the
-//! best line at least 45° from where that ended) and stopped each run only on the absolute
-//! tolerances; the default skips the second run where it provably cannot win (`skip_futile`)
-//! and also stops when the objective changes by less than 1e-10 of itself (`tol_cost_rel`).
-//! For each probe this prints nothing unless the default's
+//! best line at least 45° from where that ended); the default skips the second run where it
+//! provably cannot win (`skip_futile`). For each probe this prints nothing unless the default's
 //! error (the square root of the solve's objective, E/π over the sphere, bands 1–2, equal
 //! channel weights as `zh3_solved_shared`) rises by more than 1e-9 relative; then the probe is
 //! listed. Probes: the five paper probes (from PROBELAB_ENVMAPS; skipped with a note when
@@ -24,7 +22,7 @@ fn both(irr: &Sh9) -> ((f64, u32), (f64, u32)) {
         let st = solved(irr, AxisRule::Shared(eq), eq, Zonal::Stored, s).stats;
         (st.objective, st.runs)
     };
-    let previous = SolverSettings { skip_futile: false, tol_cost_rel: 0.0, ..SolverSettings::default() };
+    let previous = SolverSettings { skip_futile: false, ..SolverSettings::default() };
     (one(&SolverSettings::default()), one(&previous))
 }
 

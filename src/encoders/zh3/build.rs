@@ -51,7 +51,6 @@ fn settings(p: &mut Params, stored: bool) -> Result<SolverSettings> {
         max_iters: p.usize_in("max_iters", d.max_iters as usize, 1..=10_000)? as u64,
         tol_grad: p.f64_in("tol_grad", d.tol_grad, 0.0..=1.0)?,
         tol_cost: p.f64_in("tol_cost", d.tol_cost, 0.0..=1.0)?,
-        tol_cost_rel: p.f64_in("tol_cost_rel", d.tol_cost_rel, 0.0..=1.0)?,
         memory: p.usize_in("memory", d.memory, 1..=64)?,
         starts: p.usize_in("starts", d.starts, 1..=5)?,
         formulation,

@@ -128,7 +128,6 @@ impl Fitted for Zh3Fit {
             if zonal == Zonal::Stored {
                 diag.push(("reduced", (set.formulation == Formulation::Axis) as u8 as f64));
                 diag.push(("screen", set.screen as f64));
-                diag.push(("tol_cost_rel", set.tol_cost_rel));
             }
         }
         if let Some(Curve::Poly([c1, c2, c3])) = curve_of(self.method) {

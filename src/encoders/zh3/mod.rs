@@ -33,7 +33,6 @@
 //! | `max_iters` | solved | 100 | L-BFGS iterations per start |
 //! | `tol_grad` | solved | 1e-8 | gradient-norm stop, objective normalised by max L₀₀² |
 //! | `tol_cost` | solved | 1e-14 | objective-change stop (normalised) |
-//! | `tol_cost_rel` | solved | 1e-10 | stop when the objective changes by less than this fraction of itself (0: off); one-axis reduced solves only (`zh3_solved_shared`) |
 //! | `memory` | solved | 5 | L-BFGS memory |
 //! | `starts` | solved | 5 | 1 = the given L1 only, up to 5 = plus the four tetrahedron projections |
 //! | `screen` | `zh3_solved_*` | 64 | 0: L-BFGS from every start (FORMULAS §5); N: evaluate the reduced objective at those starts and N more axis lines, L-BFGS from the best and from the best one 45° away unless that second run provably cannot win (needs `formulation = "axis"`; tested to reach the same objective) |

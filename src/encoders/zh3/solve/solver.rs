@@ -2,9 +2,13 @@
 //! line search, run from the given L1 and the tetrahedron axes, or from the best of a screened
 //! set of axis lines; the best end point per axis group wins.
 
-use super::drive::run_lbfgs;
+use super::drive::{drive, LbfgsState};
 use super::problem::*;
 use super::zonal::*;
+use argmin::core::State;
+use argmin::solver::linesearch::condition::ArmijoCondition;
+use argmin::solver::linesearch::{BacktrackingLineSearch, MoreThuenteLineSearch};
+use argmin::solver::quasinewton::LBFGS;
 use glam::DVec3;
 use nalgebra::SVector;
 
@@ -17,11 +21,6 @@ pub struct SolverSettings {
     pub tol_grad: f64,
     /// Stop when the objective changes by less than this between iterations (normalised).
     pub tol_cost: f64,
-    /// Stop when the objective changes by less than this fraction of itself between iterations
-    /// (the error's own tolerance; 0: off), in solves of one axis in the reduced variables
-    /// (shared stored axes); other solves ignore it. The default, 1e-10, moves no error (its
-    /// square root) by more than 1e-9 relative (`relative_stop_keeps_every_error`).
-    pub tol_cost_rel: f64,
     /// L-BFGS memory (number of correction pairs).
     pub memory: usize,
     /// Starts: 1 = the given L1 only; 5 = the given L1 and the four tetrahedron projections.
@@ -56,7 +55,6 @@ impl Default for SolverSettings {
             max_iters: 100,
             tol_grad: 1e-8,
             tol_cost: 1e-14,
-            tol_cost_rel: 1e-10,
             memory: 5,
             starts: 5,
             formulation: Formulation::Axis,
@@ -137,6 +135,48 @@ pub fn solve(target: &Target, settings: &SolverSettings) -> Solution {
         3 => solve_n::<3>(target, settings, form),
         9 => solve_n::<9>(target, settings, form),
         _ => unreachable!("3 or 9 variables"),
+    }
+}
+
+/// The sufficient-decrease constant of the backtracking line search (Nocedal & Wright's usual
+/// choice).
+const ARMIJO_C: f64 = 1e-4;
+
+/// Runs L-BFGS from `x0` with the line search of `settings`; returns the best point seen (the
+/// start point when argmin returns an error).
+pub(super) fn run_lbfgs<const N: usize>(
+    t: &Target,
+    form: Formulation,
+    x0: SVector<f64, N>,
+    settings: &SolverSettings,
+    stats: &mut SolveStats,
+) -> SVector<f64, N> {
+    let problem = AxisProblem::<N>::new(t, form);
+    let state = LbfgsState::<N>::new().param(x0).max_iters(settings.max_iters);
+    let memory = settings.memory.max(1);
+    let run = match settings.line_search {
+        LineSearch::MoreThuente => LBFGS::new(MoreThuenteLineSearch::new(), memory)
+            .with_tolerance_grad(settings.tol_grad)
+            .and_then(|s| s.with_tolerance_cost(settings.tol_cost))
+            .and_then(|solver| drive(solver, problem, state)),
+        LineSearch::Backtracking => ArmijoCondition::new(ARMIJO_C)
+            .and_then(|c| LBFGS::new(BacktrackingLineSearch::new(c), memory).with_tolerance_grad(settings.tol_grad))
+            .and_then(|s| s.with_tolerance_cost(settings.tol_cost))
+            .and_then(|solver| drive(solver, problem, state)),
+    };
+    stats.runs += 1;
+    match run {
+        Ok((p, mut state)) => {
+            stats.cost_evals += p.cost_calls.get();
+            stats.grad_evals += p.grad_calls.get();
+            stats.evals += p.evals.get();
+            stats.iters += state.get_iter() as u32;
+            state.take_best_param().unwrap_or(x0)
+        }
+        Err(_) => {
+            stats.failures += 1;
+            x0
+        }
     }
 }
 
