@@ -34,8 +34,10 @@
 //!
 //! The problem (`zonal.rs`: the zonal term about an axis; `problem.rs`: the target, its
 //! objective and gradient, and the argmin problem) is kept apart from the solver driving it
-//! (`solver.rs`: the multi-start and the screened start, L-BFGS runs).
+//! (`solver.rs`: the multi-start and the screened start, L-BFGS runs; `drive.rs`: the loop
+//! stepping argmin's L-BFGS).
 
+mod drive;
 mod problem;
 mod solver;
 #[cfg(test)]

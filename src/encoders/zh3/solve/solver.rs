@@ -2,9 +2,10 @@
 //! line search, run from the given L1 and the tetrahedron axes, or from the best of a screened
 //! set of axis lines; the best end point per axis group wins.
 
+use super::drive::{drive, LbfgsState};
 use super::problem::*;
 use super::zonal::*;
-use argmin::core::{Executor, IterState, State};
+use argmin::core::State;
 use argmin::solver::linesearch::condition::ArmijoCondition;
 use argmin::solver::linesearch::{BacktrackingLineSearch, MoreThuenteLineSearch};
 use argmin::solver::quasinewton::LBFGS;
@@ -137,6 +138,10 @@ pub fn solve(target: &Target, settings: &SolverSettings) -> Solution {
     }
 }
 
+/// The sufficient-decrease constant of the backtracking line search (Nocedal & Wright's usual
+/// choice).
+const ARMIJO_C: f64 = 1e-4;
+
 /// Runs L-BFGS from `x0` with the line search of `settings`; returns the best point seen (the
 /// start point when argmin returns an error).
 pub(super) fn run_lbfgs<const N: usize>(
@@ -147,28 +152,24 @@ pub(super) fn run_lbfgs<const N: usize>(
     stats: &mut SolveStats,
 ) -> SVector<f64, N> {
     let problem = AxisProblem::<N>::new(t, form);
+    let state = LbfgsState::<N>::new().param(x0).max_iters(settings.max_iters);
     let memory = settings.memory.max(1);
-    let configure = |s: LbfgsState<N>| s.param(x0).max_iters(settings.max_iters);
     let run = match settings.line_search {
         LineSearch::MoreThuente => LBFGS::new(MoreThuenteLineSearch::new(), memory)
             .with_tolerance_grad(settings.tol_grad)
             .and_then(|s| s.with_tolerance_cost(settings.tol_cost))
-            .and_then(|solver| Executor::new(problem, solver).configure(configure).run())
-            .map(|r| (r.problem, r.state)),
+            .and_then(|solver| drive(solver, problem, state)),
         LineSearch::Backtracking => ArmijoCondition::new(ARMIJO_C)
             .and_then(|c| LBFGS::new(BacktrackingLineSearch::new(c), memory).with_tolerance_grad(settings.tol_grad))
             .and_then(|s| s.with_tolerance_cost(settings.tol_cost))
-            .and_then(|solver| Executor::new(problem, solver).configure(configure).run())
-            .map(|r| (r.problem, r.state)),
+            .and_then(|solver| drive(solver, problem, state)),
     };
     stats.runs += 1;
     match run {
-        Ok((mut problem, mut state)) => {
-            if let Some(p) = problem.take_problem() {
-                stats.cost_evals += p.cost_calls.get();
-                stats.grad_evals += p.grad_calls.get();
-                stats.evals += p.evals.get();
-            }
+        Ok((p, mut state)) => {
+            stats.cost_evals += p.cost_calls.get();
+            stats.grad_evals += p.grad_calls.get();
+            stats.evals += p.evals.get();
             stats.iters += state.get_iter() as u32;
             state.take_best_param().unwrap_or(x0)
         }
@@ -178,13 +179,6 @@ pub(super) fn run_lbfgs<const N: usize>(
         }
     }
 }
-
-/// The sufficient-decrease constant of the backtracking line search (Nocedal & Wright's usual
-/// choice).
-const ARMIJO_C: f64 = 1e-4;
-
-/// argmin's state of an L-BFGS run in `N` variables.
-type LbfgsState<const N: usize> = IterState<SVector<f64, N>, SVector<f64, N>, (), (), (), f64>;
 
 /// Per axis group: the best objective, its L1 and the start it came from.
 type Best = Vec<(f64, [DVec3; 3], u32)>;

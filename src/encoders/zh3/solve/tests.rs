@@ -319,3 +319,58 @@ fn screen_cover_bounds_every_line() {
     assert!(worst + spacing < SCREEN_COVER_64, "covering radius {worst}");
     assert!(worst > 0.2, "covering radius {worst}: the screening set changed");
 }
+
+/// The driver steps argmin's L-BFGS as `Executor::run` does: the best point, its cost and the iteration count equal the executor's bit for bit (both line
+/// searches; stored axis problems in 3 and 9 variables, hallucinated L1 problems in 3 and 9).
+#[test]
+fn driver_matches_the_executor() {
+    use super::drive::{drive, LbfgsState};
+    use argmin::core::{Executor, State};
+    use argmin::solver::linesearch::condition::ArmijoCondition;
+    use argmin::solver::linesearch::{BacktrackingLineSearch, MoreThuenteLineSearch};
+    use argmin::solver::quasinewton::LBFGS;
+    use nalgebra::SVector;
+    fn both<const N: usize>(t: &Target, form: Formulation, x0: SVector<f64, N>, backtrack: bool) {
+        let state = || LbfgsState::<N>::new().param(x0).max_iters(100);
+        let ours = |p| {
+            let r = if backtrack {
+                let ls = BacktrackingLineSearch::new(ArmijoCondition::new(1e-4).unwrap());
+                drive(LBFGS::new(ls, 5).with_tolerance_cost(1e-14).unwrap(), p, state())
+            } else {
+                drive(LBFGS::new(MoreThuenteLineSearch::new(), 5).with_tolerance_cost(1e-14).unwrap(), p, state())
+            };
+            r.unwrap().1
+        };
+        let theirs = |p| {
+            let r = if backtrack {
+                let ls = BacktrackingLineSearch::new(ArmijoCondition::new(1e-4).unwrap());
+                let s = LBFGS::new(ls, 5).with_tolerance_cost(1e-14).unwrap();
+                Executor::new(p, s).configure(|_| state()).run().map(|r| r.state)
+            } else {
+                let s = LBFGS::new(MoreThuenteLineSearch::new(), 5).with_tolerance_cost(1e-14).unwrap();
+                Executor::new(p, s).configure(|_| state()).run().map(|r| r.state)
+            };
+            r.unwrap()
+        };
+        let (a, b) = (ours(AxisProblem::<N>::new(t, form)), theirs(AxisProblem::<N>::new(t, form)));
+        assert_eq!(a.get_best_param(), b.get_best_param());
+        assert_eq!(a.get_best_cost().to_bits(), b.get_best_cost().to_bits());
+        assert_eq!(a.get_iter(), b.get_iter());
+        assert!(a.get_iter() > 1, "the runs iterate");
+    }
+    let mut rng = Rng::new(31);
+    for i in 0..12 {
+        let irr = random_lighting(&mut rng, 1 + i % 4).convolve_cosine();
+        let w = Rgb::new(0.2, 0.5, 0.3);
+        let backtrack = i % 2 == 1;
+        let shared = Target::shared(&irr, w, w, Zonal::Stored);
+        both::<3>(&shared, Formulation::Axis, SVector::from([0.3, 0.8, -0.2]), backtrack);
+        let each = Target::per_channel(&irr, Zonal::Stored);
+        both::<9>(&each, Formulation::Axis, SVector::from([0.3, 0.8, -0.2, 1.0, 0.1, 0.1, -0.5, 0.5, 0.7]), backtrack);
+        let hall = Target::channel(&irr, 1, Zonal::Hallucinated(Curve::PAPER));
+        both::<3>(&hall, Formulation::L1, SVector::from_column_slice(&hall.t1[0].to_array()), backtrack);
+        let hall3 = Target::shared(&irr, w, w, Zonal::Hallucinated(Curve::PAPER));
+        let x: Vec<f64> = hall3.t1.iter().flat_map(|v| v.to_array()).collect();
+        both::<9>(&hall3, Formulation::L1, SVector::from_column_slice(&x), backtrack);
+    }
+}
