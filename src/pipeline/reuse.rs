@@ -18,10 +18,10 @@
 //! recently used are dropped first (a dropped value is computed again when asked for). The
 //! cache is an object a workflow owns and lends to the work, never process-wide.
 
+use crate::envmap::LatLong;
 use crate::io::profile::{self, Profile};
 use crate::math::cap::Cap;
 use crate::math::colour::Rgb;
-use crate::envmap::LatLong;
 use glam::DVec3;
 use sha2::{Digest, Sha256};
 use std::collections::HashMap;
@@ -70,7 +70,14 @@ impl Key {
             bytes.extend(block.iter().flat_map(|n| n.to_array()).flat_map(|c| c.to_bits().to_le_bytes()));
             h.update(&bytes);
         }
-        Key { map: map.to_string(), caps: cap_bits(caps), polar_nodes, path, normals: h.finalize().into(), count: normals.len() }
+        Key {
+            map: map.to_string(),
+            caps: cap_bits(caps),
+            polar_nodes,
+            path,
+            normals: h.finalize().into(),
+            count: normals.len(),
+        }
     }
 
     /// The key of the reference on the lat-long output grid `grid` (`Path::LatLong`): its

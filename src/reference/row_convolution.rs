@@ -239,7 +239,14 @@ impl Plan {
 
     /// [`Self::ends`] with the partial texel's (sin, versin) from `sv`.
     #[inline(always)]
-    fn ends_with(&self, arc: &Arc, e: f64, (a, b, ws): (f64, f64, f64), out: &mut ClassEnds, sv: fn(f64) -> (f64, f64)) {
+    fn ends_with(
+        &self,
+        arc: &Arc,
+        e: f64,
+        (a, b, ws): (f64, f64, f64),
+        out: &mut ClassEnds,
+        sv: fn(f64) -> (f64, f64),
+    ) {
         let q = self.q;
         let (centre, ks) = (&self.centre[..q], &mut out.k[..q]);
         let (x1, x2, x3) = (&mut out.x1[..q], &mut out.x2[..q], &mut out.x3[..q]);

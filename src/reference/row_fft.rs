@@ -167,7 +167,8 @@ pub(crate) fn convolve(
 fn input_spectra(moments: &RowMoments, plan: &FftPlan, stop: &(dyn Fn() -> bool + Sync)) -> Vec<f64> {
     let len = ROW * plan.bins();
     let mut spectra = vec![0.0; moments.height() * len];
-    let init = || (RowPrefix::new(), vec![Complex64::default(); plan.width], vec![Complex64::default(); plan.scratch_len()]);
+    let init =
+        || (RowPrefix::new(), vec![Complex64::default(); plan.width], vec![Complex64::default(); plan.scratch_len()]);
     spectra.par_chunks_mut(len).enumerate().for_each_init(init, |(prefix, buf, scratch), (j, row)| {
         if !stop() {
             moments.fill(j, prefix);
