@@ -48,13 +48,23 @@ def test_sigint_stops_a_long_eval_well_before_its_end():
     t_full = float(out.split()[1])
     assert t_full > 0.5, f"the evaluation took {t_full} s: too short to interrupt in its middle"
 
-    run = start()
-    time.sleep(0.2 * t_full)
-    sent = time.monotonic()
-    run.send_signal(signal.SIGINT)
-    out, err = run.communicate(timeout=900)
-    latency = time.monotonic() - sent
-    assert run.returncode == 3 and out.startswith("interrupted"), (run.returncode, out, err)
-    # Stopped within a small part of the whole: the work checks between rows of the map.
-    assert latency < 0.4 * t_full, f"SIGINT took {latency:.2f} s to stop an evaluation of {t_full:.2f} s"
-    assert float(out.split()[1]) < 0.7 * t_full, out
+    # On a loaded machine one evaluation can run several times faster than the one before it,
+    # and end before the signal is sent. Such a run says nothing about Ctrl-C: it is measured
+    # again, with its own time as the whole, a few times at most.
+    for _ in range(5):
+        run = start()
+        started = time.monotonic()
+        time.sleep(0.2 * t_full)
+        sent = time.monotonic()
+        run.send_signal(signal.SIGINT)
+        out, err = run.communicate(timeout=900)
+        latency = time.monotonic() - sent
+        if run.returncode == 0 and out.startswith("finished") and float(out.split()[1]) < sent - started:
+            t_full = float(out.split()[1])
+            continue
+        assert run.returncode == 3 and out.startswith("interrupted"), (run.returncode, out, err)
+        # Stopped within a small part of the whole: the work checks between rows of the map.
+        assert latency < 0.4 * t_full, f"SIGINT took {latency:.2f} s to stop an evaluation of {t_full:.2f} s"
+        assert float(out.split()[1]) < 0.7 * t_full, out
+        return
+    pytest.fail(f"every evaluation ended before its signal was sent (the last took {t_full:.2f} s)")
