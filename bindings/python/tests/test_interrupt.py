@@ -16,8 +16,13 @@ import pytest
 # A long evaluation: the exact reference of a 1000x2000 map on a 1024x512 output grid. The map's
 # width differs from the grid's, so the reference takes the direct row convolution (an equal
 # width would take the FFT path, short enough to end before a signal lands in its middle).
+#
+# The child restores Python's own SIGINT handler first: a process started with SIGINT ignored (a
+# background job of a non-interactive shell, as a CI runner may start the suite) inherits that,
+# and Python then never raises KeyboardInterrupt, whatever the package does.
 SCRIPT = """
-import sys, time
+import signal, sys, time
+signal.signal(signal.SIGINT, signal.default_int_handler)
 import numpy as np
 import probelab
 probelab.set_timing(False)
