@@ -323,9 +323,14 @@ pub trait Fitted: Send + Sync {
     /// (Parseval, Σ_i |c_i − r_i|²); zonal reconstructions override it (Funk–Hecke, e.g.
     /// Geomerics). None: probe-set errors fall back to quadrature (`pipeline::probeset::score`).
     fn sphere_sq_error(&self, reference: &Sh9) -> Option<f64> {
-        let c = self.sh3()?;
-        Some((0..crate::math::sh::N_SH).map(|i| (c[i] - reference[i]).length_squared()).sum())
+        Some(sh3_sq_error(&self.sh3()?, reference))
     }
+}
+
+/// ∫ over the sphere of |E_c(n) − E_r(n)|² dω summed over RGB, for two E/π SH3 `c` and `r`:
+/// Σ_i |c_i − r_i|² (Parseval).
+pub fn sh3_sq_error(c: &Sh9, r: &Sh9) -> f64 {
+    (0..crate::math::sh::N_SH).map(|i| (c[i] - r[i]).length_squared()).sum()
 }
 
 /// [`Encoder::fit_sphere_each`] for an encoder whose sphere fit of a probe is `fit(probe)`, a

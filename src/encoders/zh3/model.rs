@@ -2,6 +2,7 @@
 //! channel's axis, its SH3 expansion, and the three ways to get k — hallucinated from L1 by a
 //! curve, stored (the least-squares zonal fit of L2), or with the L1 solved.
 
+use crate::encoders::encoder::sh3_sq_error;
 use crate::encoders::zh3::solve::{self as zh3_solve, band2, zonal_fit, Curve, SolverSettings, Target, Zonal};
 use crate::math::colour::Rgb;
 use crate::math::sh::Sh9;
@@ -65,29 +66,10 @@ impl Zh3 {
         s
     }
 
-    /// ∫ over the sphere of |E_zh3(n) − E_r(n)|² dω summed over RGB against the E/π SH3 `r`:
-    /// Σ_i |c_i − r_i|² over the coefficients c of [`Self::to_sh`] (Parseval), formed
-    /// coefficient by coefficient in the same order and arithmetic, so bit for bit
-    /// `sh3_sq_error(&self.to_sh(), r)`, without building the SH3.
+    /// ∫ over the sphere of |E_zh3(n) − E_r(n)|² dω summed over RGB against the E/π SH3 `r`
+    /// (Parseval over [`Self::to_sh`]): the error of its fit, without building the fit.
     pub fn sphere_sq_error(&self, r: &Sh9) -> f64 {
-        let mut zonal = [[0.0; 3]; 5];
-        for c in 0..3 {
-            if let Some(a) = self.axes[c] {
-                let y = band2(a);
-                for m in 0..5 {
-                    zonal[m][c] = self.k[c] * y[m];
-                }
-            }
-        }
-        let [v0, v1, v2] = self.l1;
-        let mut se = (self.l0 - r[0]).length_squared();
-        se += (Rgb::new(-v0.y, -v1.y, -v2.y) - r[1]).length_squared();
-        se += (Rgb::new(v0.z, v1.z, v2.z) - r[2]).length_squared();
-        se += (Rgb::new(-v0.x, -v1.x, -v2.x) - r[3]).length_squared();
-        for (m, z) in zonal.iter().enumerate() {
-            se += (Rgb::from_array(*z) - r[4 + m]).length_squared();
-        }
-        se
+        sh3_sq_error(&self.to_sh(), r)
     }
 
     /// The radiance ratio r_c = |L1_c·a_c|/L₀₀,c of each channel (0 without axis or light).
