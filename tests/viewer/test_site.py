@@ -8,6 +8,7 @@ Expected values come from the library, not from the page: the Python package's `
 RMSE over the same grid, metric and domain). Without Playwright or Chromium the tests skip with
 the reason, except in CI (CI=true), where they fail.
 """
+import base64
 import hashlib
 import json
 import math
@@ -59,16 +60,27 @@ def browser():
 class Page:
     """A page with its console errors and failed requests recorded."""
 
-    def __init__(self, browser, name, hash_=""):
+    def __init__(self, browser, name, hash_="", settle=True):
         self.page = browser.new_page(viewport={"width": 1280, "height": 800})
+        self.name = name
         self.errors = []
         self.page.on("console", lambda m: self.errors.append(m.text) if m.type == "error" else None)
         self.page.on("pageerror", lambda e: self.errors.append(str(e)))
         self.page.on("requestfailed", lambda r: self.errors.append(f"request failed: {r.url}"))
-        self.page.goto((SITE / name).as_uri() + hash_)
-        if name == "index.html":
+        # Navigation committed only: the page then loads and draws on its own, so several pages
+        # opened one after another load side by side (open_pages); settle() waits for each.
+        self.page.goto((SITE / name).as_uri() + hash_, wait_until="commit")
+        if settle:
+            self.settle()
+
+    def settle(self):
+        """Waits for the page's load event, then (the explorer) its `probelab.ready`, and its
+        first picture: what a page opened alone waits for."""
+        self.page.wait_for_load_state("load")
+        if self.name == "index.html":
             self.page.evaluate("() => probelab.ready")
         self.page.wait_for_function("() => performance.getEntriesByName('first-picture').length > 0")
+        return self
 
     def eval(self, js, arg=None):
         return self.page.evaluate(js, arg)
@@ -86,11 +98,39 @@ def probelab_bin():
     return os.environ.get("PROBELAB_BIN", str(REPO / "target" / "release" / "probelab"))
 
 
+def open_pages(browser, specs):
+    """Pages (name, hash) opened together, each loading as it would alone, then each settled:
+    the browser loads them side by side instead of one after another."""
+    pages = [Page(browser, name, hash_, settle=False) for name, hash_ in specs]
+    return [p.settle() for p in pages]
+
+
+# The encoders the explorer lists for each (map, domain), read from the page opened on them.
+SHOWN = {}
+READ_SHOWN = "async ([m, d]) => (await probelab.mapData(m)).domains[d].encoders.map(e => [e.name, e.family, e.form])"
+
+
+def domain_page(browser, map_, domain):
+    """The explorer opened on a map and a domain, its listed encoders recorded in SHOWN."""
+    page = Page(browser, "index.html", f"#map={map_}&domain={domain}")
+    SHOWN[(map_, domain)] = page.eval(READ_SHOWN, [map_, domain])
+    return page
+
+
+def prefetch_shown(browser, map_, domains):
+    """shown_encoders for several domains, their pages opened together."""
+    missing = [d for d in domains if (map_, d) not in SHOWN]
+    for d, page in zip(missing, open_pages(browser, [("index.html", f"#map={map_}&domain={d}") for d in missing])):
+        SHOWN[(map_, d)] = page.eval(READ_SHOWN, [map_, d])
+        page.close()
+
+
 def shown_encoders(browser, map_, domain):
-    p = Page(browser, "index.html", f"#map={map_}&domain={domain}")
-    encs = p.eval("async ([m, d]) => (await probelab.mapData(m)).domains[d].encoders.map(e => [e.name, e.family, e.form])", [map_, domain])
-    p.close()
-    return encs
+    """The encoders the explorer lists, from a page opened on that map and domain (once per
+    module: each such page is loaded, and checked for console errors, the first time)."""
+    if (map_, domain) not in SHOWN:
+        domain_page(browser, map_, domain).close()
+    return SHOWN[(map_, domain)]
 
 
 def one_per_family(encs, registered):
@@ -127,9 +167,9 @@ def test_the_page_evaluates_what_the_library_reconstructs(browser, domain, norma
     import numpy as np
     import probelab
     registered = set(probelab.encoders())
-    chosen = one_per_family(shown_encoders(browser, MAP, domain), registered)
+    page = domain_page(browser, MAP, domain)
+    chosen = one_per_family(SHOWN[(MAP, domain)], registered)
     assert len({f for _, f, _ in chosen}) >= families, chosen
-    page = Page(browser, "index.html", f"#map={MAP}&domain={domain}")
     for name, family, form in chosen:
         if form == "sh":
             normals = unit_normals(1000, 7, normal)
@@ -166,15 +206,19 @@ def _registered():
 
 
 def sphere_pixels(page, encoder, view, kind):
-    """The RGB pixels of one drawn sphere inside 90% of its radius."""
-    return page.eval("""([e, v, k]) => {
+    """The RGB pixels of one drawn sphere inside 90% of its radius. The page sends their bytes
+    as one base64 string: Playwright passes an array of arrays item by item (about 1 s for a
+    sphere's 9,000 pixels), a string at once."""
+    packed = page.eval("""([e, v, k]) => {
         const c = document.querySelector(`canvas[data-encoder="${e}"][data-view="${v}"][data-kind="${k}"]`);
         const d = c.getContext('2d').getImageData(0, 0, c.width, c.height).data, r = c.width / 2, out = [];
         for (let y = 0; y < c.height; y++) for (let x = 0; x < c.width; x++) {
           const dx = (x + 0.5 - r) / r, dy = (y + 0.5 - r) / r;
-          if (dx * dx + dy * dy < 0.81) { const i = 4 * (y * c.width + x); out.push([d[i], d[i + 1], d[i + 2]]); }
+          if (dx * dx + dy * dy < 0.81) { const i = 4 * (y * c.width + x); out.push(String.fromCharCode(d[i], d[i + 1], d[i + 2])); }
         }
-        return out; }""", [encoder, view, kind])
+        return btoa(out.join('')); }""", [encoder, view, kind])
+    raw = base64.b64decode(packed)
+    return [list(raw[i:i + 3]) for i in range(0, len(raw), 3)]
 
 
 def test_a_constant_environment_renders_uniform_spheres_and_a_neutral_error(browser):
@@ -206,6 +250,7 @@ def test_the_domains_are_the_sphere_and_the_six_axes(browser):
     page = Page(browser, "index.html", f"#map={MAP}")
     domains = page.eval("() => PROBELAB_INDEX.domains.map(d => [d.label, d.normal, d.every_encoder])")
     assert [d[0] for d in domains] == ["sphere"] + [f"hemisphere:{a}" for a in ("+y", "-y", "+x", "-x", "+z", "-z")]
+    prefetch_shown(browser, MAP, [d[0] for d in domains])
     for label, normal, every in domains[1:]:
         assert normal == list(AXES[label.split(":")[1]]) and every == (label == "hemisphere:+y")
     floor = {e[0]: e for e in shown_encoders(browser, MAP, "hemisphere:+y")}
@@ -245,8 +290,8 @@ def test_every_choice_changes_the_picture_and_the_numbers(browser):
     }
     for what, js in steps.items():
         page.eval(js)
-        page.page.wait_for_timeout(300)
-        page.eval("() => new Promise(r => requestAnimationFrame(() => requestAnimationFrame(r)))")
+        # One render replaces every sphere and its numbers at once (explorer.js `render`), so the
+        # first changed picture comes with its numbers: no settling time to wait out.
         page.page.wait_for_function("(b) => { const c = Array.from(document.querySelectorAll('canvas.sphere')).map(c => c.toDataURL()).join(''); return c !== b; }", arg=before[0], timeout=20000)
         after = picture_and_numbers(page)
         assert after[0] != before[0], f"choosing another {what} left the picture unchanged"
@@ -306,7 +351,6 @@ def test_every_claim_opens_its_figure_and_its_explorer_preset(browser):
     decl = _declarations()
     page = Page(browser, "claims.html")
     ev = page.eval("() => PROBELAB_CLAIMS.evidence")
-    page.close()
     assert set(ev) == set(decl)
     presets = 0
     for cid, e in ev.items():
@@ -335,19 +379,25 @@ def test_every_claim_opens_its_figure_and_its_explorer_preset(browser):
         if not any("maps" not in k and "all" in k.get("on", ["all"]) for k in checks):
             assert set(p["maps"]) <= allowed, (cid, p)
     assert presets >= 10, f"only {presets} claims have an explorer preset"
-    page = Page(browser, "claims.html")
+    hrefs = {}
     for cid, e in ev.items():
         if not e["preset"]:
             continue
         page.page.click(f"#claim-{cid}")
-        href = page.eval(f"() => document.querySelector('#claim-{cid} + tr.detail p.preset a').getAttribute('href')")
-        first = e["preset"]["maps"][0]
-        ex = Page(browser, "index.html", href[len("index.html"):])
-        state = ex.eval("() => probelab.state()")
-        assert (state["map"], state["domain"], state["encoders"]) == (first, e["preset"]["domain"], e["preset"]["encoders"]), (cid, state)
-        assert [s["encoder"] for s in ex.eval("() => probelab.shown()")] == e["preset"]["encoders"], cid
-        ex.close()
+        hrefs[cid] = page.eval(f"() => document.querySelector('#claim-{cid} + tr.detail p.preset a').getAttribute('href')")
     page.close()
+    # Each link opened in a fresh page, four at a time side by side (each page also loads every
+    # map's data for its thumbnails, so more at once would only add memory).
+    cids = list(hrefs)
+    for at in range(0, len(cids), 4):
+        batch = cids[at:at + 4]
+        for cid, ex in zip(batch, open_pages(browser, [("index.html", hrefs[cid][len("index.html"):]) for cid in batch])):
+            e = ev[cid]
+            first = e["preset"]["maps"][0]
+            state = ex.eval("() => probelab.state()")
+            assert (state["map"], state["domain"], state["encoders"]) == (first, e["preset"]["domain"], e["preset"]["encoders"]), (cid, state)
+            assert [s["encoder"] for s in ex.eval("() => probelab.shown()")] == e["preset"]["encoders"], cid
+            ex.close()
 
 
 def test_the_landscape_marks_a_pareto_front(browser):
