@@ -3,9 +3,9 @@
 //!
 //! The failure is injected with real bad input (the second map of a run, or the second
 //! experiment of a reproduce, is a corrupt file from `tests/bad_inputs/`), so no test-only
-//! hook lives in the program. The kill test spawns `probelab reproduce`, kills it (SIGKILL) at
-//! several moments spread over its run time, and checks each results file is exactly its old
-//! bytes or exactly the bytes a complete run writes.
+//! hook lives in the program. The kill test spawns `probelab reproduce`, freezes it at every
+//! moment its results change and kills it (SIGKILL) near its end, and checks each results file
+//! is exactly its old bytes or exactly the bytes a complete run writes.
 
 mod common;
 
@@ -13,7 +13,6 @@ use common::harness::{repo, Run, Scratch};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
-use std::time::Instant;
 
 /// The binary on the scratch repository `root`, finding the repository's maps (`envmaps/`).
 fn probelab(root: &Scratch) -> Command {
@@ -156,6 +155,14 @@ fn an_experiment_that_fails_second_writes_nothing() {
 
 /// A `reproduce` killed at any moment leaves each results file either as it was or exactly
 /// as a complete run writes it.
+///
+/// One run is frozen (SIGSTOP) each time its `results/` folder is seen to change (a file, a
+/// hidden temporary file of an atomic write, or a size appears or goes), checked, and resumed;
+/// near its end, when all but one of the complete run's files are there, it is killed (SIGKILL)
+/// and checked once more. SIGKILL ends a process where it stands, without running anything of
+/// it, so a frozen run's files are exactly what a kill at that moment leaves: the stops are
+/// kills at every moment the files change, taken from one run instead of one run per kill,
+/// and chosen by the run's own writes instead of by fractions of a measured duration.
 #[test]
 fn a_killed_reproduce_leaves_old_or_complete_files() {
     let (ids, all) = (encoder_list(true), encoder_list(false));
@@ -170,48 +177,115 @@ fn a_killed_reproduce_leaves_old_or_complete_files() {
         ),
         ("k3_small", good_experiment()),
     ];
-    // The bytes a complete run writes, and how long it takes.
+    // The bytes a complete run writes.
     let complete = root_with(&exps);
-    let t0 = Instant::now();
     let out = run(&complete, &["reproduce"]);
-    let full = t0.elapsed();
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let new = results(&complete);
     let old = results(&root_with(&exps));
-    println!("a complete reproduce takes {full:?}");
+    let last = new.keys().filter(|n| !old.contains_key(*n)).count() - 1;
 
-    // Two early kills, then kills creeping up on the end of the run (where the files are
-    // written) until one run finishes before its kill.
-    let mut fracs = vec![0.2, 0.6];
-    fracs.extend((0..10).map(|k| 0.85 + 0.06 * k as f64));
-    for frac in fracs {
-        let mut outcomes = BTreeMap::new();
-        let root = root_with(&exps);
-        let mut child = probelab(&root).arg("reproduce").stdout(Stdio::null()).stderr(Stdio::null()).spawn().unwrap();
-        std::thread::sleep(full.mul_f64(frac));
-        let _ = child.kill();
-        let status = child.wait().unwrap();
-        let after = results(&root);
-        for (name, bytes) in &after {
-            let hidden = name.file_name().and_then(|n| n.to_str()).is_some_and(|n| n.starts_with('.'));
-            if hidden {
-                // A temporary file of an interrupted atomic write: never a results file.
-                *outcomes.entry("temporary").or_insert(0) += 1;
-                continue;
-            }
-            let as_old = old.get(name) == Some(bytes);
-            let as_new = new.get(name) == Some(bytes);
-            assert!(as_old || as_new, "killed at {frac:.2} of the run: {} is neither old nor complete", name.display());
-            *outcomes.entry(if as_new && !as_old { "new" } else { "old" }).or_insert(0) += 1;
+    let root = root_with(&exps);
+    let child = probelab(&root).arg("reproduce").stdout(Stdio::null()).stderr(Stdio::null()).spawn().unwrap();
+    let mut run = Frozen(child);
+    let (mut seen, mut stops) = (listing(&root.path().join("results")), 0);
+    let status = loop {
+        if let Some(status) = run.0.try_wait().unwrap() {
+            old_or_complete(&root, &old, &new, "finished");
+            break status;
         }
-        for name in old.keys() {
-            assert!(after.contains_key(name), "killed at {frac:.2}: {} disappeared", name.display());
+        let now = listing(&root.path().join("results"));
+        if now == seen {
+            std::thread::sleep(std::time::Duration::from_millis(2));
+            continue;
         }
-        println!("killed at {frac:.2} of the run ({status}): {outcomes:?}");
-        if status.success() {
-            break;
+        run.stop();
+        stops += 1;
+        let written = old_or_complete(&root, &old, &new, &format!("stop {stops}"));
+        if written >= last {
+            let _ = run.0.kill();
+            let status = run.0.wait().unwrap();
+            old_or_complete(&root, &old, &new, &format!("killed after stop {stops}"));
+            break status;
+        }
+        seen = listing(&root.path().join("results"));
+        run.resume();
+    };
+    println!("{stops} stops, the run then {status}");
+    assert!(stops >= 3, "only {stops} moments seen: the run wrote its files faster than they were watched");
+}
+
+/// A run that is killed if the test ends first (a stopped run would wait forever).
+struct Frozen(std::process::Child);
+
+impl Frozen {
+    /// Freezes the run and waits until every thread of it has stopped.
+    fn stop(&self) {
+        let pid = self.0.id();
+        // SAFETY: a signal to our own child, which has not been waited for.
+        unsafe { libc::kill(pid as i32, libc::SIGSTOP) };
+        let tasks = PathBuf::from(format!("/proc/{pid}/task"));
+        while std::fs::read_dir(&tasks).into_iter().flatten().flatten().any(|t| {
+            let stat = std::fs::read_to_string(t.path().join("stat")).unwrap_or_default();
+            let state = stat.rsplit(')').next().and_then(|r| r.split_whitespace().next()).unwrap_or("X");
+            !matches!(state, "T" | "t" | "Z" | "X")
+        }) {
+            std::thread::sleep(std::time::Duration::from_millis(1));
         }
     }
+
+    fn resume(&self) {
+        // SAFETY: as in `stop`.
+        unsafe { libc::kill(self.0.id() as i32, libc::SIGCONT) };
+    }
+}
+
+impl Drop for Frozen {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}
+
+/// The files under `dir` with their sizes, tolerating files that go while it looks.
+fn listing(dir: &Path) -> BTreeMap<PathBuf, u64> {
+    let mut out = BTreeMap::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        for e in std::fs::read_dir(&d).into_iter().flatten().flatten() {
+            match e.metadata() {
+                Ok(m) if m.is_dir() => stack.push(e.path()),
+                Ok(m) => drop(out.insert(e.path(), m.len())),
+                Err(_) => {}
+            }
+        }
+    }
+    out
+}
+
+/// Checks that each results file of `root` is its old bytes or the complete run's (a hidden
+/// temporary file of an interrupted atomic write is never a results file), and that no old
+/// file disappeared; returns how many non-hidden files are new.
+fn old_or_complete(
+    root: &Scratch,
+    old: &BTreeMap<PathBuf, Vec<u8>>,
+    new: &BTreeMap<PathBuf, Vec<u8>>,
+    when: &str,
+) -> usize {
+    let after = results(root);
+    let mut written = 0;
+    for (name, bytes) in &after {
+        if name.file_name().and_then(|n| n.to_str()).is_some_and(|n| n.starts_with('.')) {
+            continue;
+        }
+        let (as_old, as_new) = (old.get(name) == Some(bytes), new.get(name) == Some(bytes));
+        assert!(as_old || as_new, "{when}: {} is neither old nor complete", name.display());
+        written += usize::from(as_new && !as_old);
+    }
+    for name in old.keys() {
+        assert!(after.contains_key(name), "{when}: {} disappeared", name.display());
+    }
+    written
 }
 
 /// A report is old or new whatever the clock did: one run's tables written within one second
