@@ -130,20 +130,50 @@ pub fn registry_encoders() -> Vec<(String, Box<dyn Encoder>)> {
         .collect()
 }
 
-/// Every registered encoder with its default settings, then every encoder configuration that
-/// an experiment file in `experiments/` declares (settings included, so a variant used in a
-/// table is tested too), each with a label ("sh1", or "zh3_shared in zh3.toml").
+/// Every registered encoder with its default settings, then every other encoder configuration
+/// that an experiment file in `experiments/` declares (settings included, so a variant used in a
+/// table is tested too), each with a label ("sh1", or "zh3_shared in zh3.toml"). A
+/// configuration is its kind and settings (its `name` only labels it): one already listed, such
+/// as `sh1` in seven files or `{ kind = "sh2" }`, builds the same encoder and is tested once,
+/// under its first label. Every file's encoders are still built (`Experiment::load`).
 pub fn all_encoders() -> Vec<(String, Box<dyn Encoder>)> {
     let mut out = registry_encoders();
+    let mut seen: Vec<(String, toml::Table)> = REGISTRY.iter().map(|k| (k.id.to_string(), toml::Table::new())).collect();
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("experiments");
     for path in crate::pipeline::experiment::list_experiments(&dir).expect("experiments/ lists") {
         let exp = crate::pipeline::experiment::Experiment::load(&path).unwrap_or_else(|e| panic!("{e:#}"));
+        let configs = configurations(&path);
+        assert_eq!(configs.len(), exp.encoders.len(), "{}: one encoder per entry", path.display());
         let file = path.file_name().unwrap().to_string_lossy().into_owned();
-        for named in exp.encoders {
-            out.push((format!("{} in {file}", named.name), named.encoder));
+        for (named, config) in exp.encoders.into_iter().zip(configs) {
+            if !seen.contains(&config) {
+                seen.push(config);
+                out.push((format!("{} in {file}", named.name), named.encoder));
+            }
         }
     }
     out
+}
+
+/// The `encoders` entries of an experiment file as (kind, settings): `"sh2"` is ("sh2", {}),
+/// `{ kind = "sh2", name = "x" }` is too.
+fn configurations(path: &std::path::Path) -> Vec<(String, toml::Table)> {
+    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let file: toml::Table = text.parse().unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let entries = file.get("encoders").and_then(toml::Value::as_array).expect("encoders = [..]");
+    entries
+        .iter()
+        .map(|e| match e {
+            toml::Value::String(kind) => (kind.clone(), toml::Table::new()),
+            toml::Value::Table(t) => {
+                let mut settings = t.clone();
+                settings.remove("name");
+                let kind = settings.remove("kind").and_then(|k| k.as_str().map(String::from)).expect("kind");
+                (kind, settings)
+            }
+            other => panic!("{}: encoder entry {other}", path.display()),
+        })
+        .collect()
 }
 
 /// Values of `f` at the grid's normals.
