@@ -4,7 +4,7 @@
 use crate::encoders::encoder::{fit_each_unboxed, sq_errors_unboxed, Encoder, Family, FitInput, Fitted};
 use crate::encoders::quantise;
 use crate::encoders::stored::{sh_name, Role, Stored, Unit, Value};
-use crate::encoders::zh3::model::{hallucinate, solved, stored, AxisRule, Zh3};
+use crate::encoders::zh3::model::{closed_form_sq_error, hallucinate, solved, stored, AxisRule, Zh3};
 use crate::encoders::zh3::serialise::{decode_zh3, encode_zh3};
 use crate::encoders::zh3::solve::{Curve, Formulation, SolveStats, SolverSettings, Zonal};
 use crate::math::colour::Rgb;
@@ -236,17 +236,17 @@ impl Encoder for Zh3Encoder {
         fit_each_unboxed(probes, visit, |p| self.fit_zh3(p));
     }
     /// The closed-form variants (hallucinated or stored k, not quantised) score straight from
-    /// the ZH3 ([`Zh3::sphere_sq_error`]), the others through their fits.
+    /// the irradiance ([`closed_form_sq_error`]), the others through their fits.
     fn sphere_sq_errors(&self, probes: &[Sh9], irradiance: &[Sh9], out: &mut [f64]) -> bool {
         if self.quantise || matches!(self.method, Method::Solved(_)) {
             return sq_errors_unboxed(probes, irradiance, out, |p| self.fit_zh3(p));
         }
+        let zonal = match self.method {
+            Method::Hallucinate(curve) => Zonal::Hallucinated(curve),
+            _ => Zonal::Stored,
+        };
         for (irr, o) in irradiance.iter().zip(out) {
-            let zh3 = match self.method {
-                Method::Hallucinate(curve) => hallucinate(irr, self.rule, curve),
-                _ => stored(irr, self.rule),
-            };
-            *o = zh3.sphere_sq_error(irr);
+            *o = closed_form_sq_error(irr, self.rule, zonal);
         }
         true
     }

@@ -2,8 +2,9 @@
 //! channel's axis, its SH3 expansion, and the three ways to get k — hallucinated from L1 by a
 //! curve, stored (the least-squares zonal fit of L2), or with the L1 solved.
 
-use crate::encoders::encoder::sh3_sq_error;
-use crate::encoders::zh3::solve::{self as zh3_solve, band2, zonal_fit, Curve, SolverSettings, Target, Zonal};
+use crate::encoders::zh3::solve::{
+    self as zh3_solve, band2, zonal_fit, zonal_fit_at, Curve, SolverSettings, Target, Zonal,
+};
 use crate::math::colour::Rgb;
 use crate::math::sh::Sh9;
 use glam::DVec3;
@@ -66,12 +67,6 @@ impl Zh3 {
         s
     }
 
-    /// ∫ over the sphere of |E_zh3(n) − E_r(n)|² dω summed over RGB against the E/π SH3 `r`
-    /// (Parseval over [`Self::to_sh`]): the error of its fit, without building the fit.
-    pub fn sphere_sq_error(&self, r: &Sh9) -> f64 {
-        sh3_sq_error(&self.to_sh(), r)
-    }
-
     /// The radiance ratio r_c = |L1_c·a_c|/L₀₀,c of each channel (0 without axis or light).
     pub fn ratios(&self) -> Rgb {
         Rgb::from_array(std::array::from_fn(|c| match self.axes[c] {
@@ -113,6 +108,45 @@ fn finish_stored(irr: &Sh9, l1: [DVec3; 3], rule: AxisRule) -> Zh3 {
         None => 0.0,
     }));
     Zh3 { l0: irr[0], l1, axes, k }
+}
+
+/// ∫ over the sphere of |E_zh3(n) − E_r(n)|² dω summed over RGB, against `irr`, of the
+/// closed-form ZH3 of `irr` (k hallucinated by a curve, or stored: [`hallucinate`], [`stored`]):
+/// [`crate::encoders::encoder::sh3_sq_error`] of its [`Zh3::to_sh`], bit for bit, without
+/// building the ZH3 or its SH3 (the batch form probe sets score through).
+///
+/// The same operations in the same order as [`Zh3::to_sh`] then that sum: bands 0 and 1 of the
+/// expansion are the reference's own (L0 copied, L1 negated twice), so their differences are
+/// `r − r`, exactly 0 (NaN where `irr` is not finite, as there); band 2 is k·Y₂(a) per channel,
+/// 0 without axis. A shared axis's Y₂(a) is taken once for the three channels.
+pub fn closed_form_sq_error(irr: &Sh9, rule: AxisRule, zonal: Zonal) -> f64 {
+    let l1 = l1_vectors(irr);
+    let axes = rule.axes(&l1);
+    let shared = match (rule, axes[0]) {
+        (AxisRule::Shared(_), Some(a)) => band2(a),
+        _ => [0.0; 5],
+    };
+    let mut band = [[0.0; 3]; 5];
+    for c in 0..3 {
+        let Some(a) = axes[c] else { continue };
+        let y = if matches!(rule, AxisRule::Shared(_)) { shared } else { band2(a) };
+        let l2 = zh3_solve::l2_band(irr, c);
+        let k = match zonal {
+            Zonal::Hallucinated(curve) => zh3_solve::hallucinated_k(irr[0][c], l1[c], a, curve),
+            Zonal::Stored => zonal_fit_at(&y, &l2),
+        };
+        for m in 0..5 {
+            band[m][c] = k * y[m];
+        }
+    }
+    let mut se = 0.0;
+    for i in 0..4 {
+        se += (irr[i] - irr[i]).length_squared();
+    }
+    for m in 0..5 {
+        se += (Rgb::from_array(band[m]) - irr[4 + m]).length_squared();
+    }
+    se
 }
 
 /// The solve's result: the ZH3 and the summed statistics of its solves.

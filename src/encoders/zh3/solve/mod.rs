@@ -46,4 +46,4 @@ mod zonal;
 
 pub use problem::{l2_band, Formulation, Target};
 pub use solver::{solve, LineSearch, SolveStats, SolverSettings};
-pub use zonal::{band2, hallucinated_k, zonal_fit, Curve, Zonal};
+pub use zonal::{band2, hallucinated_k, zonal_fit, zonal_fit_at, Curve, Zonal};

@@ -42,7 +42,12 @@ pub fn band2(a: DVec3) -> [f64; 5] {
 /// The least-squares zonal coefficient of the L2 band `l2` about the unit axis `a`:
 /// k = (4π/5)·Σ_m Y₂ₘ(a)·L₂ₘ, so that L₂ₘ ≈ k·Y₂ₘ(a) (FORMULAS §5).
 pub fn zonal_fit(a: DVec3, l2: &[f64; 5]) -> f64 {
-    let y = band2(a);
+    zonal_fit_at(&band2(a), l2)
+}
+
+/// [`zonal_fit`] with the band-2 basis `y` = Y₂(a) of the axis already at hand.
+#[inline]
+pub fn zonal_fit_at(y: &[f64; 5], l2: &[f64; 5]) -> f64 {
     FOUR_PI_OVER_5 * (0..5).map(|m| y[m] * l2[m]).sum::<f64>()
 }
 
@@ -101,6 +106,7 @@ pub(super) const RATIO_SCALE: f64 = 1.5;
 /// The hallucinated zonal coefficient k (irradiance) of a channel with irradiance L0 `l0` and
 /// irradiance L1 vector `v` about unit axis `a`: r = 1.5·|v·a|/L0 (the radiance ratio),
 /// f_rad = L0·g(r), k = √(4π/5)·¼·f_rad (FORMULAS §5). 0 when L0 ≤ 0.
+#[inline]
 pub fn hallucinated_k(l0: f64, v: DVec3, a: DVec3, curve: Curve) -> f64 {
     if l0.is_nan() || l0 <= 0.0 {
         return 0.0;
