@@ -374,3 +374,51 @@ fn driver_matches_the_executor() {
         both::<9>(&hall3, Formulation::L1, SVector::from_column_slice(&x), backtrack);
     }
 }
+
+/// The chart's gradient is the reduced objective's (`eval_group_axis`) through the chart, and its
+/// Hessian matches central finite differences of that gradient, on random stored problems
+/// (shared with unequal weights, and one channel) at random chart points.
+#[test]
+fn chart_derivatives_match_the_reduced_objective() {
+    use super::chart::ChartProblem;
+    use nalgebra::Vector2;
+    let mut rng = Rng::new(0x5151_2323_abcd_0001);
+    for _ in 0..6 {
+        let irr = random_lighting(&mut rng, 3).convolve_cosine();
+        for t in [
+            Target::shared(&irr, Rgb::new(0.2, 0.5, 0.3), Rgb::new(0.3, 0.3, 0.4), Zonal::Stored),
+            Target::channel(&irr, 2, Zonal::Stored),
+        ] {
+            let g = t.groups()[0];
+            let a0 = rng.unit();
+            let chart = ChartProblem::new(&t, g, a0);
+            let grad_at = |p: &Vector2<f64>| {
+                let u = chart.axis(p);
+                let (e1, e2) = a0.any_orthonormal_pair();
+                let gu = t.eval_group_axis(g, u).1;
+                Vector2::new(gu.dot(e1), gu.dot(e2))
+            };
+            for _ in 0..4 {
+                let p = Vector2::new(rng.uniform01() - 0.5, rng.uniform01() - 0.5);
+                let (gc, hc) = chart.derivatives(&p);
+                let gr = grad_at(&p);
+                assert!((gc - gr).norm() <= 1e-12 * (1.0 + gr.norm()), "gradient {gc} against {gr}");
+                for j in 0..2 {
+                    let h = 1e-6;
+                    let mut dp = Vector2::zeros();
+                    dp[j] = h;
+                    let fd = (grad_at(&(p + dp)) - grad_at(&(p - dp))) / (2.0 * h);
+                    for i in 0..2 {
+                        let tol = 1e-6 * (1.0 + fd[i].abs());
+                        assert!(
+                            (hc[(i, j)] - fd[i]).abs() < tol,
+                            "hessian ({i},{j}): {} against {}",
+                            hc[(i, j)],
+                            fd[i]
+                        );
+                    }
+                }
+            }
+        }
+    }
+}
