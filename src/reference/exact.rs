@@ -575,7 +575,10 @@ mod tests {
         let map = test_map(64);
         let rm = RowMoments::new(&map);
         let r = Reference::new(&rm, vec![], 2);
-        for out in [LatLong::new(64, 20), LatLong::new(32, 16), LatLong::new(16, 9)] {
+        // 18 and 27 columns: classes of two columns and of one, padded to whole blocks of four.
+        for out in
+            [LatLong::new(64, 20), LatLong::new(32, 16), LatLong::new(16, 9), LatLong::new(18, 9), LatLong::new(27, 8)]
+        {
             let fast = r.irradiance_latlong(out);
             for j in 0..out.height {
                 for i in 0..out.width {

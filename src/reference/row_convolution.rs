@@ -90,7 +90,7 @@ fn convolve(
     stop: &(dyn Fn() -> bool + Sync),
     avx2: bool,
 ) {
-    let n = rows_out.len() * out.width * 3;
+    let n = rows_out.len() * plan.row_len();
     let new = || Sums {
         acc: vec![0.0f64; n],
         phased: Phased::new(plan),
@@ -115,18 +115,20 @@ fn convolve(
             *t += v;
         }
     }
-    // From class-major order (class c, member t, channel) to row-major columns i = c + q·t.
-    for (&jo, classes) in rows_out.iter().zip(total.chunks_exact(out.width * 3)) {
+    // From class-major order (class c, member t, channel; each class padded to `stride`) to
+    // row-major columns i = c + q·t.
+    for (&jo, classes) in rows_out.iter().zip(total.chunks_exact(plan.row_len())) {
         let row = &mut values[jo * out.width..][..out.width];
-        for (k, v) in classes.chunks_exact(3).enumerate() {
-            let (c, t) = (k / plan.g, k % plan.g);
-            row[c + plan.q * t] = Rgb::new(v[0], v[1], v[2]) * FRAC_1_PI;
+        for (c, class) in classes.chunks_exact(plan.stride).enumerate() {
+            for (t, v) in class[..3 * plan.g].chunks_exact(3).enumerate() {
+                row[c + plan.q * t] = Rgb::new(v[0], v[1], v[2]) * FRAC_1_PI;
+            }
         }
     }
 }
 
-/// What a chunk of input rows keeps: the output rows' sums (class-major, as [`Plan::add_node`]
-/// writes them) and its work buffers.
+/// What a chunk of input rows keeps: the output rows' sums (class-major, each class padded to
+/// [`Plan::stride`], as [`Plan::add_node`] writes them) and its work buffers.
 struct Sums {
     acc: Vec<f64>,
     phased: Phased,
@@ -160,7 +162,7 @@ fn add_input_row(row: &InputRow, sums: &mut Sums) {
     let (plan, rows) = (row.plan, row.moments.height());
     sums.phased.fill(row.moments, row.j, plan);
     let polar = (PI * row.j as f64 / rows as f64, PI * (row.j + 1) as f64 / rows as f64);
-    for (&jo, acc) in row.rows_out.iter().zip(sums.acc.chunks_exact_mut(row.out.width * 3)) {
+    for (&jo, acc) in row.rows_out.iter().zip(sums.acc.chunks_exact_mut(plan.row_len())) {
         sums.nodes.clear();
         for_each_node(row.rule, row.out.phi_centre(jo), polar, |a, b, ws, t| sums.nodes.push((a, b, ws, t)));
         for &(a, b, ws, t) in &sums.nodes {
@@ -190,6 +192,10 @@ struct Plan {
     p: usize,
     /// Classes, w/g.
     q: usize,
+    /// Values a class takes in the sums: its 3g (g columns, three channels) rounded up to a
+    /// multiple of four, so that every class is whole blocks of lanes (the padding's sums
+    /// are never read).
+    stride: usize,
     /// Per class c, the centre of its first column in texels from θ = −π: (c + ½)·p/q.
     centre: Vec<f64>,
     /// [`Phased`] holds the edges k = −lo..W + lo, lo = ⌊W/2⌋ + 2: an arc end lies within half
@@ -210,7 +216,13 @@ impl Plan {
         let edges = width + 2 * lo;
         let len = edges.div_ceil(p);
         let at = (0..edges).map(|e| ((e % p) * len + e / p) * 3).collect();
-        Plan { width, h, g, p, q, centre, lo, at }
+        let stride = (3 * g).next_multiple_of(4);
+        Plan { width, h, g, p, q, stride, centre, lo, at }
+    }
+
+    /// Values an output row takes in the sums: q classes of [`Self::stride`].
+    fn row_len(&self) -> usize {
+        self.q * self.stride
     }
 
     /// A polar node's half-arc from t = cos Δ (the whole circle when t ≤ −1).
@@ -273,26 +285,31 @@ impl Plan {
     /// space for its two ends.
     #[inline(always)]
     fn add_node(&self, row: &Phased, kernel: (f64, f64, f64), arc: &Arc, ends: &mut [ClassEnds; 2], acc: &mut [f64]) {
-        let n = 3 * self.g;
         let (a, b, ws) = kernel;
         let [up, down] = ends;
         self.ends(arc, 1.0, kernel, up);
         self.ends(arc, -1.0, (a, b, -ws), down);
         let at = |k: f64| self.at[(k as i64 + self.lo as i64) as usize];
-        let (h0, l0) = (up.x0, down.x0);
-        for (c, o) in acc.chunks_exact_mut(n).enumerate() {
-            let (hi, lo) = (at(up.k[c]), at(down.k[c]));
-            let (h1, h2, h3) = (up.x1[c], up.x2[c], up.x3[c]);
-            let (l1, l2, l3) = (down.x1[c], down.x2[c], down.x3[c]);
-            let (a0, a1, a2, a3) = (&row.c0[hi..][..n], &row.c1r[hi..][..n], &row.c1i[hi..][..n], &row.l[hi..][..n]);
-            let (b0, b1, b2, b3) = (&row.c0[lo..][..n], &row.c1r[lo..][..n], &row.c1i[lo..][..n], &row.l[lo..][..n]);
-            // Nine slices of one length, indexed together (the bounds checks are hoisted).
-            #[allow(clippy::needless_range_loop)]
-            for x in 0..n {
-                o[x] += (h0 * a0[x] + h1 * a1[x] + h2 * a2[x] + h3 * a3[x])
-                    + (l0 * b0[x] + l1 * b1[x] + l2 * b2[x] + l3 * b3[x]);
-            }
+        for (c, o) in acc.chunks_exact_mut(self.stride).enumerate() {
+            let (h, l) = ([up.x0, up.x1[c], up.x2[c], up.x3[c]], [down.x0, down.x1[c], down.x2[c], down.x3[c]]);
+            add_class(o, row.from(at(up.k[c])), row.from(at(down.k[c])), h, l);
         }
+    }
+}
+
+/// One class's sums at one polar node, o[x] += (Σₘ hₘ·Aₘ[x]) + (Σₘ lₘ·Bₘ[x]) for x < `o.len()`:
+/// A₀..A₃ and B₀..B₃ are C0, Re C1″, Im C1″ and L from the class's first column on at the arc's
+/// upper and lower ends ([`Phased::from`]), h and l their factors ([`ClassEnds`]). Each array is
+/// its own argument so that the compiler knows the sums are apart from the table: the loop runs
+/// vectorised with no overlap check and one length check per array, per class.
+#[inline(always)]
+fn add_class(o: &mut [f64], [a0, a1, a2, a3]: [&[f64]; 4], [b0, b1, b2, b3]: [&[f64]; 4], h: [f64; 4], l: [f64; 4]) {
+    let n = o.len();
+    let (a0, a1, a2, a3) = (&a0[..n], &a1[..n], &a2[..n], &a3[..n]);
+    let (b0, b1, b2, b3) = (&b0[..n], &b1[..n], &b2[..n], &b3[..n]);
+    for x in 0..n {
+        o[x] += (h[0] * a0[x] + h[1] * a1[x] + h[2] * a2[x] + h[3] * a3[x])
+            + (l[0] * b0[x] + l[1] * b1[x] + l[2] * b2[x] + l[3] * b3[x]);
     }
 }
 
@@ -335,10 +352,19 @@ struct Phased {
 }
 
 impl Phased {
+    /// The table for `plan`, with room past its last phase for a class's padding
+    /// ([`Plan::stride`]): a class's last block reads up to stride − 3g values past its last
+    /// column, into the next phase or these zeros, for sums that are never read.
     fn new(plan: &Plan) -> Self {
-        let n = plan.p * plan.at.len().div_ceil(plan.p) * 3;
+        let n = plan.p * plan.at.len().div_ceil(plan.p) * 3 + plan.stride - 3 * plan.g;
         let edges = Vec::with_capacity(plan.width);
         Phased { c0: vec![0.0; n], c1r: vec![0.0; n], c1i: vec![0.0; n], l: vec![0.0; n], edges }
+    }
+
+    /// The four arrays from value `at` on (a class's first column at one arc end).
+    #[inline(always)]
+    fn from(&self, at: usize) -> [&[f64]; 4] {
+        [&self.c0[at..], &self.c1r[at..], &self.c1i[at..], &self.l[at..]]
     }
 
     /// Row j's values: its prefix sums in order (`RowMoments::prefix01`), then written phase by
@@ -383,9 +409,11 @@ mod tests {
 
     #[test]
     fn classes_cover_every_column_once() {
-        for (w, out) in [(1000, 256), (1024, 256), (256, 256), (2, 256), (64, 20), (6, 4)] {
+        for (w, out) in [(1000, 256), (1024, 256), (999, 256), (256, 256), (2, 256), (64, 20), (6, 4)] {
             let plan = Plan::new(w, std::f64::consts::TAU / w as f64, out);
             assert_eq!(plan.q * plan.g, out);
+            // A class's sums are whole blocks of four, at most three values of padding.
+            assert!(plan.stride % 4 == 0 && (3 * plan.g..3 * plan.g + 4).contains(&plan.stride), "{w} onto {out}");
             let mut seen = vec![0; out];
             for c in 0..plan.q {
                 for t in 0..plan.g {
@@ -402,13 +430,14 @@ mod tests {
 
     /// The AVX2 copy of the per-row work does the same operations four wide, so its values are
     /// the portable copy's to the bit (nothing to compare where the CPU has no AVX2): classes of one and
-    /// of several columns, a grid finer than the map.
+    /// of several columns, a grid finer than the map, classes padded to whole blocks of four (one
+    /// column, ten columns).
     #[test]
     fn avx2_rows_equal_the_portable_rows() {
         if !has_avx2() {
             return; // Nothing to compare: this CPU runs the portable copy only.
         }
-        for (mw, ow, oh) in [(100, 24, 13), (64, 16, 8), (20, 64, 9)] {
+        for (mw, ow, oh) in [(100, 24, 13), (64, 16, 8), (20, 64, 9), (22, 9, 5), (30, 20, 7)] {
             let map = crate::envmap::EnvMap::from_fn("t", mw, mw / 2, |i, j| {
                 [((i * 7 + j * 3) % 11) as f32 + 0.1, if i == 3 && j == 2 { 900.0 } else { 0.0 }, 1.0]
             })

@@ -76,16 +76,25 @@ fn committed_maps_agree_with_the_per_normal_path() {
 }
 
 /// Committed maps resampled to widths that are not multiples of the grid's (1000x500 as the
-/// wells probe; 1002x501 shares only a factor 2 with 256) and to a multiple (1024x512).
+/// wells probe; 1002x501 shares only a factor 2 with 256, so its classes of two columns are
+/// padded from six values to eight) and to a multiple (1024x512); 1000x500 also on a 63-wide
+/// grid (no common factor: one column a class, padded to four values) and on the 256-wide grid
+/// the experiments use (32 classes of 8 columns), a few rows of it.
 #[test]
 fn resampled_maps_agree_with_the_per_normal_path() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("envmaps");
     for name in ["pmndrs_bridge_256x128.exr", "blender_sunrise_256x128.exr", "gen_sky_sun.exr"] {
         let map = load::load(&dir.join(name)).unwrap();
-        for (w, h) in [(1000, 500), (1002, 501), (1024, 512)] {
+        for (w, h, grid) in [
+            (1000, 500, LatLong::new(64, 32)),
+            (1002, 501, LatLong::new(64, 32)),
+            (1000, 500, LatLong::new(63, 32)),
+            (1024, 512, LatLong::new(64, 32)),
+            (1000, 500, LatLong::new(256, 8)),
+        ] {
             let big = resample::nearest(&map, w, h).unwrap();
-            let worst = worst_relative(&big, LatLong::new(64, 32));
-            assert!(worst <= 1e-9, "{name} at {w}x{h}: {worst:e}");
+            let worst = worst_relative(&big, grid);
+            assert!(worst <= 1e-9, "{name} at {w}x{h} on {grid:?}: {worst:e}");
         }
     }
 }
