@@ -92,8 +92,7 @@ mod tests {
     use crate::envmap::moments::RowMoments;
     use crate::envmap::EnvMap;
     use crate::math::cap::Cap;
-    use crate::pipeline::cases::cone_centre;
-    use crate::reference::domain::Domain;
+    use crate::reference::domain::{frame_to, Domain};
 
     /// Every reference evaluated together equals its own per-normal path bit for bit (so far
     /// below the 1e-9 relative the paths must agree to): cones about both poles and a tilted
@@ -112,7 +111,10 @@ mod tests {
             let mut sets = vec![vec![Cap::hemisphere(n)]];
             for tilt in [0.0, 30.0, 65.0] {
                 for cos_alpha in [-0.3, 0.0, 0.5, 0.9] {
-                    let cone = Cap::new(cone_centre(n, tilt), cos_alpha);
+                    // N tilted by `tilt` degrees towards its frame's tangent (the cone effect's centre).
+                    let t: f64 = f64::to_radians(tilt);
+                    let centre = (n * t.cos() + frame_to(n) * DVec3::X * t.sin()).normalize();
+                    let cone = Cap::new(centre, cos_alpha);
                     sets.push(vec![cone]);
                     sets.push(vec![Cap::hemisphere(n), cone]);
                 }
