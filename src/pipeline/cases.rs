@@ -11,12 +11,14 @@ use crate::math::cap::Cap;
 use crate::math::colour::Rgb;
 use crate::math::sh::Sh9;
 use crate::pipeline::experiment::{DomainKind, Effect, Experiment};
-use crate::pipeline::reuse::{Key, Path, ReferenceCache};
+use crate::pipeline::reuse::{cap_bits, Key, Path, ReferenceCache};
 use crate::reference::domain::{frame_to, Domain, OutputGrid};
 use crate::reference::exact::Reference;
 use crate::reference::projection::{project, project_visible};
 use crate::reference::radiance::{MapLight, RadianceSource};
+use crate::reference::shared_kernel::irradiance_many_together;
 use glam::DVec3;
+use rayon::prelude::*;
 
 /// One surface configuration to score: where n′ ranges and what light is visible.
 #[derive(Clone, Debug)]
@@ -169,6 +171,42 @@ impl<'m> MapData<'m> {
     pub fn new(map: &'m EnvMap) -> Self {
         MapData { map, moments: RowMoments::new(map), probe_sh: project(map) }
     }
+}
+
+/// Evaluates together, and keeps in `cache`, the capped references of the cases that share a
+/// hemisphere domain (the cone effect's cones about one surface normal N) on the experiment's
+/// own grid of that domain (`reference::shared_kernel`: the kernel's arcs, F at their ends and
+/// the row prefix sums once for all of a normal's caps). Each case's
+/// [`CaseData::reference_on`] then finds its values there, bit for bit what it would have
+/// computed. Nothing is done for a map without a pixel sha256 (nothing would be kept), for an
+/// experiment none of whose metrics scores on its own grid, or for a domain with one set of caps.
+pub fn references_together(exp: &Experiment, data: &MapData, cases: &[Case], cache: &ReferenceCache) {
+    let Some(sha) = data.map.pixel_sha256.as_deref() else { return };
+    if !exp.metrics.iter().any(|m| m.fixed_resolution().is_none()) {
+        return;
+    }
+    // Per surface normal N (bit for bit), the distinct sets of caps of its capped cases.
+    let mut groups: Vec<(DVec3, Vec<&[Cap]>)> = Vec::new();
+    for c in cases.iter().filter(|c| !c.masks.is_empty()) {
+        let Domain::Hemisphere { normal } = c.domain else { continue };
+        let masks = c.masks.as_slice();
+        match groups.iter_mut().find(|g| g.0.to_array().map(f64::to_bits) == normal.to_array().map(f64::to_bits)) {
+            Some(g) if !g.1.iter().any(|m| cap_bits(m) == cap_bits(masks)) => g.1.push(masks),
+            Some(_) => {}
+            None => groups.push((normal, vec![masks])),
+        }
+    }
+    groups.retain(|g| g.1.len() > 1);
+    groups.par_iter().for_each(|(normal, sets)| {
+        let grid = Domain::Hemisphere { normal: *normal }.output_grid(exp.resolution);
+        let base = Key::new(sha, &[], exp.polar_nodes, Path::PerNormal, &grid.normals);
+        let keys = sets.iter().map(|m| base.for_caps(m)).collect();
+        cache.keep_together(keys, REFERENCE, || {
+            let refs: Vec<Reference> =
+                sets.iter().map(|m| Reference::new(&data.moments, m.to_vec(), exp.polar_nodes)).collect();
+            irradiance_many_together(&refs.iter().collect::<Vec<_>>(), &grid.normals)
+        });
+    });
 }
 
 /// What every encoder is fitted from in one case, owned (the timing pass keeps it after the

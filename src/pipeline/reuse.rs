@@ -80,6 +80,12 @@ impl Key {
         }
     }
 
+    /// This key with its caps replaced by `caps`: the key of another reference of the same
+    /// map at the same normals (their digest taken once).
+    pub fn for_caps(&self, caps: &[Cap]) -> Key {
+        Key { caps: cap_bits(caps), ..self.clone() }
+    }
+
     /// The key of the reference on the lat-long output grid `grid` (`Path::LatLong`): its
     /// values are a function of the grid's size, which fixes its normals, so the size stands
     /// for them (no digest of its normals' bits).
@@ -171,6 +177,24 @@ impl<'p> ReferenceCache<'p> {
             self.keep(&mut kept, k, values.clone());
         }
         Some(values)
+    }
+
+    /// Keeps the values of every key of `keys` unless all are kept already: `compute` gives
+    /// them all at once (`compute()[k]` is the value of `keys[k]`), timed as phase `phase` and
+    /// counted as one computation.
+    pub fn keep_together(&self, keys: Vec<Key>, phase: &'static str, compute: impl FnOnce() -> Vec<Vec<Rgb>>) {
+        if keys.iter().all(|k| self.lock().entries.contains_key(k)) {
+            return;
+        }
+        let values = {
+            let _s = profile::span(self.profile, phase);
+            compute()
+        };
+        let mut kept = self.lock();
+        kept.computed += 1;
+        for (k, v) in keys.into_iter().zip(values) {
+            self.keep(&mut kept, k, v);
+        }
     }
 
     /// The profile the computations are timed on, if any.

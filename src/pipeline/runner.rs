@@ -24,6 +24,7 @@ use glam::DVec3;
 use rayon::prelude::*;
 use std::path::PathBuf;
 
+use super::cases::references_together;
 pub use super::cases::{cases, Case, CaseData, CaseInputs, MapData};
 
 /// Identity of a map used in a run (for provenance).
@@ -160,6 +161,7 @@ pub fn run_map_reusing(exp: &Experiment, map: &EnvMap, settings: &RunSettings, c
         return Vec::new();
     }
     let all = cases(exp);
+    references_together(exp, &data, &all, cache);
     // Per case, so that a map of many cases shows its progress and the time left.
     let progress = (all.len() > 1).then(|| Progress::new(all.len() as u64, &format!("{}: cases", map.name)));
     let mut done: Vec<(usize, CaseRun)> = same_caps(&all)
@@ -449,6 +451,31 @@ mod tests {
         let twice =
             err("['hemisphere', { kind = 'self_bounce', albedo = 0.5 },\n { kind = 'self_bounce', albedo = 0.2 }]");
         assert!(twice.contains("twice"), "{twice}");
+    }
+
+    /// The cone cases of one surface normal, their references evaluated together and kept
+    /// (a map with a pixel sha256), score exactly as when each case computes its own (the same
+    /// map without one, so nothing is kept): every row equal bit for bit. One computation per
+    /// orientation, every case's reference then handed back from the cache.
+    #[test]
+    fn cones_evaluated_together_score_as_one_by_one() {
+        let map =
+            EnvMap::from_fn("m", 64, 32, |i, j| [1.0 + ((i * 5 + j * 3) % 7) as f32, 0.5, j as f32 * 0.1]).unwrap();
+        let mut kept = map.clone();
+        kept.pixel_sha256 = Some("0".repeat(64));
+        let text = "maps = ['m']\nencoders = ['sh2', 'cone_multiply']\ndomain = 'hemisphere'\n\
+                    orientations = ['+y', '-y', '+x']\nresolution = [32, 16]\n\
+                    effects = [{ kind = 'cone', cos_alpha = [0.0, 0.5, 0.9], tilt_deg = [0, 30] }]\n";
+        let exp = Experiment::parse(text, std::path::Path::new("t.toml")).unwrap();
+        let settings = RunSettings { timing: false, ..RunSettings::default() };
+        let cache = ReferenceCache::new(None);
+        let together = run_map_reusing(&exp, &kept, &settings, &cache);
+        let alone = run_map(&exp, &map, &settings);
+        assert_eq!(together.len(), 3 * 6 * 2);
+        for (t, a) in together.iter().zip(&alone) {
+            assert_eq!(t, a, "{} {} {}", t.domain, t.effects, t.encoder);
+        }
+        assert_eq!(cache.counts(), (3, 18));
     }
 
     /// The cone centre is N tilted by exactly `tilt_deg`, for every orientation (including the

@@ -13,7 +13,7 @@
 
 use crate::envmap::moments::{Moments01, RowMoments, RowPrefix};
 use crate::envmap::LatLong;
-use crate::math::cap::{Arcs, Cap};
+use crate::math::cap::{Arc, Arcs, Cap};
 use crate::math::colour::Rgb;
 use crate::math::quadrature::{for_each_polar_node, gauss_legendre};
 use crate::reference::row_convolution;
@@ -28,35 +28,35 @@ pub const DEFAULT_POLAR_NODES: usize = 2;
 
 /// The exact irradiance of one map under a fixed set of visibility caps.
 pub struct Reference<'a> {
-    moments: &'a RowMoments<'a>,
+    pub(super) moments: &'a RowMoments<'a>,
     masks: Vec<Cap>,
-    rule: Vec<(f64, f64)>,
-    grid: LatLong,
+    pub(super) rule: Vec<(f64, f64)>,
+    pub(super) grid: LatLong,
     /// Per row, everything that does not depend on the normal (see [`RowCache`]).
-    rows: Vec<RowCache>,
+    pub(super) rows: Vec<RowCache>,
 }
 
 /// What one row contributes independently of the normal: its Gauss–Legendre nodes (split at
 /// the masks' breakpoints inside it, if any) and, at each node, the masks' intersection as arc
 /// pieces with the row's cumulative moments at their ends. The kernel's own breakpoints depend
 /// on the normal; a row they split is integrated on the fly.
-struct RowCache {
+pub(super) struct RowCache {
     /// (sin φ, cos φ, w·sin φ) per node.
-    nodes: Vec<(f64, f64, f64)>,
+    pub(super) nodes: Vec<(f64, f64, f64)>,
     /// Whether a mask's breakpoint splits the row (`nodes` are then the split row's).
-    split: bool,
+    pub(super) split: bool,
     /// Per node, the pieces of the masks' intersection on its parallel.
-    visible: Vec<Visible>,
+    pub(super) visible: Vec<Visible>,
     /// Unsplit, and some mask misses the parallel of every node: no mask breakpoint lies
     /// inside the row, so that mask misses the whole row and it adds nothing for any normal.
-    dark: bool,
+    pub(super) dark: bool,
 }
 
 /// The visible part of one parallel (the intersection of every mask's arc): up to four arc
 /// pieces, each with the cumulative moments F at its ends, and their sum. A kernel arc then
 /// needs F only at its own two ends: the ends it shares with a piece are looked up here.
 #[derive(Clone, Copy)]
-struct Visible {
+pub(super) struct Visible {
     /// The whole circle is visible (no masks, or every mask covers the parallel).
     full: bool,
     n: usize,
@@ -102,25 +102,44 @@ impl Visible {
         v
     }
 
-    fn is_empty(&self) -> bool {
+    pub(super) fn is_empty(&self) -> bool {
         !self.full && self.n == 0
     }
 }
 
 /// What one normal needs for every row: its clamped-cosine cap, every breakpoint (the kernel's
 /// first, then the masks'), and the azimuth of n.
-struct Kernel {
-    cap: Cap,
-    breaks: [f64; 8],
-    nb: usize,
+pub(super) struct Kernel {
+    pub(super) cap: Cap,
+    pub(super) breaks: [f64; 8],
+    pub(super) nb: usize,
     sin_t: f64,
     cos_t: f64,
+}
+
+/// F, the row's cumulative moments, at the two ends of one node's kernel arc: each computed at
+/// most once, however many pieces (and, in `reference::shared_kernel`, mask sets) read it.
+#[derive(Default)]
+pub(super) struct KernelEnds {
+    lo: Option<Moments01>,
+    hi: Option<Moments01>,
+}
+
+impl KernelEnds {
+    #[inline]
+    fn lo(&mut self, moments: &RowMoments, row: &RowPrefix, ka: Arc) -> Moments01 {
+        *self.lo.get_or_insert_with(|| moments.cumulative01(row, ka.lo))
+    }
+    #[inline]
+    fn hi(&mut self, moments: &RowMoments, row: &RowPrefix, ka: Arc) -> Moments01 {
+        *self.hi.get_or_insert_with(|| moments.cumulative01(row, ka.lo + ka.len))
+    }
 }
 
 /// Fewest normals per batch of [`Reference::irradiance_many`]: each batch builds every row's
 /// prefix sums once (O(W)) and streams them past all its normals, so a batch is made large
 /// enough (two per thread) that the rebuilding costs little next to the normals' work.
-const BATCH: usize = 256;
+pub(super) const BATCH: usize = 256;
 
 impl<'a> Reference<'a> {
     /// A reference for the map whose moments are given, with light visible only inside every
@@ -187,7 +206,7 @@ impl<'a> Reference<'a> {
         )
     }
 
-    fn kernel(&self, n: DVec3) -> Kernel {
+    pub(super) fn kernel(&self, n: DVec3) -> Kernel {
         let cap = Cap::hemisphere(n);
         let mut breaks = [0.0f64; 8];
         let mut nb = 0;
@@ -205,6 +224,18 @@ impl<'a> Reference<'a> {
 
     /// One node's contribution: the clamped cosine of `k` on the parallel (s, c) of row j,
     /// integrated exactly in azimuth over its arc inside the visible part `vis`.
+    #[inline]
+    fn add_node(&self, row: &RowPrefix, k: &Kernel, node: (f64, f64, f64), vis: &Visible, acc: &mut Rgb) {
+        if vis.is_empty() {
+            return;
+        }
+        let Some(ka) = k.cap.arc(node.0, node.1) else { return };
+        self.add_arc(row, k, node, vis, ka, &mut KernelEnds::default(), acc);
+    }
+
+    /// [`Self::add_node`] given the kernel's arc `ka` on the node's parallel (non-empty) and a
+    /// memo of F at its ends, which the references of one normal's other masks share
+    /// (`reference::shared_kernel`): the same arithmetic in the same order, so the same bits.
     ///
     /// With F the row's cumulative moments (F(θ + 2π) = F(θ) + T, T the row total), the kernel
     /// arc K = [k0, k0 + kl] meets a piece P = [p0, p0 + pl] in at most two arcs; their ends are
@@ -212,20 +243,22 @@ impl<'a> Reference<'a> {
     /// the cache plus multiples of T). A piece inside K adds its cached moments; a kernel
     /// covering the whole parallel adds the cached total.
     #[inline]
-    fn add_node(&self, row: &RowPrefix, k: &Kernel, (s, c, ws): (f64, f64, f64), vis: &Visible, acc: &mut Rgb) {
-        if vis.is_empty() {
-            return;
-        }
-        let Some(ka) = k.cap.arc(s, c) else { return };
+    pub(super) fn add_arc(
+        &self,
+        row: &RowPrefix,
+        k: &Kernel,
+        (s, c, ws): (f64, f64, f64),
+        vis: &Visible,
+        ka: Arc,
+        ends: &mut KernelEnds,
+        acc: &mut Rgb,
+    ) {
         let m = if ka.len >= TAU {
             vis.total
         } else if vis.full {
-            self.moments.cumulative01(row, ka.hi()) - self.moments.cumulative01(row, ka.lo)
+            ends.hi(self.moments, row, ka) - ends.lo(self.moments, row, ka)
         } else {
             let (k0, kl) = (ka.lo, ka.len);
-            let (mut f0, mut f1) = (None, None);
-            let mut fk0 = || *f0.get_or_insert_with(|| self.moments.cumulative01(row, k0));
-            let mut fk1 = || *f1.get_or_insert_with(|| self.moments.cumulative01(row, k0 + kl));
             let total = self.moments.row_total01(row.row());
             let mut m = Moments01::default();
             for p in &vis.pieces[..vis.n] {
@@ -253,14 +286,14 @@ impl<'a> Reference<'a> {
                     if d + p.len <= kl {
                         m += p.f_hi - p.f_lo;
                     } else {
-                        m += fk1() - shifted(&p.f_lo, turns);
+                        m += ends.hi(self.moments, row, ka) - shifted(&p.f_lo, turns);
                     }
                 }
                 let wrapped = d + p.len - TAU;
                 if wrapped > 0.0 {
                     // [k0, k0 + min(d + pl − 2π, kl)]
-                    let hi = if wrapped < kl { shifted(&p.f_hi, turns - 1.0) } else { fk1() };
-                    m += hi - fk0();
+                    let hi = if wrapped < kl { shifted(&p.f_hi, turns - 1.0) } else { ends.hi(self.moments, row, ka) };
+                    m += hi - ends.lo(self.moments, row, ka);
                 }
             }
             m
@@ -272,7 +305,7 @@ impl<'a> Reference<'a> {
 
     /// Adds the polar integral of the prefix's row for kernel `k` to `acc` (before the 1/π).
     #[inline]
-    fn add_row(&self, prefix: &RowPrefix, k: &Kernel, acc: &mut Rgb) {
+    pub(super) fn add_row(&self, prefix: &RowPrefix, k: &Kernel, acc: &mut Rgb) {
         let j = prefix.row();
         let (p0, p1) = (self.grid.phi_edge(j), self.grid.phi_edge(j + 1));
         let row = &self.rows[j];

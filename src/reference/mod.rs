@@ -20,4 +20,5 @@ pub mod row_convolution;
 pub(crate) mod row_fft;
 pub(crate) mod row_pairs;
 pub mod scenes;
+pub(crate) mod shared_kernel;
 pub mod view;
