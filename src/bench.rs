@@ -11,7 +11,7 @@ pub use crate::claims::declaration::{ClaimDecl, Paper};
 pub use crate::encoders::encoder::{FitInput, Fitted, Params};
 pub use crate::encoders::stored::Stored;
 pub use crate::encoders::zh3::model::{solved, Solved};
-pub use crate::encoders::zh3::solve::{AxisSolver, Formulation, SolveStats, SolverSettings, Zonal};
+pub use crate::encoders::zh3::solve::{Formulation, SolveStats, SolverSettings, Zonal};
 pub use crate::encoders::zh3::AxisRule;
 pub use crate::encoders::{build, REGISTRY};
 pub use crate::envmap::load::{load as load_map, write_exr_half};

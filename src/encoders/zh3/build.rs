@@ -4,7 +4,7 @@
 use crate::encoders::encoder::{named_weights, Encoder, Params};
 use crate::encoders::zh3::encoder::{Method, Zh3Encoder};
 use crate::encoders::zh3::model::AxisRule;
-use crate::encoders::zh3::solve::{AxisSolver, Curve, Formulation, LineSearch, SolverSettings, Zonal};
+use crate::encoders::zh3::solve::{Curve, Formulation, LineSearch, SolverSettings, Zonal};
 use crate::math::colour::Rgb;
 use anyhow::{bail, Context, Result};
 
@@ -61,15 +61,6 @@ fn settings(p: &mut Params, stored: bool) -> Result<SolverSettings> {
             l => bail!("key 'line_search': expected \"backtracking\" or \"more_thuente\", got '{l}'"),
         },
         skip_futile: d.skip_futile,
-        axis_solver: if stored {
-            match p.str_or("axis_solver", "newton")?.as_str() {
-                "newton" => AxisSolver::Newton,
-                "lbfgs" => AxisSolver::Lbfgs,
-                a => bail!("key 'axis_solver': expected \"newton\" or \"lbfgs\", got '{a}'"),
-            }
-        } else {
-            d.axis_solver
-        },
     };
     Ok(s)
 }

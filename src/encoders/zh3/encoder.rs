@@ -6,7 +6,7 @@ use crate::encoders::quantise;
 use crate::encoders::stored::{sh_name, Role, Stored, Unit, Value};
 use crate::encoders::zh3::model::{closed_form_sq_error, hallucinate, solved, stored, AxisRule, Zh3};
 use crate::encoders::zh3::serialise::{decode_zh3, encode_zh3};
-use crate::encoders::zh3::solve::{AxisSolver, Curve, Formulation, SolveStats, SolverSettings, Zonal};
+use crate::encoders::zh3::solve::{Curve, Formulation, SolveStats, SolverSettings, Zonal};
 use crate::math::colour::Rgb;
 use crate::math::sh::Sh9;
 use anyhow::Result;
@@ -128,8 +128,6 @@ impl Fitted for Zh3Fit {
             if zonal == Zonal::Stored {
                 diag.push(("reduced", (set.formulation == Formulation::Axis) as u8 as f64));
                 diag.push(("screen", set.screen as f64));
-                diag.push(("newton", (set.axis_solver == AxisSolver::Newton) as u8 as f64));
-                diag.extend([("newton_iters", st.newton_iters as f64), ("newton_rejected", st.newton_rejected as f64)]);
             }
         }
         if let Some(Curve::Poly([c1, c2, c3])) = curve_of(self.method) {

@@ -36,7 +36,6 @@
 //! | `memory` | solved | 5 | L-BFGS memory |
 //! | `starts` | solved | 5 | 1 = the given L1 only, up to 5 = plus the four tetrahedron projections |
 //! | `screen` | `zh3_solved_*` | 64 | 0: L-BFGS from every start (FORMULAS §5); N: evaluate the reduced objective at those starts and N more axis lines, L-BFGS from the best and from the best one 45° away unless that second run provably cannot win (needs `formulation = "axis"`; tested to reach the same objective) |
-//! | `axis_solver` | `zh3_solved_*` | `"newton"` | how a screened solve descends from its line: `"newton"` (argmin's Newton method on the axis, to the objective's rounding; L-BFGS where it does not end at a local minimum) or `"lbfgs"` (L-BFGS to `tol_grad`/`tol_cost`) |
 //! | `line_search` | solved | `"more_thuente"` | the line search of each L-BFGS iteration: `"more_thuente"` or `"backtracking"` (Armijo) |
 //! | `formulation` | `zh3_solved_*` | `"axis"` | `"axis"`: L-BFGS on the axis with the L1 in closed form (same minimum, faster); `"l1"`: on the L1 band itself, as the paper |
 //! | `quantise` | all but `zh3_q16`, `zh3_hallucinate_q13` | `"none"` | `"ratio8"`: store as FORMULAS §11 (`quantise.rs`): 13 bytes, 16 with a stored coefficient |

@@ -3,8 +3,7 @@
 //! `Executor::run` performs, without the executor's per-run set-up (its interrupt flag, observer
 //! and checkpoint checks, and the moves of the whole executor and its state), so a run is bit
 //! for bit the executor's (`driver_matches_the_executor`). The L-BFGS update and the line
-//! searches are argmin's, unchanged; `solver::run_lbfgs` builds the solver. The same loop steps
-//! argmin's Newton method in the chart of `chart.rs` (`newton::polish`), with a stop on its step.
+//! searches are argmin's, unchanged; `solver::run_lbfgs` builds the solver.
 
 use super::problem::AxisProblem;
 use argmin::core::{Error, IterState, Problem, Solver, State, TerminationStatus};
@@ -18,27 +17,12 @@ pub(super) type LbfgsState<const N: usize> = IterState<SVector<f64, N>, SVector<
 /// cap) and one `next_iter`, each followed by the best-point update and the iteration count, as
 /// `Executor::run` does.
 pub(super) fn drive<'t, const N: usize, S>(
-    solver: S,
+    mut solver: S,
     problem: AxisProblem<'t, N>,
     state: LbfgsState<N>,
 ) -> Result<(AxisProblem<'t, N>, LbfgsState<N>), Error>
 where
     S: Solver<AxisProblem<'t, N>, LbfgsState<N>>,
-{
-    drive_until(solver, problem, state, |_| false)
-}
-
-/// [`drive`] for any problem and state, stopping also where `stop` says so after an iteration
-/// (for solvers without a stop of their own, such as argmin's Newton method).
-pub(super) fn drive_until<O, I, S>(
-    mut solver: S,
-    problem: O,
-    state: I,
-    stop: impl Fn(&I) -> bool,
-) -> Result<(O, I), Error>
-where
-    S: Solver<O, I>,
-    I: State,
 {
     let mut problem = Problem::new(problem);
     let (mut state, _) = solver.init(&mut problem, state)?;
@@ -55,9 +39,6 @@ where
         state = solver.next_iter(&mut problem, state)?.0;
         state.update();
         state.increment_iter();
-        if stop(&state) {
-            break;
-        }
     }
     let problem = problem.take_problem().ok_or_else(|| Error::msg("the solver kept the problem"))?;
     Ok((problem, state))

@@ -35,13 +35,9 @@
 //! The problem (`zonal.rs`: the zonal term about an axis; `problem.rs`: the target, its
 //! objective and gradient, and the argmin problem) is kept apart from the solver driving it
 //! (`solver.rs`: the multi-start and the screened start, L-BFGS runs; `drive.rs`: the loop
-//! stepping argmin's solvers; `chart.rs`: one axis's reduced objective in a chart about a
-//! screened line, with its Hessian; `newton.rs`: argmin's Newton method there, the default
-//! descent of a screened run, [`AxisSolver`]).
+//! stepping argmin's L-BFGS).
 
-mod chart;
 mod drive;
-mod newton;
 mod problem;
 mod solver;
 #[cfg(test)]
@@ -49,5 +45,5 @@ mod tests;
 mod zonal;
 
 pub use problem::{l2_band, Formulation, Target};
-pub use solver::{solve, AxisSolver, LineSearch, SolveStats, SolverSettings};
+pub use solver::{solve, LineSearch, SolveStats, SolverSettings};
 pub use zonal::{band2, hallucinated_k, zonal_fit, zonal_fit_at, Curve, Zonal};

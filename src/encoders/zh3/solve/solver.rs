@@ -3,7 +3,6 @@
 //! set of axis lines; the best end point per axis group wins.
 
 use super::drive::{drive, LbfgsState};
-use super::newton::newton_axis;
 use super::problem::*;
 use super::zonal::*;
 use argmin::core::State;
@@ -39,19 +38,6 @@ pub struct SolverSettings {
     /// Screened solves: skip the second run where it provably cannot beat the first (see
     /// `MultiStart::second_run_futile`).
     pub skip_futile: bool,
-    /// Screened solves: how each run descends from its screened axis line.
-    pub axis_solver: AxisSolver,
-}
-
-/// How a screened solve descends from its screened axis line.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum AxisSolver {
-    /// Newton's method on each axis in a chart about the line (argmin's `Newton`, the analytic
-    /// Hessian; `newton.rs`), to the objective's rounding; L-BFGS where it does not end at a
-    /// local minimum within 45°.
-    Newton,
-    /// L-BFGS on the axis vector, to the tolerances `tol_grad` and `tol_cost`.
-    Lbfgs,
 }
 
 /// The line search inside each L-BFGS iteration.
@@ -75,7 +61,6 @@ impl Default for SolverSettings {
             screen: 64,
             line_search: LineSearch::MoreThuente,
             skip_futile: true,
-            axis_solver: AxisSolver::Newton,
         }
     }
 }
@@ -96,10 +81,6 @@ pub struct SolveStats {
     pub evals: u32,
     /// Runs that returned an argmin error (their start point was kept as a candidate).
     pub failures: u32,
-    /// Newton iterations, over all axes and runs ([`AxisSolver::Newton`]).
-    pub newton_iters: u32,
-    /// Newton runs whose end was not kept (L-BFGS ran instead).
-    pub newton_rejected: u32,
     /// The objective at the solution ((E/π)² summed over the SH coefficients, weighted).
     pub objective: f64,
     /// The objective at the given L1 (the L1 axis), for comparison.
@@ -144,8 +125,6 @@ pub fn solve(target: &Target, settings: &SolverSettings) -> Solution {
             a.grad_evals += b.grad_evals;
             a.evals += b.evals;
             a.failures += b.failures;
-            a.newton_iters += b.newton_iters;
-            a.newton_rejected += b.newton_rejected;
             a.objective += b.objective;
             a.objective_l1_axis += b.objective_l1_axis;
             a.best_start = a.best_start.max(b.best_start);
@@ -319,34 +298,6 @@ impl<const N: usize> MultiStart<'_, N> {
         }
     }
 
-    /// The descent of a screened solve from `x0` (one axis per group): with
-    /// [`AxisSolver::Newton`], Newton's method on each axis, kept where every axis ends at a local
-    /// minimum; otherwise (or when one does not) L-BFGS from `x0`, unless `x0` has no axis.
-    fn descend(&self, x0: SVector<f64, N>, stats: &mut SolveStats) -> SVector<f64, N> {
-        if self.settings.axis_solver == AxisSolver::Newton && self.form == Formulation::Axis {
-            let mut x = x0;
-            let mut kept = true;
-            for (i, g) in self.groups.iter().enumerate() {
-                let a0 = DVec3::new(x0[3 * i], x0[3 * i + 1], x0[3 * i + 2]).normalize_or_zero();
-                let end =
-                    if a0 == DVec3::ZERO { None } else { Some(newton_axis(self.t, g, a0, self.settings.tol_grad)) };
-                stats.newton_iters += end.as_ref().map_or(0, |e| e.iters);
-                match end.and_then(|e| e.axis) {
-                    Some(u) => x.fixed_rows_mut::<3>(3 * i).copy_from_slice(&u.to_array()),
-                    None => {
-                        kept = false;
-                        break;
-                    }
-                }
-            }
-            if kept {
-                return x;
-            }
-            stats.newton_rejected += 1;
-        }
-        self.run_if_axis(x0, stats)
-    }
-
     /// The plain multi-start: one L-BFGS run from every start direction.
     fn run_every_start(&self, dirs: &[Option<DVec3>], stats: &mut SolveStats, best: &mut Best) {
         for (si, d) in dirs.iter().enumerate() {
@@ -364,7 +315,7 @@ impl<const N: usize> MultiStart<'_, N> {
         let pick = screen.best(|_, _| true);
         let x0 = self.start(&|i| pick[i].1);
         let start = pick.iter().map(|p| p.2).max().unwrap_or(0);
-        let end = self.descend(x0, stats);
+        let end = self.run_if_axis(x0, stats);
         self.consider(&end, start, best);
         // A second run, in case the grid's best point sat in the wrong basin: the best line at
         // least 45° from the axis the first run reached (per axis, as lines).
@@ -378,7 +329,7 @@ impl<const N: usize> MultiStart<'_, N> {
         if second.iter().all(|s| s.1.is_some()) && !self.second_run_futile(&second, &screen.consts, &end) {
             let x1 = self.start(&|i| second[i].1);
             let start = second.iter().map(|p| p.2).max().unwrap_or(0);
-            let end = self.descend(x1, stats);
+            let end = run_lbfgs(self.t, self.form, x1, self.settings, stats);
             self.consider(&end, start, best);
         }
     }
