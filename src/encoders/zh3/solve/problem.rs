@@ -39,6 +39,14 @@ pub struct Target {
 }
 
 impl Target {
+    /// Every coefficient of the channels in use is finite.
+    pub fn is_finite(&self) -> bool {
+        let c = self.channels;
+        self.l0[..c].iter().all(|x| x.is_finite())
+            && self.t1[..c].iter().all(|v| v.is_finite())
+            && self.t2[..c].iter().flatten().all(|x| x.is_finite())
+    }
+
     /// One channel `c` of an irradiance SH.
     pub fn channel(irr: &Sh9, c: usize, zonal: Zonal) -> Self {
         Target {

@@ -101,8 +101,14 @@ pub struct Solution {
 }
 
 /// Minimises the objective of `target` from the multi-start of FORMULAS §5 (or its screened
-/// variant, see [`SolverSettings::screen`]).
+/// variant, see [`SolverSettings::screen`]). A target with a coefficient that is not finite
+/// keeps its given L1 with no descent (none could converge on it), so the fit is as non-finite
+/// as its input and the solve ends.
 pub fn solve(target: &Target, settings: &SolverSettings) -> Solution {
+    if !target.is_finite() {
+        let stats = SolveStats { objective: f64::NAN, objective_l1_axis: f64::NAN, ..SolveStats::default() };
+        return Solution { l1: target.t1, stats };
+    }
     let form = if settings.formulation == Formulation::Axis && target.zonal == Zonal::Stored {
         Formulation::Axis
     } else {

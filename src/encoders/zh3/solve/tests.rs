@@ -256,6 +256,27 @@ fn degenerate_l1_is_finite() {
     }
 }
 
+/// A target with a coefficient that is not finite ends (no run of the descent can converge on
+/// it), with the given L1 kept, so the fit is as non-finite as its input and no more.
+#[test]
+fn a_non_finite_target_ends() {
+    let base = crate::math::sh::constant(Rgb::ONE).convolve_cosine();
+    for (i, bad) in [(0, f64::NAN), (2, f64::INFINITY), (6, f64::NEG_INFINITY)] {
+        let mut irr = base;
+        irr[3] = Rgb::splat(0.2);
+        irr[i] = Rgb::new(bad, 0.5, 0.5);
+        for t in [
+            Target::channel(&irr, 0, Zonal::Stored),
+            Target::shared(&irr, Rgb::splat(1.0 / 3.0), Rgb::splat(1.0 / 3.0), Zonal::Stored),
+            Target::per_channel(&irr, Zonal::Stored),
+        ] {
+            let s = solve(&t, &SolverSettings::default());
+            assert_eq!(s.stats.runs, 0, "coefficient {i} = {bad}: no descent on a non-finite target");
+            assert_eq!(s.l1[..t.channels], t.t1[..t.channels]);
+        }
+    }
+}
+
 /// The curve formulas: the paper's quadratic, the ambient+directional line √(5/3)r (from
 /// f = e·√(5/4π), L1 = e·√(3/4π) of one delta light), and the sphere-light model, which must
 /// reproduce the zonal coefficients of a cap, f/L₀₀ = (√5/2)·cos α·(1 + cos α) at
