@@ -138,7 +138,8 @@ pub fn registry_encoders() -> Vec<(String, Box<dyn Encoder>)> {
 /// under its first label. Every file's encoders are still built (`Experiment::load`).
 pub fn all_encoders() -> Vec<(String, Box<dyn Encoder>)> {
     let mut out = registry_encoders();
-    let mut seen: Vec<(String, toml::Table)> = REGISTRY.iter().map(|k| (k.id.to_string(), toml::Table::new())).collect();
+    let mut seen: Vec<(String, toml::Table)> =
+        REGISTRY.iter().map(|k| (k.id.to_string(), toml::Table::new())).collect();
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("experiments");
     for path in crate::pipeline::experiment::list_experiments(&dir).expect("experiments/ lists") {
         let exp = crate::pipeline::experiment::Experiment::load(&path).unwrap_or_else(|e| panic!("{e:#}"));
