@@ -117,6 +117,21 @@ pub(super) struct Kernel {
     cos_t: f64,
 }
 
+impl Kernel {
+    /// The kernel's own boundary is tangent inside the row (p0, p1): its arcs change shape there,
+    /// so the row is split at every breakpoint and integrated on the fly.
+    pub(super) fn splits_row(&self, p0: f64, p1: f64) -> bool {
+        self.breaks[..2.min(self.nb)].iter().any(|&b| b > p0 && b < p1)
+    }
+
+    /// On a row no cap boundary is tangent inside, the arcs keep their shape, so a row the
+    /// kernel misses at its first node is missed at all of them.
+    pub(super) fn misses_unsplit_row(&self, nodes: &[(f64, f64, f64)]) -> bool {
+        let (s, c, _) = nodes[0];
+        self.cap.arc(s, c).is_none()
+    }
+}
+
 /// F, the row's cumulative moments, at the two ends of one node's kernel arc: each computed at
 /// most once, however many pieces (and, in `reference::shared_kernel`, mask sets) read it.
 #[derive(Default)]
@@ -312,7 +327,7 @@ impl<'a> Reference<'a> {
         if row.dark {
             return;
         }
-        if k.breaks[..2.min(k.nb)].iter().any(|&b| b > p0 && b < p1) {
+        if k.splits_row(p0, p1) {
             // The kernel's boundary is tangent inside the row: split at every breakpoint,
             // nodes and mask arcs computed here.
             for_each_polar_node(p0, p1, &k.breaks[..k.nb], &self.rule, |phi, w| {
@@ -325,10 +340,7 @@ impl<'a> Reference<'a> {
                 self.add_node(prefix, k, node, vis, acc);
             }
         } else {
-            // No cap boundary is tangent inside the row: its arcs keep their shape, so a row
-            // the kernel misses at one node is missed at all of them.
-            let (s, c, _) = row.nodes[0];
-            if k.cap.arc(s, c).is_none() {
+            if k.misses_unsplit_row(&row.nodes) {
                 return;
             }
             for (&node, vis) in row.nodes.iter().zip(&row.visible) {

@@ -56,7 +56,7 @@ fn add_row_together(refs: &[&Reference], prefix: &RowPrefix, ks: &[Kernel], acc:
     let grid = refs[0].grid;
     let (p0, p1) = (grid.phi_edge(j), grid.phi_edge(j + 1));
     let k = &ks[0];
-    let kernel_splits = k.breaks[..2.min(k.nb)].iter().any(|&b| b > p0 && b < p1);
+    let kernel_splits = k.splits_row(p0, p1);
     shared.clear();
     for (r, reference) in refs.iter().enumerate() {
         let row = &reference.rows[j];
@@ -70,8 +70,7 @@ fn add_row_together(refs: &[&Reference], prefix: &RowPrefix, ks: &[Kernel], acc:
     let Some(&r0) = shared.first() else { return };
     // Unsplit rows have the same nodes in every reference (the row's rule, nothing else).
     let nodes = &refs[r0].rows[j].nodes;
-    // No cap boundary is tangent inside the row: a kernel arc missing one node misses all.
-    if k.cap.arc(nodes[0].0, nodes[0].1).is_none() {
+    if k.misses_unsplit_row(nodes) {
         return;
     }
     for (q, &node) in nodes.iter().enumerate() {
